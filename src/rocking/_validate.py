@@ -1,0 +1,58 @@
+"""Small input checks shared by the public functions (errors name the parameter)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .errors import InputError
+
+
+def positive(name: str, value, unit: str = "") -> float:
+    """Return ``value`` as a float, or raise if it is not a finite number > 0."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number > 0{_u(unit)}, got {value!r}") from None
+    if not math.isfinite(x) or x <= 0.0:
+        raise InputError(f"{name} must be a finite number > 0{_u(unit)}, got {value!r}")
+    return x
+
+
+def in_range(name: str, value, lo: float, hi: float, *, lo_open=False, hi_open=False,
+             unit: str = "") -> float:
+    """Return ``value`` as a float, or raise if it lies outside [lo, hi] (open ends as given)."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    ok = math.isfinite(x)
+    ok = ok and (x > lo if lo_open else x >= lo) and (x < hi if hi_open else x <= hi)
+    if not ok:
+        rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
+        raise InputError(f"{name} must lie in {rng}{_u(unit)}, got {value!r}")
+    return x
+
+
+def finite_array(name: str, values, *, ndim: tuple[int, ...] = (1,), min_len: int = 1) -> np.ndarray:
+    """Return ``values`` as a C-contiguous float64 array, or raise on NaN/inf/empty/wrong shape."""
+    try:
+        a = np.ascontiguousarray(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be an array of numbers") from None
+    if a.ndim not in ndim:
+        raise InputError(f"{name} must have {' or '.join(map(str, ndim))} dimension(s), "
+                         f"got shape {a.shape}")
+    if a.shape[-1] < min_len:
+        raise InputError(f"{name} must have at least {min_len} sample(s), got {a.shape[-1]}")
+    bad = ~np.isfinite(a)
+    if bad.any():
+        idx = np.argwhere(bad)[0]
+        where = ", ".join(str(int(i)) for i in idx)
+        raise InputError(f"{name} contains a non-finite value ({a[tuple(idx)]}) at index {where}")
+    return a
+
+
+def _u(unit: str) -> str:
+    return f" [{unit}]" if unit else ""
