@@ -1,0 +1,94 @@
+"""Rigid rectangular bodies and Housner's energy-balance equation (paper Section 2 and Eq. 11).
+
+Geometry (paper Fig. 1): height H [m], width B [m], size R = ½·sqrt(H² + B²) [m],
+slenderness γ = H/B [-], critical angle α = θc = atan(B/H) [rad],
+frequency parameter p = sqrt(3g/(4R)) [rad/s] (from I_O = (4/3)·M·R²).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ._validate import positive
+
+#: Standard gravity [m/s²].
+G = 9.80665
+
+
+@dataclass(frozen=True)
+class Block:
+    """A homogeneous rigid rectangular block that can rock on either bottom corner.
+
+    Parameters
+    ----------
+    R : float
+        Size parameter, half the diagonal ½·sqrt(H² + B²) [m]; finite, > 0.
+    gamma : float
+        Slenderness ratio H/B [-]; finite, > 0 (γ < 1 is a squat block: legal, just stable).
+    """
+
+    R: float
+    gamma: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "R", positive("R", self.R, "m"))
+        object.__setattr__(self, "gamma", positive("gamma", self.gamma, "-"))
+
+    @classmethod
+    def from_dimensions(cls, H: float, B: float) -> "Block":
+        """Block of height ``H`` [m] and width ``B`` [m] (both finite, > 0)."""
+        H = positive("H", H, "m")
+        B = positive("B", B, "m")
+        return cls(R=0.5 * math.hypot(H, B), gamma=H / B)
+
+    @property
+    def alpha(self) -> float:
+        """Critical angle α = θc = atan(B/H) [rad]."""
+        return math.atan(1.0 / self.gamma)
+
+    @property
+    def H(self) -> float:
+        """Height [m]."""
+        return 2.0 * self.R * math.cos(self.alpha)
+
+    @property
+    def B(self) -> float:
+        """Width [m]."""
+        return 2.0 * self.R * math.sin(self.alpha)
+
+    def p_at(self, g: float = G) -> float:
+        """Frequency parameter p = sqrt(3g/(4R)) [rad/s] for gravity ``g`` [m/s²]."""
+        return math.sqrt(3.0 * positive("g", g, "m/s²") / (4.0 * self.R))
+
+    @property
+    def p(self) -> float:
+        """Frequency parameter p = sqrt(3g/(4R)) [rad/s] at standard gravity."""
+        return self.p_at(G)
+
+    def uplift_acceleration_at(self, g: float = G) -> float:
+        """Ground acceleration that starts rocking from rest, g·tan α [m/s²]."""
+        return positive("g", g, "m/s²") * math.tan(self.alpha)
+
+    @property
+    def uplift_acceleration(self) -> float:
+        """Ground acceleration that starts rocking from rest, g·tan α = g/γ [m/s²]."""
+        return self.uplift_acceleration_at(G)
+
+    def housner_e(self) -> float:
+        """Housner's (1963) restitution for a rectangle, e = 1 − 1.5·sin²α [-]."""
+        return 1.0 - 1.5 * math.sin(self.alpha) ** 2
+
+    def __str__(self) -> str:
+        return f"Block(R={self.R:g} m, gamma={self.gamma:g})"
+
+
+def housner_sv(block: Block, g: float = G) -> float:
+    """Pseudo-velocity that overturns ``block`` with about 50 % probability [m/s].
+
+    Paper Eq. (11), from the energy balance of Eq. (10):
+    S_v = (1/cos α)·sqrt((8/3)·g·R·(1 − cos α)), with R [m] and g [m/s²].
+    """
+    g = positive("g", g, "m/s²")
+    ca = math.cos(block.alpha)
+    return math.sqrt(8.0 / 3.0 * g * block.R * (1.0 - ca)) / ca  # Eq. (11)
