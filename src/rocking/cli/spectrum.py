@@ -1,0 +1,80 @@
+"""``rocking spectrum``: response spectra of recorded ground motions."""
+
+from __future__ import annotations
+
+import csv
+
+import click
+import numpy as np
+
+from ..body import G
+from ..errors import InputError
+from ..records import UNITS, read_records
+from ..spectra import response_spectrum
+
+#: Frequencies [Hz] shown in the printed table (the nearest computed ones within the range).
+_TABLE_FREQS = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0)
+
+
+def _table_rows(freqs: np.ndarray) -> np.ndarray:
+    wanted = [f for f in _TABLE_FREQS if freqs[0] <= f <= freqs[-1]] or [freqs[0], freqs[-1]]
+    return np.unique([int(np.argmin(np.abs(np.log(freqs / f)))) for f in wanted])
+
+
+@click.command("spectrum")
+@click.argument("files", nargs=-1, required=True,
+                type=click.Path(exists=True, dir_okay=True, readable=True))
+@click.option("--damping", type=click.FloatRange(0.0, 1.0, max_open=True), default=0.05,
+              show_default=True, help="Damping ratio [-].")
+@click.option("--fmin", type=click.FloatRange(0.0, min_open=True), default=0.1,
+              show_default=True, help="Lowest frequency [Hz].")
+@click.option("--fmax", type=click.FloatRange(0.0, min_open=True), default=50.0,
+              show_default=True, help="Highest frequency [Hz].")
+@click.option("--n", "n_freq", type=click.IntRange(2), default=100, show_default=True,
+              help="Number of frequencies, log-spaced from fmin to fmax.")
+@click.option("--units", type=click.Choice(sorted(UNITS)), default=None,
+              help="Units of the values in the files (default: as the file states, else g).")
+@click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=None,
+              help="Time step [s] of one-column text files.")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False, writable=True),
+              help="Save a figure of PSA against frequency (e.g. out.png).")
+@click.option("--csv", "csv_path", type=click.Path(dir_okay=False, writable=True),
+              help="Save every spectrum to a CSV file.")
+def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path):
+    """Response spectra of ground-acceleration records (PEER .AT2 or text; folders allowed).
+
+    Prints PSA [g], PSV [cm/s] and SD [cm] at a few frequencies for each record; --csv saves
+    all frequencies, --plot draws PSA against frequency.
+    """
+    if not fmin < fmax:
+        raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
+    records = read_records(files, dt=dt, units=units)
+    freqs = np.geomspace(fmin, fmax, n_freq)
+    spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
+    rows = _table_rows(freqs)
+    for rec, sp in zip(records, spectra):
+        click.echo(f"{rec.name}: {rec.acc.size} samples at {rec.dt:g} s, PGA {rec.pga:.4g} g, "
+                   f"{100 * damping:g} % damping")
+        click.echo(f"{'f [Hz]':>9} {'PSA [g]':>10} {'PSV [cm/s]':>11} {'SD [cm]':>10}")
+        for i in rows:
+            click.echo(f"{freqs[i]:9.3g} {sp.psa[i] / G:10.4g} {100 * sp.psv[i]:11.4g} "
+                       f"{100 * sp.sd[i]:10.4g}")
+    if csv_path:
+        with open(csv_path, "w", newline="") as fh:
+            out = csv.writer(fh)
+            out.writerow(["record", "freq_hz", "psa_g", "psv_cm_s", "sd_cm"])
+            for rec, sp in zip(records, spectra):
+                for i, f in enumerate(freqs):
+                    out.writerow([rec.name, f"{f:.6g}", f"{sp.psa[i] / G:.6g}",
+                                  f"{100 * sp.psv[i]:.6g}", f"{100 * sp.sd[i]:.6g}"])
+        click.echo(f"wrote {csv_path}")
+    if plot_path:
+        from ..plots.spectra import plot_spectra  # matplotlib only when a figure is asked for
+
+        fig = plot_spectra(freqs, [sp.psa / G for sp in spectra], [r.name for r in records],
+                           damping=damping, title="Response spectra")
+        fig.savefig(plot_path, dpi=150)
+        click.echo(f"wrote {plot_path}")
+
+
+COMMANDS = [spectrum]

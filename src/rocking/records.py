@@ -1,0 +1,270 @@
+"""Reading recorded ground accelerations (PEER NGA .AT2 files and plain text).
+
+Formats
+-------
+PEER .AT2
+    Free-text header lines, then a line with the number of points and the time step, then the
+    values (any number per line, the last line may be short). The count/step line is found by
+    pattern, in either form seen in real files::
+
+        NPTS=   5093, DT=   .0100 SEC,        (trailing comma, "SEC" and spaces optional)
+        3930 0.00500 NPTS, DT                 (older NGA files)
+
+    Units are read from the header ("UNITS OF G", "The units are (g)", "cm/s/s", "m/s/s", ...);
+    a header that states none is taken to be in g. Headers announcing velocity or displacement
+    time series (.VT2, .DT2) are refused.
+Plain text (any file without an NPTS/DT line)
+    One column of accelerations (the time step ``dt`` must be given) or two columns
+    (time [s], acceleration), separated by blanks, commas or semicolons. ``#`` starts a comment.
+    One header line of column names is allowed; if it states units (e.g. "acc [m/s2]") they are
+    used, otherwise accelerations are in g. Times must be equally spaced (to 0.1 % of the step);
+    the first sample is taken as t = 0.
+
+Every reader returns accelerations in m/s² (g = 9.80665 m/s²).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ._validate import positive
+from .body import G
+from .errors import InputError
+
+#: Accepted unit names and their factor to m/s².
+UNITS = {"g": G, "m/s2": 1.0, "cm/s2": 0.01}
+_UNIT_ALIASES = {"m/s^2": "m/s2", "m/s/s": "m/s2", "m/s**2": "m/s2", "cm/s^2": "cm/s2",
+                 "cm/s/s": "cm/s2", "cm/s**2": "cm/s2", "gal": "cm/s2"}
+#: Unit statements looked for in headers, in this order (cm before m, so "cm/s/s" is not "m/s/s").
+_UNIT_PATTERNS = (
+    ("cm/s2", re.compile(r"\bcm\s*/\s*s(ec)?\s*(/\s*s(ec)?|\^?\s*2|\*\*\s*2)|\bgals?\b")),
+    ("m/s2", re.compile(r"(?<![a-z])m\s*/\s*s(ec)?\s*(/\s*s(ec)?|\^?\s*2|\*\*\s*2)")),
+    ("g", re.compile(r"\bunits?\b[^a-z]*(of|are|in|:|=)?\s*[(\[]?\s*g\b|[(\[]\s*g\s*[)\]]")),
+)
+_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"  # a number ("SEC" may follow unspaced)
+_NPTS_DT = (
+    re.compile(rf"npts\s*=\s*(?P<n>{_NUM}|[^\s,]*)\s*,?\s*dt\s*=\s*(?P<dt>{_NUM}|[^\s,]*)", re.I),
+    re.compile(r"^\s*(?P<n>\S+)\s+(?P<dt>\S+)\s+npts\s*,?\s*dt\b", re.I),
+)
+#: Lines searched for the NPTS/DT line of a PEER file.
+_HEADER_LINES = 12
+#: Relative tolerance on the spacing of the times of a two-column file.
+_DT_RTOL = 1e-3
+
+
+@dataclass(frozen=True, eq=False)
+class Record:
+    """One recorded ground acceleration.
+
+    Attributes
+    ----------
+    acc : ndarray, shape (n_t,)
+        Ground acceleration [m/s²].
+    dt : float
+        Time step [s].
+    name : str
+        Label (the file name without suffix).
+    source : str
+        Path of the file it was read from.
+    """
+
+    acc: np.ndarray
+    dt: float
+    name: str
+    source: str
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times [s], starting at 0."""
+        return np.arange(self.acc.size) * self.dt
+
+    @property
+    def pga(self) -> float:
+        """Peak ground acceleration max |acc| [g]."""
+        return float(np.abs(self.acc).max()) / G
+
+
+def unit_factor(units: str) -> float:
+    """Factor [m/s² per unit] for a unit name: "g", "m/s2" or "cm/s2" (also "m/s/s", "gal", ...)."""
+    key = str(units).strip().lower().replace(" ", "")
+    key = _UNIT_ALIASES.get(key, key)
+    if key not in UNITS:
+        raise InputError(f"units must be one of g, m/s2, cm/s2, got {units!r}")
+    return UNITS[key]
+
+
+def _stated_units(text: str) -> str | None:
+    low = text.lower()
+    for name, pattern in _UNIT_PATTERNS:
+        if pattern.search(low):
+            return name
+    return None
+
+
+def _number(token: str, path: Path, lineno: int) -> float:
+    try:
+        x = float(token)
+    except ValueError:
+        x = math.nan
+    if not math.isfinite(x):
+        raise InputError(f"{path}: line {lineno}: not a finite number: {token!r}")
+    return x
+
+
+def _npts_dt(line: str) -> tuple[str, str] | None:
+    for pattern in _NPTS_DT:
+        m = pattern.search(line)
+        if m:
+            return m["n"], m["dt"]
+    return None
+
+
+def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
+    """Values, dt and units of a PEER file whose NPTS/DT line is ``lines[head]``."""
+    lineno = head + 1
+    try:
+        npts = int(found[0])
+    except ValueError:
+        raise InputError(f"{path}: line {lineno}: NPTS is not a whole number: "
+                         f"{found[0]!r}") from None
+    dt = _number(found[1], path, lineno)
+    if not dt > 0.0:
+        raise InputError(f"{path}: line {lineno}: DT must be > 0 [s], got {found[1]!r}")
+    header = "\n".join(lines[:head])
+    if re.search(r"\b(velocity|displacement)\s+time\s+series", header, re.I):
+        raise InputError(f"{path}: the header announces a velocity or displacement time series, "
+                         "not an acceleration")
+    values = [_number(tok, path, n) for n in range(lineno + 1, len(lines) + 1)
+              for tok in lines[n - 1].split()]
+    if len(values) != npts:
+        raise InputError(f"{path}: the header announces NPTS = {npts} values, the file holds "
+                         f"{len(values)}")
+    return np.array(values), dt, _stated_units(header) or "g"
+
+
+def _read_text(path: Path, lines: list[str], dt: float | None):
+    """Values, dt and units of a one- or two-column text file."""
+    rows: list[tuple[int, list[str]]] = []
+    header_units = None
+    for lineno, line in enumerate(lines, start=1):
+        cells = [c for c in re.split(r"[\s,;]+", line.split("#", 1)[0].strip()) if c]
+        if not cells:
+            continue
+        if not rows and header_units is None and not _looks_numeric(cells[0]):
+            header_units = _stated_units(line) or ""  # the header line of column names
+            continue
+        rows.append((lineno, cells))
+    if not rows:
+        raise InputError(f"{path}: no data")
+    ncol = len(rows[0][1])
+    if ncol not in (1, 2):
+        raise InputError(f"{path}: line {rows[0][0]}: expected 1 column (acceleration) or 2 "
+                         f"(time [s], acceleration), got {ncol}")
+    for lineno, cells in rows:
+        if len(cells) != ncol:
+            raise InputError(f"{path}: line {lineno}: expected {ncol} value(s) like the first "
+                             f"data line, got {len(cells)}")
+    data = np.array([[_number(c, path, n) for c in cells] for n, cells in rows])
+    if ncol == 1:
+        if dt is None:
+            raise InputError(f"{path}: a one-column file needs the time step dt [s]")
+        return data[:, 0], dt, header_units or "g"
+    t = data[:, 0]
+    if t.size < 2:
+        raise InputError(f"{path}: a two-column file needs at least 2 rows to give the time step")
+    steps = np.diff(t)
+    typical = np.median(steps)
+    if not typical > 0.0:
+        raise InputError(f"{path}: times must increase, got {t[0]:g} s, {t[1]:g} s, ...")
+    bad = np.flatnonzero(np.abs(steps - typical) > _DT_RTOL * typical)
+    if bad.size:
+        i = bad[0]
+        raise InputError(f"{path}: line {rows[i + 1][0]}: unequal time spacing: step "
+                         f"{steps[i]:g} s from t = {t[i]:g} s where the typical step is "
+                         f"{typical:g} s")
+    return data[:, 1], (t[-1] - t[0]) / (t.size - 1), header_units or "g"
+
+
+def _looks_numeric(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def read_record(path, *, dt: float | None = None, units: str | None = None) -> Record:
+    """Read one ground-acceleration record (PEER .AT2 or plain text; see the module notes).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    dt : float, optional
+        Time step [s]. Required for one-column text files; for other files, if given, it must
+        agree with the file's own step.
+    units : {"g", "m/s2", "cm/s2"}, optional
+        Units of the values in the file, overriding what the file states (default: the file's
+        statement, else g).
+
+    Returns
+    -------
+    Record
+        Acceleration [m/s²], time step [s], name (file stem) and source path.
+    """
+    path = Path(path)
+    factor = None if units is None else unit_factor(units)
+    dt_arg = None if dt is None else positive("dt", dt, "s")
+    text = path.read_text(encoding="utf-8", errors="replace")
+    lines = text.splitlines()
+    if not text.strip():
+        raise InputError(f"{path}: empty file")
+    head = next(((i, f) for i, line in enumerate(lines[:_HEADER_LINES])
+                 if (f := _npts_dt(line)) is not None), None)
+    if head is not None:
+        values, step, stated = _read_at2(path, lines, *head)
+    elif path.suffix.lower() == ".at2":
+        raise InputError(f"{path}: no 'NPTS=..., DT=...' line in the first {_HEADER_LINES} lines")
+    else:
+        values, step, stated = _read_text(path, lines, dt_arg)
+    if dt_arg is not None and abs(dt_arg - step) > _DT_RTOL * step:
+        raise InputError(f"{path}: dt = {dt_arg:g} s disagrees with the file's step {step:g} s")
+    if values.size < 2:
+        raise InputError(f"{path}: a record needs at least 2 samples, got {values.size}")
+    acc = values * (factor if factor is not None else UNITS[stated])
+    return Record(acc=acc, dt=float(step), name=path.stem, source=str(path))
+
+
+#: File suffixes picked up when a folder is given to :func:`read_records`.
+RECORD_SUFFIXES = (".at2", ".txt", ".csv")
+
+
+def record_paths(paths) -> list[Path]:
+    """Expand a path or a list of paths: a folder gives its .AT2/.txt/.csv files sorted by name."""
+    if isinstance(paths, (str, Path)):
+        paths = [paths]
+    out: list[Path] = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            found = sorted((q for q in p.iterdir()
+                            if q.is_file() and q.suffix.lower() in RECORD_SUFFIXES),
+                           key=lambda q: q.name)
+            if not found:
+                raise InputError(f"{p}: folder holds no .AT2, .txt or .csv files")
+            out.extend(found)
+        else:
+            out.append(p)
+    if not out:
+        raise InputError("no record files given")
+    return out
+
+
+def read_records(paths, *, dt: float | None = None, units: str | None = None) -> list[Record]:
+    """Read several records; ``paths`` is a path or a list of paths, a folder standing for its
+    .AT2/.txt/.csv files sorted by name. ``dt`` [s] and ``units`` as in :func:`read_record`."""
+    return [read_record(p, dt=dt, units=units) for p in record_paths(paths)]

@@ -1,0 +1,337 @@
+"""Target spectra (RG 1.60, tables), response spectra and the ``rocking spectrum`` command."""
+
+from __future__ import annotations
+
+import csv
+import math
+
+import numba
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from scipy import signal
+
+from rocking.body import G
+from rocking.cli import main
+from rocking.errors import InputError
+from rocking.plots.spectra import plot_mean_vs_target, plot_spectra
+from rocking.spectra import RG160, TabulatedSpectrum, response_spectrum, rg160
+
+RECORDS = "/work/shared/records"
+EL_CENTRO = f"{RECORDS}/ElCentro1940_NS.AT2"
+
+# US AEC Regulatory Guide 1.60 (1973), Table 1 (as in reference.md §3): damping, B, C, D.
+RG160_TABLE = [(0.005, 4.96, 5.95, 3.20), (0.02, 3.54, 4.25, 2.50), (0.05, 2.61, 3.13, 2.05),
+               (0.07, 2.27, 2.72, 1.88), (0.10, 1.90, 2.28, 1.70)]
+PGD_PER_G = 36 * 0.0254  # 36 in of peak ground displacement per g [m] (RG 1.60)
+
+
+# --------------------------------------------------------------------------- RG 1.60
+
+
+@pytest.mark.parametrize("zeta,b,c,d", RG160_TABLE)
+@pytest.mark.parametrize("pga", [1.0, 0.35])
+def test_rg160_control_points_exact(zeta, b, c, d, pga):
+    # Control points of RG 1.60: A 33 Hz = ZPA, B 9 Hz = b·ZPA, C 2.5 Hz = c·ZPA and at
+    # D 0.25 Hz SD = d·PGD. Exact up to rounding (1e-12).
+    psa_d = d * PGD_PER_G * pga * (2 * math.pi * 0.25) ** 2 / G
+    expected = [pga, b * pga, c * pga, psa_d]
+    got = rg160([33.0, 9.0, 2.5, 0.25], damping=zeta, pga=pga)
+    np.testing.assert_allclose(got, expected, rtol=1e-12)
+    np.testing.assert_allclose(RG160(zeta, pga).sd(0.25), d * PGD_PER_G * pga, rtol=1e-12)
+
+
+def test_rg160_published_value_at_d():
+    # reference.md §3: at 5 % and 1 g, SD(0.25 Hz) = 2.05·36 in = 73.8 in and PSA ≈ 0.4716 g
+    # (4 significant digits given, hence the 5e-5 tolerance).
+    assert RG160().sd(0.25) / 0.0254 == pytest.approx(73.8, rel=1e-12)
+    assert rg160(0.25) == pytest.approx(0.4716, abs=5e-5)
+
+
+@pytest.mark.parametrize("zeta", [row[0] for row in RG160_TABLE] + [0.03])
+def test_rg160_straight_on_log_log_axes_between_control_points(zeta):
+    # A straight line in (ln f, ln PSA) means PSA at the geometric mean of two frequencies of a
+    # segment is the geometric mean of their PSA (rounding only: 1e-12).
+    spec = RG160(zeta, 0.6)
+    for lo, hi in [(0.25, 2.5), (2.5, 9.0), (9.0, 33.0)]:
+        f1, f2 = lo * 1.07, hi / 1.13
+        mid = math.sqrt(f1 * f2)
+        assert spec.psa(mid) == pytest.approx(math.sqrt(spec.psa(f1) * spec.psa(f2)), rel=1e-12)
+    # The break points are real: slopes differ on the two sides of C and of B.
+    slope = [math.log(spec.psa(hi) / spec.psa(lo)) / math.log(hi / lo)
+             for lo, hi in [(0.25, 2.5), (2.5, 9.0), (9.0, 33.0)]]
+    assert slope[0] > slope[1] and slope[2] < 0.0
+
+
+def test_rg160_outside_control_points():
+    spec = RG160(0.05, 0.4)
+    # Above 33 Hz PSA equals the ZPA.
+    np.testing.assert_allclose(spec.psa([33.0, 40.0, 100.0, 1e4]), 0.4, rtol=1e-12)
+    # Below 0.25 Hz the spectral displacement is constant.
+    np.testing.assert_allclose(spec.sd([0.01, 0.1, 0.2]), spec.sd(0.25), rtol=1e-12)
+
+
+def test_rg160_damping_interpolation_rule():
+    # Documented rule: amplification factors linear in ln(damping) between tabulated values.
+    w = math.log(0.03 / 0.02) / math.log(0.05 / 0.02)
+    b3 = 3.54 + w * (2.61 - 3.54)
+    assert rg160(9.0, damping=0.03) == pytest.approx(b3, rel=1e-12)
+    # More damping, less response, at every frequency below 33 Hz (above it PSA = ZPA).
+    f = np.geomspace(0.05, 32, 60)
+    assert np.all(np.diff([rg160(f, damping=z) for z in (0.005, 0.01, 0.03, 0.06, 0.1)],
+                          axis=0) < 0)
+
+
+def test_rg160_scaling_and_shape():
+    f = np.geomspace(0.1, 50, 7).reshape(7, 1)
+    assert RG160().psa(f).shape == (7, 1)
+    np.testing.assert_allclose(RG160().scaled(0.3).psa(f), 0.3 * rg160(f), rtol=1e-12)
+    assert RG160().scaled(0.3).pga == pytest.approx(0.3)
+    # PSV = PSA·g/ω [m/s] (definition), checked at the 2.5 Hz control point: 3.13 g.
+    assert RG160().psv(2.5) == pytest.approx(3.13 * G / (2 * math.pi * 2.5), rel=1e-12)
+
+
+@pytest.mark.parametrize("kw", [dict(damping=0.004), dict(damping=0.11), dict(damping=math.nan),
+                                dict(pga=0.0), dict(pga=-1.0)])
+def test_rg160_bad_parameters(kw):
+    with pytest.raises(InputError, match=next(iter(kw))):
+        RG160(**kw)
+
+
+@pytest.mark.parametrize("f", [0.0, -1.0, math.nan, [1.0, math.inf]])
+def test_rg160_bad_frequencies(f):
+    with pytest.raises(InputError, match="freqs_hz"):
+        rg160(f)
+
+
+# --------------------------------------------------------------------------- tabulated spectra
+
+
+def test_tabulated_reproduces_rg160_from_its_control_points():
+    # Both use the same documented extrapolation (constant SD below, constant PSA above) and
+    # log-log lines between points, so a table of the 4 control points is the RG 1.60 spectrum.
+    spec = RG160(0.05, 0.6)
+    ctrl = [0.25, 2.5, 9.0, 33.0]
+    table = TabulatedSpectrum(ctrl[::-1], spec.psa(ctrl[::-1]), name="rg")  # unsorted on purpose
+    f = np.geomspace(0.01, 300, 200)
+    np.testing.assert_allclose(table.psa(f), spec.psa(f), rtol=1e-12)
+    np.testing.assert_allclose(table.scaled(2.0).psa(f), 2.0 * spec.psa(f), rtol=1e-12)
+
+
+def test_tabulated_from_csv_frequency_and_period(tmp_path):
+    freq_file = tmp_path / "freq.csv"
+    freq_file.write_text("# a comment\nFrequency (Hz),PSA (g)\n0.5,0.2\n2,0.8\n\n10,0.5\n")
+    period_file = tmp_path / "period.csv"
+    period_file.write_text("Period (s),PSA (g)\n0.1,0.5\n0.5,0.8\n2.0,0.2\n")
+    a = TabulatedSpectrum.from_csv(freq_file, damping=0.05)
+    b = TabulatedSpectrum.from_csv(period_file)
+    f = np.geomspace(0.05, 100, 50)
+    np.testing.assert_allclose(a.psa(f), b.psa(f), rtol=1e-12)
+    assert a.name == "freq" and a.damping == 0.05
+    np.testing.assert_allclose(a.psa([0.5, 2.0, 10.0]), [0.2, 0.8, 0.5], rtol=1e-12)
+    # Documented extrapolation: constant SD below 0.5 Hz, constant PSA above 10 Hz.
+    np.testing.assert_allclose(a.sd([0.05, 0.2]), a.sd(0.5), rtol=1e-12)
+    np.testing.assert_allclose(a.psa([20.0, 100.0]), 0.5, rtol=1e-12)
+    # Log-log line between rows: geometric mean of 2 and 10 Hz gets the geometric mean PSA.
+    assert a.psa(math.sqrt(20.0)) == pytest.approx(math.sqrt(0.8 * 0.5), rel=1e-12)
+
+
+@pytest.mark.parametrize("text,match", [
+    ("freq,psa\n1,0.5\n2,abc\n", r"line 3: not a number: 'abc'"),
+    ("freq,psa\n1,0.5\n-2,0.3\n", r"line 3: frequency must be a finite number > 0"),
+    ("freq,psa\n1,0.5\n2,0\n", r"line 3: PSA must be a finite number > 0"),
+    ("freq,psa\n1,0.5\n2,0.6\n1.0,0.7\n", r"line 4: frequency 1 Hz repeats that of .*line 2"),
+    ("T (s),psa\n1,0.5\n0.5,0.6\n1,0.7\n", r"line 4: period 1 s repeats that of .*line 2"),
+    ("freq,psa\n1,0.5\n", r"at least 2 rows, got 1"),
+    ("damping,psa\n1,0.5\n2,0.6\n", r"line 1: first column header 'damping'"),
+    ("freq,psa\n1,0.5\n2\n", r"line 3: need 2 values, got 1"),
+    ("", r"empty spectrum file"),
+])
+def test_tabulated_csv_errors_name_file_and_line(tmp_path, text, match):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(InputError, match=match) as err:
+        TabulatedSpectrum.from_csv(path)
+    assert "bad.csv" in str(err.value)
+
+
+# --------------------------------------------------------------------------- response spectra
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.02, 0.05, 0.10])
+def test_step_response_peak(zeta):
+    # A step of ground acceleration a0 from rest: u peaks at t = π/ωd with
+    # |u|·ω²/a0 = 1 + exp(−ζπ/sqrt(1−ζ²)) (= 1.854468 at 5 %, reference.md §7). The record
+    # (2 s) holds the peak of every oscillator (≥ 0.5 Hz); after the record the ground stops and
+    # the free vibration from u ≈ −a0/ω² cannot exceed it. The peak between sub-steps is found by
+    # cubic Hermite interpolation, error ≤ (ωh)⁴/384 ≈ 4e-4 at 10 steps per period.
+    a0 = 0.3 * G
+    freqs = np.geomspace(0.5, 45.0, 25)
+    sp = response_spectrum(np.full(201, a0), 0.01, freqs, zeta)
+    exact = 1.0 + math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta * zeta))
+    np.testing.assert_allclose(sp.psa / a0, exact, rtol=5e-4)
+    if zeta == 0.05:
+        assert exact == pytest.approx(1.854468, abs=1e-6)
+    # With many steps per period the same peak comes out to ~1e-9 (Hermite error ∝ h⁴).
+    fine = response_spectrum(np.full(201, a0), 0.01, freqs, zeta, steps_per_period=200)
+    np.testing.assert_allclose(fine.psa / a0, exact, rtol=1e-8)
+
+
+@pytest.mark.parametrize("ratio", [0.1, 0.25, 0.4])
+def test_rectangular_pulse_peak_in_free_vibration(ratio):
+    # Undamped oscillator, rectangular pulse of duration td ≤ T/2 (the record), then ground at
+    # rest: the peak comes after the pulse, |u|max·ω²/a0 = 2·sin(π·td/T) (Chopra, Dynamics of
+    # Structures, §4.8). The tail is evaluated in closed form, so only rounding remains.
+    f, n = 1.0, 400
+    td = ratio / f
+    sp = response_spectrum(np.ones(n + 1), td / n, [f], damping=0.0)
+    assert sp.psa[0] == pytest.approx(2.0 * math.sin(math.pi * ratio), rel=1e-9)
+
+
+@pytest.mark.parametrize("zeta", [0.02, 0.05, 0.10])
+def test_harmonic_at_resonance(zeta):
+    # a(t) = A·sin(ωt) at the oscillator frequency: steady-state PSA = A/(2ζ) (reference.md §7).
+    # The recurrence sees the piecewise-linear interpolant of the samples, whose component at f
+    # has amplitude A·sinc²(f·dt) (linear interpolation is a convolution with a triangle of
+    # width 2·dt). The record (150 cycles at 2 %, fewer at more damping) leaves a transient
+    # of exp(−2πζ·n_cycles) ≤ 1e-8.
+    f, amp, per_cycle = 2.0, 0.2 * G, 100
+    cycles = int(math.ceil(18.5 / (2 * math.pi * zeta)))
+    dt = 1.0 / (per_cycle * f)
+    t = np.arange(cycles * per_cycle + 1) * dt
+    sp = response_spectrum(amp * np.sin(2 * math.pi * f * t), dt, [f], zeta)
+    x = math.pi * f * dt
+    expected = amp / (2 * zeta) * (math.sin(x) / x) ** 2
+    assert sp.psa[0] == pytest.approx(expected, rel=1e-6)
+
+
+def _lsim_peak(acc, dt, f, zeta, steps_per_period=400):
+    """max |u| by scipy.signal.lsim on a fine grid of the same piecewise-linear input, with zeros
+    after the record (acc[-1] must be 0), refined by a parabola through the 3 largest samples."""
+    w = 2 * math.pi * f
+    k = max(20, math.ceil(steps_per_period * dt * f))
+    a = np.concatenate([acc, np.zeros(math.ceil(1.5 / (f * dt)) + 2)])
+    fine_t = np.arange((a.size - 1) * k + 1) * (dt / k)
+    sdof = signal.StateSpace([[0, 1], [-w * w, -2 * zeta * w]], [[0], [-1]], [[1, 0]], [[0]])
+    _, y, _ = signal.lsim(sdof, np.interp(fine_t, np.arange(a.size) * dt, a), fine_t)
+    y = np.abs(y)
+    i = int(np.argmax(y))
+    y0, y1, y2 = y[i - 1:i + 2]
+    return y1 - 0.125 * (y0 - y2) ** 2 / (y0 - 2 * y1 + y2)
+
+
+@pytest.fixture(scope="module")
+def random_motion():
+    acc = np.random.default_rng(7).standard_normal(250)  # white noise [m/s²], dt = 0.01 s
+    acc[-1] = 0.0  # so that "ground at rest after the record" is the same as zero padding
+    return acc
+
+
+FREQS_LSIM = np.array([0.3, 1.7, 6.0, 9.7, 23.0])
+
+
+@pytest.fixture(scope="module")
+def lsim_reference(random_motion):
+    # Reference accuracy: parabola on 400 points per period, error ~(2π/400)⁴ ≈ 6e-8.
+    return np.array([_lsim_peak(random_motion, 0.01, f, 0.05) for f in FREQS_LSIM])
+
+
+def test_matches_lsim_on_random_motion(random_motion, lsim_reference):
+    # Default (≥ 10 steps per period): cubic Hermite peak error ≤ (2π/10)⁴/384 ≈ 4e-4.
+    sp = response_spectrum(random_motion, 0.01, FREQS_LSIM, 0.05)
+    np.testing.assert_allclose(sp.sd, lsim_reference, rtol=5e-4)
+    # 200 steps per period: Hermite error ≈ 3e-9, so agreement to the reference's accuracy.
+    fine = response_spectrum(random_motion, 0.01, FREQS_LSIM, 0.05, steps_per_period=200)
+    np.testing.assert_allclose(fine.sd, lsim_reference, rtol=1e-6)
+    np.testing.assert_allclose(fine.psv, 2 * math.pi * FREQS_LSIM * lsim_reference, rtol=1e-6)
+
+
+def test_rigid_oscillator_psa_tends_to_pga():
+    # A very stiff oscillator follows the ground: PSA → PGA. The leading deviation is the damping
+    # term 2ζ·ȧ/ω, so it shrinks like 1/f.
+    acc = np.loadtxt(EL_CENTRO, skiprows=4, usecols=range(8), max_rows=190).ravel() * G
+    sp = response_spectrum(acc, 0.02, [100.0, 1000.0], 0.05)
+    dev = sp.psa / np.abs(acc).max() - 1.0
+    assert dev[1] < 1e-3 and dev[1] < dev[0] / 5
+
+
+def test_shapes_linearity_and_thread_independence(random_motion):
+    freqs = np.geomspace(0.2, 40, 9)
+    stack = np.stack([random_motion, -2.0 * random_motion, np.roll(random_motion, 17)])
+    sp = response_spectrum(stack, 0.01, freqs)
+    assert sp.sd.shape == sp.psv.shape == sp.psa.shape == (3, 9)
+    one = response_spectrum(random_motion, 0.01, freqs)
+    assert one.psa.shape == (9,)
+    np.testing.assert_array_equal(sp.psa[0], one.psa)
+    # The system is linear and symmetric: acc → −2·acc doubles every ordinate (rounding only).
+    np.testing.assert_allclose(sp.psa[1], 2.0 * one.psa, rtol=1e-12)
+    # PSA = ω²·SD (definition)
+    np.testing.assert_allclose(sp.psa, (2 * np.pi * freqs) ** 2 * sp.sd, rtol=1e-14)
+    np.testing.assert_allclose(sp.mean().psa, sp.psa.mean(axis=0), rtol=1e-14)
+    assert one.mean() is one
+    threads = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        serial = response_spectrum(stack, 0.01, freqs)
+    finally:
+        numba.set_num_threads(threads)
+    np.testing.assert_array_equal(serial.sd, sp.sd)
+
+
+@pytest.mark.parametrize("args,kw,match", [
+    ((np.ones(10), 0.0, [1.0]), {}, "dt"),
+    ((np.ones(10), -0.01, [1.0]), {}, "dt"),
+    ((np.array([0.0, np.nan, 1.0]), 0.01, [1.0]), {}, r"acc contains a non-finite value .* 1"),
+    ((np.ones(10), 0.01, [1.0, 0.0]), {}, "freqs_hz must be > 0"),
+    ((np.ones(10), 0.01, [1.0, -2.0]), {}, "freqs_hz must be > 0"),
+    ((np.ones(10), 0.01, [1.0]), dict(damping=1.0), "damping"),
+    ((np.ones(10), 0.01, [1.0]), dict(steps_per_period=0), "steps_per_period"),
+    ((np.ones((2, 2, 5)), 0.01, [1.0]), {}, "acc must have 1 or 2 dimension"),
+    ((np.ones(1), 0.01, [1.0]), {}, "at least 2 sample"),
+])
+def test_response_spectrum_bad_input(args, kw, match):
+    with pytest.raises(InputError, match=match):
+        response_spectrum(*args, **kw)
+
+
+# --------------------------------------------------------------------------- figures and CLI
+
+
+def test_plots_have_log_axes_and_units():
+    f = np.geomspace(0.1, 50, 30)
+    fig = plot_spectra(f, [rg160(f), rg160(f, 0.02)], ["5 %", "2 %"], damping=0.05)
+    ax = fig.axes[0]
+    assert ax.get_xscale() == ax.get_yscale() == "log"
+    assert "[Hz]" in ax.get_xlabel() and "[g]" in ax.get_ylabel()
+    assert len(ax.get_lines()) == 2
+    members = np.stack([rg160(f) * s for s in (0.9, 1.0, 1.1)])
+    fig = plot_mean_vs_target(f, members, RG160())
+    lines = fig.axes[0].get_lines()
+    np.testing.assert_allclose(lines[0].get_ydata(), members.mean(axis=0))
+    np.testing.assert_allclose(lines[1].get_ydata(), rg160(f))
+
+
+def test_cli_spectrum(tmp_path):
+    out_csv, out_png = tmp_path / "s.csv", tmp_path / "s.png"
+    result = CliRunner().invoke(main, ["spectrum", EL_CENTRO, "--n", "20", "--fmax", "1000",
+                                       "--csv", str(out_csv), "--plot", str(out_png)])
+    assert result.exit_code == 0, result.output
+    assert "ElCentro1940_NS" in result.output and "PSA [g]" in result.output
+    with open(out_csv, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 20
+    # At 1000 Hz PSA is the PGA to < 1e-3 (see the rigid-oscillator test): 0.31882 g is the
+    # largest |value| in the file.
+    assert float(rows[-1]["psa_g"]) == pytest.approx(0.31882, rel=1e-3)
+    assert out_png.stat().st_size > 0
+
+
+def test_cli_spectrum_bad_input_is_one_line(tmp_path):
+    bad = tmp_path / "bad.AT2"
+    bad.write_text("header\nNPTS=  3, DT= .01 SEC\n0.1 0.2\n")
+    result = CliRunner().invoke(main, ["spectrum", str(bad)])
+    assert result.exit_code == 1
+    assert result.output.count("\n") == 1 and "NPTS = 3" in result.output
+    assert "Traceback" not in result.output
+    result = CliRunner().invoke(main, ["spectrum", EL_CENTRO, "--fmin", "5", "--fmax", "1"])
+    assert result.exit_code == 1 and "--fmin" in result.output
