@@ -1,0 +1,125 @@
+"""``rocking motions``: simulate ground-motion ensembles and inspect them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+import numpy as np
+
+from ..envelopes import ENVELOPES, make_envelope
+from ..motions import FIT_BAND, Ensemble, baseline_correct, generate, spectral_fit
+from ..spectra import TabulatedSpectrum, rg160
+
+
+_damping_option = click.option(
+    "--damping", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True), default=0.05,
+    show_default=True, help="Damping ratio of the target spectrum [-].")
+
+
+@click.group("motions")
+def motions():
+    """Spectrum-compatible simulated ground motions (paper Section 3)."""
+
+
+@motions.command("generate")
+@click.option("--n", "n", type=click.IntRange(1), default=200, show_default=True,
+              help="Number of motions.")
+@click.option("--duration", type=click.FloatRange(0.0, min_open=True), default=20.0,
+              show_default=True, help="Total duration T [s].")
+@click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=1 / 400,
+              show_default=True, help="Time step [s].")
+@click.option("--envelope", type=click.Choice(sorted(ENVELOPES)), default="compound",
+              show_default=True, help="Intensity function (shape scaled with the duration).")
+@click.option("--seed", type=click.IntRange(0), default=0, show_default=True,
+              help="Root seed; member k is the same motion for any --n.")
+@click.option("--baseline/--no-baseline", default=True, show_default=True,
+              help="Quadratic baseline correction.")
+@click.option("--iterations", type=click.IntRange(0), default=0, show_default=True,
+              help="Iterative corrections of the amplitudes (0: the paper's method alone).")
+@click.option("--target", "target_path", type=click.Path(exists=True, dir_okay=False),
+              help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default "
+                   "RG 1.60 at 1 g.")
+@_damping_option
+@click.option("--out", type=click.Path(dir_okay=False, writable=True), required=True,
+              help="Output netCDF file, e.g. ens.nc.")
+def generate_cmd(n, duration, dt, envelope, seed, baseline, iterations, target_path, damping,
+                 out):
+    """Simulate an ensemble and save it as netCDF."""
+    target = rg160 if target_path is None else TabulatedSpectrum.from_csv(target_path, damping)
+    ens = generate(n, duration=duration, dt=dt, envelope=envelope, seed=seed, baseline=baseline,
+                   iterations=iterations, target=target, damping=damping)
+    ens.save(out)
+    click.echo(f"wrote {out}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s "
+               f"({envelope}, seed {seed}), A_gx = {ens.agx:.4g} g")
+
+
+def _with_and_without_baseline(ens: Ensemble) -> tuple[np.ndarray, np.ndarray]:
+    """(uncorrected, corrected) accelerations [m/s²] of the members of ``ens``."""
+    if ens.simulated and ens.meta["baseline"]:
+        return ens.regenerate(baseline=False).acc, ens.acc
+    return ens.acc, baseline_correct(ens.acc, ens.dt)
+
+
+@motions.command("show")
+@click.argument("ensemble", type=click.Path(exists=True, dir_okay=False))
+@click.option("--agx", type=click.FloatRange(0.0, min_open=True), default=None,
+              help="Scale the ensemble to this mean PGA A_gx [g] first.")
+@click.option("--samples", type=click.IntRange(1), default=3, show_default=True,
+              help="Members drawn with and without baseline correction.")
+@click.option("--target", "target_path", type=click.Path(exists=True, dir_okay=False),
+              help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default the "
+                   "stored target of a simulated ensemble, else RG 1.60 at the ensemble's A_gx.")
+@_damping_option
+@click.option("--out", type=click.Path(file_okay=False, writable=True), required=True,
+              help="Output folder for the figures.")
+def show(ensemble, agx, samples, target_path, damping, out):
+    """Plot an ensemble and print how its mean PSA fits the target.
+
+    Writes baseline.png (sample accelerations, velocities and displacements with and without
+    baseline correction), spectrum.png (mean ± 1 std PSA against the target) and, for
+    simulated ensembles, envelope.png.
+    """
+    from ..plots.motions import plot_baseline_comparison, plot_envelopes
+    from ..plots.spectra import plot_mean_vs_target
+    from ..spectra import RG160
+
+    ens = Ensemble.load(ensemble)
+    if agx is not None:
+        ens = ens.scaled(agx)
+    if target_path is not None:
+        target = TabulatedSpectrum.from_csv(target_path, damping=damping)
+    else:
+        target = ens.target_spectrum() if ens.simulated else RG160(damping, pga=ens.agx)
+    fit = spectral_fit(ens, target)
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+
+    sample = ens.subset(range(min(samples, ens.n)))
+    raw, corrected = _with_and_without_baseline(sample)
+    figures = {
+        "baseline.png": plot_baseline_comparison(
+            ens.dt, raw, corrected, sample.labels, title="Baseline correction"),
+        "spectrum.png": plot_mean_vs_target(
+            fit.freqs_hz, fit.psa_g, target,
+            title=f"{ens.n} motions, A_gx = {ens.agx:.3g} g, {100 * fit.damping:g} % damping"),
+    }
+    if ens.simulated:
+        env = make_envelope(ens.meta["envelope"], ens.meta["duration"],
+                            **ens.meta["envelope_params"])
+        figures["envelope.png"] = plot_envelopes([env], title="Intensity function")
+    for name, fig in figures.items():
+        fig.savefig(folder / name, dpi=150)
+
+    worst = int(np.argmax(np.abs(fit.ratio - 1.0)))
+    click.echo(f"{ensemble}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s, "
+               f"{ens.meta.get('kind', 'motions')} at {ens.meta['location']}, "
+               f"A_gx = {ens.agx:.4g} g")
+    click.echo(f"mean PSA against {target.name} over {FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz "
+               f"({fit.freqs_hz.size} frequencies): max deviation {100 * fit.max_deviation:.1f} % "
+               f"(at {fit.freqs_hz[worst]:.3g} Hz), mean deviation "
+               f"{100 * fit.mean_deviation:.1f} %")
+    click.echo(f"wrote {', '.join(str(folder / name) for name in figures)}")
+
+
+COMMANDS = [motions]

@@ -1,0 +1,603 @@
+"""Ground-motion ensembles: spectrum-compatible simulation (paper Section 3), quadratic baseline
+correction (Section 4) and real records.
+
+* :func:`generate` — ``n`` motions a(t) = I(t)·Σ_j A_j·sin(ω_j·t + φ_j) (Eq. 9) with amplitudes
+  from :func:`rocking.psd.power_spectrum` (Eqs. 5–8), optionally refined by iteration, and
+  baseline corrected.
+* :func:`baseline_correct` — subtract the polynomial that minimises the mean-square velocity.
+* :class:`Ensemble` — accelerations with labels and metadata, saved as netCDF.
+
+Reproducibility: member k draws its phases from its own stream,
+``default_rng(SeedSequence(seed, spawn_key=(k,)))`` (the k-th child of ``SeedSequence(seed)``),
+so it is the same motion whatever the ensemble size or how the work is split.
+
+Scale: the motions are fitted to the target as given, its PSA [g] times G in m/s², so for
+RG 1.60 at 1 g the ensemble-mean PSA approximates the 1-g spectrum (how closely: see
+:func:`spectral_fit` and tests/test_motions.py). :meth:`Ensemble.scaled` rescales all members by
+one factor to a chosen A_gx (mean PGA [g], paper Section 3).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from scipy.integrate import cumulative_trapezoid, trapezoid
+
+from ._numba import parallel_kernel, prange
+from ._validate import finite_array, positive
+from .body import G
+from .envelopes import ENVELOPES, make_envelope
+from .errors import InputError
+from .psd import (DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_spectrum,
+                  target_psa)
+from .records import read_record
+from .spectra import response_spectrum, rg160
+
+#: Members synthesised per call of the compiled kernel (bounds the memory of a chunk; the
+#: result does not depend on it).
+CHUNK = 256
+#: xarray engine for ensemble files: "scipy" writes netCDF-3 (64-bit offset) with SciPy alone.
+#: (engine "h5netcdf" would write netCDF-4 but needs h5py, which is not installed here.)
+NETCDF_ENGINE = "scipy"
+#: Meta entries that hold one value per member (kept in step by :meth:`Ensemble.subset`).
+PER_MEMBER = ("members", "sources", "record_dt")
+
+
+# --------------------------------------------------------------------------- baseline correction
+
+
+def baseline_correct(acc, dt: float, order: int = 2) -> np.ndarray:
+    """Subtract the polynomial baseline that minimises the mean-square velocity (paper Section 4).
+
+    The corrected acceleration is a*(t) = a(t) − Σ_{k=0..order} (k+1)(k+2)·c_k·τ^k, τ = t/T,
+    whose velocity v*(t) (trapezoidal integration from v(0) = 0) has the least mean square
+    over [0, T] (Brady 1966; reference.md §6; ``order=2`` is the paper's quadratic correction).
+    The normal equations of reference.md §6 are formed with the trapezoidal rule — the same
+    quadrature that integrates a to v — so a polynomial of degree ≤ ``order`` is removed exactly.
+
+    Parameters
+    ----------
+    acc : array_like, shape (n_t,) or (n, n_t)
+        Acceleration(s) [m/s²] sampled at ``dt`` from t = 0; n_t > ``order`` + 1.
+    dt : float
+        Time step [s], > 0.
+    order : int
+        Degree of the acceleration polynomial [-], ≥ 0.
+
+    Returns
+    -------
+    ndarray
+        Corrected acceleration [m/s²], same shape as ``acc``.
+    """
+    k_max = int(order)
+    if k_max != order or k_max < 0:
+        raise InputError(f"order must be an integer ≥ 0, got {order!r}")
+    a = finite_array("acc", acc, ndim=(1, 2), min_len=k_max + 2)
+    dt = positive("dt", dt, "s")
+    tau = np.linspace(0.0, 1.0, a.shape[-1])
+    k = np.arange(k_max + 1)[:, None]
+    basis_acc = (k + 1) * (k + 2) * tau**k
+    basis_vel = cumulative_trapezoid(basis_acc, dx=dt, initial=0.0, axis=-1)
+    vel = cumulative_trapezoid(a, dx=dt, initial=0.0, axis=-1)
+    # Normal equations ∫ψ_k ψ_j dt · c_j = ∫ψ_k v dt (reference.md §6, ψ_k = basis velocities).
+    # Row by row, not as one matrix product, so each motion's result does not depend on how
+    # many motions are corrected together (BLAS may sum in a size-dependent order).
+    gram = trapezoid(basis_vel[:, None, :] * basis_vel[None, :, :], dx=dt, axis=-1)
+    rhs = np.stack([trapezoid(vel * psi, dx=dt, axis=-1) for psi in basis_vel], axis=-1)
+    coef = np.linalg.solve(gram, rhs[..., None])[..., 0]  # one small solve per motion
+    baseline = sum(coef[..., j, None] * basis_acc[j] for j in range(k_max + 1))
+    return a - baseline
+
+
+# --------------------------------------------------------------------------- synthesis (Eq. 9)
+
+
+def member_phases(seed: int, members, n_freq: int) -> np.ndarray:
+    """Phase angles φ_kj [rad], uniform on [0, 2π), one independent stream per member index k.
+
+    Returns shape (len(members), n_freq); row k depends only on ``seed`` and the member index.
+    """
+    seed = _count("seed", seed, 0)
+    rows = [np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(int(m),)))
+            .uniform(0.0, 2.0 * math.pi, n_freq) for m in members]
+    return np.array(rows).reshape(len(rows), n_freq)
+
+
+@parallel_kernel
+def _superpose(cos_amp, sin_amp, sin_wt, cos_wt, intensity):
+    """out[k, i] = I_i·Σ_j (A_j cos φ_kj·sin ω_j t_i + A_j sin φ_kj·cos ω_j t_i), i.e. Eq. (9).
+
+    Hand-written instead of a BLAS product: the sum over j runs in the same order for every
+    member, so member k is bit-identical whatever the ensemble size or chunking.
+    """
+    n, m = cos_amp.shape
+    n_t = intensity.size
+    out = np.empty((n, n_t))
+    for k in prange(n):
+        row = np.zeros(n_t)
+        for j in range(m):
+            b = cos_amp[k, j]
+            c = sin_amp[k, j]
+            for i in range(n_t):
+                row[i] += b * sin_wt[j, i] + c * cos_wt[j, i]
+        for i in range(n_t):
+            out[k, i] = intensity[i] * row[i]
+    return out
+
+
+def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarray:
+    """Motions a(t) = I(t)·Σ_j A_j·sin(ω_j·t + φ_kj) (Eq. 9) [m/s²], one per row of ``phases``.
+
+    Parameters
+    ----------
+    spectrum : PowerSpectrum
+        Component frequencies ω_j [rad/s] and amplitudes A_j [m/s²].
+    envelope : callable
+        Intensity function I(t) [-] with a ``duration`` attribute T [s] (see
+        :mod:`rocking.envelopes`); samples run t = 0, dt, … ≤ T.
+    dt : float
+        Time step [s], > 0.
+    phases : array_like, shape (n, n_freq)
+        Phase angles φ_kj [rad] (see :func:`member_phases`).
+
+    Returns
+    -------
+    ndarray, shape (n, n_t)
+    """
+    dt = positive("dt", dt, "s")
+    phi = finite_array("phases", phases, ndim=(2,))
+    if phi.shape[1] != spectrum.omega.size:
+        raise InputError(f"phases has {phi.shape[1]} columns but the spectrum has "
+                         f"{spectrum.omega.size} frequencies")
+    t = np.arange(_n_samples(envelope.duration, dt)) * dt
+    wt = spectrum.omega[:, None] * t
+    sin_wt, cos_wt, intensity = np.sin(wt), np.cos(wt), envelope(t)
+    amp = spectrum.amplitudes
+    parts = [_superpose(amp * np.cos(phi[i:i + CHUNK]), amp * np.sin(phi[i:i + CHUNK]),
+                        sin_wt, cos_wt, intensity) for i in range(0, phi.shape[0], CHUNK)]
+    return np.concatenate(parts) if parts else np.empty((0, t.size))
+
+
+def _n_samples(duration: float, dt: float) -> int:
+    """Samples t = 0, dt, … up to T (a T within 1e-9·dt of a whole step counts as whole)."""
+    return int(math.floor(duration / dt + 1e-9)) + 1
+
+
+def _count(name: str, value, minimum: int) -> int:
+    """``value`` as an int ≥ ``minimum``, or :class:`InputError` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InputError(f"{name} must be an integer ≥ {minimum}, got {value!r}")
+    return int(value)
+
+
+# --------------------------------------------------------------------------- ensemble
+
+
+@dataclass(frozen=True, eq=False)
+class Ensemble:
+    """An ensemble of acceleration time histories with labels and metadata.
+
+    Parameters
+    ----------
+    acc : array_like, shape (n, n_t) or (n_t,)
+        Accelerations [m/s²] sampled at ``dt`` from t = 0 (stored read-only, 2-D).
+    dt : float
+        Time step [s], > 0.
+    labels : sequence of str, optional
+        One name per member (default ``"m-0000"``, ``"m-0001"``, …).
+    meta : dict, optional
+        JSON-serialisable description: generation parameters of simulated ensembles, record
+        sources of recorded ones, ``kind`` ("simulated", "recorded", …), ``location``
+        ("ground" or e.g. "floor 3 of paper-2.0") and ``scale`` (factor applied since).
+    """
+
+    acc: np.ndarray
+    dt: float
+    labels: tuple = ()
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        acc = finite_array("acc", self.acc, ndim=(1, 2), min_len=2)
+        acc = np.array(acc, ndmin=2, copy=acc is self.acc)
+        acc.setflags(write=False)
+        object.__setattr__(self, "acc", acc)
+        object.__setattr__(self, "dt", positive("dt", self.dt, "s"))
+        labels = tuple(str(s) for s in self.labels) or tuple(f"m-{i:04d}" for i in range(len(acc)))
+        if len(labels) != len(acc):
+            raise InputError(f"labels has {len(labels)} names for {len(acc)} members")
+        object.__setattr__(self, "labels", labels)
+        object.__setattr__(self, "meta", {"location": "ground", "scale": 1.0, **self.meta})
+
+    @property
+    def n(self) -> int:
+        """Number of members."""
+        return self.acc.shape[0]
+
+    @property
+    def n_t(self) -> int:
+        """Samples per member."""
+        return self.acc.shape[1]
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times [s]."""
+        return np.arange(self.n_t) * self.dt
+
+    @property
+    def duration(self) -> float:
+        """Time of the last sample [s]."""
+        return (self.n_t - 1) * self.dt
+
+    @property
+    def pga(self) -> np.ndarray:
+        """Peak ground acceleration of each member, max |a| [g], shape (n,)."""
+        return np.abs(self.acc).max(axis=1) / G
+
+    @property
+    def agx(self) -> float:
+        """Ensemble intensity A_gx: mean of the members' PGA [g] (paper Section 3)."""
+        return float(self.pga.mean())
+
+    @property
+    def simulated(self) -> bool:
+        """True for a simulated ground-motion ensemble (``kind`` "simulated" at the ground),
+        which :meth:`regenerate` can rebuild from its metadata."""
+        return self.meta.get("kind") == "simulated" and self.meta.get("location") == "ground"
+
+    def __len__(self) -> int:
+        return self.n
+
+    def scaled(self, agx: float) -> "Ensemble":
+        """The ensemble times one factor, so that its mean PGA is ``agx`` [g] (> 0)."""
+        agx = positive("agx", agx, "g")
+        if self.agx == 0.0:
+            raise InputError("cannot scale an ensemble of zero motions to a given agx")
+        return self.scaled_by(agx / self.agx)
+
+    def subset(self, indices) -> "Ensemble":
+        """The members at positions ``indices`` (ints, in the order given)."""
+        idx = np.asarray(indices)
+        if idx.dtype.kind not in "iu" or idx.ndim != 1:
+            raise InputError("indices must be a 1-D sequence of integers")
+        if idx.size and not (-self.n <= idx.min() and idx.max() < self.n):
+            raise InputError(f"indices must lie in [0, {self.n}), got {idx.tolist()}")
+        meta = {k: ([v[i] for i in idx] if k in PER_MEMBER else v) for k, v in self.meta.items()}
+        return Ensemble(self.acc[idx], self.dt, [self.labels[i] for i in idx], meta)
+
+    def regenerate(self, **overrides) -> "Ensemble":
+        """Simulate this ensemble again from its metadata (same members, phases and scale).
+
+        ``overrides`` replace stored generation parameters of :func:`generate` (e.g.
+        ``baseline=False``); changing the frequencies needs a new ``target``.
+        """
+        if not self.simulated:
+            raise InputError("only simulated ground motions can be regenerated (this ensemble "
+                             f"is {self.meta.get('kind', 'of unknown kind')!r} at "
+                             f"{self.meta['location']!r})")
+        unknown = set(overrides) - set(_GENERATION_KEYS) - {"target"}
+        if unknown:
+            raise InputError(f"cannot override {', '.join(sorted(unknown))}: not a parameter "
+                             "of generate()")
+        m = self.meta
+        params = {k: m[k] for k in _GENERATION_KEYS}
+        params["target"] = _StoredTarget(m["target"], m["freqs_hz"], m["target_psa"], m["damping"])
+        params.update(overrides)
+        ens = _generate(m["members"], **params)
+        return ens.scaled_by(m["scale"]) if m["scale"] != 1.0 else ens
+
+    def target_spectrum(self) -> "_StoredTarget":
+        """The target a simulated ensemble was fitted to, times its ``scale`` (PSA [g]); known
+        at the fitted frequencies ``meta["freqs_hz"]`` [Hz] only."""
+        if not self.simulated:
+            raise InputError("only a simulated ground-motion ensemble has a stored target")
+        m = self.meta
+        scale = m["scale"]
+        name = m["target"] if scale == 1.0 else f"{m['target']} × {scale:.4g}"
+        return _StoredTarget(name, m["freqs_hz"], [v * scale for v in m["target_psa"]],
+                             m["damping"])
+
+    def scaled_by(self, factor: float) -> "Ensemble":
+        """The ensemble with every member multiplied by ``factor`` [-] (> 0)."""
+        factor = positive("factor", factor)
+        meta = {**self.meta, "scale": self.meta["scale"] * factor}
+        return Ensemble(self.acc * factor, self.dt, self.labels, meta)
+
+    def save(self, path) -> Path:
+        """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`); return the path.
+
+        Variable ``acc`` [m/s²] on dimensions (member, time); coordinates ``member`` (labels)
+        and ``time`` [s]. The metadata go to attribute ``meta_json`` as JSON (exact, read back
+        by :meth:`load`) and, for other readers of the file, to plain attributes: scalars,
+        numeric lists and dictionary entries as ``<key>_<entry>`` (booleans as 0/1).
+        """
+        path = Path(path)
+        attrs = {**_flat_attrs(self.meta), "dt": self.dt, "meta_json": json.dumps(self.meta)}
+        ds = xr.Dataset(
+            {"acc": (("member", "time"), self.acc,
+                     {"units": "m s-2", "long_name": "ground acceleration"})},
+            coords={"member": list(self.labels),
+                    "time": ("time", self.t, {"units": "s"})},
+            attrs=attrs)
+        ds.to_netcdf(path, engine=NETCDF_ENGINE)
+        return path
+
+    @classmethod
+    def load(cls, path) -> "Ensemble":
+        """Read an ensemble written by :meth:`save`."""
+        path = Path(path)
+        try:
+            with xr.open_dataset(path, engine=NETCDF_ENGINE) as ds:
+                acc = ds["acc"].values
+                labels = [str(s) for s in ds["member"].values]
+                dt = float(ds.attrs["dt"])
+                meta = json.loads(ds.attrs["meta_json"])
+        except KeyError as exc:
+            raise InputError(f"{path}: not an ensemble file (missing {exc})") from None
+        except (OSError, ValueError, TypeError) as exc:  # TypeError: SciPy's "not netCDF"
+            raise InputError(f"{path}: not a netCDF ensemble file "
+                             f"({' '.join(str(exc).split()[:12])})") from None
+        return cls(acc, dt, labels, meta)
+
+    @classmethod
+    def from_records(cls, records, dt: float | None = None) -> "Ensemble":
+        """Ensemble of real records (``rocking.records.Record`` objects or file paths).
+
+        Records at another time step than ``dt`` (default: the smallest of the records) are
+        resampled by linear interpolation over their own length (downsampling this way does not
+        filter: pass a ``dt`` no larger than the records' for an alias-free result). Records
+        shorter than the longest are padded with zeros at the end (ground at rest). The
+        records are used as given (no baseline correction).
+
+        Parameters
+        ----------
+        records : sequence of Record or path
+            At least one.
+        dt : float, optional
+            Common time step [s], > 0.
+        """
+        recs = [r if hasattr(r, "acc") else read_record(r) for r in records]
+        if not recs:
+            raise InputError("records must name at least one record")
+        step = min(r.dt for r in recs) if dt is None else positive("dt", dt, "s")
+        rows = []
+        for r in recs:
+            t_end = (len(r.acc) - 1) * r.dt
+            t = np.arange(_n_samples(t_end, step)) * step
+            rows.append(r.acc if r.dt == step else np.interp(t, np.arange(len(r.acc)) * r.dt, r.acc))
+        acc = np.zeros((len(rows), max(len(x) for x in rows)))
+        for i, x in enumerate(rows):
+            acc[i, :len(x)] = x
+        meta = {"kind": "recorded", "location": "ground",
+                "sources": [str(r.source) for r in recs], "record_dt": [r.dt for r in recs]}
+        return cls(acc, step, [r.name for r in recs], meta)
+
+
+def _flat_attrs(meta: dict) -> dict:
+    """netCDF attributes for the readable entries of ``meta`` (see :meth:`Ensemble.save`)."""
+    flat = {}
+    for key, value in meta.items():
+        entries = value.items() if isinstance(value, dict) else [("", value)]
+        for sub, v in entries:
+            name = f"{key}_{sub}" if sub else key
+            if isinstance(v, bool):
+                v = int(v)
+            numeric_list = isinstance(v, list) and v and all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+            if isinstance(v, (str, int, float)) or numeric_list:
+                flat[name] = v
+    return flat
+
+
+# --------------------------------------------------------------------------- fit to a target
+
+
+#: Frequency band [Hz] over which fits to the target are summarised.
+FIT_BAND = (0.2, 33.0)
+
+
+@dataclass(frozen=True, eq=False)
+class SpectralFit:
+    """Response spectra of an ensemble's members against a target.
+
+    Attributes
+    ----------
+    freqs_hz : ndarray, shape (n_freq,)
+        Frequencies [Hz].
+    psa_g : ndarray, shape (n, n_freq)
+        PSA of each member [g].
+    target_g : ndarray, shape (n_freq,)
+        Target PSA [g].
+    damping : float
+        Damping ratio [-].
+    """
+
+    freqs_hz: np.ndarray
+    psa_g: np.ndarray
+    target_g: np.ndarray
+    damping: float
+
+    @property
+    def mean_g(self) -> np.ndarray:
+        """Ensemble-mean PSA [g]."""
+        return self.psa_g.mean(axis=0)
+
+    @property
+    def ratio(self) -> np.ndarray:
+        """Mean PSA / target PSA [-]."""
+        return self.mean_g / self.target_g
+
+    @property
+    def max_deviation(self) -> float:
+        """Largest |mean/target − 1| over the frequencies [-]."""
+        return float(np.abs(self.ratio - 1.0).max())
+
+    @property
+    def mean_deviation(self) -> float:
+        """Mean |mean/target − 1| over the frequencies [-]."""
+        return float(np.abs(self.ratio - 1.0).mean())
+
+
+def spectral_fit(ensemble: Ensemble, target=None, band=FIT_BAND) -> SpectralFit:
+    """Mean PSA of ``ensemble`` against ``target`` over ``band`` [Hz].
+
+    The frequencies are those the ensemble was fitted at (``meta["freqs_hz"]``) or else
+    :func:`rocking.psd.log_frequencies` defaults, restricted to ``band`` (default 0.2–33 Hz).
+    ``target`` defaults to the stored target of a simulated ensemble
+    (:meth:`Ensemble.target_spectrum`); otherwise as in :func:`generate` (PSA [g]).
+    """
+    lo, hi = (positive("band", b, "Hz") for b in band)
+    target = ensemble.target_spectrum() if target is None else target
+    freqs = np.asarray(ensemble.meta.get("freqs_hz", log_frequencies()))
+    freqs = freqs[(freqs >= lo * (1 - 1e-12)) & (freqs <= hi * (1 + 1e-12))]
+    if freqs.size == 0:
+        raise InputError(f"no fitted frequency lies in the band {lo:g}–{hi:g} Hz")
+    psa_target, h = target_psa(target, freqs)
+    psa = response_spectrum(ensemble.acc, ensemble.dt, freqs, h).psa / G
+    return SpectralFit(freqs, psa, psa_target, h)
+
+
+# --------------------------------------------------------------------------- generation
+
+
+@dataclass(frozen=True)
+class _StoredTarget:
+    """A target known only at the frequencies it was fitted at (for :meth:`Ensemble.regenerate`)."""
+
+    name: str
+    freqs_hz: list
+    values: list
+    damping: float
+
+    def psa(self, freqs_hz) -> np.ndarray:
+        """PSA [g] at ``freqs_hz`` [Hz], which must be among the stored frequencies."""
+        known = np.asarray(self.freqs_hz)
+        f = np.asarray(freqs_hz, dtype=float)
+        idx = np.clip(np.searchsorted(known, f), 0, known.size - 1)
+        if not np.array_equal(known[idx], f):
+            raise InputError("the stored target spectrum is known only at the stored frequencies:"
+                             " pass target= when changing n_freq, fmin or fmax")
+        return np.asarray(self.values)[idx]
+
+
+#: Parameters of :func:`generate` stored in the metadata (besides the target and members).
+_GENERATION_KEYS = ("duration", "dt", "envelope", "envelope_params", "seed", "baseline",
+                    "damping", "n_freq", "fmin", "fmax", "iterations", "pilot", "peak_constant",
+                    "convention")
+
+
+def generate(n: int, *, duration: float = 20.0, dt: float = 1 / 400, envelope: str = "compound",
+             envelope_params: dict | None = None, target=rg160, seed: int = 0,
+             baseline: bool = True, damping: float | None = None, n_freq: int = 100,
+             fmin: float = 0.15, fmax: float = 50.0, iterations: int = 0, pilot: int = 200,
+             peak_constant: float = DEFAULT_PEAK_CONSTANT,
+             convention: str = "one-sided") -> Ensemble:
+    """Simulate ``n`` ground motions compatible with a target response spectrum.
+
+    Steps: the PSD by the paper's method (:func:`rocking.psd.power_spectrum`, Eqs. 5–8); if
+    ``iterations`` > 0, that many corrections scaling each amplitude A_j by target/mean PSA at
+    f_j, the mean taken over a pilot ensemble (members 0 … ``pilot`` − 1 of the same seed, so
+    member k does not depend on ``n``); synthesis by Eq. (9) with phases from
+    :func:`member_phases`; then, if ``baseline``, :func:`baseline_correct` (quadratic). The
+    pilot motions are not baseline corrected (the correction changes their mean PSA by less
+    than 0.5 % from 0.2 to 33 Hz), so the amplitudes, and each motion before correction, do not
+    depend on ``baseline``: ``generate(n)`` is ``baseline_correct`` of
+    ``generate(n, baseline=False)``.
+
+    Parameters
+    ----------
+    n : int
+        Number of motions, ≥ 1; labelled ``sim-0000`` … .
+    duration : float
+        Total duration T [s], > 0.
+    dt : float
+        Time step [s], > 0.
+    envelope : str
+        Intensity function: ``"boxcar"``, ``"trapezoidal"`` or ``"compound"``
+        (:func:`rocking.envelopes.make_envelope`).
+    envelope_params : dict, optional
+        Explicit shape parameters [s, 1/s] overriding the duration rule of
+        :mod:`rocking.envelopes`.
+    target : TargetSpectrum or callable
+        Target spectrum: PSA [g] from ``target.psa(freqs_hz)`` or ``target(freqs_hz,
+        damping=...)``; default RG 1.60 at 1 g.
+    seed : int
+        Root seed, ≥ 0.
+    baseline : bool
+        Apply the quadratic baseline correction.
+    damping : float, optional
+        Damping ratio of the target [-] (default: the target's own, else 0.05).
+    n_freq, fmin, fmax : int, float, float
+        Number of log-spaced frequencies and their range [Hz] (paper: 100, 0.15, 50).
+    iterations : int
+        Number of iterative corrections (0: the paper's method alone).
+    pilot : int
+        Members in the pilot ensemble of the iterations.
+    peak_constant : float
+        Constant of the peak factor in Eq. (6) [-] (:func:`rocking.psd.peak_factor`).
+    convention : str
+        ``"one-sided"`` (default): A_j = sqrt(2·p_j), or ``"as-printed"``: A_j = sqrt(4·p_j)
+        (see :func:`rocking.psd.power_spectrum`).
+
+    Returns
+    -------
+    Ensemble
+        Accelerations [m/s²]; ``meta`` holds every parameter, the resolved envelope shape
+        (``envelope_shape``), T_e [s], the frequencies [Hz], the target PSA [g] there, the
+        final amplitudes [m/s²] and the member indices.
+    """
+    return _generate(range(_count("n", n, 1)), duration=duration, dt=dt, envelope=envelope,
+                     envelope_params=envelope_params, target=target, seed=seed,
+                     baseline=baseline, damping=damping, n_freq=n_freq, fmin=fmin, fmax=fmax,
+                     iterations=iterations, pilot=pilot, peak_constant=peak_constant,
+                     convention=convention)
+
+
+def _generate(members, *, duration, dt, envelope, envelope_params, target, seed, baseline,
+              damping, n_freq, fmin, fmax, iterations, pilot, peak_constant,
+              convention) -> Ensemble:
+    """:func:`generate` for the given member indices."""
+    members = [int(m) for m in members]
+    dt = positive("dt", dt, "s")
+    seed = _count("seed", seed, 0)
+    n_iter = _count("iterations", iterations, 0)
+    n_pilot = _count("pilot", pilot, 1)
+    env = make_envelope(envelope, duration, **(envelope_params or {}))
+    freqs = log_frequencies(n_freq, fmin, fmax)
+    psa_g, h = target_psa(target, freqs, damping)
+    spectrum = power_spectrum(psa_g, freqs, env.equivalent_duration(), damping=h,
+                              peak_constant=peak_constant, convention=convention)
+    for _ in range(n_iter):
+        raw = synthesize(spectrum, env, dt, member_phases(seed, range(n_pilot), freqs.size))
+        mean_psa = response_spectrum(raw, dt, freqs, h).mean().psa
+        spectrum = PowerSpectrum.from_amplitudes(
+            freqs, spectrum.amplitudes * (psa_g * G / mean_psa),
+            spectrum.equivalent_duration, h, convention)
+    acc = synthesize(spectrum, env, dt, member_phases(seed, members, freqs.size))
+    if baseline:
+        acc = baseline_correct(acc, dt)
+    meta = {"kind": "simulated", "location": "ground", "scale": 1.0,
+            "target": _target_name(target, h), "duration": env.duration, "dt": dt,
+            "envelope": _envelope_name(env), "envelope_params": dict(envelope_params or {}),
+            "envelope_shape": env.params(), "seed": seed, "baseline": bool(baseline),
+            "damping": h, "n_freq": freqs.size, "fmin": float(fmin), "fmax": float(fmax),
+            "iterations": n_iter, "pilot": n_pilot, "peak_constant": float(peak_constant),
+            "convention": convention, "equivalent_duration": env.equivalent_duration(),
+            "freqs_hz": freqs.tolist(), "target_psa": psa_g.tolist(),
+            "amplitudes": spectrum.amplitudes.tolist(), "members": members}
+    return Ensemble(acc, dt, [f"sim-{m:04d}" for m in members], meta)
+
+
+def _target_name(target, damping: float) -> str:
+    name = getattr(target, "name", None)
+    if name is None:
+        name = f"{getattr(target, '__name__', 'target')} ({100 * damping:g} % damping)"
+    return str(name)
+
+
+def _envelope_name(env) -> str:
+    return next(name for name, cls in ENVELOPES.items() if isinstance(env, cls))
