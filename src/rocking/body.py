@@ -14,6 +14,12 @@ from ._validate import positive
 
 #: Standard gravity [m/s²].
 G = 9.80665
+#: One international foot [m]; the paper's sizes are whole feet printed in metres.
+FOOT = 0.3048
+#: Size parameters of the paper's 72 bodies (Tables 1–3): R = 4…11 ft, printed as 1.22…3.35 m.
+PAPER_R_FT = tuple(range(4, 12))
+#: Slenderness ratios of the paper's 72 bodies (Tables 1–3) [-].
+PAPER_GAMMAS = tuple(2.0 + 0.5 * i for i in range(9))
 
 
 @dataclass(frozen=True)
@@ -79,8 +85,18 @@ class Block:
         """Housner's (1963) restitution for a rectangle, e = 1 − 1.5·sin²α [-]."""
         return 1.0 - 1.5 * math.sin(self.alpha) ** 2
 
+    @property
+    def label(self) -> str:
+        """Short name for tables and plots, e.g. ``"R=1.22m g=4"`` (R to the cm)."""
+        return f"R={self.R:.2f}m g={self.gamma:g}"
+
     def __str__(self) -> str:
         return f"Block(R={self.R:g} m, gamma={self.gamma:g})"
+
+
+def paper_bodies() -> list[Block]:
+    """The paper's 72 bodies of Tables 1–3, R-major (R = 4…11 ft, then γ = 2.0…6.0)."""
+    return [Block(r_ft * FOOT, gamma) for r_ft in PAPER_R_FT for gamma in PAPER_GAMMAS]
 
 
 def housner_sv(block: Block, g: float = G) -> float:
