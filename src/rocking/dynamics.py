@@ -34,6 +34,8 @@ from .errors import InputError
 
 #: A bounce shorter than this fraction of the time step ends an impact sequence (block at rest).
 ZENO_TIME_FRACTION = 1e-4
+#: Partial-step probes for a return to θ = 0 inside a step that starts near θ = 0.
+_N_PROBES = 8
 #: Safety cap on events handled within one time step (impacts, uplifts).
 _MAX_EVENTS_PER_STEP = 10_000
 
@@ -103,9 +105,9 @@ def _locate(theta, omega, s, u0, du, tau, lo, hi, target, sgn, p2, sa, ca):
 
 
 @kernel
-def _interior_touch(theta, omega, th1, om1, s, h):
-    """Does a step that ends on the same side dip to θ = 0 inside?  Returns the cubic's time of
-    least |θ| (> 0) if the Hermite cubic through the end states reaches s·θ ≤ 0, else −1."""
+def _hermite_min(theta, omega, th1, om1, s, h):
+    """Time (> 0) of least s·θ of the Hermite cubic through the step's end states, if that cubic
+    turns round inside the step (θ' changes sign towards θ = 0 and back), else −1."""
     if not (s * omega < 0.0 and s * om1 > 0.0):
         return -1.0
     # Hermite cubic θ(x) on x = τ/h ∈ [0, 1]; find where its derivative vanishes (the minimum of sθ).
@@ -128,10 +130,37 @@ def _interior_touch(theta, omega, th1, om1, s, h):
                         best = x
     if best <= 0.0 or best >= 1.0:
         return -1.0
-    val = s * (((a * best + b) * best + c) * best + theta)
-    if val > 0.0:
-        return -1.0
     return best * h
+
+
+@kernel
+def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
+    """Bracket (lo, hi) of partial step lengths around the first return to θ = 0 inside a step that
+    ends on the same side (s·θ > 0 at lo, ≤ 0 at hi), or (−1, −1) if none is found.
+
+    Two probes: the turning point of the Hermite cubic through the end states (a swing that turns
+    round inside the step); and, when the block starts so close to θ = 0 that it could reach it
+    within the step (s·θ ≤ |θ'|·h + ½·max|θ''|·h², i.e. during short bounces or the chatter after
+    an impact, where the cubic's error exceeds θ itself), partial RK4 steps at h/_N_PROBES intervals.
+    """
+    hm = _hermite_min(theta, omega, th1, om1, s, h)
+    if hm > 0.0:
+        tm, _w = _rk4(theta, omega, s, u0, du, tau, hm, p2, sa, ca)
+        if s * tm <= 0.0:
+            return 0.0, hm
+    ua = abs(u0 + du * tau)
+    ub = abs(u0 + du * (tau + h))
+    amax = p2 * (1.0 + (ua if ua > ub else ub))  # |θ''| ≤ p²·(1 + |a_g|/g)
+    if s * theta > abs(omega) * h + 0.5 * amax * h * h:
+        return -1.0, -1.0
+    prev = 0.0
+    for j in range(1, _N_PROBES):
+        hj = h * j / _N_PROBES
+        tj, _w = _rk4(theta, omega, s, u0, du, tau, hj, p2, sa, ca)
+        if s * tj <= 0.0:
+            return prev, hj
+        prev = hj
+    return -1.0, -1.0
 
 
 @kernel
@@ -171,17 +200,14 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
         if h <= 0.0:
             break
         th1, om1 = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+        lo = 0.0
         hit = -1.0
         if s * th1 < 0.0 or (th1 == 0.0 and s * om1 < 0.0):
             hit = h
         else:
-            hmin = _interior_touch(theta, omega, th1, om1, s, h)
-            if hmin > 0.0:
-                tm, _w = _rk4(theta, omega, s, u0, du, tau, hmin, p2, sa, ca)
-                if s * tm <= 0.0:
-                    hit = hmin
+            lo, hit = _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca)
         if hit > 0.0:
-            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, 0.0, hit, 0.0, -s, p2, sa, ca)
+            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, lo, hit, 0.0, -s, p2, sa, ca)
             tau += hz
             n_imp += 1
             s = -s

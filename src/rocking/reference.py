@@ -24,12 +24,14 @@ REST_FLIGHT_TIME = 1e-7
 
 
 def simulate_reference(block: Block, ag, dt: float, *, e=0.925, overturn_angle=math.pi / 2,
-                       g: float = G, rtol: float = 1e-10, atol: float = 1e-12) -> RockingResponse:
+                       g: float = G, rtol: float = 1e-10, atol: float = 1e-12,
+                       max_step: float | None = None) -> RockingResponse:
     """Rocking response by ``solve_ivp`` (DOP853) with event location; starts from rest.
 
     Parameters as :func:`rocking.simulate`: ``ag`` [m/s²] sampled at ``dt`` [s], linear between
     samples; ``e`` [-]; ``overturn_angle`` [rad]; ``g`` [m/s²]; ``rtol``/``atol`` are the
-    integrator's tolerances.
+    integrator's tolerances;
+    ``max_step`` [s] caps its step (default: ``dt``, one kink of the ground motion per step).
     """
     dt = positive("dt", dt, "s")
     u = finite_array("ag", ag) / positive("g", g, "m/s²")
@@ -102,7 +104,7 @@ def simulate_reference(block: Block, ag, dt: float, *, e=0.925, overturn_angle=m
 
         t_eval = times[(times > t_cur) & (times <= t_end)]
         sol = solve_ivp(rhs, (t_cur, t_end), y, method="DOP853", rtol=rtol, atol=atol,
-                        max_step=dt, events=(hit_zero, hit_overturn), t_eval=t_eval)
+                        max_step=dt if max_step is None else max_step, events=(hit_zero, hit_overturn), t_eval=t_eval)
         t_sol = np.asarray(sol.t)
         if t_sol.size:
             k_written = np.searchsorted(times, t_sol)
