@@ -16,10 +16,11 @@ from rocking.body import G
 from rocking.cli import main
 from rocking.envelopes import make_envelope
 from rocking.errors import InputError
-from rocking.motions import (Ensemble, baseline_correct, generate, member_phases, spectral_fit,
-                             synthesize)
+from rocking.motions import (Ensemble, baseline_correct, generate, limit_peaks, member_phases,
+                             spectral_fit, synthesize)
 from rocking.psd import PowerSpectrum
 from rocking.records import read_record
+from rocking.spectra import response_spectrum, rg160
 
 RECORDS = "/work/shared/records"
 EL_CENTRO = f"{RECORDS}/ElCentro1940_NS.AT2"  # 1559 points at 0.02 s
@@ -45,12 +46,15 @@ def test_member_k_does_not_depend_on_ensemble_size():
 
 def test_result_does_not_depend_on_chunking_or_threads(monkeypatch):
     ref = generate(8)
+    corrected = generate(5, iterations=1, pilot=5)  # peak limiting has its own kernel
     monkeypatch.setattr(motions, "CHUNK", 3)
     np.testing.assert_array_equal(generate(8).acc, ref.acc)
+    np.testing.assert_array_equal(generate(5, iterations=1, pilot=5).acc, corrected.acc)
     threads = numba.get_num_threads()
     try:
         numba.set_num_threads(1)
         np.testing.assert_array_equal(generate(8).acc, ref.acc)
+        np.testing.assert_array_equal(generate(5, iterations=1, pilot=5).acc, corrected.acc)
     finally:
         numba.set_num_threads(threads)
 
@@ -181,22 +185,59 @@ def test_paper_method_alone_fits_rg160_loosely(paper_ensemble):
     assert fit.mean_deviation < 0.15
 
 
+def test_stiff_oscillators_follow_the_ground_so_the_zpa_is_the_mean_pga(paper_ensemble):
+    # Why the PSD iteration alone cannot fit RG 1.60 (see generate's docstring): at 33 Hz the
+    # 5 %-damped oscillator follows the ground, so the ensemble-mean PSA there is the mean PGA
+    # whatever the 20–50 Hz components. Measured ratio 1.04 for 200 motions (the 15–26 Hz
+    # content is slightly amplified); bound ±8 %, while the PGA itself is 19 % above the ZPA.
+    psa_33 = response_spectrum(paper_ensemble.acc, paper_ensemble.dt, [33.0]).psa[:, 0] / G
+    assert psa_33.mean() == pytest.approx(paper_ensemble.agx, rel=0.08)
+    assert paper_ensemble.agx > 1.1
+
+
 def test_iterative_correction_fits_rg160_within_10_percent():
-    # 200 motions, compound 20 s, iterative correction (5 rounds), 87 frequencies in 0.2–33 Hz.
-    # From 0.2 to 20 Hz the mean PSA is within ±10 % of RG 1.60 (measured 0.99–1.04).
-    # Above 20 Hz no amplitude change can bring it down to the 1 g ZPA: a stiff oscillator
-    # follows the ground, so the mean PSA tends to the mean PGA (A_gx = 1.25 g, measured), which
-    # is set by the 1–10 Hz content. There the bound is US SRP 3.7.1's acceptance band for
-    # spectrum-matched motions (reference.md §3): not more than 10 % below nor 30 % above the
-    # target (measured 1.05–1.25), and at the top frequency the mean PSA is the mean PGA within
-    # 5 % (measured 3.7 %).
-    ens = generate(200, iterations=5)
-    fit = spectral_fit(ens)
-    low = fit.freqs_hz <= 20.0
-    assert np.all(np.abs(fit.ratio[low] - 1) < 0.10)
-    assert np.all((fit.ratio[~low] > 0.9) & (fit.ratio[~low] < 1.3))
-    assert fit.mean_g[-1] == pytest.approx(ens.agx, rel=0.05)
-    assert fit.mean_deviation < 0.05
+    # Issue 3's criterion: 200 motions with the paper's settings (compound, 20 s, dt = 1/400 s,
+    # 100 frequencies 0.15–50 Hz, RG 1.60 at 5 %), iterative correction on (2 PSD iterations on
+    # a 200-member pilot, with peak limiting): the mean PSA is within ±10 % of RG 1.60 from 0.2
+    # to 33 Hz, checked at 100 frequencies per decade with both ends (US SRP 3.7.1's density,
+    # 223 frequencies: also between the fitted ones and at 33 Hz itself, which the fitted grid
+    # skips). Measured 0.971–1.068, worst at 33 Hz, where the mean PSA is 1.05 × the mean PGA
+    # (1.015 g); on the fitted frequencies alone ±3.6 %. n = 200 as in the issue. The pilot is
+    # members 0–199 of the same seed, i.e. this ensemble; members 200–399, which the pilot
+    # never saw, measured 0.957–1.070, and seed 1 0.971–1.071 (`rocking motions fit` prints
+    # this check and plots it, with the paper's method alone: 0.701–1.238).
+    ens = generate(200, iterations=2)
+    fit = spectral_fit(ens, rg160, per_decade=100)
+    assert fit.freqs_hz[0] == pytest.approx(0.2) and fit.freqs_hz[-1] == pytest.approx(33.0)
+    assert fit.freqs_hz.size >= 220
+    assert np.all(np.abs(fit.ratio - 1.0) < 0.10)
+    # The peak limiting keeps the amplitudes of the PSD and lowers the PGA towards the ZPA.
+    assert ens.agx == pytest.approx(1.0, abs=0.05)
+
+
+def test_peak_limiting_keeps_the_power_and_lowers_the_peak():
+    # limit_peaks changes phases only: the component amplitudes, hence the PSD and the energy
+    # (mean square acceleration, equal to Σ A_j²/2 up to cross terms of a few %) are kept,
+    # while the mean PGA of 20 motions whose untouched PGA is ~1.4 g falls to near the 1 g
+    # limit (measured 1.37 → 1.02 g with 200 motions; bounds 1.05 g mean, 1.10 g each).
+    # Phases of components with less than one beat against their neighbour over the record
+    # (below 0.88 Hz for 20 s) are not touched; the others are.
+    env = make_envelope("compound", 20.0)
+    ens = generate(1, baseline=False)
+    f = np.array(ens.meta["freqs_hz"])
+    spec = PowerSpectrum.from_amplitudes(f, 1.15 * np.array(ens.meta["amplitudes"]), 14.0, 0.05)
+    phases = member_phases(3, range(20), f.size)
+    new = limit_peaks(spec, env, ens.dt, phases, G)
+    before, after = (synthesize(spec, env, ens.dt, p) for p in (phases, new))
+    assert np.abs(before).max(axis=1).mean() > 1.25 * G
+    assert np.abs(after).max(axis=1).mean() < 1.05 * G
+    assert np.abs(after).max() < 1.10 * G
+    assert np.mean(after**2) == pytest.approx(np.mean(before**2), rel=0.03)
+    locked = spec.domega / (2 * math.pi) * 20.0 < 1.0
+    assert f[locked].max() < 0.88 < f[~locked].min()
+    np.testing.assert_array_equal(new[:, locked], phases[:, locked])
+    free = ~locked & (spec.amplitudes > 0)  # components with A_j = 0 are left out
+    assert np.mean(np.abs(np.sin(new[:, free] - phases[:, free])) > 1e-6) > 0.9
 
 
 # --------------------------------------------------------------------------- ensembles
@@ -305,6 +346,19 @@ def test_cli_generate_and_show(tmp_path):
     for name in ("baseline.png", "spectrum.png", "envelope.png"):
         assert (tmp_path / "figs" / name).stat().st_size > 10_000
 
+
+def test_cli_fit_writes_figure_table_and_both_fits(tmp_path):
+    # The one command of issue 3 (run with defaults for the 200-motion check; small here).
+    res = CliRunner().invoke(main, ["motions", "fit", "--n", "6", "--duration", "8",
+                                    "--iterations", "1", "--per-decade", "10",
+                                    "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    assert "paper's method alone" in res.output and "iterative correction" in res.output
+    table = np.loadtxt(tmp_path / "fit.csv", delimiter=",", skiprows=1)
+    assert table.shape == (24, 4)  # ceil(10·log10(33/0.2)) + 1 frequencies, 4 columns
+    assert table[0, 0] == pytest.approx(0.2) and table[-1, 0] == pytest.approx(33.0)
+    np.testing.assert_allclose(table[:, 1], rg160(table[:, 0]), rtol=1e-5)  # 6 digits in CSV
+    assert (tmp_path / "fit.png").stat().st_size > 10_000
 
 def test_cli_bad_input_is_one_line(tmp_path):
     runner = CliRunner()

@@ -76,3 +76,40 @@ def plot_baseline_comparison(dt: float, raw, corrected, labels=None, *,
     if title:
         fig.suptitle(title)
     return fig
+
+
+def plot_fit_ratios(freqs_hz, ratios: dict, *, tolerance: float = 0.10, band=None,
+                    title: str = "") -> Figure:
+    """Ensemble-mean PSA over the target PSA against frequency, one line per method.
+
+    Parameters
+    ----------
+    freqs_hz : array_like, shape (n_freq,)
+        Frequencies [Hz].
+    ratios : dict
+        Label -> mean PSA / target PSA [-] at ``freqs_hz``.
+    tolerance : float
+        Half-width of the shaded acceptance band around 1 [-] (0.10: ±10 %).
+    band : (float, float), optional
+        Frequency band of the criterion [Hz], marked by vertical lines.
+    title : str
+        Figure title.
+    """
+    f = np.asarray(freqs_hz, dtype=float)
+    fig = Figure(figsize=(6.5, 4.2), layout="constrained")
+    ax = fig.add_subplot()
+    ax.set_xscale("log")
+    ax.axhspan(1.0 - tolerance, 1.0 + tolerance, color="0.85",
+               label=f"target ± {100 * tolerance:g} %")
+    ax.axhline(1.0, color="k", lw=0.8)
+    for label, ratio in ratios.items():
+        ax.plot(f, np.asarray(ratio, dtype=float), lw=1.3, label=label)
+    for edge in band or ():
+        ax.axvline(edge, color="0.4", ls=":", lw=1.0)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("mean PSA / target PSA [-]")
+    ax.grid(True, which="both", lw=0.4, alpha=0.5)
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title)
+    return fig
