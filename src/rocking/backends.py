@@ -1,0 +1,205 @@
+"""Where the chunks of a Monte Carlo run are computed (issue 5, part 4).
+
+A backend does two things for the engine of :mod:`rocking.fragility` (and says, as ``workers``,
+how many tasks it runs at the same time):
+
+``scatter(data)``
+    make the run's shared, read-only inputs (motions, block constants) available to the workers
+    once, returning a handle;
+``map(func, handle, tasks)``
+    compute ``func(data, task)`` for every task and yield ``(index, result)`` pairs as they finish,
+    in any order.
+
+The engine keys every result by its task index, and every task by the indices of the cases it
+holds, so the outcome does not depend on the backend, the number of workers, the completion order
+or the chunk size.
+
+:class:`LocalBackend` (the default) computes the tasks one after the other in this process; the
+compiled kernel spreads each task over all cores with Numba threads.  :class:`DaskBackend` sends
+them to a Dask distributed cluster: an existing one by scheduler address, or a local cluster of
+worker processes started on demand.
+"""
+
+from __future__ import annotations
+
+import os
+import weakref
+
+import numba
+
+from .errors import InputError
+
+
+def _call(func, threads, handle, task):
+    """``func(handle, task)`` with at most ``threads`` Numba threads (None: as configured)."""
+    if threads is None:
+        return func(handle, task)
+    before = numba.get_num_threads()
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    try:
+        return func(handle, task)
+    finally:
+        numba.set_num_threads(before)
+
+
+class LocalBackend:
+    """Compute tasks in this process, each with Numba's threads.
+
+    Parameters
+    ----------
+    n_threads : int, optional
+        Numba threads for the kernel (default: all, ``numba.config.NUMBA_NUM_THREADS``).
+    """
+
+    def __init__(self, n_threads: int | None = None):
+        limit = numba.config.NUMBA_NUM_THREADS
+        if n_threads is not None and not (isinstance(n_threads, int) and 1 <= n_threads <= limit):
+            raise InputError(f"n_threads must be an integer in [1, {limit}], got {n_threads!r}")
+        self.n_threads = n_threads
+
+    #: Tasks that run at the same time (one; each uses all the Numba threads).
+    workers = 1
+
+    def scatter(self, data):
+        """Nothing to send: the handle is ``data`` itself."""
+        return data
+
+    def map(self, func, handle, tasks):
+        """Yield ``(i, func(handle, tasks[i]))`` in task order."""
+        for i, task in enumerate(tasks):
+            yield i, _call(func, self.n_threads, handle, task)
+
+    def close(self) -> None:
+        """Nothing to release."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"LocalBackend(n_threads={self.n_threads})"
+
+
+def _close(client, cluster) -> None:
+    client.close()
+    if cluster is not None:
+        cluster.close()
+
+
+class DaskBackend:
+    """Compute tasks on a Dask distributed cluster.
+
+    Parameters
+    ----------
+    address : str, optional
+        Scheduler address (e.g. ``"tcp://10.0.0.5:8786"``); its workers must have this package
+        installed, and should run one task thread each with ``NUMBA_NUM_THREADS`` set to their
+        share of the cores (``dask worker --nthreads 1``).  Without it, a local cluster of
+        ``n_workers`` worker processes is started on first use (and closed by :meth:`close`, at
+        the latest when the backend is garbage collected), with one task thread per worker and
+        each task limited to cores // n_workers Numba threads, so that the workers together do
+        not oversubscribe the cores (reference.md §10).
+    n_workers : int
+        Worker processes of the local cluster (ignored with ``address``).
+
+    Notes
+    -----
+    Losing a worker loses no work and duplicates none: the scheduler runs the tasks that were on
+    the dead worker again elsewhere (up to ``distributed.scheduler.allowed-failures`` times); the
+    client receives exactly one result per task index; tasks are pure (the same task always
+    gives the same arrays) and chunk files are written by the client only, keyed by the cases they
+    hold and replaced atomically, so a repeated task changes nothing.  The shared inputs are
+    broadcast to every worker, so they survive the loss of any one worker.
+    """
+
+    def __init__(self, address: str | None = None, n_workers: int = 2):
+        if address is not None and not isinstance(address, str):
+            raise InputError(f"address must be a scheduler address string, got {address!r}")
+        if not (isinstance(n_workers, int) and n_workers >= 1):
+            raise InputError(f"n_workers must be an integer >= 1, got {n_workers!r}")
+        self.address = address
+        self.n_workers = n_workers
+        #: Numba threads per task: the worker's share of this machine's cores (local cluster).
+        self.threads = None if address else max(1, (os.cpu_count() or 1) // n_workers)
+        self._client = None
+        self._finalizer = None
+
+    @property
+    def client(self):
+        """The ``distributed.Client`` (connecting or starting the cluster on first use)."""
+        if self._client is None:
+            self._client, cluster = self._connect()
+            self._finalizer = weakref.finalize(self, _close, self._client, cluster)
+        return self._client
+
+    def _connect(self):
+        from distributed import Client, LocalCluster
+
+        if self.address is not None:
+            try:
+                return Client(self.address, timeout="30s"), None
+            except (OSError, TimeoutError) as exc:
+                raise InputError(f"scheduler: cannot connect to {self.address} ({exc})") from None
+        # The thread budget is applied by each task (numba.set_num_threads) rather than through
+        # NUMBA_NUM_THREADS in distributed.nanny.pre-spawn-environ: Dask also writes those
+        # variables into this process's environment, and Numba re-reads it at every compilation,
+        # failing ("Cannot set NUMBA_NUM_THREADS to a different value") once its threads run.
+        cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
+                               dashboard_address=":0")
+        return Client(cluster), cluster
+
+    @property
+    def workers(self) -> int:
+        """Tasks that run at the same time: the cluster's task threads (connects)."""
+        return max(1, sum(self.client.nthreads().values()))
+
+    def scatter(self, data):
+        """Send ``data`` to every worker once; the handle is its future."""
+        [future] = self.client.scatter([data], broadcast=True)
+        return future
+
+    def map(self, func, handle, tasks):
+        """Submit one Dask task per entry of ``tasks``; yield ``(i, result)`` as they finish."""
+        from distributed import as_completed
+
+        futures = [self.client.submit(_call, func, self.threads, handle, task, pure=False)
+                   for task in tasks]
+        index = {f.key: i for i, f in enumerate(futures)}
+        for future, result in as_completed(futures, with_results=True):
+            yield index[future.key], result
+
+    def close(self) -> None:
+        """Close the client (and the local cluster if this backend started it)."""
+        if self._finalizer is not None:
+            self._finalizer()
+        self._client = None
+        self._finalizer = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self) -> str:
+        where = self.address or f"local cluster, {self.n_workers} workers"
+        return f"DaskBackend({where})"
+
+
+def get_backend(scheduler: str | None = None):
+    """Backend named by ``scheduler``.
+
+    ``None`` or ``"local"``: :class:`LocalBackend`; ``"dask-local"``: :class:`DaskBackend` with
+    a local cluster of worker processes; a scheduler address (``"tcp://host:port"``, or another
+    Dask protocol such as ``"tls://"``): :class:`DaskBackend` connected to it.
+    """
+    if scheduler is None or scheduler == "local":
+        return LocalBackend()
+    if scheduler == "dask-local":
+        return DaskBackend()
+    if isinstance(scheduler, str) and "://" in scheduler:
+        return DaskBackend(scheduler)
+    raise InputError(f"scheduler must be 'local', 'dask-local' or a scheduler address like "
+                     f"'tcp://host:8786', got {scheduler!r}")

@@ -1,0 +1,120 @@
+"""Backends: the same results, bit for bit, locally and on a real Dask cluster of processes."""
+
+import os
+import signal
+import threading
+
+import numba
+import numpy as np
+import pytest
+import xarray as xr
+
+from rocking.backends import DaskBackend, LocalBackend, get_backend
+from rocking.body import Block
+from rocking.errors import InputError
+from rocking.fragility import agx_50, overturning_probability
+from rocking.motions import generate
+
+RUN_STATS = ("chunks_computed", "chunks_loaded")
+
+
+@pytest.fixture(scope="module")
+def ensemble():
+    return generate(8, duration=6.0, dt=1 / 200, seed=9)
+
+
+@pytest.fixture(scope="module")
+def dask_backend():
+    backend = DaskBackend(n_workers=2)
+    yield backend
+    backend.close()
+
+
+BLOCKS = [Block(0.6, 3.0), Block(1.22, 4.0), Block(2.0, 2.5), Block(3.0, 5.0)]
+AGX = np.round(np.arange(0.1, 1.6, 0.1), 12)
+
+
+def _science(ds):
+    out = ds.copy()
+    out.attrs = {k: v for k, v in ds.attrs.items() if k not in RUN_STATS}
+    return out
+
+
+def _identical(a, b):
+    """Datasets equal bit for bit (floats compared by their bytes, NaN included)."""
+    xr.testing.assert_identical(_science(a), _science(b))
+    for name in a.data_vars:
+        assert a[name].values.tobytes() == b[name].values.tobytes(), name
+
+
+def test_get_backend():
+    assert isinstance(get_backend(None), LocalBackend)
+    assert isinstance(get_backend("local"), LocalBackend)
+    remote = get_backend("tcp://127.0.0.1:8786")  # not connected until used
+    assert isinstance(remote, DaskBackend) and remote.address == "tcp://127.0.0.1:8786"
+    assert get_backend("dask-local").address is None
+    with pytest.raises(InputError, match="scheduler"):
+        get_backend("cluster")
+    with pytest.raises(InputError, match="n_threads"):
+        LocalBackend(n_threads=0)
+
+
+def test_local_results_do_not_depend_on_chunks_or_threads(ensemble):
+    one = overturning_probability(BLOCKS, ensemble, AGX, members=True, chunk_size=8,
+                                  backend=LocalBackend(n_threads=1))
+    big = overturning_probability(BLOCKS, ensemble, AGX, members=True, chunk_size=10_000)
+    assert one.attrs["chunks_computed"] == len(BLOCKS) * AGX.size  # one pair per chunk
+    assert big.attrs["chunks_computed"] < 10
+    _identical(one, big)
+
+
+def test_dask_cluster_gives_identical_results(ensemble, dask_backend):
+    client = dask_backend.client
+    pids = client.run(os.getpid)
+    assert len(pids) == 2 and os.getpid() not in pids.values()  # two worker processes
+    # each task uses its worker's share of the cores: together they do not oversubscribe them
+    threads = dask_backend.map(lambda data, task: numba.get_num_threads(),
+                               dask_backend.scatter(None), range(4))
+    assert {n for _, n in threads} == {max(1, os.cpu_count() // 2)}
+
+    local = overturning_probability(BLOCKS, ensemble, AGX, members=True)
+    remote = overturning_probability(BLOCKS, ensemble, AGX, members=True, backend=dask_backend,
+                                     chunk_size=24)
+    assert remote.attrs["chunks_computed"] > 2  # really spread over tasks
+    _identical(local, remote)
+
+    cases = {"all": ensemble, "first six": ensemble.subset(range(6))}
+    _identical(agx_50(BLOCKS, cases, resolution=0.02),
+               agx_50(BLOCKS, cases, resolution=0.02, backend=dask_backend, chunk_size=16))
+
+
+def test_dask_worker_killed_mid_run_loses_nothing(ensemble, dask_backend, tmp_path):
+    """kill -9 one worker once the first chunk is back: its tasks run again elsewhere."""
+    client = dask_backend.client
+    victim = next(iter(client.run(os.getpid).values()))
+    done = threading.Event()
+    chunks_at_kill = []
+
+    def kill_when_started():
+        while not done.is_set():
+            finished = list(tmp_path.glob("chunk-*.npz"))
+            if finished:
+                os.kill(victim, signal.SIGKILL)
+                chunks_at_kill.append(len(finished))
+                return
+            done.wait(0.002)
+
+    watcher = threading.Thread(target=kill_when_started, daemon=True)
+    watcher.start()
+    agx = np.round(np.arange(0.1, 2.0, 0.1), 12)
+    try:
+        remote = overturning_probability(BLOCKS, ensemble, agx, members=True, out=tmp_path,
+                                         backend=dask_backend, chunk_size=8)
+    finally:
+        done.set()
+        watcher.join()
+    n_chunks = len(BLOCKS) * agx.size
+    assert chunks_at_kill and chunks_at_kill[0] < n_chunks, "the worker was not killed mid-run"
+    assert remote.attrs["chunks_computed"] == n_chunks  # every chunk received exactly once
+    assert len(list(tmp_path.glob("chunk-*.npz"))) == n_chunks
+    _identical(remote, overturning_probability(BLOCKS, ensemble, agx, members=True))

@@ -1,0 +1,193 @@
+"""Overturning probability, A_gx(50 %), Wilson intervals, lognormal fit, resumable runs."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from rocking.body import Block
+from rocking.dynamics import simulate
+from rocking.errors import InputError
+from rocking.fragility import (LognormalFit, agx_50, fit_lognormal, overturning_probability,
+                               wilson_interval)
+from rocking.motions import Ensemble, generate
+
+RUN_STATS = ("chunks_computed", "chunks_loaded")
+
+
+@pytest.fixture(scope="module")
+def ensemble():
+    return generate(8, duration=6.0, dt=1 / 200, seed=7)
+
+
+def _science(ds):
+    """The dataset without the attributes that describe how it was computed."""
+    out = ds.copy()
+    out.attrs = {k: v for k, v in ds.attrs.items() if k not in RUN_STATS}
+    return out
+
+
+def test_probability_is_the_fraction_of_motions_that_overturn(ensemble):
+    blocks = [Block(1.22, 4.0), Block(0.6, 3.0)]
+    agx = [0.3, 0.7, 1.2]
+    ds = overturning_probability(blocks, ensemble, agx)
+    for b, blk in enumerate(blocks):
+        for j, a in enumerate(agx):
+            scaled = ensemble.scaled(a)  # the paper's definition of a motion set at A_gx
+            count = sum(simulate(blk, row, scaled.dt).overturned for row in scaled.acc)
+            assert ds["count"].values[b, j] == count
+            assert ds["probability"].values[b, j] == count / ensemble.n
+    assert (ds["n"] == ensemble.n).all()
+    assert ds["count"].values.max() > 0 and ds["count"].values.min() < ensemble.n
+    assert list(ds["body"].values) == [b.label for b in blocks]
+    assert ds["agx"].attrs["units"] == "g" and ds["R"].attrs["units"] == "m"
+
+
+def test_wilson_interval_published_values():
+    # Newcombe, R. G. (1998), Two-sided confidence intervals for the single proportion:
+    # comparison of seven methods, Stat. Med. 17, 857-872, Table II, method 3 (Wilson score
+    # interval without continuity correction), printed to 4 decimals (hence abs=5e-5).
+    cases = {(81, 263): (0.2553, 0.3662), (15, 148): (0.0624, 0.1605),
+             (0, 20): (0.0, 0.1611), (1, 29): (0.0061, 0.1718)}
+    k, n = np.array(list(cases)).T
+    low, high = wilson_interval(k, n, 0.95)
+    expected = np.array(list(cases.values()))
+    np.testing.assert_allclose(low, expected[:, 0], atol=5e-5)
+    np.testing.assert_allclose(high, expected[:, 1], atol=5e-5)
+
+
+def test_interval_in_dataset_brackets_probability(ensemble):
+    ds = overturning_probability([Block(1.0, 4.0)], ensemble, [0.4, 0.9, 2.0], confidence=0.9)
+    assert ((ds.ci_low <= ds.probability) & (ds.probability <= ds.ci_high)).all()
+    low, high = wilson_interval(ds["count"].values, ds["n"].values, 0.9)
+    np.testing.assert_array_equal(ds.ci_low.values, low)
+    np.testing.assert_array_equal(ds.ci_high.values, high)
+
+
+def test_agx50_is_an_upward_crossing_of_one_half(ensemble):
+    blocks = [Block(0.8, 3.0), Block(1.22, 4.0), Block(2.5, 2.5)]
+    res = 0.02
+    ds = agx_50(blocks, ensemble, resolution=res, agx_max=4.0)
+    a50 = ds["agx50"].values
+    assert np.all(np.isfinite(a50))
+    # recomputed independently, at agx50 and one grid step below
+    for b, blk in enumerate(blocks):
+        check = overturning_probability([blk], ensemble, [a50[b], round(a50[b] - res, 12)])
+        p_at, p_below = check["probability"].values[0]
+        assert p_at >= 0.5 > p_below
+        assert ds["probability"].values[b] == p_at
+        assert ds["probability_below"].values[b] == p_below
+
+
+def test_agx50_not_reached_is_nan_and_cases_stack(ensemble):
+    big, small = Block(3.0, 2.0), Block(0.5, 4.0)
+    ds = agx_50([big, small], {"all": ensemble, "half": ensemble.subset(range(4))},
+                resolution=0.05, agx_max=0.5)
+    assert ds["agx50"].dims == ("case", "body")
+    assert list(ds["case"].values) == ["all", "half"]
+    # a 3 m block with gamma 2 needs far more than 0.5 g (paper Table 2: A_gx(50 %) > 1 g for
+    # R = 1.22 m, gamma = 2 already); the small slender block overturns below 0.5 g
+    assert np.isnan(ds["agx50"].sel(body=big.label)).all()
+    assert np.isfinite(ds["agx50"].sel(body=small.label)).all()
+
+
+def test_lognormal_fit_recovers_known_parameters():
+    rng = np.random.default_rng(2024)
+    true = LognormalFit(median=0.65, beta=0.35)
+    agx = np.arange(0.1, 1.55, 0.05)
+    n = 400
+    count = rng.binomial(n, true.probability(agx))
+    fit = fit_lognormal(agx, count, n)
+    # With 29 levels × 400 trials the standard errors are about 0.006 on ln(median) and 0.01 on
+    # beta (Fisher information of the probit model); 4 % / 12 % are > 4 standard errors.
+    assert fit.median == pytest.approx(true.median, rel=0.04)
+    assert fit.beta == pytest.approx(true.beta, rel=0.12)
+    with pytest.raises(InputError, match="not all 0"):
+        fit_lognormal(agx, np.zeros_like(count), n)
+
+
+def test_bad_input_is_named(ensemble):
+    blk = [Block(1.0, 3.0)]
+    with pytest.raises(InputError, match="agx"):
+        overturning_probability(blk, ensemble, [])
+    with pytest.raises(InputError, match="agx"):
+        overturning_probability(blk, ensemble, [0.5, -0.1])
+    with pytest.raises(InputError, match="ensemble"):
+        overturning_probability(blk, ensemble.acc, [0.5])
+    with pytest.raises(InputError, match="agx_max"):
+        agx_50(blk, ensemble, resolution=0.1, agx_max=0.05)
+
+
+def test_resume_loads_chunks_and_refuses_another_run(ensemble, tmp_path):
+    blocks = [Block(1.0, 3.0), Block(2.0, 4.0)]
+    agx = [0.3, 0.6, 0.9]
+    first = overturning_probability(blocks, ensemble, agx, out=tmp_path, chunk_size=8)
+    assert first.attrs["chunks_computed"] == 6 and first.attrs["chunks_loaded"] == 0  # 1 pair each
+    again = overturning_probability(blocks, ensemble, agx, out=tmp_path, chunk_size=48)
+    assert again.attrs["chunks_computed"] == 0 and again.attrs["chunks_loaded"] == 6
+    xr.testing.assert_identical(_science(first), _science(again))
+    with pytest.raises(InputError, match="different run.*e"):
+        overturning_probability(blocks, ensemble, agx, out=tmp_path, e=0.8)
+    # the adaptive search resumes the same way (its rounds are determined by earlier results)
+    a50 = agx_50(blocks, ensemble, resolution=0.05, out=tmp_path / "a50")
+    again = agx_50(blocks, ensemble, resolution=0.05, out=tmp_path / "a50")
+    assert again.attrs["chunks_computed"] == 0
+    assert again.attrs["chunks_loaded"] == a50.attrs["chunks_computed"] > 0
+    xr.testing.assert_identical(_science(a50), _science(again))
+
+
+def test_progress_bar_reports_simulations(ensemble, capsys):
+    overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=True)
+    err = capsys.readouterr().err
+    assert "P(overturn)" in err and f"{2 * ensemble.n}/{2 * ensemble.n}" in err
+    overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=False)
+    assert capsys.readouterr().err == ""
+
+
+KILL_SCRIPT = """
+import json, sys
+from rocking.body import Block
+from rocking.motions import Ensemble
+from rocking.fragility import overturning_probability
+sizes, agx = json.loads(sys.argv[3])
+overturning_probability([Block(*rg) for rg in sizes], Ensemble.load(sys.argv[1]), agx,
+                        out=sys.argv[2], chunk_size=64, progress=False)
+"""
+
+
+def test_killed_run_resumes_to_the_same_result(tmp_path):
+    ens_path = tmp_path / "motions.nc"
+    generate(8, duration=10.0, dt=1 / 200, seed=5).save(ens_path)
+    ens = Ensemble.load(ens_path)
+    # 45 chunks of 64 simulations of blocks that mostly keep rocking: some 25 ms each
+    sizes = [[R, g] for R in np.linspace(1.5, 3.5, 8).tolist() for g in (2.5, 3.5, 4.5, 5.5, 6.0)]
+    agx = np.linspace(0.2, 0.6, 9).tolist()
+    blocks = [Block(*rg) for rg in sizes]
+    reference = overturning_probability(blocks, ens, agx, out=tmp_path / "ref", chunk_size=64)
+    n_chunks = reference.attrs["chunks_computed"]
+
+    out = tmp_path / "run"
+    env = {**os.environ, "NUMBA_NUM_THREADS": "1"}  # slow and steady: chunks appear one by one
+    proc = subprocess.Popen([sys.executable, "-c", KILL_SCRIPT, str(ens_path), str(out),
+                             json.dumps([sizes, agx])], env=env)
+    deadline = time.monotonic() + 120
+    while not list(out.glob("chunk-*.npz")):
+        assert proc.poll() is None, "the run ended before writing a chunk"
+        assert time.monotonic() < deadline
+        time.sleep(0.005)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    finished = {p.name: p.stat().st_mtime_ns for p in out.glob("chunk-*.npz")}
+    assert 0 < len(finished) < n_chunks, "kill -9 came too late to test resuming"
+
+    resumed = overturning_probability(blocks, ens, agx, out=out, chunk_size=64)
+    assert resumed.attrs["chunks_loaded"] == len(finished)
+    assert resumed.attrs["chunks_computed"] == n_chunks - len(finished)
+    assert all(out.joinpath(name).stat().st_mtime_ns == t for name, t in finished.items())
+    xr.testing.assert_identical(_science(resumed), _science(reference))
