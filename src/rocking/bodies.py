@@ -1,0 +1,127 @@
+"""Lists of bodies read from CSV files.
+
+Format: a header row, then one body per row. Either columns ``R`` [m] and ``gamma`` [-], or
+``H`` [m] and ``B`` [m] (height and width); an optional ``name`` column. Headers are matched
+without regard to case or spaces and may carry a unit in brackets (``R [m]``, ``H (m)``);
+``γ`` is accepted for ``gamma``. Blank lines and lines starting with ``#`` are skipped. Example::
+
+    name,R,gamma
+    cabinet,1.22,4
+    tank,2.44,2.5
+
+Errors name the file, the data row (1 = first body) with its line in the file, and the problem.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from .body import Block
+from .errors import InputError
+
+#: Accepted column names (lower case, without units) and the canonical name they stand for.
+_ALIASES = {"r": "R", "gamma": "gamma", "γ": "gamma", "h": "H", "b": "B", "name": "name"}
+_UNITS = {"R": "m", "gamma": "-", "H": "m", "B": "m"}
+
+
+@dataclass(frozen=True)
+class NamedBody:
+    """A body from a bodies file: its ``name`` (the Block label when the file gives none) and
+    its :class:`~rocking.body.Block`."""
+
+    name: str
+    block: Block
+
+
+def read_bodies(path) -> list[Block]:
+    """Blocks listed in a CSV file (format in the module notes), in file order.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file with columns R [m] and gamma [-], or H [m] and B [m].
+    """
+    return [body.block for body in read_bodies_table(path)]
+
+
+def read_bodies_table(path) -> list[NamedBody]:
+    """Named bodies listed in a CSV file (format in the module notes), in file order.
+
+    Names must be distinct; a row without a name is named by its Block label.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file with columns R [m] and gamma [-], or H [m] and B [m], and optionally name.
+    """
+    path = Path(path)
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            lines = [(n, [c.strip() for c in cells])
+                     for n, cells in enumerate(csv.reader(fh), start=1)]
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: cannot read the bodies file "
+                         f"({getattr(exc, 'strerror', None) or exc})") from None
+    lines = [(n, cells) for n, cells in lines if any(cells) and not cells[0].startswith("#")]
+    if not lines:
+        raise InputError(f"{path}: empty bodies file (need a header row R,gamma or H,B and "
+                         "one row per body)")
+    columns = _columns(path, *lines[0])
+    if len(lines) == 1:
+        raise InputError(f"{path}: no bodies below the header (line {lines[0][0]})")
+    bodies, seen = [], {}
+    for row, (lineno, cells) in enumerate(lines[1:], start=1):
+        where = f"{path}: row {row} (line {lineno})"
+        if len(cells) < len(columns):
+            raise InputError(f"{where}: {len(cells)} value(s) for {len(columns)} columns "
+                             f"({', '.join(columns)})")
+        values = dict(zip(columns, cells))
+        size = {k: _number(where, k, v) for k, v in values.items() if k != "name"}
+        block = Block(size["R"], size["gamma"]) if "R" in size else \
+            Block.from_dimensions(size["H"], size["B"])
+        name = values.get("name") or block.label
+        if name in seen:
+            raise InputError(f"{where}: name {name!r} repeats that of row {seen[name]}")
+        seen[name] = row
+        bodies.append(NamedBody(name, block))
+    return bodies
+
+
+def _columns(path: Path, lineno: int, header: list[str]) -> list[str]:
+    """Canonical names of the header's columns; raises unless exactly one size pair is there."""
+    columns = []
+    for cell in header:
+        key = re.sub(r"\s*[\[(].*[\])]\s*$", "", cell).strip().lower()
+        if key not in _ALIASES:
+            raise InputError(f"{path}: line {lineno}: unknown column {cell!r} (expected R and "
+                             "gamma, or H and B, and optionally name)")
+        if _ALIASES[key] in columns:
+            raise InputError(f"{path}: line {lineno}: column {cell!r} appears twice")
+        columns.append(_ALIASES[key])
+    has_rg = {"R", "gamma"} <= set(columns)
+    has_hb = {"H", "B"} <= set(columns)
+    sizes = [c for c in columns if c != "name"]
+    if len(sizes) > 2:
+        raise InputError(f"{path}: line {lineno}: give R and gamma, or H and B, not a mix "
+                         f"(got {', '.join(header)})")
+    if not (has_rg or has_hb):
+        raise InputError(f"{path}: line {lineno}: missing column: need R and gamma, or H and B "
+                         f"(got {', '.join(header)})")
+    return columns
+
+
+def _number(where: str, column: str, text: str) -> float:
+    """``text`` as a finite number > 0 in ``column``, or an error naming the row."""
+    unit = _UNITS[column]
+    try:
+        x = float(text)
+    except ValueError:
+        what = "an empty cell" if not text else repr(text)
+        raise InputError(f"{where}: {column} must be a number [{unit}], got {what}") from None
+    if not math.isfinite(x) or x <= 0.0:
+        raise InputError(f"{where}: {column} must be a finite number > 0 [{unit}], got {text}")
+    return x

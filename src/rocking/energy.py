@@ -1,0 +1,335 @@
+"""Housner's energy-balance check (paper Section 8): required against available pseudo-velocity.
+
+* Required S_v (Eq. 11, :func:`rocking.body.housner_sv`): the pseudo-velocity that overturns a
+  body with about 50 % probability.
+* Available S_v (:func:`available_sv`): the largest value of a 5 %-damped pseudo-velocity spectrum
+  (the mean spectrum of an ensemble) in a low-frequency band, 0.04–0.6 Hz in the paper, because a
+  rocking body about to overturn oscillates slowly and floor spectra have spikes at higher
+  frequencies. For an ensemble scaled to a body's A_gx at 50 % probability this is the paper's
+  S_v1 (Tables 2 and 3, Fig. 14).
+* :func:`energy_balance` — Tables 1–3 for a set of bodies and their A_gx at 50 %;
+  :func:`grid_table` lays a column out as the paper's R × γ grid.
+* :func:`assess` — the engineer's use (end of Section 8): with a ground or floor spectrum, which
+  bodies are expected to be safe and which to overturn with more than 50 % probability.
+
+Units: S_v in m/s inside (tables in cm/s), A_gx in g, frequencies in Hz.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from ._validate import in_range, positive
+from .batch import block_list
+from .body import G, Block, housner_sv
+from .errors import InputError
+from .motions import Ensemble
+from .spectra import RG160, ResponseSpectrum, TabulatedSpectrum, TargetSpectrum, response_spectrum
+
+#: The paper's band for the available S_v [Hz] (Section 8).
+BAND_HZ = (0.04, 0.6)
+#: Default number of log-spaced oscillator frequencies in the band [-].
+N_FREQS = 200
+#: Verdicts of :func:`assess`.
+SAFE = "safe"
+OVERTURN = "overturn>50%"
+
+_SV_UNITS = "m s-1"
+
+
+def band_frequencies(band_hz=BAND_HZ, n_freqs: int = N_FREQS) -> np.ndarray:
+    """``n_freqs`` log-spaced frequencies [Hz] from the band's lower to its upper edge (both in).
+
+    Parameters
+    ----------
+    band_hz : (float, float)
+        Lower and upper edge [Hz], 0 < lower < upper.
+    n_freqs : int
+        Number of frequencies [-], ≥ 2.
+    """
+    lo, hi = _band(band_hz)
+    if isinstance(n_freqs, bool) or not isinstance(n_freqs, (int, np.integer)) or n_freqs < 2:
+        raise InputError(f"n_freqs must be an integer ≥ 2, got {n_freqs!r}")
+    return np.geomspace(lo, hi, int(n_freqs))
+
+
+def mean_psv(ensemble: Ensemble, freqs_hz, damping: float = 0.05) -> np.ndarray:
+    """Ensemble-mean pseudo-velocity spectrum [m/s] of ``ensemble`` as it is (not rescaled).
+
+    Parameters
+    ----------
+    ensemble : Ensemble
+        Accelerations [m/s²].
+    freqs_hz : array_like
+        Oscillator frequencies [Hz].
+    damping : float
+        Damping ratio [-].
+    """
+    return response_spectrum(ensemble.acc, ensemble.dt, freqs_hz, damping).mean().psv
+
+
+def available_sv(source, *, band_hz=BAND_HZ, damping: float = 0.05, agx: float | None = None,
+                 n_freqs: int = N_FREQS) -> float:
+    """Largest pseudo-velocity of a spectrum inside a frequency band [m/s] (paper Section 8).
+
+    Parameters
+    ----------
+    source : Ensemble, ResponseSpectrum or TargetSpectrum
+        * :class:`~rocking.motions.Ensemble`: the maximum over ``n_freqs`` log-spaced frequencies
+          of the band of the ensemble-mean PSV (``damping``), after scaling the ensemble to
+          mean PGA ``agx`` if given. With ``agx`` = a body's A_gx at 50 % this is S_v1.
+        * :class:`~rocking.spectra.ResponseSpectrum`: the maximum of its (mean) PSV at its own
+          frequencies inside the band; its damping must equal ``damping``.
+        * :class:`~rocking.spectra.TargetSpectrum`: the maximum of its PSV on the log-spaced grid
+          plus its table frequencies inside the band (PSV is monotonic between the knots of a
+          log-log-linear table, so the maximum of a tabulated or RG 1.60 spectrum is exact).
+    band_hz : (float, float)
+        Band [Hz], 0 < lower < upper; default the paper's 0.04–0.6 Hz.
+    damping : float
+        Damping ratio [-] of the spectrum.
+    agx : float, optional
+        Ensemble A_gx (mean PGA) to scale to [g], > 0; only for an Ensemble source.
+    n_freqs : int
+        Number of log-spaced frequencies in the band [-].
+
+    Returns
+    -------
+    float
+        Available S_v [m/s].
+    """
+    lo, hi = _band(band_hz)
+    damping = in_range("damping", damping, 0.0, 1.0, hi_open=True, unit="-")
+    if agx is not None and not isinstance(source, Ensemble):
+        raise InputError("agx scales an ensemble; it cannot be given with a "
+                         f"{type(source).__name__}")
+    if isinstance(source, Ensemble):
+        freqs = band_frequencies((lo, hi), n_freqs)
+        sv = float(mean_psv(source, freqs, damping).max())
+        return sv if agx is None else sv * positive("agx", agx, "g") / _agx_of(source)
+    if isinstance(source, ResponseSpectrum):
+        if not math.isclose(source.damping, damping, rel_tol=1e-9):
+            raise InputError(f"the response spectrum has damping {source.damping:g}, but "
+                             f"damping={damping:g} was asked")
+        inside = (source.freqs_hz >= lo) & (source.freqs_hz <= hi)
+        if not inside.any():
+            raise InputError(f"the response spectrum has no frequency in the band "
+                             f"{lo:g}–{hi:g} Hz")
+        return float(source.mean().psv[inside].max())
+    if isinstance(source, TargetSpectrum):
+        if not math.isclose(source.damping, damping, rel_tol=1e-9):
+            raise InputError(f"the spectrum {source.name!r} is for damping {source.damping:g}, "
+                             f"but damping={damping:g} was asked")
+        knots = _knots(source)
+        freqs = np.union1d(band_frequencies((lo, hi), n_freqs),
+                           knots[(knots > lo) & (knots < hi)])
+        return float(source.psv(freqs).max())
+    raise InputError("source must be an Ensemble, a ResponseSpectrum or a TargetSpectrum, got "
+                     f"{type(source).__name__}")
+
+
+def energy_balance(blocks, ensemble: Ensemble, agx50, *, band_hz=BAND_HZ, damping: float = 0.05,
+                   n_freqs: int = N_FREQS, g: float = G) -> xr.Dataset:
+    """Required S_v (Eq. 11) against the available S_v1 at each body's A_gx of 50 % (Tables 1–3).
+
+    The response spectra scale linearly with the motions, so the mean PSV of ``ensemble`` is
+    computed once and S_v1 = (A_gx50 / A_gx of ``ensemble``) · max of that spectrum in the band.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+        The bodies.
+    ensemble : Ensemble
+        The motions the A_gx50 were found with (ground or floor), at any scale [m/s²].
+    agx50 : array_like, xarray.DataArray or xarray.Dataset
+        A_gx at 50 % overturning probability of each body [g], in the order of ``blocks``
+        (NaN where not reached): an array, or the result of :func:`rocking.fragility.agx_50`
+        (its ``agx50`` variable).
+    band_hz : (float, float)
+        Band of the available S_v [Hz].
+    damping : float
+        Damping ratio of the spectra [-].
+    n_freqs : int
+        Number of log-spaced frequencies in the band [-].
+    g : float
+        Gravity [m/s²] for Eq. (11).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``body`` (coordinates ``body`` = Block labels, ``R`` [m], ``gamma`` [-]) with
+        ``sv_required`` [m/s] (Table 1), ``agx50`` [g], ``sv1`` [m/s] (Table 2) and ``ratio`` =
+        sv1/sv_required [-] (Table 3). Attribute ``sv1_per_g`` is the band maximum of the mean
+        PSV for A_gx = 1 g [m/s per g]; ``band_hz`` and ``damping`` record the settings.
+    """
+    blocks = block_list(blocks)
+    a50 = _agx50_values(agx50, len(blocks))
+    freqs = band_frequencies(band_hz, n_freqs)
+    sv1_per_g = float(mean_psv(ensemble, freqs, damping).max()) / _agx_of(ensemble)
+    sv_req = np.array([housner_sv(b, g) for b in blocks])  # Eq. (11)
+    sv1 = sv1_per_g * a50
+    ds = _body_dataset(blocks, {
+        "sv_required": (sv_req, _SV_UNITS, "required pseudo-velocity, Eq. (11)"),
+        "agx50": (a50, "g", "A_gx at 50 % overturning probability"),
+        "sv1": (sv1, _SV_UNITS, "max of the mean PSV in the band at A_gx50 (S_v1)"),
+        "ratio": (sv1 / sv_req, "1", "S_v1 / S_v"),
+    })
+    ds.attrs.update(band_hz=list(freqs[[0, -1]]), damping=damping, sv1_per_g=sv1_per_g,
+                    ensemble_location=str(ensemble.meta.get("location", "")),
+                    n_motions=ensemble.n)
+    return ds
+
+
+def assess(blocks, source, *, band_hz=BAND_HZ, damping: float = 0.05, names=None,
+           agx: float | None = None, g: float = G) -> xr.Dataset:
+    """Screen bodies against a ground or floor spectrum with Eq. (11) (paper Section 8 examples).
+
+    A body whose required S_v exceeds the available S_v of the spectrum is expected to be safe
+    (overturning probability below 50 %); otherwise it is expected to overturn with a
+    probability of 50 % or more.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+        The bodies.
+    source : Ensemble, ResponseSpectrum or TargetSpectrum
+        The spectrum at the body's location (see :func:`available_sv`).
+    band_hz : (float, float)
+        Band of the available S_v [Hz].
+    damping : float
+        Damping ratio of the spectrum [-].
+    names : sequence of str, optional
+        One name per body (default: the Block labels).
+    agx : float, optional
+        Scale an Ensemble source to this A_gx [g] first.
+    g : float
+        Gravity [m/s²] for Eq. (11).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``body`` (coordinates ``body`` = names, ``R`` [m], ``gamma`` [-]) with
+        ``sv_required`` [m/s], ``sv_available`` [m/s] (the same for every body),
+        ``margin`` = sv_required / sv_available − 1 [-] (> 0: safe; e.g. 0.79 means the body
+        needs 79 % more pseudo-velocity than the spectrum offers) and ``verdict``
+        (``"safe"`` if margin > 0, else ``"overturn>50%"``).
+    """
+    blocks = block_list(blocks)
+    if names is None:
+        names = [b.label for b in blocks]
+    names = [str(n) for n in names]
+    if len(names) != len(blocks):
+        raise InputError(f"names has {len(names)} entries for {len(blocks)} bodies")
+    available = available_sv(source, band_hz=band_hz, damping=damping, agx=agx)
+    sv_req = np.array([housner_sv(b, g) for b in blocks])  # Eq. (11)
+    margin = sv_req / available - 1.0
+    ds = _body_dataset(blocks, {
+        "sv_required": (sv_req, _SV_UNITS, "required pseudo-velocity, Eq. (11)"),
+        "sv_available": (np.full(len(blocks), available), _SV_UNITS,
+                         "max of the PSV in the band"),
+        "margin": (margin, "1", "sv_required / sv_available - 1 (> 0: safe)"),
+        "verdict": (np.where(margin > 0.0, SAFE, OVERTURN), "", "Housner's screening verdict"),
+    }, labels=names)
+    lo, hi = _band(band_hz)
+    ds.attrs.update(band_hz=[lo, hi], damping=damping)
+    return ds
+
+
+def forms_grid(ds: xr.Dataset) -> bool:
+    """True if the bodies of ``ds`` are every (R, γ) pair of some R and γ values, once each."""
+    pairs = set(zip(_round(ds["R"].values), _round(ds["gamma"].values)))
+    n_r = len(set(_round(ds["R"].values)))
+    n_g = len(set(_round(ds["gamma"].values)))
+    return len(pairs) == ds.sizes["body"] == n_r * n_g
+
+
+def grid_table(ds: xr.Dataset, name: str) -> pd.DataFrame:
+    """One per-body variable of ``ds`` as the paper's table: rows R [m], columns γ [-].
+
+    Velocities (units m/s) are given in cm/s as in the paper's Tables 1 and 2; other variables
+    as they are. The bodies must form a full R × γ grid (:func:`forms_grid`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Result of :func:`energy_balance` or :func:`assess` (or any dataset with dimension
+        ``body`` and coordinates ``R``, ``gamma``).
+    name : str
+        Variable name, e.g. ``"sv_required"``, ``"sv1"``, ``"ratio"``.
+    """
+    if name not in ds.data_vars:
+        raise InputError(f"no variable {name!r}; the dataset has {', '.join(ds.data_vars)}")
+    if not forms_grid(ds):
+        raise InputError("the bodies do not form an R × gamma grid (each pair once)")
+    values = ds[name].values
+    unit = ds[name].attrs.get("units", "")
+    if unit == _SV_UNITS:
+        values, unit = 100.0 * values, "cm/s"
+    table = pd.DataFrame({"R": _round(ds["R"].values), "gamma": _round(ds["gamma"].values),
+                          "value": values}).pivot(index="R", columns="gamma", values="value")
+    table.index.name = "R [m]"
+    table.columns.name = "gamma [-]"
+    table.attrs["units"] = unit
+    return table
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _band(band_hz) -> tuple[float, float]:
+    try:
+        lo, hi = (float(x) for x in band_hz)
+    except (TypeError, ValueError):
+        raise InputError(f"band_hz must be two frequencies [Hz], got {band_hz!r}") from None
+    positive("band_hz lower edge", lo, "Hz")
+    positive("band_hz upper edge", hi, "Hz")
+    if not lo < hi:
+        raise InputError(f"band_hz lower edge ({lo:g} Hz) must be below the upper ({hi:g} Hz)")
+    return lo, hi
+
+
+def _knots(spectrum: TargetSpectrum) -> np.ndarray:
+    """Frequencies [Hz] where a log-log-linear target spectrum changes slope (none if unknown)."""
+    if isinstance(spectrum, TabulatedSpectrum):
+        return spectrum.freqs_hz
+    if isinstance(spectrum, RG160):
+        return spectrum.control_points()[0]
+    return np.empty(0)
+
+
+def _agx_of(ensemble: Ensemble) -> float:
+    if ensemble.agx == 0.0:
+        raise InputError("the ensemble's motions are all zero: its spectrum cannot be scaled")
+    return ensemble.agx
+
+
+def _agx50_values(agx50, n: int) -> np.ndarray:
+    if isinstance(agx50, xr.Dataset):
+        if "agx50" not in agx50:
+            raise InputError("agx50 dataset has no variable 'agx50'")
+        agx50 = agx50["agx50"]
+    a = np.asarray(agx50, dtype=np.float64).ravel()
+    if a.size != n:
+        raise InputError(f"agx50 has {a.size} values for {n} bodies")
+    bad = np.isinf(a) | (a <= 0.0)  # NaN (not reached by the search) is allowed
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InputError(f"agx50[{i}] must be > 0 [g] or NaN, got {a[i]!r}")
+    return a
+
+
+def _body_dataset(blocks, variables: dict, labels=None) -> xr.Dataset:
+    coords = {"body": [b.label for b in blocks] if labels is None else list(labels),
+              "R": ("body", [b.R for b in blocks], {"units": "m"}),
+              "gamma": ("body", [b.gamma for b in blocks], {"units": "1"})}
+    data = {k: ("body", v, {"units": u, "long_name": ln} if u else {"long_name": ln})
+            for k, (v, u, ln) in variables.items()}
+    return xr.Dataset(data, coords=coords)
+
+
+def _round(x) -> np.ndarray:
+    """Body sizes rounded to 0.1 µm (and γ to 1e-7) so that float noise does not split a row."""
+    return np.round(np.asarray(x, dtype=np.float64), 7)

@@ -1,0 +1,154 @@
+"""Figures of overturning probability and of Housner's energy balance (paper Figs. 9–11,
+13–16)."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+from scipy.stats import norm
+
+from ..energy import BAND_HZ
+
+#: Most curves given a legend entry; more would hide the plot.
+MAX_LEGEND = 12
+
+
+def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
+    """Overturning probability against A_gx, one curve per body (paper Figs. 9–11, 13).
+
+    Each curve has a shaded band between ``ci_low`` and ``ci_high`` (the Wilson interval at the
+    level of attribute ``confidence``, default 0.95) and,
+    when ``fits`` has an entry for it, the fitted lognormal curve Φ(ln(A_gx/median)/β) dashed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Result of :func:`rocking.fragility.overturning_probability`: ``probability``, ``ci_low``,
+        ``ci_high`` [-] on dimensions (``body``, ``agx``) or (``case``, ``body``, ``agx``),
+        ``agx`` [g].
+    fits : dict, optional
+        Lognormal fits (objects with ``median`` [g] and ``beta`` [-]) keyed by body label, or
+        by (case, body) when ``ds`` has a ``case`` dimension.
+    title : str
+        Figure title.
+    """
+    fits = fits or {}
+    agx = ds["agx"].values
+    fine = np.linspace(agx.min(), agx.max(), 200)
+    fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+    ax = fig.add_subplot()
+    curves = _curves(ds)
+    for k, (key, label, sel) in enumerate(curves):
+        color = f"C{k % 10}"
+        ax.fill_between(agx, sel["ci_low"].values, sel["ci_high"].values, color=color,
+                        alpha=0.18, lw=0)
+        ax.plot(agx, sel["probability"].values, "o-", color=color, ms=3, lw=1.2,
+                label=label if k < MAX_LEGEND else None)
+        fit = fits.get(key)
+        if fit is not None and np.isfinite(fit.median) and np.isfinite(fit.beta) and fit.beta > 0:
+            ax.plot(fine, norm.cdf(np.log(fine / fit.median) / fit.beta), "--", color=color,
+                    lw=1.0)
+    ax.axhline(0.5, color="0.5", lw=0.8, ls=":")
+    ax.set_xlabel("ensemble mean peak acceleration A_gx [g]")
+    ax.set_ylabel("probability of overturning [-]")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(True, lw=0.4, alpha=0.5)
+    band = f"shaded: {100 * ds.attrs.get('confidence', 0.95):g} % Wilson interval"
+    extra = f" ({len(curves) - MAX_LEGEND} more not listed)" if len(curves) > MAX_LEGEND else ""
+    ax.legend(fontsize="small", title=band + ("; dashed: lognormal fit" if fits else "") + extra,
+              title_fontsize="small")
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
+    """Required S_v (Eq. 11) against the A_gx of 50 % overturning probability, with the
+    least-squares straight line (paper Figs. 15 and 16) and, dashed, the available S_v1 of the
+    ensemble at each A_gx (points on it have S_v1/S_v = 1, Table 3).
+
+    Parameters
+    ----------
+    energy_ds : xarray.Dataset
+        Result of :func:`rocking.energy.energy_balance` (``sv_required`` and ``sv1`` [m/s],
+        ``agx50`` [g]); bodies with NaN A_gx50 are left out.
+    title : str
+        Figure title.
+    """
+    x = energy_ds["agx50"].values
+    y = 100.0 * energy_ds["sv_required"].values
+    ok = np.isfinite(x) & np.isfinite(y)
+    fig = Figure(figsize=(6.0, 4.8), layout="constrained")
+    ax = fig.add_subplot()
+    ax.plot(x[ok], y[ok], "o", ms=4, label=f"{int(ok.sum())} bodies")
+    xs = np.array([0.0, (x[ok].max() if ok.any() else 1.0) * 1.05])
+    if ok.sum() >= 2 and np.ptp(x[ok]) > 0:
+        slope, intercept = np.polyfit(x[ok], y[ok], 1)
+        r2 = np.corrcoef(x[ok], y[ok])[0, 1] ** 2
+        ax.plot(xs, intercept + slope * xs, "k-", lw=1.2,
+                label=f"least squares: S_v = {slope:.1f}·A_gx {'+' if intercept >= 0 else '−'} "
+                      f"{abs(intercept):.1f} (R² = {r2:.3f})")
+    if ok.any():
+        # S_v1 is proportional to A_gx (spectra scale with the motions): sv1/agx50 is the same
+        # for every body; on this line S_v1 equals the required S_v.
+        per_g = 100.0 * float(np.mean(energy_ds["sv1"].values[ok] / x[ok]))
+        ax.plot(xs, per_g * xs, "--", color="C3", lw=1.0,
+                label=f"S_v1 = {per_g:.1f}·A_gx (ratio 1)")
+    ax.set_xlabel("A_gx at 50 % overturning probability [g]")
+    ax.set_ylabel("required S_v, Eq. (11) [cm/s]")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def plot_sv1_spectrum(freqs_hz, psv, *, sv_required: float | None = None, band_hz=BAND_HZ,
+                      title: str = "") -> Figure:
+    """Mean pseudo-velocity spectrum with the band of the available S_v shaded, its maximum in the
+    band (S_v1) marked and the required S_v of Eq. (11) drawn (paper Fig. 14).
+
+    Parameters
+    ----------
+    freqs_hz : array_like, shape (n_freq,)
+        Frequencies [Hz].
+    psv : array_like, shape (n_freq,)
+        Mean pseudo-velocity [m/s] (e.g. of the ensemble scaled to a body's A_gx50); drawn in
+        cm/s.
+    sv_required : float, optional
+        Required S_v [m/s] of the body (Eq. 11).
+    band_hz : (float, float)
+        Band [Hz] in which S_v1 is the maximum.
+    title : str
+        Figure title.
+    """
+    f = np.asarray(freqs_hz, dtype=float)
+    v = 100.0 * np.asarray(psv, dtype=float)
+    lo, hi = band_hz
+    fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+    ax = fig.add_subplot()
+    ax.loglog(f, v, lw=1.4, label="mean PSV")
+    ax.axvspan(lo, hi, color="0.85", zorder=0, label=f"band {lo:g}–{hi:g} Hz")
+    inside = (f >= lo) & (f <= hi)
+    if inside.any():
+        k = np.flatnonzero(inside)[np.argmax(v[inside])]
+        ax.plot(f[k], v[k], "o", color="C3", label=f"S_v1 = {v[k]:.1f} cm/s at {f[k]:.3g} Hz")
+    if sv_required is not None:
+        ax.axhline(100.0 * sv_required, color="k", ls="--", lw=1.0,
+                   label=f"required S_v (Eq. 11) = {100.0 * sv_required:.1f} cm/s")
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("pseudo-velocity S_v [cm/s]")
+    ax.grid(True, which="both", lw=0.4, alpha=0.5)
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def _curves(ds):
+    """(key, legend label, dataset of one curve) for every body (and case)."""
+    bodies = [str(b) for b in ds["body"].values]
+    if "case" not in ds.dims:
+        return [(b, b, ds.isel(body=i)) for i, b in enumerate(bodies)]
+    return [((str(c), b), f"{c}: {b}", ds.isel(case=j, body=i))
+            for j, c in enumerate(ds["case"].values) for i, b in enumerate(bodies)]

@@ -1,0 +1,215 @@
+"""``rocking fragility``, ``rocking agx50`` and ``rocking assess``: bad input stops before any work
+with one line and no traceback; small runs write their files and agree with the library."""
+
+import json
+import math
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+
+from rocking.body import FOOT, G, Block
+from rocking.cli import main
+from rocking.cli.fragility import parse_range
+from rocking.errors import InputError
+from rocking.frames import ShearFrame
+from rocking.motions import NETCDF_ENGINE, generate
+
+
+@pytest.fixture(scope="module")
+def motions(tmp_path_factory):
+    """A tiny simulated ensemble (6 motions of 5 s at 200 Hz) saved as netCDF."""
+    path = tmp_path_factory.mktemp("motions") / "ens.nc"
+    generate(6, duration=5.0, dt=1 / 200, seed=3).save(path)
+    return path
+
+
+@pytest.fixture
+def bodies(tmp_path):
+    """Two slender bodies of one size (a 1 × 2 R × γ grid) that overturn at moderate A_gx."""
+    path = tmp_path / "bodies.csv"
+    path.write_text("name,R,gamma\nslim,0.5,5\nslimmer,0.5,6\n")
+    return path
+
+
+def _one_line_error(result):
+    """The CLI failed with a one-line message and no traceback."""
+    assert result.exit_code != 0
+    assert "Traceback" not in result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("Error: "), result.output
+    return lines[0]
+
+
+def _run(args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+# ----------------------------------------------------------------------------- bad input
+
+@pytest.mark.parametrize("csv_text, command, expected", [
+    ("R\n1.0\n", "fragility", "missing column"),
+    ("R,gamma\n1.0,4\n-0.5,3\n", "fragility", r"row 2 \(line 3\): R must be a finite number > 0"),
+    ("H,B\n1.0,0.2\n1.0,-0.2\n", "agx50", r"row 2 \(line 3\): B must be"),
+    ("", "agx50", "empty bodies file"),
+])
+def test_bad_bodies_file_stops_before_work(tmp_path, motions, csv_text, command, expected):
+    bad = tmp_path / "bad.csv"
+    bad.write_text(csv_text)
+    out = tmp_path / "out"
+    line = _one_line_error(_run([command, "--bodies", bad, "--motions", motions, "--out", out]))
+    assert "bad.csv" in line and re.search(expected, line), line
+    assert not out.exists()  # no work started, nothing written
+
+
+@pytest.mark.parametrize("extra, expected", [
+    (["--frame", "paper-9.9", "--floor", "1"], "unknown frame preset 'paper-9.9'"),
+    (["--frame", "paper-2.0", "--floor", "6"], "--floor must be from 0"),
+    (["--floor", "2"], "--floor and --frame go together"),
+    (["--agx", "1.5:0.1:0.05"], "empty range"),
+    (["--agx", "0.1:1.5:0"], "step must be > 0"),
+    (["--agx", "0.1:x:0.1"], "start:stop:step"),
+    (["--agx", "-0.1:0.5:0.1"], "values must be > 0"),
+    (["--e", "1.5"], "--e must be"),
+    (["--scheduler", "bogus"], "scheduler"),
+])
+def test_bad_options_stop_before_work(tmp_path, motions, bodies, extra, expected):
+    out = tmp_path / "out"
+    line = _one_line_error(_run(["fragility", "--bodies", bodies, "--motions", motions,
+                                 "--out", out, *extra]))
+    assert expected in line
+    assert not out.exists()
+
+
+def test_missing_or_bad_motions_file(tmp_path, bodies):
+    out = tmp_path / "out"
+    line = _one_line_error(_run(["agx50", "--bodies", bodies, "--motions",
+                                 tmp_path / "none.nc", "--out", out]))
+    assert "none.nc" in line
+    not_nc = tmp_path / "text.nc"
+    not_nc.write_text("hello")
+    line = _one_line_error(_run(["agx50", "--bodies", bodies, "--motions", not_nc,
+                                 "--out", out]))
+    assert "text.nc" in line
+    assert not out.exists()
+
+
+def test_agx_range_includes_stop_within_tolerance():
+    # 0.1 + 14·0.1 is 1.5000000000000002 in binary: the stop still counts, values read as written.
+    np.testing.assert_array_equal(parse_range("0.1:1.5:0.1"), np.round(np.arange(1, 16) / 10, 12))
+    assert parse_range("0.3:0.8:0.05")[-1] == 0.8
+    assert parse_range("0.6").tolist() == [0.6]
+    with pytest.raises(InputError, match="empty range"):
+        parse_range("0.5:0.4:0.1")
+
+
+# ----------------------------------------------------------------------------- assess
+
+@pytest.fixture
+def flat_spectrum(tmp_path):
+    """CSV spectrum with PSV = 114.30 cm/s at every frequency (PSA ∝ f), the paper's first floor."""
+    path = tmp_path / "floor1.csv"
+    rows = "\n".join(f"{fi!r},{1.1430 * 2 * math.pi * fi / G!r}" for fi in (0.01, 10.0))
+    path.write_text("freq_hz,psa_g\n" + rows + "\n")
+    return path
+
+
+def test_assess_paper_examples_sorted_most_at_risk_first(tmp_path, flat_spectrum):
+    # Paper Section 8: R = 1.22 m, γ = 2 (205.11 cm/s needed) is safe, γ = 4 (100.56 cm/s)
+    # overturns with more than 50 % probability on a floor offering 114.30 cm/s.
+    path = tmp_path / "b.csv"
+    path.write_text(f"name,R,gamma\nstocky,{4 * FOOT!r},2\nslender,{4 * FOOT!r},4\n")
+    result = _run(["assess", "--bodies", path, "--spectrum", flat_spectrum])
+    assert result.exit_code == 0, result.output
+    lines = result.output.strip().splitlines()
+    assert "114.30 cm/s" in lines[0]
+    assert lines[2].split()[0] == "slender" and lines[2].endswith("overturn>50%")
+    assert lines[3].split()[0] == "stocky" and lines[3].endswith("safe")
+    assert "205.12" in lines[3] and "100.57" in lines[2]  # Eq. (11) for 4 ft (paper: .11, .56)
+
+    data = json.loads(_run(["assess", "--bodies", path, "--spectrum", flat_spectrum,
+                            "--json"]).output)
+    assert [b["verdict"] for b in data["bodies"]] == ["overturn>50%", "safe"]
+    assert data["sv_available_cm_s"] == pytest.approx(114.30, rel=1e-12)
+    first = data["bodies"][0]
+    assert first["margin"] == pytest.approx(first["sv_required_cm_s"] / 114.30 - 1, rel=1e-12)
+
+
+def test_assess_paper_bodies_and_ensemble_source(motions, flat_spectrum):
+    result = _run(["assess", "--bodies", "paper", "--spectrum", flat_spectrum, "--json"])
+    assert len(json.loads(result.output)["bodies"]) == 72
+    # An ensemble on floor 1 of the 2.0 s frame, scaled to 0.6 g, agrees with the library.
+    from rocking.energy import available_sv
+    from rocking.motions import Ensemble
+
+    floor = ShearFrame.preset("paper-2.0").floor_ensemble(Ensemble.load(motions), 1)
+    data = json.loads(_run(["assess", "--bodies", "paper", "--spectrum", motions, "--agx", 0.6,
+                            "--frame", "paper-2.0", "--floor", 1, "--json"]).output)
+    assert data["sv_available_cm_s"] == pytest.approx(100 * available_sv(floor, agx=0.6),
+                                                      rel=1e-12)
+
+
+@pytest.mark.parametrize("extra, expected", [
+    (["--band", "0.6:0.04"], "0 < LOW < HIGH"),
+    (["--band", "x"], "LOW:HIGH"),
+    (["--agx", "0.6"], "apply to an ensemble"),
+])
+def test_assess_bad_input(flat_spectrum, extra, expected):
+    line = _one_line_error(_run(["assess", "--bodies", "paper", "--spectrum", flat_spectrum,
+                                 *extra]))
+    assert expected in line
+
+
+# ----------------------------------------------------------------------------- end to end
+
+def test_fragility_run_writes_its_files_and_matches_the_library(tmp_path, motions, bodies):
+    from rocking.fragility import overturning_probability
+    from rocking.motions import Ensemble
+
+    out = tmp_path / "out"
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", "0.2:0.6:0.2",
+            "--frame", "paper-2.0", "--floor", 1, "--out", out, "--quiet"]
+    result = _run(args)
+    assert result.exit_code == 0, result.output
+    for name in ("probabilities.csv", "probabilities.nc", "lognormal.csv", "fragility.png"):
+        assert (out / name).stat().st_size > 0
+    table = pd.read_csv(out / "probabilities.csv")
+    assert list(table.columns) == ["body", "R", "gamma", "agx", "probability", "count", "n",
+                                   "ci_low", "ci_high"]
+    assert len(table) == 2 * 3 and set(table["body"]) == {"slim", "slimmer"}
+    assert (table["n"] == 6).all()
+    np.testing.assert_allclose(table["probability"], table["count"] / table["n"])
+    # The floor motions, scaled to each A_gx, give what the library gives.
+    floor = ShearFrame.preset("paper-2.0").floor_ensemble(Ensemble.load(motions), 1)
+    ref = overturning_probability([Block(0.5, 5.0), Block(0.5, 6.0)], floor, [0.2, 0.4, 0.6])
+    np.testing.assert_array_equal(table["count"].to_numpy(), ref["count"].values.ravel())
+    with xr.open_dataset(out / "probabilities.nc", engine=NETCDF_ENGINE) as ds:
+        assert ds["probability"].dims == ("body", "agx")
+        np.testing.assert_array_equal(ds["count"].values, ref["count"].values)
+    # Run again: every finished chunk is loaded from --out, none computed, same result.
+    again = _run(args)
+    assert again.exit_code == 0, again.output
+    pd.testing.assert_frame_equal(pd.read_csv(out / "probabilities.csv"), table)
+    with xr.open_dataset(out / "probabilities.nc", engine=NETCDF_ENGINE) as ds:
+        assert ds.attrs["chunks_computed"] == 0 and ds.attrs["chunks_loaded"] > 0
+
+
+def test_agx50_run_writes_tables_and_plot(tmp_path, motions, bodies):
+    out = tmp_path / "out"
+    result = _run(["agx50", "--bodies", bodies, "--motions", motions, "--resolution", 0.05,
+                   "--out", out, "--quiet"])
+    assert result.exit_code == 0, result.output
+    for name in ("agx50.csv", "agx50.nc", "table1_sv_required_cm_s.csv", "table2_sv1_cm_s.csv",
+                 "table3_ratio.csv", "sv_agx.png"):
+        assert (out / name).stat().st_size > 0
+    table = pd.read_csv(out / "agx50.csv")
+    assert list(table["body"]) == ["slim", "slimmer"]
+    ok = np.isfinite(table["agx50_g"])
+    np.testing.assert_allclose(table["ratio"][ok],
+                               (table["sv1_cm_s"] / table["sv_required_cm_s"])[ok], rtol=1e-5)
+    grid = pd.read_csv(out / "table1_sv_required_cm_s.csv", index_col=0)
+    assert grid.shape == (1, 2)
