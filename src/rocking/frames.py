@@ -156,37 +156,45 @@ class ShearFrame:
         return cls.uniform(5, m, k, 0.05, name)
 
     @classmethod
-    def from_toml(cls, path) -> "ShearFrame":
-        """Frame from a TOML file.
+    def from_mapping(cls, data: dict, name: str, where: str = "frame") -> "ShearFrame":
+        """Frame from a mapping (a TOML table) with the keys of :meth:`from_toml`.
 
-        Keys: ``masses_kg`` and ``stiffnesses_N_per_m`` (lists, SI), or ``weights_kN_per_g`` and
+        ``masses_kg`` and ``stiffnesses_N_per_m`` (lists, SI), or ``weights_kN_per_g`` and
         ``stiffness_kN_per_cm`` (lists, the paper's units); optional ``damping`` [-] (default
-        0.05) and ``name`` (default: the file's stem).
+        0.05) and ``name`` (overrides ``name``). ``where`` prefixes every error message.
         """
+        si = {"masses_kg", "stiffnesses_N_per_m"}
+        paper = {"weights_kN_per_g", "stiffness_kN_per_cm"}
+        keys = set(data) - {"damping", "name"}
+        unknown = keys - si - paper
+        if unknown:
+            raise InputError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; expected "
+                             f"{', '.join(sorted(si | paper))}, damping, name")
+        damping = data.get("damping", 0.05)
+        name = str(data.get("name", name))
+        try:
+            if keys == si:
+                return cls(data["masses_kg"], data["stiffnesses_N_per_m"], damping, name)
+            if keys == paper:
+                return cls.from_paper_units(data["weights_kN_per_g"], data["stiffness_kN_per_cm"],
+                                            damping, name)
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+        raise InputError(f"{where}: give either masses_kg and stiffnesses_N_per_m, or "
+                         "weights_kN_per_g and stiffness_kN_per_cm (one pair, both lists); got "
+                         f"{', '.join(sorted(data)) or 'nothing'}")
+
+    @classmethod
+    def from_toml(cls, path) -> "ShearFrame":
+        """Frame from a TOML file with the keys of :meth:`from_mapping` (name defaults to the
+        file's stem)."""
         path = Path(path)
         try:
             with path.open("rb") as fh:
                 data = tomllib.load(fh)
         except tomllib.TOMLDecodeError as exc:
             raise InputError(f"{path}: not valid TOML ({exc})") from None
-        si = {"masses_kg", "stiffnesses_N_per_m"}
-        paper = {"weights_kN_per_g", "stiffness_kN_per_cm"}
-        unknown = set(data) - si - paper - {"damping", "name"}
-        if unknown:
-            raise InputError(f"{path}: unknown key(s) {', '.join(sorted(unknown))}; expected "
-                             f"{', '.join(sorted(si | paper))}, damping, name")
-        damping = data.get("damping", 0.05)
-        name = str(data.get("name", path.stem))
-        try:
-            if si <= set(data) and not paper & set(data):
-                return cls(data["masses_kg"], data["stiffnesses_N_per_m"], damping, name)
-            if paper <= set(data) and not si & set(data):
-                return cls.from_paper_units(data["weights_kN_per_g"], data["stiffness_kN_per_cm"],
-                                            damping, name)
-        except InputError as exc:
-            raise InputError(f"{path}: {exc}") from None
-        raise InputError(f"{path}: give either masses_kg and stiffnesses_N_per_m, or "
-                         "weights_kN_per_g and stiffness_kN_per_cm (one pair, both lists)")
+        return cls.from_mapping(data, path.stem, str(path))
 
     def to_meta(self) -> dict:
         """The frame as flat ``meta`` entries (numbers and lists only; survives netCDF attrs)."""

@@ -1,0 +1,354 @@
+"""Inventories of free-standing equipment: what stands where, read from CSV or TOML.
+
+An item is a rigid rectangular block (height and width [m], or R [m] and γ [-]) standing on the
+ground or on floor N of a shear frame, with an optional coefficient of restitution e [-] and
+friction coefficient μ [-].
+
+CSV (header row, then one item per row; header names are case-insensitive and may carry a unit in
+brackets, e.g. ``height [m]``; blank lines and lines starting with ``#`` are skipped; other
+columns, e.g. notes, are ignored)::
+
+    name,height,width,location,frame,mu
+    battery rack,2.2,0.6,floor 3,paper-2.0,0.35
+    statue,1.8,0.45,ground,,
+
+Columns: ``name``; ``height`` and ``width`` [m], or ``R`` [m] and ``gamma`` [-]; ``location``:
+``ground`` or ``floor N`` (N = 1 … number of stories; ``floor 0`` is the ground); ``frame``
+(optional): a preset (``paper-2.0`` …), a frame defined in a TOML inventory, or a frame TOML file
+(relative to the inventory; see :meth:`rocking.frames.ShearFrame.from_toml`); empty: the default
+frame. ``e`` (optional): a number in (0, 1] or ``housner`` (1 − 1.5·sin²α); empty: 0.925, the
+paper's value. ``mu`` (optional): friction coefficient > 0.
+
+TOML: the same fields in ``[[items]]`` tables, an optional top-level ``frame = "NAME"`` (the
+default frame) and frames defined in ``[frames.NAME]`` tables with the keys of a frame TOML file
+(``masses_kg`` + ``stiffnesses_N_per_m``, or ``weights_kN_per_g`` + ``stiffness_kN_per_cm``;
+optional ``damping``).
+
+Rows are numbered as in a spreadsheet (the header is row 1); TOML items as ``item N``. Every
+malformed row is reported, all of them in one :class:`rocking.errors.InputError`.
+
+A block rocks rather than slides from rest only when μ > B/H (Shenton 1996); items with μ ≤ B/H
+get a :class:`SlidingWarning` and ``may_slide`` = True: they are outside the model's validity.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+import tomllib
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+from ._validate import in_range, positive
+from .body import Block
+from .errors import InputError
+from .frames import PRESETS, ShearFrame
+
+#: Coefficient of restitution used when an item does not give one (paper Section 2) [-].
+DEFAULT_E = 0.925
+
+_FIELDS = ("name", "height", "width", "r", "gamma", "location", "frame", "e", "mu")
+_ALIASES = {"h": "height", "b": "width", "slenderness": "gamma", "friction": "mu",
+            "restitution": "e"}
+_LOCATION = re.compile(r"\s*(?:(ground)|floor\s*(\d+))\s*", re.IGNORECASE)
+
+
+class SlidingWarning(UserWarning):
+    """Items whose friction coefficient is too low for the rocking model (μ ≤ B/H)."""
+
+
+@dataclass(frozen=True)
+class Item:
+    """One item of an inventory.
+
+    Attributes
+    ----------
+    name : str
+        Unique name.
+    block : Block
+        Geometry (R [m], γ [-]).
+    floor : int
+        0 for the ground, else the floor of ``frame`` (1 … n_stories).
+    frame : ShearFrame or None
+        The building (None on the ground).
+    e : float
+        Coefficient of restitution [-].
+    mu : float or None
+        Friction coefficient [-] (None: not given).
+    source : str
+        File and row it came from.
+    """
+
+    name: str
+    block: Block
+    floor: int
+    frame: ShearFrame | None
+    e: float
+    mu: float | None
+    source: str
+
+    @property
+    def location(self) -> str:
+        """"ground" or "floor N of FRAME" (as a floor ensemble's ``meta["location"]``)."""
+        return "ground" if self.floor == 0 else f"floor {self.floor} of {self.frame.name}"
+
+    @property
+    def may_slide(self) -> bool:
+        """True when μ is given and μ ≤ B/H = 1/γ: the block may slide rather than rock."""
+        return self.mu is not None and self.mu <= 1.0 / self.block.gamma
+
+
+@dataclass(frozen=True)
+class Inventory:
+    """Items read by :func:`read_inventory` (in file order) and the file they came from."""
+
+    items: tuple[Item, ...]
+    path: Path | None = None
+
+    def __len__(self) -> int:
+        return len(self.items)
+
+    def __iter__(self):
+        return iter(self.items)
+
+    @property
+    def sliding(self) -> list[Item]:
+        """Items that may slide rather than rock (μ ≤ B/H)."""
+        return [it for it in self.items if it.may_slide]
+
+
+class _Frames:
+    """Resolves frame names of one inventory: its own frames, presets, then frame TOML files."""
+
+    def __init__(self, defined: dict, base_dir: Path):
+        self.defined = dict(defined)
+        self.base_dir = base_dir
+        self.files: dict[str, ShearFrame] = {}
+
+    def get(self, name: str) -> ShearFrame:
+        if name in self.defined:
+            return self.defined[name]
+        if name in PRESETS:
+            return ShearFrame.preset(name)
+        path = Path(name) if Path(name).is_absolute() else self.base_dir / name
+        if name.lower().endswith(".toml") and path.is_file():
+            if name not in self.files:
+                self.files[name] = ShearFrame.from_toml(path)
+            return self.files[name]
+        known = [*self.defined, *PRESETS]
+        raise InputError(f"unknown frame {name!r} (known: {', '.join(known)}, or a frame "
+                         "TOML file)")
+
+
+def read_inventory(path, *, frame=None) -> Inventory:
+    """Read an inventory from a CSV or TOML file (see the module notes for the format).
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.toml`` file, or CSV (any other suffix).
+    frame : str or ShearFrame, optional
+        Default frame of ``floor N`` items without a frame of their own (a preset name, a frame
+        defined in the file or a frame TOML file); overrides a TOML file's ``frame`` key.
+
+    Returns
+    -------
+    Inventory
+
+    Raises
+    ------
+    InputError
+        Naming the file and every malformed row (missing field, text where a number belongs,
+        non-positive size, unknown floor or frame, repeated name).
+
+    Warns
+    -----
+    SlidingWarning
+        When items have μ ≤ B/H.
+    """
+    path = Path(path)
+    if path.suffix.lower() == ".toml":
+        rows, defined, default = _toml_rows(path)
+    else:
+        rows, defined, default = _csv_rows(path), {}, None
+    frames = _Frames(defined, path.parent)
+    default = frame if frame is not None else default
+    if isinstance(default, str):
+        default = _frame_or_error(frames, default, f"{path}: default frame")
+    items, errors, seen = [], [], {}
+    for where, fields in rows:
+        try:
+            item = _item(fields, f"{path}: {where}", frames, default)
+            if item.name in seen:
+                raise InputError(f"name {item.name!r} repeats that of {seen[item.name]}")
+            seen[item.name] = where
+            items.append(item)
+        except InputError as exc:
+            msg = str(exc)
+            errors.append(msg if msg.startswith(str(path)) else f"{path}: {where}: {msg}")
+    if errors:
+        s = "" if len(errors) == 1 else "s"
+        raise InputError(f"{len(errors)} malformed item{s} in {path}:\n" + "\n".join(errors))
+    if not items:
+        raise InputError(f"{path}: no items")
+    _check_frame_names(items, path)
+    inventory = Inventory(tuple(items), path)
+    if inventory.sliding:
+        listed = "; ".join(f"{it.name} (mu {it.mu:g} <= B/H {1 / it.block.gamma:.3g})"
+                           for it in inventory.sliding)
+        warnings.warn(f"{path}: {len(inventory.sliding)} item(s) may slide rather than rock "
+                      f"(friction coefficient mu <= B/H), outside the rocking model's validity: "
+                      f"{listed}", SlidingWarning, stacklevel=2)
+    return inventory
+
+
+def _frame_or_error(frames: _Frames, name: str, where: str) -> ShearFrame:
+    try:
+        return frames.get(name)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+
+
+def _check_frame_names(items: list[Item], path: Path) -> None:
+    by_name: dict[str, ShearFrame] = {}
+    for it in items:
+        if it.frame is not None and by_name.setdefault(it.frame.name, it.frame) != it.frame:
+            raise InputError(f"{path}: two different frames are named {it.frame.name!r}; give "
+                             "them distinct names")
+
+
+def _key(header: str) -> str:
+    """Normalised column name: lower case, unit in brackets dropped, aliases resolved."""
+    h = re.sub(r"[\[(].*?[\])]", "", str(header)).strip().lower()
+    return _ALIASES.get(h, h)
+
+
+def _csv_rows(path: Path) -> list[tuple[str, dict]]:
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            reader = csv.reader(fh)
+            lines = [(reader.line_num, [c.strip() for c in cells]) for cells in reader]
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: not a text (UTF-8) CSV file ({exc.reason})") from None
+    lines = [(n, cells) for n, cells in lines if any(cells) and not cells[0].startswith("#")]
+    if not lines:
+        raise InputError(f"{path}: empty inventory file")
+    head_row, head = lines[0]
+    keys = [_key(h) for h in head]
+    if "name" not in keys or "location" not in keys:
+        raise InputError(f"{path}: row {head_row}: the header must name the columns name, "
+                         f"height, width (or R, gamma) and location; got {','.join(head)!r}")
+    rows = []
+    for n, cells in lines[1:]:
+        if len(cells) > len(keys) and any(cells[len(keys):]):
+            rows.append((f"row {n}", {"_error": f"{len(cells)} values for {len(keys)} "
+                                                f"columns"}))
+            continue
+        rows.append((f"row {n}", {k: v for k, v in zip(keys, cells) if k in _FIELDS and v}))
+    return rows
+
+
+def _toml_rows(path: Path) -> tuple[list[tuple[str, dict]], dict, str | None]:
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML ({exc})") from None
+    unknown = set(data) - {"items", "frames", "frame"}
+    if unknown:
+        raise InputError(f"{path}: unknown key(s) {', '.join(sorted(unknown))}; expected "
+                         "[[items]], [frames.NAME] and frame")
+    items = data.get("items")
+    if not isinstance(items, list) or not all(isinstance(it, dict) for it in items):
+        raise InputError(f"{path}: give the items as [[items]] tables")
+    tables = data.get("frames", {})
+    if not isinstance(tables, dict) or not all(isinstance(t, dict) for t in tables.values()):
+        raise InputError(f"{path}: give frames as [frames.NAME] tables")
+    defined = {name: ShearFrame.from_mapping(table, name, f"{path}: [frames.{name}]")
+               for name, table in tables.items()}
+    default = data.get("frame")
+    if default is not None and not isinstance(default, str):
+        raise InputError(f"{path}: frame must be the name of a frame, got {default!r}")
+    rows = [(f"item {i}", {_key(k): v for k, v in it.items()})
+            for i, it in enumerate(items, start=1)]
+    for where, fields in rows:
+        extra = set(fields) - set(_FIELDS)
+        if extra:
+            fields["_error"] = f"unknown key(s) {', '.join(sorted(extra))}"
+    return rows, defined, default
+
+
+def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None) -> Item:
+    """One item from a row's fields (column -> str or number); raises InputError."""
+    if "_error" in fields:
+        raise InputError(fields["_error"])
+    name = str(fields.get("name", "")).strip()
+    if not name:
+        raise InputError("missing name")
+    problems = []
+
+    def check(fn, *args):
+        try:
+            return fn(*args)
+        except InputError as exc:
+            problems.append(str(exc))
+            return None
+
+    block = check(_block, fields)
+    floor, frame = check(_location, fields, frames, default) or (None, None)
+    e = check(_restitution, fields.get("e"), block) if block is not None else None
+    mu = check(_optional_positive, "mu", fields.get("mu"))
+    if problems:
+        raise InputError(f"item {name!r}: " + "; ".join(problems))
+    return Item(name, block, floor, frame, e, mu, where)
+
+
+def _block(fields: dict) -> Block:
+    dims = [k for k in ("height", "width") if k in fields]
+    shape = [k for k in ("r", "gamma") if k in fields]
+    if dims and shape:
+        raise InputError("give height and width, or R and gamma, not both")
+    if len(dims) == 2:
+        return Block.from_dimensions(positive("height", fields["height"], "m"),
+                                     positive("width", fields["width"], "m"))
+    if len(shape) == 2:
+        return Block(positive("R", fields["r"], "m"), positive("gamma", fields["gamma"], "-"))
+    missing = [k for k in ("height", "width") if k not in fields] if dims or not shape \
+        else [k.replace("r", "R") for k in ("r", "gamma") if k not in fields]
+    raise InputError(f"missing {' and '.join(missing)}")
+
+
+def _location(fields: dict, frames: _Frames, default: ShearFrame | None):
+    text = str(fields.get("location", "")).strip()
+    if not text:
+        raise InputError("missing location ('ground' or 'floor N')")
+    match = _LOCATION.fullmatch(text)
+    if match is None:
+        raise InputError(f"location must be 'ground' or 'floor N', got {text!r}")
+    frame_name = str(fields.get("frame", "")).strip()
+    frame = frames.get(frame_name) if frame_name else default
+    floor = 0 if match.group(1) else int(match.group(2))
+    if floor == 0:
+        return 0, None
+    if frame is None:
+        raise InputError(f"location {text!r} needs a frame: fill the frame column or give a "
+                         "default frame")
+    if floor > frame.n_stories:
+        raise InputError(f"unknown floor {floor}: {frame.name} has floors 1 to "
+                         f"{frame.n_stories}")
+    return floor, frame
+
+
+def _restitution(value, block: Block) -> float:
+    if value is None or str(value).strip() == "":
+        return DEFAULT_E
+    if str(value).strip().lower() == "housner":
+        return block.housner_e()
+    return in_range("e", value, 0.0, 1.0, lo_open=True, unit="-")
+
+
+def _optional_positive(name: str, value) -> float | None:
+    if value is None or str(value).strip() == "":
+        return None
+    return positive(name, value, "-")

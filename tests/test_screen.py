@@ -1,0 +1,150 @@
+"""Screening an inventory: Eq. (11) verdicts, floor spectra, Monte Carlo results, ordering, CLI.
+
+Tiny ensembles (8 motions of 5 s) keep this fast; the checks are on what must hold whatever the
+ensemble: Eq. (11) numbers from the paper, the ASCE 7 velocity plateau, bodies that cannot uplift,
+the Wilson bound for zero counts, the ordering, and the atomic report.
+"""
+
+import json
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from rocking.body import FOOT, G
+from rocking.cli import main
+from rocking.design_spectra import ASCE7
+from rocking.energy import available_sv
+from rocking.frames import ShearFrame
+from rocking.motions import generate
+from rocking.plots.screen import plot_screen
+from rocking.screen import screen
+
+# S_D1 = 0.9 g: available S_v on the ground = S_D1·g/(2π) = 1.40471 m/s (the PSV plateau from
+# T_s = 0.6 s to T_L = 8 s covers the band 0.04–0.6 Hz up to 8 s); ZPA 0.4·S_DS = 0.6 g.
+SPECTRUM = ASCE7(SDS=1.5, SD1=0.9, TL=8.0)
+SV_GROUND = 0.9 * G / (2 * math.pi)
+R4FT = 4 * FOOT  # the paper's "1.22 m"
+
+INVENTORY = f"""name,R,gamma,height,width,location,frame,mu
+stocky,{R4FT},2.0,,,ground,,
+slender,{R4FT},4.0,,,ground,,
+squat,,,1.0,1.0,ground,,0.6
+upstairs,{R4FT},4.0,,,floor 4,,
+lower,{R4FT},2.0,,,floor 1,,
+"""
+
+
+@pytest.fixture(scope="module")
+def motions():
+    return generate(8, duration=5.0, target=SPECTRUM, seed=3)
+
+
+@pytest.fixture(scope="module")
+def result(motions, tmp_path_factory):
+    path = tmp_path_factory.mktemp("inv") / "inv.csv"
+    path.write_text(INVENTORY)
+    with pytest.warns(UserWarning, match="squat"):  # μ = 0.6 < B/H = 1: may slide
+        return screen(path, SPECTRUM, frame="paper-2.0", ensemble=motions, resolution=0.05,
+                      agx_max=3.0)
+
+
+def test_ground_verdicts_match_the_papers_worked_examples(result):
+    # Paper Table 1 / Eq. (11): R = 1.22 m needs 205.11 cm/s at γ = 2 and 100.56 cm/s at γ = 4;
+    # Eq. (11) with g = 9.80665 m/s² gives 205.12 and 100.57 (the paper's rounding or g), hence
+    # rel 2e-4.
+    ds = result.sel(item=["stocky", "slender"])
+    np.testing.assert_allclose(ds["sv_required"].values, [2.0511, 1.0056], rtol=2e-4)
+    np.testing.assert_allclose(ds["sv_available"].values, SV_GROUND, rtol=1e-9)
+    # margins by hand: 2.0512/1.40471 − 1 = 0.4602 (safe), 1.0057/1.40471 − 1 = −0.2840
+    np.testing.assert_allclose(ds["margin"].values, [0.4602, -0.2840], atol=2e-4)
+    assert list(ds["verdict"].values) == ["safe", "overturn>50%"]
+
+
+def test_floor_sv_is_the_floor_spectrum_at_the_design_level(result, motions):
+    # Paper Section 7: floor motions scaled to the ground's A_gx, here the design 0.6 g; the
+    # available S_v is their mean PSV's band maximum (checked on a finer grid: the screen's 100
+    # frequencies are within 0.5 % of 800).
+    frame = ShearFrame.preset("paper-2.0")
+    for name, floor in (("upstairs", 4), ("lower", 1)):
+        floor_motions = frame.floor_ensemble(motions, floor).scaled(0.6)
+        expected = available_sv(floor_motions, n_freqs=800)
+        assert result["sv_available"].sel(item=name) == pytest.approx(expected, rel=5e-3)
+        assert result["location"].sel(item=name) == f"floor {floor} of paper-2.0"
+
+
+def test_a_block_that_cannot_uplift_never_overturns(result, motions):
+    # The square block (γ = 1) uplifts only when |a_g| > g·tan α = 1 g; the design-level motions
+    # peak below that, so every motion leaves it at rest.
+    assert (motions.scaled(0.6).pga < 1.0).all()
+    squat = result.sel(item="squat")
+    assert squat["probability"] == 0 and squat["overturned"] == 0
+    # Wilson upper bound for 0 of n = 8 at 95 %: z²/(n + z²) = 3.8415/11.8415 = 0.3244
+    assert squat["ci_high"] == pytest.approx(1.959964**2 / (8 + 1.959964**2), rel=1e-5)
+    assert bool(squat["may_slide"]) and not bool(result["may_slide"].sel(item="stocky"))
+
+
+def test_results_are_labelled_and_sorted_most_at_risk_first(result):
+    p = result["probability"].values
+    a50 = np.nan_to_num(result["agx50"].values, nan=np.inf)
+    assert (np.diff(p) <= 0).all()  # probability descending
+    for i in range(len(p) - 1):  # then A_gx50 ascending among equal probabilities
+        if p[i] == p[i + 1]:
+            assert a50[i] <= a50[i + 1]
+    assert set(result["item"].values) == {"stocky", "slender", "squat", "upstairs", "lower"}
+    assert (result["ci_low"] <= result["probability"]).all()
+    assert (result["probability"] <= result["ci_high"]).all()
+    assert result.attrs["design_agx"] == pytest.approx(0.6)
+    # at risk = P ≥ 0.5 or Eq. (11) margin ≤ 0
+    assert bool(result["at_risk"].sel(item="slender"))
+
+
+def test_plot(result):
+    fig = plot_screen(result)
+    ax = fig.axes[0]
+    assert "[g]" in ax.get_xlabel() and "[cm/s]" in ax.get_ylabel()
+
+
+def write_inventory(tmp_path, text=INVENTORY):
+    path = tmp_path / "inv.csv"
+    path.write_text(text)
+    return path
+
+
+def run(args):
+    return CliRunner().invoke(main, ["screen", *args])
+
+
+def test_cli_writes_table_figure_and_report(tmp_path):
+    out = tmp_path / "out"
+    res = run([str(write_inventory(tmp_path)), "--spectrum", "asce7:SDS=1.5,SD1=0.9,TL=8",
+               "--frame", "paper-2.0", "--out", str(out), "--n", "8", "--duration", "5",
+               "--resolution", "0.05", "--agx-max", "3"])
+    assert res.exit_code == 0, res.output
+    assert "may slide" in res.output  # the warning reaches the user
+    for name in ("report.html", "report.md", "run.json", "tables/screen.csv",
+                 "figures/sv-agx.png"):
+        assert (out / name).is_file(), name
+    rows = (out / "tables" / "screen.csv").read_text().splitlines()
+    assert len(rows) == 1 + 5 and rows[0].startswith("item,location")
+    assert json.loads((out / "run.json").read_text())["n_motions"] == 8
+
+
+def test_cli_bad_rows_give_one_error_and_no_report(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "report.html").write_text("an older run")  # must not survive as this run's result
+    bad = write_inventory(tmp_path, "name,height,width,location\na,2,0.5,ground\n"
+                                    "b,two,0.5,ground\nc,2,0.5,floor 9\n")
+    res = run([str(bad), "--spectrum", "rg160:0.3", "--frame", "paper-2.0", "--out", str(out)])
+    assert res.exit_code != 0
+    assert "Traceback" not in res.output
+    assert "row 3" in res.output and "row 4" in res.output and "unknown floor 9" in res.output
+    assert not (out / "report.html").exists() and not (out / "report.md").exists()
+
+
+def test_cli_bad_spectrum(tmp_path):
+    res = run([str(write_inventory(tmp_path)), "--spectrum", "ec8:ground=Z,ag=0.2",
+               "--out", str(tmp_path / "out")])
+    assert res.exit_code != 0 and "ground must be one of" in res.output
