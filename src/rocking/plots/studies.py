@@ -1,0 +1,59 @@
+"""Figures specific to the paper's studies: rocking time histories (paper Figs. 3–8)."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+
+def plot_responses(t, theta_over_alpha, labels, *, overturned=None, title: str = "") -> Figure:
+    """Rocking responses θ(t)/α, one panel per case, on a shared time axis (paper Figs. 3–8).
+
+    Parameters
+    ----------
+    t : array_like, shape (n_t,)
+        Times [s].
+    theta_over_alpha : array_like, shape (n_cases, n_t)
+        Rotation over the body's critical angle, θ/α [-] (NaN after overturning).
+    labels : sequence of str
+        One panel title per case (e.g. "γ = 5").
+    overturned : sequence of float, optional
+        Time of overturning of each case [s] (NaN: did not overturn); marked with a red line.
+    title : str
+        Figure title.
+    """
+    y = np.atleast_2d(np.asarray(theta_over_alpha, dtype=float))
+    n = y.shape[0]
+    fig = Figure(figsize=(7.5, 1.7 * n + 0.8), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(n, 1, sharex=True))
+    t_ov = np.full(n, np.nan) if overturned is None else np.asarray(overturned, dtype=float)
+    for ax, row, label, tov in zip(axes, y, labels, t_ov):
+        ax.plot(t, row, lw=0.8, color="C0")
+        ax.axhline(1.0, color="0.6", lw=0.6, ls="--")
+        ax.axhline(-1.0, color="0.6", lw=0.6, ls="--")
+        if np.isfinite(tov):
+            ax.axvline(tov, color="C3", lw=1.0)
+            label = f"{label}: overturns at t = {tov:.2f} s"
+        else:
+            peak = np.nanmax(np.abs(row)) if np.isfinite(row).any() else np.nan
+            label = f"{label}: max |θ|/α = {peak:.3g}"
+        ax.set_title(label, fontsize="small", loc="left")
+        ax.set_ylabel("θ/α [-]")
+        ax.grid(True, lw=0.4, alpha=0.5)
+    axes[-1].set_xlabel("time t [s]")
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    return fig
+
+
+
+def figure_title(caption: str, width: int = 60) -> str:
+    """A figure title from a caption that may end in a bracketed note (``"Fig. 9: ...
+    [quick fidelity: n=40]"``): the text wrapped to ``width`` characters, the note on a line of
+    its own, so that long titles fit the figure."""
+    import textwrap
+
+    text, sep, note = caption.rpartition(" [")
+    if not (sep and note.endswith("]")):
+        text, note = caption, ""
+    return "\n".join(textwrap.wrap(text, width) + ([f"[{note}"] if note else []))

@@ -1,0 +1,313 @@
+"""Reports of studies: Markdown plus a self-contained HTML page, and the provenance of a run.
+
+A :class:`Report` collects headings, Markdown text, figures and tables in order and writes them
+with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tables also as CSV) and
+``report.html`` (one file: figures embedded as base64 PNG, so it can be mailed or archived alone).
+
+Both pages are written atomically: each goes to a temporary file in the same folder, which is
+renamed over the final name only after both are complete (``report.html`` last), so an interrupted
+run never leaves a page that looks finished. :func:`provenance` writes ``run.json`` (package
+version, parameters, seeds, backend, wall times, Python/NumPy/Numba versions, command line) the
+same way.
+
+The HTML renderer understands the Markdown this package writes: paragraphs, ``-`` bullet lists,
+``**bold**``, ``*italic*``, ```code``` and ``[text](url)`` links. (Hand-written: no Markdown
+library is a dependency of the package.)
+"""
+
+from __future__ import annotations
+
+import base64
+import datetime as _dt
+import html
+import io
+import json
+import os
+import platform
+import re
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+#: Resolution of the PNG figures [dots per inch].
+DPI = 110
+#: Name pattern of figures and tables (used as file names).
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
+
+_CSS = """
+body { font-family: system-ui, sans-serif; max-width: 70rem; margin: 2rem auto; padding: 0 1rem;
+       line-height: 1.45; color: #222; }
+h1, h2, h3 { line-height: 1.2; }
+table { border-collapse: collapse; margin: 0.5rem 0 1.5rem; font-size: 0.85rem; }
+th, td { border: 1px solid #bbb; padding: 0.15rem 0.45rem; text-align: right; }
+th { background: #f0f0f0; }
+figure { margin: 1rem 0 1.5rem; }
+figure img { max-width: 100%; }
+figcaption, caption { font-size: 0.9rem; color: #444; text-align: left; padding: 0.3rem 0; }
+code { background: #f4f4f4; padding: 0 0.2rem; }
+"""
+
+
+@dataclass(frozen=True)
+class _Block:
+    """One element of a report, rendered for both pages."""
+
+    md: str
+    html: str
+
+
+class Report:
+    """An ordered report written to ``out_dir`` as report.md and a self-contained report.html.
+
+    Parameters
+    ----------
+    title : str
+        Title of the report (the page's first heading).
+    out_dir : str or Path
+        Output folder; created if missing. Figures go to ``out_dir/figures/<name>.png`` and
+        tables to ``out_dir/tables/<name>.csv`` as they are added; the two pages only on
+        :meth:`write`.
+    """
+
+    def __init__(self, title: str, out_dir):
+        self.title = str(title)
+        self.out_dir = Path(out_dir)
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        self._blocks: list[_Block] = []
+        self._names: set[str] = set()
+        self._n_tables = 0
+
+    # ---- content -------------------------------------------------------------------------------
+    def heading(self, text: str, level: int = 2) -> None:
+        """Add a heading of ``level`` 1–6."""
+        if isinstance(level, bool) or level not in range(1, 7):
+            raise InputError(f"heading level must be an integer 1-6, got {level!r}")
+        text = " ".join(str(text).split())
+        self._blocks.append(_Block(f"{'#' * level} {text}",
+                                   f"<h{level}>{_inline(text)}</h{level}>"))
+
+    def text(self, markdown: str) -> None:
+        """Add Markdown text (paragraphs, ``-`` lists, bold, italic, code, links)."""
+        markdown = str(markdown).strip("\n")
+        self._blocks.append(_Block(markdown, markdown_to_html(markdown)))
+
+    def figure(self, fig, name: str, caption: str) -> Path:
+        """Add a matplotlib ``Figure``: saved as ``figures/<name>.png``; returns that path."""
+        name = self._claim(name)
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=DPI)
+        png = buf.getvalue()
+        path = self.out_dir / "figures" / f"{name}.png"
+        path.parent.mkdir(exist_ok=True)
+        _atomic_write_bytes(path, png)
+        b64 = base64.b64encode(png).decode("ascii")
+        cap = " ".join(str(caption).split())
+        self._blocks.append(_Block(
+            f"![{_md_alt(cap)}](figures/{name}.png)\n\n*{cap}*",
+            f'<figure><img alt="{html.escape(cap)}" src="data:image/png;base64,{b64}">'
+            f"<figcaption>{_inline(cap)}</figcaption></figure>"))
+        return path
+
+    def table(self, dataframe, caption: str, name: str | None = None, *,
+              floatfmt: str = ".4g") -> Path:
+        """Add a table (a ``pandas.DataFrame``; its index is shown when it is named or not a
+        plain range); also written as ``tables/<name>.csv`` at full precision.
+
+        ``floatfmt`` is the format of floats on the pages (e.g. ``".2f"``); returns the CSV path.
+        """
+        self._n_tables += 1
+        name = self._claim(name or f"table-{self._n_tables}")
+        df = dataframe
+        show_index = df.index.name is not None or any(df.index.names[1:]) or not (
+            df.index.dtype.kind in "iu" and np.array_equal(df.index, np.arange(len(df))))
+        if show_index:
+            df = df.reset_index()
+        path = self.out_dir / "tables" / f"{name}.csv"
+        path.parent.mkdir(exist_ok=True)
+        _atomic_write_bytes(path, df.to_csv(index=False).encode())
+        header = [str(c) for c in df.columns]
+        rows = [[_cell(v, floatfmt) for v in row] for row in df.itertuples(index=False)]
+        cap = " ".join(str(caption).split())
+        md = [f"*{cap}*", "", "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |",
+              "|" + "|".join("---:" for _ in header) + "|"]
+        md += ["| " + " | ".join(c.replace("|", "\\|") for c in row) + " |" for row in rows]
+        body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>"
+                       for row in rows)
+        head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+        self._blocks.append(_Block(
+            "\n".join(md) + f"\n\n(CSV: `tables/{name}.csv`)",
+            f"<table><caption>{_inline(cap)}</caption><thead><tr>{head}</tr></thead>"
+            f"<tbody>{body}</tbody></table>"))
+        return path
+
+    def _claim(self, name) -> str:
+        name = str(name)
+        if not _NAME.match(name):
+            raise InputError(f"figure/table name {name!r} must be letters, digits, '_', '-' or "
+                             "'.', starting with a letter or digit (it becomes a file name)")
+        if name in self._names:
+            raise InputError(f"figure/table name {name!r} is used twice in this report")
+        self._names.add(name)
+        return name
+
+    # ---- output --------------------------------------------------------------------------------
+    def markdown(self) -> str:
+        """The report as Markdown (figures linked as ``figures/<name>.png``)."""
+        return "\n\n".join([f"# {self.title}"] + [b.md for b in self._blocks]) + "\n"
+
+    def html(self) -> str:
+        """The report as one self-contained HTML page (figures embedded)."""
+        title = html.escape(self.title)
+        body = "\n".join(b.html for b in self._blocks)
+        return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+                f"<title>{title}</title><style>{_CSS}</style></head>\n<body>\n<h1>{title}</h1>\n"
+                f"{body}\n</body></html>\n")
+
+    def write(self) -> tuple[Path, Path]:
+        """Write ``report.md`` and ``report.html`` atomically; return their paths.
+
+        Both are rendered and written to temporary files first; the final names appear only
+        when both are complete (``report.html`` renamed last), so an error part-way leaves no new
+        page behind.
+        """
+        md_path = self.out_dir / "report.md"
+        html_path = self.out_dir / "report.html"
+        tmp_md = _write_temp(md_path, self.markdown().encode("utf-8"))
+        try:
+            tmp_html = _write_temp(html_path, self.html().encode("utf-8"))
+        except BaseException:
+            tmp_md.unlink(missing_ok=True)
+            raise
+        os.replace(tmp_md, md_path)
+        os.replace(tmp_html, html_path)
+        return md_path, html_path
+
+
+def slug(text: str) -> str:
+    """``text`` made usable as a figure or table name (other characters become ``_``)."""
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", str(text)).strip("_.-")
+    return name or "unnamed"
+
+
+def remove_report(out_dir) -> None:
+    """Delete ``report.md`` and ``report.html`` of an earlier run in ``out_dir`` (if any), so
+    that a run which then fails does not leave the old pages looking like its result."""
+    for name in ("report.md", "report.html"):
+        (Path(out_dir) / name).unlink(missing_ok=True)
+
+
+def provenance(out_dir, **params) -> Path:
+    """Write ``run.json`` in ``out_dir`` (atomically) and return its path.
+
+    The file holds ``params`` (e.g. parameters, seeds, backend, ``wall_time_s`` per section,
+    ``status``; anything JSON-serialisable, NumPy scalars and arrays included) and the
+    environment: package version (``rocking.__version__``), Python, NumPy, Numba, SciPy and
+    xarray versions, platform, command line and the UTC time of writing.
+    """
+    import numba
+    import scipy
+    import xarray
+
+    from . import __version__
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    record = {
+        "package": "rocking",
+        "version": __version__,
+        "written_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "command_line": [Path(sys.argv[0]).name] + sys.argv[1:],
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": numba.__version__,
+        "scipy": scipy.__version__,
+        "xarray": xarray.__version__,
+        "platform": platform.platform(),
+        "cpu_count": os.cpu_count(),
+        **params,
+    }
+    path = out_dir / "run.json"
+    _atomic_write_bytes(path, (json.dumps(record, indent=2, default=_json_default) + "\n")
+                        .encode("utf-8"))
+    return path
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _json_default(obj):
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"run.json: cannot store a {type(obj).__name__} ({obj!r})")
+
+
+def _write_temp(final: Path, data: bytes) -> Path:
+    """Write ``data`` to a new temporary file beside ``final`` and return its path."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return Path(tmp)
+
+
+def _atomic_write_bytes(path: Path, data: bytes) -> None:
+    os.replace(_write_temp(path, data), path)
+
+
+def _cell(value, floatfmt: str) -> str:
+    if isinstance(value, (float, np.floating)):
+        return "" if np.isnan(value) else format(float(value), floatfmt)
+    return str(value)
+
+
+def _md_alt(text: str) -> str:
+    return text.replace("[", "(").replace("]", ")")
+
+
+_INLINE = [
+    (re.compile(r"`([^`]+)`"), r"<code>\1</code>"),
+    (re.compile(r"\*\*([^*]+)\*\*"), r"<strong>\1</strong>"),
+    (re.compile(r"(?<![\w*])\*([^*\s][^*]*)\*(?![\w*])"), r"<em>\1</em>"),
+    (re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)"), r'<a href="\2">\1</a>'),
+]
+
+
+def _inline(text: str) -> str:
+    """Escape ``text`` for HTML and render inline Markdown (code, bold, italic, links)."""
+    out = html.escape(text, quote=False)
+    for pattern, repl in _INLINE:
+        out = pattern.sub(repl, out)
+    return out
+
+
+def markdown_to_html(markdown: str) -> str:
+    """HTML of the small Markdown subset this package writes: blank-line separated paragraphs,
+    ``-``/``*`` bullet lists (one item per line, continuation lines indented) and inline
+    code, bold, italic and links."""
+    parts = []
+    for para in re.split(r"\n\s*\n", markdown.strip()):
+        lines = para.split("\n")
+        if re.match(r"^\s*[-*] ", lines[0]):
+            items: list[str] = []
+            for line in lines:
+                m = re.match(r"^\s*[-*] (.*)", line)
+                if m:
+                    items.append(m.group(1))
+                elif items:
+                    items[-1] += " " + line.strip()
+            parts.append("<ul>" + "".join(f"<li>{_inline(i)}</li>" for i in items) + "</ul>")
+        else:
+            parts.append(f"<p>{_inline(' '.join(s.strip() for s in lines))}</p>")
+    return "\n".join(parts)

@@ -1,0 +1,104 @@
+"""Reports: Markdown + self-contained HTML, atomic writing, provenance (rocking.report)."""
+
+import base64
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.figure import Figure
+
+import rocking
+from rocking.errors import InputError
+from rocking.report import Report, markdown_to_html, provenance, remove_report, slug
+
+
+def _figure():
+    fig = Figure(figsize=(2, 2))
+    fig.add_subplot().plot([0, 1], [0, 1])
+    return fig
+
+
+def test_report_writes_markdown_html_png_and_csv(tmp_path):
+    rep = Report("Study", tmp_path)
+    rep.heading("Section 4")
+    rep.text("We find **3** overturned & `x < 1`.\n\n- first\n- second *item*")
+    rep.figure(_figure(), "fig-3", "Fig. 3: θ(t) [quick fidelity: n=1]")
+    df = pd.DataFrame({"ours": [1.0, np.nan], "paper": [2.0, 3.0]},
+                      index=pd.Index([1.22, 1.52], name="R [m]"))
+    rep.table(df, "Table 1 beside the paper", name="table-1", floatfmt=".2f")
+    md_path, html_path = rep.write()
+
+    md = md_path.read_text()
+    assert md.startswith("# Study\n")
+    assert "![Fig. 3: θ(t) (quick fidelity: n=1)](figures/fig-3.png)" in md
+    assert "| R [m] | ours | paper |" in md and "| 1.22 | 1.00 | 2.00 |" in md
+    assert "| 1.52 |  | 3.00 |" in md  # NaN shown as an empty cell
+
+    page = html_path.read_text()
+    assert "figures/" not in page  # self-contained: no link to the PNG file
+    b64 = page.split('src="data:image/png;base64,')[1].split('"')[0]
+    png = base64.b64decode(b64)
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    assert png == (tmp_path / "figures" / "fig-3.png").read_bytes()
+    assert "<strong>3</strong>" in page and "&amp;" in page and "<code>x &lt; 1</code>" in page
+    assert "<li>second <em>item</em></li>" in page
+    assert "<td>1.22</td><td>1.00</td><td>2.00</td>" in page
+
+    csv = pd.read_csv(tmp_path / "tables" / "table-1.csv")
+    assert list(csv.columns) == ["R [m]", "ours", "paper"]
+    assert csv["paper"].tolist() == [2.0, 3.0]
+
+
+def test_interrupted_write_leaves_no_report(tmp_path, monkeypatch):
+    rep = Report("Study", tmp_path)
+    rep.text("partial")
+
+    def broken_html(self):
+        raise RuntimeError("disk full while rendering")
+
+    monkeypatch.setattr(Report, "html", broken_html)
+    with pytest.raises(RuntimeError):
+        rep.write()
+    # Neither page, nor a leftover temporary file, exists after the failure.
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_stale_report_is_removed_before_a_new_run(tmp_path):
+    rep = Report("Old", tmp_path)
+    rep.write()
+    remove_report(tmp_path)
+    assert not (tmp_path / "report.html").exists() and not (tmp_path / "report.md").exists()
+
+
+def test_names_are_checked(tmp_path):
+    rep = Report("Study", tmp_path)
+    rep.figure(_figure(), "a", "first")
+    with pytest.raises(InputError, match="used twice"):
+        rep.figure(_figure(), "a", "again")
+    with pytest.raises(InputError, match="file name"):
+        rep.table(pd.DataFrame({"x": [1]}), "bad", name="../escape")
+    with pytest.raises(InputError, match="level"):
+        rep.heading("h", level=7)
+
+
+def test_slug_makes_file_names():
+    assert slug("frames/my frame.toml") == "frames_my_frame.toml"
+    assert slug("floor 1") == "floor_1" and slug("///") == "unnamed"
+
+
+def test_markdown_subset():
+    assert markdown_to_html("a\nb\n\n* x\n  y") == "<p>a b</p>\n<ul><li>x y</li></ul>"
+    assert markdown_to_html("[doc](run.json)") == '<p><a href="run.json">doc</a></p>'
+
+
+def test_provenance_records_versions_and_parameters(tmp_path):
+    path = provenance(tmp_path, seeds={"ground": np.int64(7)}, agx=np.array([0.3, 0.6]),
+                      wall_time_s={"4": 1.25}, backend="local")
+    run = json.loads(path.read_text())
+    assert run["version"] == rocking.__version__
+    assert run["seeds"] == {"ground": 7} and run["agx"] == [0.3, 0.6]
+    assert run["numpy"] == np.__version__ and {"python", "numba", "command_line"} <= set(run)
+    with pytest.raises(TypeError, match="run.json"):
+        provenance(tmp_path, thing=object())
+    assert json.loads(path.read_text())["backend"] == "local"  # the failed write left it intact
