@@ -5,10 +5,18 @@ spectrum (its zero-period acceleration, :func:`rocking.design_spectra.design_pga
 
 * Housner's energy balance (paper Eq. 11, end of Section 8): required S_v against the available
   S_v at the item's location — on the ground the spectrum's own PSV, on floor N the mean PSV of
-  the floor motions of a spectrum-compatible ensemble scaled to the design A_gx (the paper's
-  convention for floors, Section 7) — with its margin and verdict (:func:`rocking.energy.assess`);
-* the Monte Carlo overturning probability at the design A_gx with its Wilson interval, and the
-  A_gx of 50 % probability (:mod:`rocking.fragility`), from the same ensemble.
+  the floor motions — with its margin and verdict (:func:`rocking.energy.assess`);
+* the Monte Carlo overturning probability at the design level with its Wilson interval, and the
+  ground A_gx of 50 % probability (:mod:`rocking.fragility`), from the same ensemble.
+
+Floor motions are, by default (``floor_motions="building"``), the frame's response to the
+spectrum-compatible ground motions scaled to the design A_gx: what the floor of that (linear)
+building feels in the design earthquake, so that an item upstairs is judged against the same
+earthquake as one on the ground, and its A_gx50 is the *ground* A_gx that overturns it with
+50 % probability. ``floor_motions="paper"`` instead rescales each floor's ensemble to the
+ground's A_gx, as the paper does in Section 7 to compare bodies on floors and on the ground at
+one intensity; that removes the building's amplification, so it is not a screening of a real
+building.
 
 The work is shaped for speed: one ensemble generation, one pass through each frame for all its
 floors, one response-spectrum call per frame, and per location one batched probability run and
@@ -35,12 +43,15 @@ from .spectra import ResponseSpectrum, TargetSpectrum, response_spectrum
 #: the paper's frames within 0.4 % of 800 frequencies (measured on 50 ASCE 7 motions; the
 #: T1 = 2 s frame's resonance at 0.5 Hz is the sharpest peak), at an eighth of the cost.
 N_BAND_FREQS = 100
+#: Choices of ``floor_motions`` (see the module docstring).
+FLOOR_MOTIONS = ("building", "paper")
 
 
 def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
            duration: float = 20.0, dt: float = 1 / 400, ensemble: Ensemble | None = None,
            band_hz=BAND_HZ, resolution: float = 0.01, agx_max: float = 5.0,
-           confidence: float = 0.95, backend=None, progress=None) -> xr.Dataset:
+           confidence: float = 0.95, floor_motions: str = "building", backend=None,
+           progress=None) -> xr.Dataset:
     """Screen every item of an inventory against a design spectrum.
 
     Parameters
@@ -70,6 +81,10 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
         Largest A_gx of the A_gx50 search [g]; A_gx50 is NaN above it.
     confidence : float
         Confidence level of the Wilson interval [-].
+    floor_motions : {"building", "paper"}
+        Floor motions as the building's response to the design-level ground motions
+        ("building", default), or rescaled to the ground's A_gx (the paper's Section 7
+        convention); see the module docstring.
     backend : optional
         Backend of the Monte Carlo runs (:func:`rocking.backends.get_backend`); default local.
     progress : optional
@@ -84,10 +99,13 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
         [-], ``e`` [-], ``mu`` [-] (NaN: not given), ``may_slide`` (μ ≤ B/H), ``sv_required``
         and ``sv_available`` [m/s], ``margin`` [-] (> 0: safe by Eq. 11), ``verdict``,
         ``probability``, ``ci_low``, ``ci_high`` [-], ``overturned`` and ``n_motions`` (counts),
-        ``agx50`` [g], ``at_risk`` (probability ≥ 0.5 or margin ≤ 0). Attributes:
+        ``agx50`` [g] (ground A_gx; with ``floor_motions="paper"`` the floor's own), ``at_risk`` (probability ≥ 0.5 or margin ≤ 0). Attributes:
         ``spectrum``, ``design_agx`` [g], the settings and the ensemble's generation
         parameters.
     """
+    if floor_motions not in FLOOR_MOTIONS:
+        raise InputError(f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got "
+                         f"{floor_motions!r}")
     if not isinstance(inventory, Inventory):
         inventory = read_inventory(inventory, frame=frame)
     elif frame is not None:
@@ -101,10 +119,11 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
     elif ensemble.meta.get("location") != "ground":
         raise InputError(f"ensemble must be ground motions, got {ensemble.meta.get('location')}")
     ground = ensemble.scaled(agx)
-    parts = [_screen_location(items, source, motions, agx, band_hz=band_hz,
+    parts = [_screen_location(items, source, motions, ratio, band_hz=band_hz,
                               resolution=resolution, agx_max=agx_max, confidence=confidence,
                               backend=backend, progress=progress)
-             for items, source, motions in _locations(inventory, spectrum, ground, band_hz)]
+             for items, source, motions, ratio in _locations(inventory, spectrum, ground,
+                                                             band_hz, floor_motions)]
     ds = xr.concat(parts, dim="item")
     at_risk = (ds["probability"] >= 0.5) | (ds["margin"] <= 0.0)
     ds["at_risk"] = at_risk.assign_attrs(long_name="P(overturn) >= 50 % at the design A_gx, "
@@ -115,52 +134,58 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
     ds.attrs.update(
         spectrum=spectrum.name, design_agx=agx, band_hz=[float(b) for b in band_hz],
         damping=spectrum.damping, confidence=confidence, resolution=resolution,
-        agx_max=agx_max, n_motions=ensemble.n, duration=ensemble.duration, dt=ensemble.dt,
+        agx_max=agx_max, floor_motions=floor_motions, n_motions=ensemble.n, duration=ensemble.duration, dt=ensemble.dt,
         seed=ensemble.meta.get("seed", ""), ensemble_kind=ensemble.meta.get("kind", ""),
         inventory=str(inventory.path or ""))
     return ds
 
 
-def _locations(inventory: Inventory, spectrum: TargetSpectrum, ground: Ensemble, band_hz):
-    """(items, source of the available S_v, motions at the design A_gx) per location.
+def _locations(inventory: Inventory, spectrum: TargetSpectrum, ground: Ensemble, band_hz,
+               floor_motions: str):
+    """(items, source of the available S_v, motions at the design level, ratio) per location.
 
-    The ground first: its source is the design spectrum itself. Then each frame's floors, from
-    one pass through the frame, scaled to the ground's A_gx (paper Section 7); their source is
-    the mean response spectrum of the floor motions in the band, computed for all floors of a
-    frame in one call.
+    ``ratio`` is the motions' mean PGA over the ground's A_gx [-] (1 on the ground and for
+    ``floor_motions="paper"``). The ground first: its source is the design spectrum itself.
+    Then each frame's floors, from one pass through the frame (rescaled to the ground's A_gx
+    for ``"paper"``); their source is the mean response spectrum of the floor motions in the
+    band, computed for all floors of a frame in one call.
     """
     groups: dict = {}
     for it in inventory:
         groups.setdefault(None if it.floor == 0 else (it.frame, it.floor), []).append(it)
     if None in groups:
-        yield groups.pop(None), spectrum, ground
+        yield groups.pop(None), spectrum, ground, 1.0
     freqs = band_frequencies(band_hz, N_BAND_FREQS)
     for frame in dict.fromkeys(frame for frame, _ in groups):
         floors = frame.floor_ensembles(ground)
         keys = [key for key in groups if key[0] == frame]
-        motions = [floors[floor].scaled(ground.agx) for _, floor in keys]
+        motions = [floors[floor].scaled(ground.agx) if floor_motions == "paper" else floors[floor]
+                   for _, floor in keys]
         rs = response_spectrum(np.concatenate([m.acc for m in motions]), ground.dt, freqs,
                                spectrum.damping)
         for i, (key, m) in enumerate(zip(keys, motions)):
             rows = slice(i * ground.n, (i + 1) * ground.n)
             yield groups[key], ResponseSpectrum(freqs, rs.damping, rs.sd[rows], rs.psv[rows],
-                                                rs.psa[rows]), m
+                                                rs.psa[rows]), m, m.agx / ground.agx
 
 
-def _screen_location(items, source, motions: Ensemble, agx: float, *, band_hz, resolution,
-                     agx_max, confidence, backend, progress) -> xr.Dataset:
+def _screen_location(items, source, motions: Ensemble, ratio: float, *, band_hz,
+                     resolution, agx_max, confidence, backend, progress) -> xr.Dataset:
     """The screening dataset (dimension ``item``) of the items at one location: Eq. (11)
-    against ``source`` (TargetSpectrum or ResponseSpectrum), Monte Carlo with ``motions``
-    (already at the design A_gx ``agx`` [g])."""
+    against ``source`` (TargetSpectrum or ResponseSpectrum), Monte Carlo with ``motions``, which
+    are at the design level: their mean PGA is ``ratio`` × the design A_gx [g]. The
+    motions scale linearly with the ground (linear frame), so the A_gx50 search runs on the
+    motions' own A_gx with resolution and upper end × ``ratio`` and is reported in ground
+    A_gx."""
     blocks = [it.block for it in items]
     names = [it.name for it in items]
     energy = assess(blocks, source, band_hz=band_hz, damping=source.damping,
                     names=names)  # Eq. (11)
     e = _restitution(items)
-    mc = overturning_probability(blocks, motions, [agx], e=e, backend=backend,
+    mc = overturning_probability(blocks, motions, [motions.agx], e=e, backend=backend,
                                  progress=progress, confidence=confidence).isel(agx=0)
-    a50 = agx_50(blocks, motions, resolution=resolution, agx_max=agx_max, e=e,
-                 backend=backend, progress=progress)
+    a50 = agx_50(blocks, motions, resolution=resolution * ratio, agx_max=agx_max * ratio, e=e,
+                 backend=backend, progress=progress)["agx50"].values / ratio
     mu = np.array([math.nan if it.mu is None else it.mu for it in items])
     variables = {
         "location": ([it.location for it in items], "", "ground or floor N of FRAME"),
@@ -183,7 +208,7 @@ def _screen_location(items, source, motions: Ensemble, agx: float, *, band_hz, r
         "ci_high": (mc["ci_high"].values, "1", "Wilson interval, upper end"),
         "overturned": (mc["count"].values, "", "motions that overturn the item"),
         "n_motions": (mc["n"].values, "", "motions"),
-        "agx50": (a50["agx50"].values, "g", "A_gx at 50 % overturning probability"),
+        "agx50": (a50, "g", "ground A_gx at 50 % overturning probability"),
     }
     return xr.Dataset({k: ("item", np.asarray(v), {"units": u, "long_name": ln} if u
                            else {"long_name": ln}) for k, (v, u, ln) in variables.items()},

@@ -38,18 +38,24 @@ EXAMPLE_SPECTRUM = files("rocking") / "data" / "example_spectrum.csv"
               show_default=True, help="Resolution of the A_gx50 search [g].")
 @click.option("--agx-max", type=click.FloatRange(0.0, min_open=True), default=5.0,
               show_default=True, help="Upper end of the A_gx50 search [g].")
+@click.option("--floor-motions", type=click.Choice(["building", "paper"]), default="building",
+              show_default=True,
+              help="Floor motions: the frame's response to the design-level ground motions "
+                   "('building'), or rescaled to the ground's A_gx as in the paper's Section 7 "
+                   "('paper').")
 @click.option("--scheduler", default=None, metavar="SCHED",
               help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
                    "address tcp://HOST:PORT.")
 def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, duration,
-                   resolution, agx_max, scheduler):
+                   resolution, agx_max, floor_motions, scheduler):
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
 
     For each item: Housner's energy balance (paper Eq. 11) against the available S_v at its
     location (ground: the spectrum's PSV in 0.04–0.6 Hz; floor N: the mean PSV of the floor
-    motions of spectrum-compatible ground motions scaled to the design A_gx), and the Monte Carlo
-    probability of overturning at the design A_gx (the spectrum's zero-period acceleration) with
-    its 95 % Wilson interval and the A_gx of 50 % probability.
+    motions, the frame's response to spectrum-compatible ground motions at the design A_gx), and
+    the Monte Carlo probability of overturning at the design level (ground A_gx = the spectrum's
+    zero-period acceleration) with its 95 % Wilson interval and the ground A_gx of 50 %
+    probability.
 
     INVENTORY columns: name, height and width [m] (or R [m] and gamma), location ('ground' or
     'floor N'), optional frame, e, mu; 'example' is the shipped example inventory.
@@ -85,7 +91,8 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
                f"A_gx = {design_pga(spectrum):.3g} g with {n_motions} motions ...")
     with get_backend(scheduler) as backend:
         ds = screen(inv, spectrum, n=n_motions, seed=seed, duration=duration,
-                    resolution=resolution, agx_max=agx_max, backend=backend)
+                    resolution=resolution, agx_max=agx_max, floor_motions=floor_motions,
+                    backend=backend)
     table = results_table(ds)
 
     report = Report(f"Screening of {inv_path.name}", out)
@@ -99,11 +106,19 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
     provenance(out, command="screen", inventory=str(inv_path), spectrum=spectrum.name,
                spectrum_spec=spectrum_text, design_agx=ds.attrs["design_agx"], frame=frame,
                n_motions=n_motions, seed=seed, duration=duration, resolution=resolution,
-               agx_max=agx_max, scheduler=scheduler or "local", wall_time_s=wall)
+               agx_max=agx_max, floor_motions=floor_motions, scheduler=scheduler or "local", wall_time_s=wall)
     report.write()
     at_risk = int(ds["at_risk"].sum())
     click.echo(f"{at_risk} of {len(inv)} items at risk; wrote {out / 'report.html'} "
                f"({wall:.1f} s)")
+
+
+_FLOORS = {
+    "building": "floor motions: the frame's response to these ground motions (A_gx50 of every "
+                "item is the ground A_gx).",
+    "paper": "floor motions rescaled to the same A_gx as the ground (paper Section 7; A_gx50 of "
+             "a floor item is the floor's A_gx).",
+}
 
 
 def _summary(ds, inv_path: Path, notes: list[str]) -> str:
@@ -115,7 +130,7 @@ def _summary(ds, inv_path: Path, notes: list[str]) -> str:
         f"Inventory `{inv_path}`: {ds.sizes['item']} items. Design spectrum: {a['spectrum']}; "
         f"design A_gx = {a['design_agx']:.3g} g (its zero-period acceleration). "
         f"{a['n_motions']} spectrum-compatible motions of {a['duration']:g} s (seed {a['seed']}); "
-        f"floor motions scaled to the same A_gx as the ground (paper Section 7). Available S_v: "
+        f"{_FLOORS[a['floor_motions']]} Available S_v: "
         f"largest {100 * a['damping']:g} %-damped PSV in {a['band_hz'][0]:g}–{a['band_hz'][1]:g} "
         f"Hz.\n\n"
         f"- Housner's check (Eq. 11) fails for {n_fail_eq11} item(s) (margin ≤ 0).\n"

@@ -55,7 +55,8 @@ def plot_screen(ds, *, title: str = "") -> Figure:
                         fontsize=7)
     ax.set_xlim(left=0.0)
     ax.set_ylim(bottom=0.0)
-    ax.set_xlabel("A_gx at 50 % overturning probability [g]")
+    ground = ds.attrs.get("floor_motions", "building") == "building"
+    ax.set_xlabel(("ground " if ground else "") + "A_gx at 50 % overturning probability [g]")
     ax.set_ylabel("required S_v, Eq. (11) [cm/s]")
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.legend(fontsize="small", title="dotted: available S_v at the location",
