@@ -10,9 +10,7 @@ run never leaves a page that looks finished. :func:`provenance` writes ``run.jso
 version, parameters, seeds, backend, wall times, Python/NumPy/Numba versions, command line) the
 same way.
 
-The HTML renderer understands the Markdown this package writes: paragraphs, ``-`` bullet lists,
-``**bold**``, ``*italic*``, ```code``` and ``[text](url)`` links. (Hand-written: no Markdown
-library is a dependency of the package.)
+Text is Markdown, rendered to HTML by Python-Markdown; figures and tables are rendered here.
 """
 
 from __future__ import annotations
@@ -30,6 +28,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+import markdown as _markdown
 import numpy as np
 
 from .errors import InputError
@@ -276,38 +275,12 @@ def _md_alt(text: str) -> str:
     return text.replace("[", "(").replace("]", ")")
 
 
-_INLINE = [
-    (re.compile(r"`([^`]+)`"), r"<code>\1</code>"),
-    (re.compile(r"\*\*([^*]+)\*\*"), r"<strong>\1</strong>"),
-    (re.compile(r"(?<![\w*])\*([^*\s][^*]*)\*(?![\w*])"), r"<em>\1</em>"),
-    (re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)"), r'<a href="\2">\1</a>'),
-]
-
-
 def _inline(text: str) -> str:
-    """Escape ``text`` for HTML and render inline Markdown (code, bold, italic, links)."""
-    out = html.escape(text, quote=False)
-    for pattern, repl in _INLINE:
-        out = pattern.sub(repl, out)
-    return out
+    """``text`` (one line of Markdown) as inline HTML, without the paragraph around it."""
+    out = markdown_to_html(text)
+    return out[3:-4] if out.startswith("<p>") and out.endswith("</p>") else out
 
 
-def markdown_to_html(markdown: str) -> str:
-    """HTML of the small Markdown subset this package writes: blank-line separated paragraphs,
-    ``-``/``*`` bullet lists (one item per line, continuation lines indented) and inline
-    code, bold, italic and links."""
-    parts = []
-    for para in re.split(r"\n\s*\n", markdown.strip()):
-        lines = para.split("\n")
-        if re.match(r"^\s*[-*] ", lines[0]):
-            items: list[str] = []
-            for line in lines:
-                m = re.match(r"^\s*[-*] (.*)", line)
-                if m:
-                    items.append(m.group(1))
-                elif items:
-                    items[-1] += " " + line.strip()
-            parts.append("<ul>" + "".join(f"<li>{_inline(i)}</li>" for i in items) + "</ul>")
-        else:
-            parts.append(f"<p>{_inline(' '.join(s.strip() for s in lines))}</p>")
-    return "\n".join(parts)
+def markdown_to_html(text: str) -> str:
+    """HTML of Markdown ``text`` (Python-Markdown)."""
+    return _markdown.markdown(text)
