@@ -335,3 +335,30 @@ def test_failed_run_leaves_no_report(tmp_path, monkeypatch):
         reproduce(["4"], out_dir=tmp_path)
     assert not (tmp_path / "report.html").exists()
     assert json.loads((tmp_path / "run.json").read_text())["status"] == "failed"
+
+
+def test_sigterm_marks_the_run_failed(tmp_path):
+    # A batch system stops a job with SIGTERM: the run must not be left looking "running" (or
+    # complete). Section 6 with 400 motions runs for tens of seconds, so the signal arrives
+    # while it works; we wait until run.json says "running" (the handler is installed by then).
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "rocking.cli", "reproduce", "6", "--quiet",
+                             "--set", "sec6.n=400", "--out", str(out)])
+    try:
+        deadline = time.monotonic() + 120
+        while not (out / "run.json").exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert json.loads((out / "run.json").read_text())["status"] == "running"
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=120) == 128 + signal.SIGTERM
+    finally:
+        if proc.poll() is None:
+            os.kill(proc.pid, signal.SIGKILL)
+    assert json.loads((out / "run.json").read_text())["status"] == "failed"
+    assert not (out / "report.html").exists()

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+import signal
 
 import click
 
@@ -35,6 +36,13 @@ class _Main(click.Group):
 @click.version_option(package_name="rocking")
 def main():
     """Rocking and overturning of free-standing rigid blocks under earthquakes."""
+    # SIGTERM (a batch system's stop) unwinds like Ctrl-C, so that long runs record their
+    # status as failed in run.json; finished chunks are already on disk.
+    signal.signal(signal.SIGTERM, _terminate)
+
+
+def _terminate(signum, frame):
+    raise SystemExit(128 + signum)
 
 
 def _register():
