@@ -1,0 +1,63 @@
+"""Figures of one block's rocking response: θ/α and the ground acceleration against time."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ..errors import InputError
+
+
+def plot_response(response, ag_g, *, title: str | None = None) -> Figure:
+    """Rotation θ/α (top) and ground acceleration (bottom) against time, sharing the time axis.
+
+    The top panel marks θ = ±α (the static stability limit) and, if the block overturned, the
+    instant and angle of overturning; the bottom panel marks the uplift threshold ±g·tan α.
+
+    Parameters
+    ----------
+    response : rocking.RockingResponse
+        Result of :func:`rocking.simulate` (times ``t`` [s], ``theta`` [rad], its ``block``).
+    ag_g : array_like, shape (n_t,)
+        The ground acceleration [g] at ``response.t``.
+    title : str, optional
+        Figure title (default: R, γ and the restitution e).
+    """
+    t = response.t
+    ag_g = np.asarray(ag_g, dtype=float)
+    if ag_g.shape != t.shape:
+        raise InputError(f"ag_g has shape {ag_g.shape}, the response's times {t.shape}")
+    block = response.block
+    fig = Figure(figsize=(7.5, 5.5), layout="constrained")
+    ax_th, ax_ag = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+
+    ax_th.plot(t, response.theta_over_alpha, color="C0", lw=0.9, label="θ/α")
+    for sign in (1.0, -1.0):
+        ax_th.axhline(sign, color="0.5", ls="--", lw=0.8,
+                      label="θ = ±α (static stability limit)" if sign > 0 else None)
+    if response.overturned:
+        last = response.theta[np.isfinite(response.theta)][-1]
+        y_ov = math.copysign(response.overturn_angle, last) / block.alpha
+        ax_th.axvline(response.t_overturn, color="C3", lw=1.0)
+        ax_th.plot([response.t_overturn], [y_ov], "x", color="C3", ms=9, mew=2,
+                   label=f"overturned at t = {response.t_overturn:.3f} s")
+    ax_th.set_ylabel("rotation θ/α [-]")
+    ax_th.grid(True, lw=0.4, alpha=0.5)
+    ax_th.legend(fontsize="small", loc="best")
+
+    tan_a = math.tan(block.alpha)
+    ax_ag.plot(t, ag_g, color="C1", lw=0.6, label="ground acceleration")
+    for sign in (1.0, -1.0):
+        ax_ag.axhline(sign * tan_a, color="0.5", ls="--", lw=0.8,
+                      label=f"uplift threshold ±g·tan α = ±{tan_a:.3g} g" if sign > 0 else None)
+    ax_ag.set_ylabel("ground acceleration [g]")
+    ax_ag.set_xlabel("time t [s]")
+    ax_ag.grid(True, lw=0.4, alpha=0.5)
+    ax_ag.legend(fontsize="small", loc="best")
+
+    if title is None:
+        title = f"R = {block.R:.4g} m, γ = {block.gamma:.4g}, e = {response.e:.4g}"
+    fig.suptitle(title)
+    return fig
