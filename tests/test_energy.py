@@ -12,21 +12,12 @@ from rocking.energy import (OVERTURN, SAFE, assess, available_sv, band_frequenci
 from rocking.errors import InputError
 from rocking.motions import Ensemble
 from rocking.spectra import RG160, TabulatedSpectrum, response_spectrum
+from rocking.studies.paper import paper_values
 
-#: The paper's Table 1 (required S_v [cm/s], Eq. 11): rows R = 4…11 ft, columns γ = 2.0…6.0.
-TABLE_1 = np.array([
-    [205.11, 163.40, 134.82, 115.19, 100.56, 89.26, 80.24, 72.90, 66.78],
-    [229.34, 181.84, 150.75, 128.78, 112.45, 99.80, 89.71, 81.48, 74.65],
-    [251.23, 199.19, 165.13, 141.07, 123.16, 109.30, 98.27, 89.28, 81.79],
-    [271.35, 215.16, 178.36, 152.37, 133.05, 118.08, 106.15, 96.42, 88.34],
-    [290.09, 230.02, 190.68, 162.92, 142.24, 126.24, 113.46, 103.07, 94.44],
-    [307.70, 243.97, 202.23, 172.80, 150.85, 133.88, 120.37, 109.32, 100.15],
-    [316.71, 257.15, 213.18, 182.14, 159.03, 141.12, 126.87, 115.24, 105.59],
-    [340.16, 269.72, 223.57, 191.03, 166.78, 148.03, 133.07, 120.88, 110.72],
-])
-#: Two cells of Table 1 disagree with Eq. (11) and with their neighbours' trend (misprints:
-#: Eq. 11 gives 164.16 and 324.33 cm/s); every other cell agrees within 2e-4.
-TABLE_1_MISPRINTS = {(0, 1), (6, 0)}
+#: The paper's Table 1 (required S_v [cm/s], Eq. 11) as transcribed in the package data: rows
+#: R = 4…11 ft, columns γ = 2.0…6.0; and its two misprinted cells (tests/test_body.py).
+TABLE_1 = np.array(paper_values()["tables"]["table1_sv_required"])
+TABLE_1_MISPRINTS = {tuple(c) for c in paper_values()["misprints"]["table1_cells"]}
 
 
 def _flat_psv_spectrum(psv_m_s: float) -> TabulatedSpectrum:

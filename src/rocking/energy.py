@@ -25,7 +25,7 @@ import xarray as xr
 
 from ._validate import in_range, positive
 from .batch import block_list
-from .body import G, Block, housner_sv
+from .body import G, housner_sv
 from .errors import InputError
 from .motions import Ensemble
 from .spectra import RG160, ResponseSpectrum, TabulatedSpectrum, TargetSpectrum, response_spectrum

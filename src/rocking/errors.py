@@ -2,7 +2,7 @@
 
 Every error caused by what a user passed in (a parameter, a file, a row of a table) is an
 :class:`InputError`; it is also a :class:`ValueError`, so ``except ValueError`` keeps working.
-The command-line interface prints these in one line and exits with status 2.
+The command-line interface prints these in one line and exits with status 1.
 """
 
 
