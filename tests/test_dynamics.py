@@ -114,6 +114,25 @@ def test_no_motion_below_uplift_threshold_and_uplift_above():
     assert r.theta[-1] == pytest.approx(expected, rel=1e-4)
 
 
+
+@pytest.mark.parametrize("gamma", [2.0, 3.0, 4.0, 5.5])
+def test_ulps_above_the_uplift_threshold_give_no_stall(gamma):
+    # Regression: an a_g a few ulps above g·tan α used to start the block with a θ'' of the
+    # wrong sign (tan α and sin α/cos α round differently), land it at once and restart it,
+    # 5001 times per step. Physically, a pulse that exceeds the threshold by ~1e-16 relative for
+    # a few samples can only produce a negligible rock: at most one landing and θ ≈ 0.
+    block = Block(1.22, gamma)
+    dt = 1 / 400
+    tan_a = math.tan(block.alpha)
+    for k in range(1, 6):
+        u = tan_a
+        for _ in range(k):
+            u = math.nextafter(u, math.inf)
+        ag = np.zeros(400)
+        ag[100:110] = -u * G
+        r = simulate(block, ag, dt)
+        assert r.n_impacts <= 1 and r.max_abs_theta < 1e-12 and not r.overturned
+
 @settings(max_examples=40, deadline=None)
 @given(R=st.floats(0.3, 5.0), gamma=st.floats(1.5, 8.0), scale=st.floats(0.1, 3.0),
        seed=st.integers(0, 2 ** 32 - 1))

@@ -54,7 +54,7 @@ def _cases_kernel(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha,
         m = motion[i]
         sc = scale[i]
         # the same operations as simulate(block, sc * acc[m], dt): u = (sc·a)/g
-        if abs(sc * amax[m]) / g <= tan_a[b]:
+        if abs(sc * amax[m]) / g * ca[b] <= sa[b]:  # _advance's uplift test
             overturned[i] = False  # never uplifts: stays at rest
             peak[i] = 0.0
             continue

@@ -174,12 +174,17 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
     tau = 0.0
     n_imp = 0
     t_event = -1.0
+    t_start = -1.0  # local time of the last start from rest in this interval
+    false_side = 0.0  # sign of u of a start that landed at once (no restart on that side)
     for _ in range(_MAX_EVENTS_PER_STEP):
         if state == _REST:
             ua = u0 + du * tau
-            if abs(ua) > tan_a:
+            # Uplift test |u|·cos α > sin α rather than |u| > tan α: it is, in floating point,
+            # the sign of θ'' at θ = 0 in _accel, so a block never starts with an acceleration
+            # of the wrong sign (which, 1 ulp above tan α, restarted and landed it forever).
+            if abs(ua) * ca > sa and ua * false_side <= 0.0:
                 tstart = tau
-            elif abs(u1) > tan_a:
+            elif abs(u1) * ca > sa and u1 * false_side <= 0.0:
                 # linear u crosses ±tan α inside the rest of the interval
                 thr = tan_a if u1 > 0.0 else -tan_a
                 tstart = (thr - u0) / du
@@ -188,6 +193,7 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
             else:
                 break  # at rest through the whole interval
             tau = tstart
+            t_start = tau
             uc = u0 + du * tau
             s = -1.0 if uc > 0.0 else 1.0  # negative a_g tips the block to θ > 0
             theta = 0.0
@@ -209,6 +215,17 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
         if hit > 0.0:
             hz, thz, omz = _locate(theta, omega, s, u0, du, tau, lo, hit, 0.0, -s, p2, sa, ca)
             tau += hz
+            if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
+                # Back at θ = 0 within the Zeno time of starting: |a_g| fell below g·tan α
+                # again at once (it exceeded it by a few ulps). The block never left the
+                # ground. u is linear in the interval, so |u| keeps falling on this side: a
+                # restart on it would land again at the same instant, forever; only a
+                # crossing of the threshold on the other side can start it in this interval.
+                theta = 0.0
+                omega = 0.0
+                state = _REST
+                false_side = 1.0 if u0 + du * t_start > 0.0 else -1.0
+                continue
             n_imp += 1
             s = -s
             omega = e * omz
