@@ -153,6 +153,16 @@ def test_assess_paper_bodies_and_ensemble_source(motions, flat_spectrum):
                                                       rel=1e-12)
 
 
+def test_assess_takes_a_design_spectrum_specification():
+    # ASCE 7 with S_D1 = 0.6 g: the band 0.04–0.6 Hz lies on the constant-velocity plateau
+    # (T_s = S_D1/S_DS = 0.6 s to T_L = 8 s), so S_v = S_D1·g/(2π) = 93.65 cm/s exactly.
+    data = json.loads(_run(["assess", "--bodies", "paper", "--spectrum",
+                            "asce7:SDS=1.0,SD1=0.6,TL=8", "--json"]).output)
+    assert data["sv_available_cm_s"] == pytest.approx(100 * 0.6 * G / (2 * math.pi), rel=1e-9)
+    line = _one_line_error(_run(["assess", "--bodies", "paper", "--spectrum", "asce7:SDS=1"]))
+    assert "missing SD1, TL" in line
+
+
 @pytest.mark.parametrize("extra, expected", [
     (["--band", "0.6:0.04"], "0 < LOW < HIGH"),
     (["--band", "x"], "LOW:HIGH"),

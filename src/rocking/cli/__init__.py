@@ -9,8 +9,10 @@ never a traceback.
 from __future__ import annotations
 
 import importlib
+import os
 import pkgutil
 import signal
+import sys
 
 import click
 
@@ -28,6 +30,10 @@ class _Main(click.Group):
     def invoke(self, ctx):
         try:
             return super().invoke(ctx)
+        except BrokenPipeError:
+            # the reader of our output went away (e.g. `| head`): stop quietly
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            raise SystemExit(1) from None
         except (RockingError, ValueError, OSError, KeyError) as exc:
             raise click.ClickException(_one_line(exc)) from None
 

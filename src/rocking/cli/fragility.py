@@ -18,6 +18,7 @@ import pandas as pd
 from ..backends import get_backend
 from ..bodies import NamedBody, read_bodies_table
 from ..body import paper_bodies
+from ..design_spectra import parse_spectrum
 from ..energy import BAND_HZ, assess, energy_balance, forms_grid, grid_table
 from ..errors import InputError
 from ..fragility import LognormalFit, agx_50, fit_lognormal, overturning_probability
@@ -314,7 +315,8 @@ def agx50_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_te
 @_bodies_option
 @click.option("--spectrum", "spectrum_path", required=True, type=click.Path(dir_okay=False),
               help="Spectrum at the bodies' location: a CSV table (frequency [Hz] or period "
-                   "[s], PSA [g]) or a saved ensemble (.nc), whose mean PSV is used.")
+                   "[s], PSA [g]), a saved ensemble (.nc), whose mean PSV is used, or a design "
+                   "spectrum as for 'rocking screen' (e.g. asce7:SDS=1.0,SD1=0.6,TL=8).")
 @click.option("--band", "band_text", default=_BAND_TEXT, show_default=True,
               metavar="LOW:HIGH",
               help="Frequency band [Hz] in which the available S_v is the largest PSV.")
@@ -342,8 +344,10 @@ def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame
         raise InputError("--agx, --floor and --frame apply to an ensemble (.nc) spectrum only")
     if is_ensemble:
         source = _location(Ensemble.load(spectrum_path), frame, floor)
-    else:
+    elif Path(spectrum_path).is_file():
         source = TabulatedSpectrum.from_csv(spectrum_path, damping)
+    else:
+        source = parse_spectrum(spectrum_path)
     ds = assess([b.block for b in bodies], source, band_hz=band, damping=damping, agx=agx,
                 names=[b.name for b in bodies])
     order = np.argsort(ds["margin"].values, kind="stable")
