@@ -17,6 +17,16 @@ impact.  A bounce whose free flight would last less than ``ZENO_TIME_FRACTION·d
 chatter: the block is put at rest (the remaining flights of the geometric series carry negligible
 energy), and rocking restarts only if |a_g| > g·tan α.
 
+Trigonometry (speed; see :func:`_rk4_fast`): sin θ and cos θ once per step by polynomials
+(within 2.3e-16 of libm for |θ| ≤ π/2), and at the stage angles θ + δ by the angle-sum identities
+with Taylor polynomials of the small offsets δ; a step with a large offset (|θ'|·h > 1/32 rad)
+evaluates sin and cos at every stage instead (:func:`_rk4_stages`).  tests/test_trig.py bounds
+both against libm and against each other.  Impact location starts from the root of the cubic
+Taylor polynomial of θ(t), so that one partial RK4 step usually suffices.  The same compiled
+functions serve :func:`simulate` and the batched kernel of :mod:`rocking.batch` (which runs
+:func:`_plain_step` in SIMD lanes and :func:`_advance_events` for the rest), so they agree bit for
+bit.
+
 The kernels here are pure functions on arrays; :func:`simulate` is the public wrapper.
 """
 
@@ -27,7 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._numba import kernel
+from ._numba import fma, kernel
 from ._validate import finite_array, in_range, positive
 from .body import G, Block
 from .errors import InputError
@@ -44,45 +54,190 @@ _REST = 0
 _ROCKING = 1
 _OVERTURNED = 2
 
+# --------------------------------------------------------------------------- sin and cos
+#: |x| [rad] up to which :func:`_sincos` is accurate (a step starts at |θ| < overturn angle ≤ π/2).
+SINCOS_XMAX = 1.5717963267948966
+# sin x = x + x·z·R_s(z), cos x = 1 − z/2 + z²·R_c(z), z = x²: near-minimax polynomials R_s, R_c
+# (Chebyshev interpolation of (sin x/x − 1)/z and (cos x − 1 + z/2)/z² on 0 ≤ z ≤ SINCOS_XMAX²,
+# computed with 40-digit arithmetic, rounded to double), highest degree first.
+_RS = (2.731344277439919e-15, -7.643962232442654e-13, 1.6058977059718268e-10,
+       -2.5052107613095433e-08, 2.7557319219132584e-06, -0.0001984126984125486,
+       0.008333333333333316, -0.16666666666666666)
+_RC = (-1.5218134641974516e-16, 4.777873882841319e-14, -1.1470712146057573e-11,
+       2.0876756600920194e-09, -2.75573192215542e-07, 2.4801587301579797e-05,
+       -0.001388888888888888, 0.041666666666666664)
+#: Largest stage offset |δ| [rad] for which the RK4 stages use the rotation formulas of _rot.
+ROTATION_DMAX = 1.0 / 32.0
+# Taylor coefficients of sin δ (to δ⁷) and cos δ (to δ⁶); the first terms left out are below
+# δ⁹/9! ≤ 8e-20 and δ⁸/8! ≤ 2.3e-17 for |δ| ≤ ROTATION_DMAX.
+_T1, _T2, _T3 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0
+_K1, _K2 = 1.0 / 24.0, -1.0 / 720.0
 
-@kernel
+
+@kernel(inline="always")
+def _sincos(x):
+    """(sin x, cos x) by polynomials, for |x| ≤ SINCOS_XMAX [rad] (see tests/test_trig.py for
+    the accuracy); branch-free, so that it vectorizes."""
+    z = x * x
+    rs = _RS[0]
+    rs = fma(rs, z, _RS[1])
+    rs = fma(rs, z, _RS[2])
+    rs = fma(rs, z, _RS[3])
+    rs = fma(rs, z, _RS[4])
+    rs = fma(rs, z, _RS[5])
+    rs = fma(rs, z, _RS[6])
+    rs = fma(rs, z, _RS[7])
+    rc = _RC[0]
+    rc = fma(rc, z, _RC[1])
+    rc = fma(rc, z, _RC[2])
+    rc = fma(rc, z, _RC[3])
+    rc = fma(rc, z, _RC[4])
+    rc = fma(rc, z, _RC[5])
+    rc = fma(rc, z, _RC[6])
+    rc = fma(rc, z, _RC[7])
+    return fma(x * z, rs, x), 1.0 - fma(-(z * z), rc, 0.5 * z)
+
+
+@kernel(inline="always")
+def _rot(P, Q, d):
+    """cos δ·P + sin δ·Q for |δ| ≤ ROTATION_DMAX (Taylor polynomials of sin δ and cos δ)."""
+    z = d * d
+    sd = fma(d * z, fma(fma(z, _T3, _T2), z, _T1), d)
+    cd = 1.0 - fma(-(z * z), fma(z, _K2, _K1), 0.5 * z)
+    return fma(cd, P, sd * Q)
+
+
+@kernel(inline="always")
+def _angle_terms(st, ct, s, sa, ca):
+    """(sin(sα − θ), cos(sα − θ)) from sin θ, cos θ."""
+    ssa = s * sa
+    # sin(sα − θ) = s·sinα·cosθ − cosα·sinθ ;  cos(sα − θ) = cosα·cosθ + s·sinα·sinθ
+    return fma(ssa, ct, -(ca * st)), fma(ca, ct, ssa * st)
+
+
+@kernel(inline="always")
+def _sin_cos_terms(theta, s, sa, ca):
+    """(sin(sα − θ), cos(sα − θ)) for any θ: polynomial sin θ, cos θ where valid, else libm."""
+    if abs(theta) <= SINCOS_XMAX:
+        st, ct = _sincos(theta)
+    else:
+        st = math.sin(theta)
+        ct = math.cos(theta)
+    return _angle_terms(st, ct, s, sa, ca)
+
+
+@kernel(inline="always")
 def _accel(theta, s, u, p2, sa, ca):
     """θ'' of Eq. (1) on pivot side ``s`` for ground acceleration ``u`` = a_g/g [-]."""
-    st = math.sin(theta)
-    ct = math.cos(theta)
-    # sin(sα − θ) = s·sinα·cosθ − cosα·sinθ ;  cos(sα − θ) = cosα·cosθ + s·sinα·sinθ
-    return -p2 * (s * sa * ct - ca * st + u * (ca * ct + s * sa * st))
+    S, C = _sin_cos_terms(theta, s, sa, ca)
+    return -p2 * fma(u, C, S)
+
+
+@kernel(inline="always")
+def _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca):
+    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second).
+
+    Trigonometry: the stage angles are θ + δ with small δ (δ = h/2·θ'_1, h/2·θ'_2, h·θ'_3), so
+    with S = sin(sα − θ), C = cos(sα − θ) (one :func:`_sincos` of θ per step) the bracket of
+    Eq. (1) at θ + δ and ground acceleration u is
+
+        sin(sα − θ − δ) + u·cos(sα − θ − δ) = cos δ·(S + u·C) + sin δ·(u·S − C),
+
+    evaluated by :func:`_rot`.  Valid when |θ| ≤ SINCOS_XMAX and every |δ| ≤ ROTATION_DMAX;
+    returns (θ, θ', max|δ|) so that the caller can check the second condition.  Branch-free:
+    the batched kernel runs it in SIMD lanes.
+    """
+    ua = fma(du, tau, u0)
+    um = fma(du * 0.5, h, ua)
+    ub = fma(du, h, ua)
+    st, ct = _sincos(theta)
+    S, C = _angle_terms(st, ct, s, sa, ca)
+    hh = 0.5 * h
+    # stage 1 at θ: −p²·(S + u·C); at θ = 0 its sign is that of s·sin α + u·cos α, exactly the
+    # uplift test of _advance
+    k1w = -p2 * fma(ua, C, S)
+    Pm = fma(um, C, S)
+    Qm = fma(um, S, -C)
+    d2 = hh * omega
+    k2w = -p2 * _rot(Pm, Qm, d2)
+    d3 = hh * fma(hh, k1w, omega)
+    k3w = -p2 * _rot(Pm, Qm, d3)
+    d4 = h * fma(hh, k2w, omega)
+    k4w = -p2 * _rot(fma(ub, C, S), fma(ub, S, -C), d4)
+    # θ_1 = θ + h/6·(θ'_1 + 2θ'_2 + 2θ'_3 + θ'_4) = θ + h·(θ' + h/6·(θ''_1 + θ''_2 + θ''_3))
+    th = fma(h, fma(h / 6.0, k1w + k2w + k3w, omega), theta)
+    om = fma(h / 6.0, (k1w + k4w) + 2.0 * (k2w + k3w), omega)
+    a2 = abs(d2)
+    a3 = abs(d3)
+    a4 = abs(d4)
+    dmax = a2 if a2 > a3 else a3
+    dmax = dmax if dmax > a4 else a4
+    return th, om, dmax
+
+
+@kernel(inline="always")
+def _fast_valid(theta, dmax):
+    """Whether :func:`_rk4_fast`'s result with this start angle and max|δ| is the RK4 step."""
+    return (dmax <= ROTATION_DMAX) & (abs(theta) <= SINCOS_XMAX)
 
 
 @kernel
-def _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca):
-    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second)."""
-    ua = u0 + du * tau
-    um = ua + du * 0.5 * h
-    ub = ua + du * h
-    k1t = omega
+def _rk4_stages(theta, omega, s, u0, du, tau, h, p2, sa, ca):
+    """The RK4 step of :func:`_rk4_fast` with θ'' evaluated afresh at every stage angle
+    (:func:`_accel`): valid for any step, and the reference for the fast one's accuracy."""
+    ua = fma(du, tau, u0)
+    um = fma(du * 0.5, h, ua)
+    ub = fma(du, h, ua)
+    hh = 0.5 * h
     k1w = _accel(theta, s, ua, p2, sa, ca)
-    k2t = omega + 0.5 * h * k1w
-    k2w = _accel(theta + 0.5 * h * k1t, s, um, p2, sa, ca)
-    k3t = omega + 0.5 * h * k2w
-    k3w = _accel(theta + 0.5 * h * k2t, s, um, p2, sa, ca)
-    k4t = omega + h * k3w
-    k4w = _accel(theta + h * k3t, s, ub, p2, sa, ca)
-    th = theta + h / 6.0 * (k1t + 2.0 * k2t + 2.0 * k3t + k4t)
-    om = omega + h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w)
+    k2w = _accel(theta + hh * omega, s, um, p2, sa, ca)
+    k3w = _accel(theta + hh * fma(hh, k1w, omega), s, um, p2, sa, ca)
+    k4w = _accel(theta + h * fma(hh, k2w, omega), s, ub, p2, sa, ca)
+    th = fma(h, fma(h / 6.0, k1w + k2w + k3w, omega), theta)
+    om = fma(h / 6.0, (k1w + k4w) + 2.0 * (k2w + k3w), omega)
     return th, om
 
 
 @kernel
-def _locate(theta, omega, s, u0, du, tau, lo, hi, target, sgn, p2, sa, ca):
+def _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca):
+    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second).
+
+    :func:`_rk4_fast` where it is valid (nearly always), else :func:`_rk4_stages` (a very fast
+    block: |θ'|·h > ROTATION_DMAX).
+    """
+    th, om, dmax = _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+    if _fast_valid(theta, dmax):
+        return th, om
+    return _rk4_stages(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+
+
+# --------------------------------------------------------------------------- events
+
+
+@kernel(inline="always")
+def _locate(theta, omega, s, u0, du, tau, lo, hi, th_lo, th_hi, target, sgn, p2, sa, ca):
     """Partial step length h in [lo, hi] where the RK4 solution from (theta, omega) hits ``target``.
 
-    With f(h) = sgn·(θ_RK4(h) − target), the caller guarantees f(lo) ≤ 0 ≤ f(hi); the root kept is
-    the first one after leaving ``lo`` (f(lo) = 0 happens when the arc starts at θ = 0, and that
-    trivial root is never returned).  Newton's method on h (dθ/dh = ω) safeguarded by bisection.
+    ``th_lo``, ``th_hi``: that solution at lo and hi.  With f(h) = sgn·(θ_RK4(h) − target), the
+    caller guarantees f(lo) ≤ 0 ≤ f(hi); the root kept is the first one after leaving ``lo``
+    (f(lo) = 0 happens when the arc starts at θ = 0, and that trivial root is never returned).
+
+    Newton's method on h (dθ/dh = θ') safeguarded by bisection, from the first root of the
+    cubic Taylor polynomial of θ at the start when lo = 0 (:func:`_taylor_root`), else from the
+    secant.  It ends when the next Newton correction δh would leave an error below 1e-15 s
+    (round-off for steps of a few ms): the state is then the last RK4 state carried over δh by
+    Taylor (θ → target, θ' → θ' − θ''·δh; the error, of order θ''' δh², is at round-off level).
     Returns (h, theta_h, omega_h).
     """
-    h = 0.5 * (lo + hi)
+    h = -1.0
+    if lo == 0.0:
+        h = _taylor_root(theta, omega, s, fma(du, tau, u0), du, hi, target, p2, sa, ca)
+    if h < 0.0:
+        flo = sgn * (th_lo - target)
+        fhi = sgn * (th_hi - target)
+        h = lo - (hi - lo) * flo / (fhi - flo) if fhi > flo else 0.5 * (lo + hi)
+        if not (lo < h < hi):
+            h = 0.5 * (lo + hi)
     th, om = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
     for _ in range(100):
         f = sgn * (th - target)
@@ -92,16 +247,54 @@ def _locate(theta, omega, s, u0, du, tau, lo, hi, target, sgn, p2, sa, ca):
             lo = h
         else:
             hi = h
-        # Newton proposal, bisection if it leaves the open bracket
-        hn = h - (th - target) / om if om != 0.0 else 0.5 * (lo + hi)
-        if not (lo < hn < hi):
-            hn = 0.5 * (lo + hi)
-        converged = abs(hn - h) <= 1e-15  # [s]: round-off level for steps of a few ms
+        hn = 0.5 * (lo + hi)
+        if om != 0.0:
+            step = (th - target) / om
+            # the error left by this Newton correction is about θ''·step²/(2θ') [s]
+            acc = _accel(th, s, fma(du, tau + h, u0), p2, sa, ca)
+            if abs(acc) * step * step <= 2e-15 * abs(om) and lo <= h - step <= hi:
+                return h - step, target, fma(-acc, step, om)
+            if lo < h - step < hi:
+                hn = h - step
         h = hn
         th, om = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
-        if converged:
-            break
     return h, th, om
+
+
+@kernel(inline="always")
+def _taylor_root(theta, omega, s, u, du, hi, target, p2, sa, ca):
+    """First root in (0, hi) of θ + θ'·τ + θ''·τ²/2 + θ'''·τ³/6 = target, the Taylor cubic of
+    Eq. (1) at the state (theta, omega) with ground acceleration u + du·τ; −1 if none is found.
+
+    θ'' = −p²·(S + u·C) with S = sin(sα − θ), C = cos(sα − θ), hence
+    θ''' = p²·((C − u·S)·θ' − C·du).  From the first root of the quadratic, two Newton steps.
+    """
+    S, C = _sin_cos_terms(theta, s, sa, ca)
+    a = -p2 * fma(u, C, S)
+    jerk = p2 * (fma(-u, S, C) * omega - C * du)
+    c0 = theta - target
+    qa = 0.5 * a
+    disc = omega * omega - 4.0 * qa * c0
+    if disc < 0.0:
+        return -1.0
+    q = -0.5 * (omega + math.copysign(math.sqrt(disc), omega))
+    h = -1.0
+    for r in (q / qa if qa != 0.0 else -1.0, c0 / q if q != 0.0 else -1.0):
+        if 0.0 < r < hi and (h < 0.0 or r < h):
+            h = r
+    if h < 0.0:
+        return -1.0
+    j6 = jerk / 6.0
+    for _ in range(2):
+        f = ((j6 * h + qa) * h + omega) * h + c0
+        df = (3.0 * j6 * h + a) * h + omega
+        if df == 0.0:
+            break
+        hn = h - f / df
+        if not (0.0 < hn < hi):
+            break
+        h = hn
+    return h
 
 
 @kernel
@@ -133,34 +326,84 @@ def _hermite_min(theta, omega, th1, om1, s, h):
     return best * h
 
 
-@kernel
-def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
-    """Bracket (lo, hi) of partial step lengths around the first return to θ = 0 inside a step that
-    ends on the same side (s·θ > 0 at lo, ≤ 0 at hi), or (−1, −1) if none is found.
+@kernel(inline="always")
+def _no_touch(theta, omega, s, u0, du, tau, h, p2, sa):
+    """True when the block, at s·θ ≥ 0 on side s, cannot reach θ = 0 within a step of length h.
 
-    Two probes: the turning point of the Hermite cubic through the end states (a swing that turns
-    round inside the step); and, when the block starts so close to θ = 0 that it could reach it
-    within the step (s·θ ≤ |θ'|·h + ½·max|θ''|·h², i.e. during short bounces or the chatter after
-    an impact, where the cubic's error exceeds θ itself), partial RK4 steps at h/_N_PROBES intervals.
+    While 0 ≤ s·θ ≤ π/2, Eq. (1) gives −s·θ'' = p²·[sin(α − sθ) + s·u·cos(α − sθ)] ≤
+    p²·(sin α + max(0, s·u)) = a⁺ (u is linear in the step: its largest s·u is at an end), so
+    s·θ(τ) ≥ s·θ + s·θ'·τ − ½a⁺τ², a concave bound whose minimum over [0, h] is at an end:
+    s·θ ≥ 0 at τ = 0, and the test at τ = h.
     """
+    sua = s * fma(du, tau, u0)
+    sub = s * fma(du, tau + h, u0)
+    push = sua if sua > sub else sub  # ground acceleration towards θ = 0, if positive
+    amax = p2 * (sa + (push if push > 0.0 else 0.0))
+    return s * fma(omega, h, theta) > 0.5 * amax * h * h
+
+
+@kernel(inline="always")
+def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
+    """Bracket (lo, hi, θ(lo), θ(hi)) of partial step lengths around the first return to θ = 0
+    inside a step that ends on the same side (s·θ > 0 at lo, ≤ 0 at hi), or lo = hi = −1 if none
+    is found.
+
+    None when :func:`_no_touch` rules it out.  Otherwise two probes: the turning point of the
+    Hermite cubic through the end states (a swing that turns round inside the step); and partial
+    RK4 steps at h/_N_PROBES intervals (during short bounces or the chatter after an impact, where
+    the cubic's error exceeds θ itself).
+    """
+    if _no_touch(theta, omega, s, u0, du, tau, h, p2, sa):
+        return -1.0, -1.0, 0.0, 0.0
     hm = _hermite_min(theta, omega, th1, om1, s, h)
     if hm > 0.0:
         tm, _w = _rk4(theta, omega, s, u0, du, tau, hm, p2, sa, ca)
         if s * tm <= 0.0:
-            return 0.0, hm
-    ua = abs(u0 + du * tau)
-    ub = abs(u0 + du * (tau + h))
-    amax = p2 * (1.0 + (ua if ua > ub else ub))  # |θ''| ≤ p²·(1 + |a_g|/g)
-    if s * theta > abs(omega) * h + 0.5 * amax * h * h:
-        return -1.0, -1.0
+            return 0.0, hm, theta, tm
+    # all probes are computed (independent: the CPU overlaps them), the first touch is kept
+    lo = -1.0
+    hi = -1.0
+    th_lo = 0.0
+    th_hi = 0.0
     prev = 0.0
+    th_prev = theta
     for j in range(1, _N_PROBES):
         hj = h * j / _N_PROBES
-        tj, _w = _rk4(theta, omega, s, u0, du, tau, hj, p2, sa, ca)
-        if s * tj <= 0.0:
-            return prev, hj
-        prev = hj
-    return -1.0, -1.0
+        tj, _w, dmax = _rk4_fast(theta, omega, s, u0, du, tau, hj, p2, sa, ca)
+        if not _fast_valid(theta, dmax):
+            tj, _w = _rk4_stages(theta, omega, s, u0, du, tau, hj, p2, sa, ca)
+        if hi < 0.0:
+            if s * tj <= 0.0:
+                lo = prev
+                hi = hj
+                th_lo = th_prev
+                th_hi = tj
+            prev = hj
+            th_prev = tj
+    return lo, hi, th_lo, th_hi
+
+
+@kernel(inline="always")
+def _uplifts(u, sa, ca):
+    """Whether ground acceleration u = a_g/g [-] lifts a block at rest: |u|·cos α > sin α, rounded
+    once, i.e. exactly the sign of θ'' at θ = 0 in the RK4 stages (never a start with an
+    acceleration of the wrong sign)."""
+    return fma(abs(u), ca, -sa) > 0.0
+
+
+@kernel(inline="always")
+def _plain_step(theta, omega, s, u0, du, tau, h, p2, sa, ca, th_ov):
+    """The RK4 step of a rocking block from local time tau to the end of its interval (h =
+    dt − tau) and whether it is all that happens in it: no impact, no touch of θ = 0, no
+    overturning, and the fast trigonometry valid.  Returns (θ_1, θ'_1, fast_valid, plain); the
+    step equals :func:`_rk4`'s when fast_valid.  Branch-free (SIMD lanes of the batched kernel);
+    :func:`_advance` takes the same decision with it, so both paths agree bit for bit.
+    """
+    th1, om1, dmax = _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+    valid = _fast_valid(theta, dmax)
+    plain = (valid & (s * th1 > 0.0) & _no_touch(theta, omega, s, u0, du, tau, h, p2, sa)
+             & (abs(th1) < th_ov))
+    return th1, om1, valid, plain
 
 
 @kernel
@@ -170,21 +413,47 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
     Returns (theta, omega, s, state, n_impacts, t_event): ``t_event`` is the local time of
     overturning within the interval [s], or −1.
     """
+    th1 = 0.0
+    om1 = 0.0
+    valid = False
+    if state == _ROCKING:
+        th1, om1, valid, plain = _plain_step(theta, omega, s, u0, (u1 - u0) / dt, 0.0, dt, p2, sa,
+                                             ca, th_ov)
+        if plain:
+            return th1, om1, s, state, 0, -1.0
+    r = _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov,
+                        0.0, -1.0, 0.0, th1, om1, valid, False)
+    return r[0], r[1], r[2], r[3], r[4], r[5]
+
+
+@kernel
+def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov,
+                    tau, t_start, false_side, th_step, om_step, have_step, defer):
+    """:func:`_advance` of the part [tau, dt] of an interval whose next step is not plain (see
+    :func:`_plain_step`): impacts, uplift, coming to rest, overturning.
+
+    ``t_start``: local time of the last start from rest in this interval (−1: none);
+    ``false_side``: sign of u of a start that landed at once (no restart on that side; 0: none).
+    ``th_step``, ``om_step``: the RK4 step from (theta, omega) at tau to dt, already computed when
+    ``have_step`` (it is the same as :func:`_rk4`'s).  With ``defer``, it stops after an impact
+    from which the block cannot come back to θ = 0 before dt (:func:`_no_touch`), so that the
+    caller computes the rest of the interval (the batched kernel: in a SIMD lane) and calls again
+    if that step is not plain.
+
+    Returns (theta, omega, s, state, n_impacts, t_event, tau', t_start, false_side, deferred):
+    ``t_event`` is the local time of overturning [s], or −1; ``deferred`` says that the interval
+    goes on from tau' < dt (else it is done).
+    """
     du = (u1 - u0) / dt
-    tau = 0.0
     n_imp = 0
     t_event = -1.0
-    t_start = -1.0  # local time of the last start from rest in this interval
-    false_side = 0.0  # sign of u of a start that landed at once (no restart on that side)
+    hand_over = False  # with defer: the next step is likely plain, leave it to the caller
     for _ in range(_MAX_EVENTS_PER_STEP):
         if state == _REST:
-            ua = u0 + du * tau
-            # Uplift test |u|·cos α > sin α rather than |u| > tan α: it is, in floating point,
-            # the sign of θ'' at θ = 0 in _accel, so a block never starts with an acceleration
-            # of the wrong sign (which, 1 ulp above tan α, restarted and landed it forever).
-            if abs(ua) * ca > sa and ua * false_side <= 0.0:
+            ua = fma(du, tau, u0)
+            if _uplifts(ua, sa, ca) and ua * false_side <= 0.0:
                 tstart = tau
-            elif abs(u1) * ca > sa and u1 * false_side <= 0.0:
+            elif _uplifts(u1, sa, ca) and u1 * false_side <= 0.0:
                 # linear u crosses ±tan α inside the rest of the interval
                 thr = tan_a if u1 > 0.0 else -tan_a
                 tstart = (thr - u0) / du
@@ -194,7 +463,8 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
                 break  # at rest through the whole interval
             tau = tstart
             t_start = tau
-            uc = u0 + du * tau
+            hand_over = False
+            uc = fma(du, tau, u0)
             s = -1.0 if uc > 0.0 else 1.0  # negative a_g tips the block to θ > 0
             theta = 0.0
             omega = 0.0
@@ -205,15 +475,26 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
         h = dt - tau
         if h <= 0.0:
             break
-        th1, om1 = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+        if have_step:  # the step from tau to dt was computed by the caller
+            th1 = th_step
+            om1 = om_step
+            have_step = False
+        elif hand_over:
+            return theta, omega, s, state, n_imp, t_event, tau, t_start, false_side, True
+        else:
+            th1, om1 = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
         lo = 0.0
         hit = -1.0
+        th_lo = theta
+        th_hi = th1
         if s * th1 < 0.0 or (th1 == 0.0 and s * om1 < 0.0):
             hit = h
         else:
-            lo, hit = _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca)
+            lo, hit, th_lo, th_hi = _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h,
+                                                    p2, sa, ca)
         if hit > 0.0:
-            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, lo, hit, 0.0, -s, p2, sa, ca)
+            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, lo, hit, th_lo, th_hi, 0.0, -s,
+                                   p2, sa, ca)
             tau += hz
             if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
                 # Back at θ = 0 within the Zeno time of starting: |a_g| fell below g·tan α
@@ -224,23 +505,26 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
                 theta = 0.0
                 omega = 0.0
                 state = _REST
-                false_side = 1.0 if u0 + du * t_start > 0.0 else -1.0
+                false_side = 1.0 if fma(du, t_start, u0) > 0.0 else -1.0
                 continue
             n_imp += 1
             s = -s
             omega = e * omz
             theta = 0.0
             # Zeno check: how long would the next free flight last?
-            ua = u0 + du * tau
-            acc0 = -p2 * (s * sa + ua * ca)  # θ'' at θ = 0 on the new side
+            ua = fma(du, tau, u0)
+            acc0 = -p2 * fma(ua, ca, s * sa)  # θ'' at θ = 0 on the new side
             if omega == 0.0 or (acc0 * omega < 0.0 and
                                 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)):
                 omega = 0.0
                 state = _REST
+            # a block that cannot come back to θ = 0 before dt (not a bounce of a chatter)
+            hand_over = defer and _no_touch(0.0, omega, s, u0, du, tau, dt - tau, p2, sa)
             continue
         if abs(th1) >= th_ov:
             target = th_ov if th1 > 0.0 else -th_ov
-            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, 0.0, h, target, s, p2, sa, ca)
+            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, 0.0, h, theta, th1, target, s,
+                                   p2, sa, ca)
             t_event = tau + hz
             theta = thz
             omega = omz
@@ -249,7 +533,7 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
         theta = th1
         omega = om1
         break
-    return theta, omega, s, state, n_imp, t_event
+    return theta, omega, s, state, n_imp, t_event, tau, t_start, false_side, False
 
 
 @kernel
