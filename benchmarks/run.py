@@ -1,0 +1,432 @@
+"""Benchmark suite of the rocking kernel and of the main jobs (issue 6).
+
+Run from the repository root:
+
+    python benchmarks/run.py [--quick] [--with-paper] [--out benchmarks/results.json]
+
+It prints a table and writes JSON with the machine (CPU model, cores, Python/NumPy/Numba
+versions, date, load average) and, measured in the same run:
+
+* ``kernel``: aggregate throughput of the batched kernel (:func:`rocking.batch.run_cases`, all
+  Numba threads) in ns per RK4 step, on bodies that keep rocking through 20 s motions (dt =
+  1/400 s).  Only steps actually integrated count: the sample intervals in which the block is
+  not at rest throughout, up to overturning, counted independently from :func:`rocking.simulate`'s
+  response of every case (which must also give the same flags and peaks as the kernel).  Also
+  on one thread;
+* ``plain_loop``: the same cases by the plain compiled scalar loop of ``plain_loop.py`` (libm
+  sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
+  in ns per step it integrates, and the ratio to the kernel;
+* ``scipy``: :func:`rocking.reference.simulate_reference` (``solve_ivp`` DOP853 with events) on a
+  few of the cases, seconds per simulation, and the ratio to the kernel's time per simulation;
+* ``end_to_end``: Table 2 (``rocking motions generate`` of the 200 motions + ``rocking agx50
+  --bodies paper``: 72 bodies on the ground, A_gx50 to 0.01 g; best of 3 runs of each), response
+  spectra of 500 motions (100 frequencies), the floor motions of 500 motions on the 5-story frame
+  ``paper-2.0``, and ``rocking reproduce all`` at ``--fidelity quick`` (and ``paper`` with
+  ``--with-paper``), each with its wall time and, for the commands, peak resident memory.
+
+Timings are best and median of repeats (the machine may be shared: see ``load``); compiled code
+comes from Numba's cache, warmed up before any timing.  The default takes about four minutes on
+two cores, ``--quick`` (fewer motions and repeats) about two; ``--with-paper`` adds the paper run
+(about two minutes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numba
+import numpy as np
+import scipy
+
+from rocking.batch import BlockTable, motion_peaks, overturn_batch, run_cases
+from rocking.body import G, paper_bodies
+from rocking.dynamics import simulate
+from rocking.frames import ShearFrame
+from rocking.motions import generate
+from rocking.reference import simulate_reference
+from rocking.spectra import response_spectrum
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import plain_loop  # noqa: E402  (benchmarks/, not a package)
+
+ROOT = Path(__file__).resolve().parent.parent
+DT = 1 / 400  # [s], the paper's
+DURATION = 20.0  # [s]
+#: Issue 6's targets.
+TARGETS = {"kernel_ns_per_step": 4.0, "vs_plain_loop": 10.0, "vs_scipy": 10_000.0,
+           "table2_s": 10.0, "reproduce_paper_s": 120.0, "reproduce_paper_peak_gb": 2.0,
+           "reproduce_quick_s": 60.0}
+
+
+# --------------------------------------------------------------------------- machine
+
+
+def machine_info() -> dict:
+    cpu = {}
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            key, _, value = line.partition(":")
+            cpu.setdefault(key.strip(), value.strip())
+    except OSError:
+        pass
+    model = cpu.get("model name") or platform.processor() or "unknown"
+    flags = set(cpu.get("flags", "").split())
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                                capture_output=True, text=True).stdout.strip()
+        dirty = bool(subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
+                                    cwd=ROOT, capture_output=True, text=True).stdout.strip())
+    except OSError:
+        commit, dirty = "unknown", False
+    return {
+        "cpu_model": model,
+        "cpu_family_model": f"{cpu.get('cpu family', '?')}/{cpu.get('model', '?')}",
+        "simd": [f for f in ("avx2", "fma", "avx512f") if f in flags],
+        "logical_cpus": os.cpu_count(),
+        "numba_threads": numba.config.NUMBA_NUM_THREADS,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "numba": numba.__version__,
+        "platform": platform.platform(),
+        "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "rocking_commit": commit + ("+local changes" if dirty else ""),
+    }
+
+
+def load() -> list[float]:
+    """1-, 5- and 15-minute load averages (other processes on the machine slow the timings)."""
+    return [round(x, 2) for x in os.getloadavg()]
+
+
+def timed(func, repeats: int) -> dict:
+    """Wall times [s] of ``repeats`` calls: best, median and all."""
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        func()
+        times.append(time.perf_counter() - t0)
+    return {"best_s": min(times), "median_s": statistics.median(times), "all_s": times}
+
+
+# --------------------------------------------------------------------------- kernel workload
+
+
+def rocking_workload(n_motions: int, seed: int = 11) -> dict:
+    """The cases: the paper's 72 bodies under ``n_motions`` stationary (boxcar) 20 s motions,
+    each body at the largest A_gx of a grid at which at most 10 % of 20 calibration motions
+    overturn it, so that it keeps rocking through most of the motion."""
+    ens = generate(n_motions, duration=DURATION, dt=DT, envelope="boxcar", seed=seed)
+    blocks = paper_bodies()
+    levels = np.geomspace(0.1, 3.0, 24)  # A_gx [g]
+    n_cal = min(20, n_motions)
+    overturned, _ = overturn_batch(blocks, ens.acc[:n_cal], DT, levels / ens.agx)
+    share = overturned.mean(axis=2)  # (body, level)
+    ok = share <= 0.1
+    level = np.array([levels[np.nonzero(row)[0].max()] if row.any() else levels[0] for row in ok])
+    body = np.repeat(np.arange(len(blocks)), n_motions)
+    motion = np.tile(np.arange(n_motions), len(blocks))
+    scale = (level / ens.agx)[body]
+    return {"ensemble": ens, "blocks": blocks, "body": body, "motion": motion, "scale": scale,
+            "agx": level}
+
+
+def integrated_steps(theta: np.ndarray, omega: np.ndarray) -> int:
+    """Sample intervals of a response in which the block is not at rest throughout, up to and
+    including the one in which it overturns (θ is NaN after overturning)."""
+    nan = np.isnan(theta)
+    n_int = int(np.argmax(nan)) if nan.any() else theta.size - 1  # intervals before the NaNs
+    still = (theta == 0.0) & (omega == 0.0)
+    rest_through = still[:n_int] & still[1:n_int + 1]
+    return int(n_int - np.count_nonzero(rest_through))
+
+
+def count_with_simulate(w: dict) -> dict:
+    """simulate() of every case (threads: its kernel releases the GIL): steps, flags, peaks."""
+    acc, blocks = w["ensemble"].acc, w["blocks"]
+
+    def one(i):
+        blk = blocks[w["body"][i]]
+        r = simulate(blk, w["scale"][i] * acc[w["motion"][i]], DT)
+        return integrated_steps(r.theta, r.omega), r.overturned, r.max_abs_theta / blk.alpha
+
+    with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
+        res = list(pool.map(one, range(w["body"].size)))
+    steps = np.array([r[0] for r in res])
+    return {"steps": steps, "overturned": np.array([r[1] for r in res]),
+            "peak": np.array([r[2] for r in res])}
+
+
+def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
+    ens = w["ensemble"]
+    table = BlockTable.from_blocks(w["blocks"])
+    acc = np.ascontiguousarray(ens.acc)
+    amax = motion_peaks(acc)
+    args = (table, acc, amax, DT, w["body"], w["motion"], w["scale"])
+    run_cases(table, acc, amax, DT, w["body"][:200], w["motion"][:200], w["scale"][:200])
+    overturned, peak = run_cases(*args)
+    same = bool(np.array_equal(overturned, counted["overturned"])
+                and np.array_equal(peak, counted["peak"]))
+    steps = int(counted["steps"].sum())
+    n_t = acc.shape[1]
+    out = {
+        "cases": int(w["body"].size), "steps": steps,
+        "share_of_intervals_integrated": steps / (w["body"].size * (n_t - 1)),
+        "share_overturned": float(overturned.mean()),
+        "equals_simulate": same,
+        "threads": numba.get_num_threads(),
+    }
+    t = timed(lambda: run_cases(*args), repeats)
+    out.update({f"all_threads_{k}": v for k, v in t.items()})
+    out["ns_per_step"] = t["best_s"] / steps * 1e9
+    out["ns_per_step_median"] = t["median_s"] / steps * 1e9
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        t1 = timed(lambda: run_cases(*args), max(1, repeats // 2))
+    finally:
+        numba.set_num_threads(before)
+    out.update({f"one_thread_{k}": v for k, v in t1.items()})
+    out["ns_per_step_one_thread"] = t1["best_s"] / steps * 1e9
+    out["s_per_simulation"] = t["best_s"] / w["body"].size
+    return out
+
+
+def bench_plain(w: dict, repeats: int) -> dict:
+    blocks = w["blocks"]
+    body = w["body"]
+    acc = np.ascontiguousarray(w["ensemble"].acc)
+    n = body.size
+    per_case = {"motion": w["motion"], "scale": w["scale"],
+                "p2": np.array([blocks[b].p ** 2 for b in body]),
+                "alpha": np.array([blocks[b].alpha for b in body]),
+                "e": np.full(n, 0.925), "th_ov": np.full(n, math.pi / 2)}
+
+    def call(kind, m):
+        c = {k: v[:m] for k, v in per_case.items()}
+        return plain_loop.run(kind, acc, c["motion"], c["scale"], G, DT, c["p2"], c["alpha"],
+                              c["e"], c["th_ov"])
+
+    out = {}
+    for kind, reps in (("serial", 1), ("parallel", repeats)):
+        call(kind, 50)  # compile / load
+        _ov, _pk, steps = call(kind, n)
+        t = timed(lambda: call(kind, n), reps)
+        out[kind] = {**t, "steps": int(steps.sum()),
+                     "ns_per_step": t["best_s"] / steps.sum() * 1e9}
+    return out
+
+
+def bench_scipy(w: dict, counted: dict, n: int) -> dict:
+    acc, blocks = w["ensemble"].acc, w["blocks"]
+    # the first case of n bodies spread over the 72 (one motion each)
+    idx = [int(np.nonzero(w["body"] == b)[0][0]) for b in np.linspace(0, 71, n).astype(int)]
+    times, steps = [], []
+    for i in idx:
+        blk = blocks[w["body"][i]]
+        t0 = time.perf_counter()
+        simulate_reference(blk, w["scale"][i] * acc[w["motion"][i]], DT)
+        times.append(time.perf_counter() - t0)
+        steps.append(int(counted["steps"][i]))
+    return {"cases": idx, "s_per_simulation": statistics.mean(times), "all_s": times,
+            "ns_per_step": sum(times) / sum(steps) * 1e9}
+
+
+# --------------------------------------------------------------------------- end to end
+
+
+def run_command(args: list[str], cwd: Path) -> dict:
+    """Run a ``rocking`` command; wall time [s] and peak resident memory [MB] of its process."""
+    exe = shutil.which("rocking", path=os.path.dirname(sys.executable)) or "rocking"
+    t0 = time.perf_counter()
+    proc = subprocess.Popen([exe, *args], cwd=cwd, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE)
+    _pid, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t0
+    err = proc.stderr.read().decode(errors="replace")
+    proc.stderr.close()
+    code = os.waitstatus_to_exitcode(status)
+    if code != 0:
+        raise RuntimeError(f"rocking {' '.join(args)} failed ({code}): {err[-2000:]}")
+    # ru_maxrss is in kilobytes on Linux
+    return {"command": "rocking " + " ".join(args), "wall_s": wall,
+            "peak_rss_mb": usage.ru_maxrss / 1024}
+
+
+def bench_table2(tmp: Path, runs: int) -> dict:
+    """``runs`` times each command (fresh output each time: agx50 would resume from a folder it
+    wrote before); the end-to-end time is the sum of the best of each."""
+    # warm-up: every kernel the two commands use, on a tiny ensemble
+    run_command(["motions", "generate", "--n", "3", "--duration", "4", "--out", "w.nc"], tmp)
+    run_command(["agx50", "--bodies", "paper", "--motions", "w.nc", "--out", "w", "--quiet",
+                 "--agx-max", "0.3", "--resolution", "0.1"], tmp)
+    gen = [run_command(["motions", "generate", "--n", "200", "--seed", "8", "--out",
+                        f"m200-{r}.nc"], tmp) for r in range(runs)]
+    agx = [run_command(["agx50", "--bodies", "paper", "--motions", "m200-0.nc", "--out",
+                        f"table2-{r}", "--quiet"], tmp) for r in range(runs)]
+    best_gen = min(gen, key=lambda x: x["wall_s"])
+    best_agx = min(agx, key=lambda x: x["wall_s"])
+    return {"generate_200": best_gen, "agx50": best_agx,
+            "all_generate_s": [x["wall_s"] for x in gen], "all_agx50_s": [x["wall_s"] for x in agx],
+            "wall_s": best_gen["wall_s"] + best_agx["wall_s"]}
+
+
+def bench_spectra_floors(n: int) -> dict:
+    t0 = time.perf_counter()
+    ens = generate(n, duration=DURATION, dt=DT, seed=3)
+    t_gen = time.perf_counter() - t0
+    freqs = np.geomspace(0.1, 50.0, 100)  # [Hz], as `rocking spectrum`
+    response_spectrum(ens.acc[:2, :400], DT, freqs)  # compile / load
+    frame = ShearFrame.preset("paper-2.0")
+    frame.floor_ensembles(ens.subset(range(2)))
+    spec = timed(lambda: response_spectrum(ens.acc, DT, freqs, 0.05), 1)
+    floors = timed(lambda: frame.floor_ensembles(ens), 1)
+    return {"motions": n, "generate_s": t_gen,
+            "spectra": {"frequencies": freqs.size, "damping": 0.05, **spec},
+            "floors": {"frame": "paper-2.0 (5 stories)", **floors}}
+
+
+def bench_reproduce(tmp: Path, fidelity: str, runs: int) -> dict:
+    out = {}
+    for r in range(runs):
+        res = run_command(["reproduce", "all", "--fidelity", fidelity, "--out",
+                           f"reproduce-{fidelity}-{r}", "--quiet"], tmp)
+        out["first" if r == 0 else "again"] = res
+    return out
+
+
+# --------------------------------------------------------------------------- report
+
+
+def summary_rows(res: dict) -> list[tuple[str, str, str]]:
+    rows = []
+    k = res["kernel"]
+    rows.append(("kernel, all threads [ns/RK4 step]", f"{k['ns_per_step']:.2f}",
+                 f"median {k['ns_per_step_median']:.2f}; {k['threads']} threads; "
+                 f"{k['steps'] / 1e6:.1f} M steps, {k['cases']} cases; target ≤ "
+                 f"{TARGETS['kernel_ns_per_step']}"))
+    rows.append(("kernel, one thread [ns/RK4 step]", f"{k['ns_per_step_one_thread']:.2f}", ""))
+    rows.append(("kernel equals simulate() case by case", str(k["equals_simulate"]),
+                 f"{k['share_of_intervals_integrated']:.0%} of intervals integrated, "
+                 f"{k['share_overturned']:.0%} overturned"))
+    p = res["plain_loop"]
+    rows.append(("plain loop, all threads [ns/step]", f"{p['parallel']['ns_per_step']:.1f}",
+                 f"kernel is {res['ratios']['vs_plain_loop']:.1f}× faster (target ≥ "
+                 f"{TARGETS['vs_plain_loop']:g}×)"))
+    rows.append(("plain loop, one thread [ns/step]", f"{p['serial']['ns_per_step']:.1f}",
+                 f"kernel on one thread is {res['ratios']['vs_plain_loop_one_thread']:.1f}× "
+                 f"faster"))
+    s = res["scipy"]
+    rows.append(("SciPy solve_ivp [s/simulation]", f"{s['s_per_simulation']:.2f}",
+                 f"kernel: {k['s_per_simulation'] * 1e6:.0f} µs/simulation, "
+                 f"{res['ratios']['vs_scipy']:,.0f}× faster (target ≥ "
+                 f"{TARGETS['vs_scipy']:,.0f}×)"))
+    e = res.get("end_to_end", {})
+    if "table2" in e:
+        t = e["table2"]
+        rows.append(("Table 2 end to end [s]", f"{t['wall_s']:.1f}",
+                     f"best of {len(t['all_agx50_s'])}: generate "
+                     f"{t['generate_200']['wall_s']:.1f} s + agx50 {t['agx50']['wall_s']:.1f} s; "
+                     f"target ≤ {TARGETS['table2_s']:g} s"))
+    if "spectra_floors" in e:
+        sf = e["spectra_floors"]
+        rows.append((f"response spectra, {sf['motions']} motions [s]",
+                     f"{sf['spectra']['best_s']:.2f}",
+                     f"{sf['spectra']['frequencies']} frequencies; generating the motions "
+                     f"{sf['generate_s']:.1f} s"))
+        rows.append((f"floor motions, {sf['motions']} motions [s]", f"{sf['floors']['best_s']:.2f}",
+                     sf["floors"]["frame"]))
+    for fid in ("quick", "paper"):
+        key = f"reproduce_{fid}"
+        if key in e:
+            r = e[key].get("again", e[key]["first"])
+            target = TARGETS[f"reproduce_{fid}_s"]
+            note = f"peak {r['peak_rss_mb']:.0f} MB; target ≤ {target:g} s"
+            if "again" in e[key]:
+                note += f"; first run {e[key]['first']['wall_s']:.1f} s"
+            rows.append((f"reproduce all --fidelity {fid} [s]", f"{r['wall_s']:.1f}", note))
+    return rows
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true",
+                    help="fewer motions and repeats; reproduce quick run once")
+    ap.add_argument("--with-paper", action="store_true",
+                    help="also time `rocking reproduce all --fidelity paper` (about 2 minutes "
+                         "or more) and its peak memory")
+    ap.add_argument("--no-end-to-end", action="store_true",
+                    help="kernel, plain loop and SciPy only")
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results.json"),
+                    help="JSON file to write (default: benchmarks/results.json)")
+    a = ap.parse_args(argv)
+    n_motions = 20 if a.quick else 100
+    repeats = 3 if a.quick else 5
+    res = {"machine": machine_info(), "load_at_start": load(),
+           "settings": {"quick": a.quick, "motions": n_motions, "repeats": repeats,
+                        "dt_s": DT, "duration_s": DURATION}}
+    print(f"rocking benchmarks on {res['machine']['cpu_model']} "
+          f"({res['machine']['logical_cpus']} CPUs), load {res['load_at_start']}", flush=True)
+
+    print("kernel workload and independent step count ...", flush=True)
+    w = rocking_workload(n_motions)
+    counted = count_with_simulate(w)
+    res["kernel"] = bench_kernel(w, counted, repeats)
+    res["kernel"]["agx_per_body_g"] = w["agx"].tolist()
+    print("plain compiled loop ...", flush=True)
+    res["plain_loop"] = bench_plain(w, repeats)
+    print("SciPy solve_ivp ...", flush=True)
+    res["scipy"] = bench_scipy(w, counted, 2 if a.quick else 3)
+    k = res["kernel"]
+    res["ratios"] = {
+        "vs_plain_loop": res["plain_loop"]["parallel"]["ns_per_step"] / k["ns_per_step"],
+        "vs_plain_loop_one_thread": res["plain_loop"]["serial"]["ns_per_step"]
+        / k["ns_per_step_one_thread"],
+        "vs_scipy": res["scipy"]["s_per_simulation"] / k["s_per_simulation"],
+    }
+    res["load_after_kernel"] = load()
+
+    if not a.no_end_to_end:
+        e = res["end_to_end"] = {}
+        with tempfile.TemporaryDirectory(prefix="rocking-bench-") as tmp:
+            tmp = Path(tmp)
+            print("Table 2 (rocking agx50, 72 bodies x 200 motions) ...", flush=True)
+            e["table2"] = bench_table2(tmp, 2 if a.quick else 3)
+            print("response spectra and floor motions of 500 motions ...", flush=True)
+            e["spectra_floors"] = bench_spectra_floors(500)
+            print("rocking reproduce all --fidelity quick ...", flush=True)
+            e["reproduce_quick"] = bench_reproduce(tmp, "quick", 1 if a.quick else 2)
+            if a.with_paper:
+                print("rocking reproduce all --fidelity paper ...", flush=True)
+                e["reproduce_paper"] = bench_reproduce(tmp, "paper", 1)
+        res["load_at_end"] = load()
+
+    rows = summary_rows(res)
+    w1 = max(len(r[0]) for r in rows)
+    w2 = max(len(r[1]) for r in rows)
+    print()
+    for name, value, note in rows:
+        print(f"{name:<{w1}}  {value:>{w2}}  {note}")
+    out = Path(a.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(res, indent=2, default=float) + "\n")
+    print(f"\nwritten {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
