@@ -1,5 +1,5 @@
 """The paper's studies: configuration, conclusions logic, published values and end-to-end runs
-of ``rocking reproduce`` on a tiny configuration."""
+of ``rocking reproduce all --fidelity quick``."""
 
 import json
 
@@ -18,41 +18,6 @@ from rocking.studies import reproduce, sec4_baseline
 from rocking.studies.config import PRESETS, load_config, to_toml
 from rocking.studies.paper import paper_values
 from rocking.studies.sec5_sensitivity import reversals
-
-# A tiny configuration: a few short motions, coarse time step, one or two bodies per section.
-# It exercises every section end to end in seconds; its numbers mean nothing physically.
-TINY = """
-[common]
-dt = 0.01
-duration = 8.0
-[sec4]
-n_check = 3
-[sec5]
-n = 4
-motions = [1, 2, 3, 4]
-scale_motion = 2
-size_motion = 1
-[sec6]
-n = 4
-durations = [5.0, 8.0]
-envelopes = ["boxcar", "compound"]
-bodies = [[1.2192, 4.0]]
-agx = [0.5, 1.0]
-fig10_durations = [8.0]
-[sec7]
-n = 4
-frames = ["paper-2.0", "paper-0.5"]
-bodies = [[1.2192, 4.0]]
-agx = [0.4, 0.8]
-n_freq = 8
-[sec8]
-n = 4
-bodies = [[1.2192, 2.0], [1.2192, 4.0]]
-resolution = 0.1
-agx_max = 3.0
-fig13_agx = [0.5, 1.0, 1.5]
-"""
-
 
 # --------------------------------------------------------------------------- configuration
 
@@ -256,18 +221,16 @@ def test_reversals_of_a_sweep():
 
 
 @pytest.fixture(scope="module")
-def tiny_run(tmp_path_factory):
-    root = tmp_path_factory.mktemp("reproduce")
-    config = root / "tiny.toml"
-    config.write_text(TINY)
-    out = root / "out"
+def quick_run(tmp_path_factory):
+    # The quick fidelity itself, as CI must run it (issue 7): about 15 s on 2 cores.
+    out = tmp_path_factory.mktemp("reproduce") / "out"
     result = CliRunner().invoke(main, ["reproduce", "all", "--fidelity", "quick", "--out",
-                                       str(out), "--config", str(config), "--quiet"])
+                                       str(out), "--quiet"])
     return result, out
 
 
-def test_reproduce_all_tiny(tiny_run):
-    result, out = tiny_run
+def test_reproduce_all_quick(quick_run):
+    result, out = quick_run
     assert result.exit_code == 0, result.output
     md = (out / "report.md").read_text()
     page = (out / "report.html").read_text()
@@ -275,7 +238,7 @@ def test_reproduce_all_tiny(tiny_run):
         assert any(f"**{k}. {v}.**" in md for v in
                    (C.REPRODUCED, C.PARTLY, C.NOT_REPRODUCED, C.NOT_EVALUATED)), k
     # key numbers: Table 1 misprint by Eq. (11), the paper's floor S_v, the fidelity note
-    for text in ("324.33", "316.71", "114.30", "quick fidelity (modified by config)"):
+    for text in ("324.33", "316.71", "114.30", "quick fidelity"):
         assert text in md
     for fig in ("fig3", "fig4", "fig5", "fig8", "fig9a", "fig11-paper-0.5", "fig12-paper-2.0",
                 "fig13", "fig14", "fig15", "fig16"):
@@ -284,7 +247,7 @@ def test_reproduce_all_tiny(tiny_run):
     run = json.loads((out / "run.json").read_text())
     assert run["status"] == "complete" and run["version"] == rocking.__version__
     assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "total"}
-    assert run["parameters"]["sec8"]["n"] == 4 and run["parameters"]["common"]["dt"] == 0.01
+    assert run["parameters"] == PRESETS["quick"] and not run["modified"]
 
 
 def test_reproduce_bad_input_is_one_line(tmp_path):
