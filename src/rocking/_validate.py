@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import tomllib
+from pathlib import Path
 
 import numpy as np
 
@@ -52,6 +54,17 @@ def finite_array(name: str, values, *, ndim: tuple[int, ...] = (1,), min_len: in
         where = ", ".join(str(int(i)) for i in idx)
         raise InputError(f"{name} contains a non-finite value ({a[tuple(idx)]}) at index {where}")
     return a
+
+
+def read_toml(path, label: str | None = None) -> dict:
+    """The TOML file ``path`` as a dict; a syntax error is an InputError that starts with
+    ``label`` (default: the path)."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{label or path}: not valid TOML ({exc})") from None
 
 
 def _u(unit: str) -> str:

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -25,7 +24,7 @@ import numpy as np
 from scipy.linalg import eigh
 
 from ._numba import parallel_kernel, prange
-from ._validate import finite_array, in_range, positive
+from ._validate import finite_array, in_range, positive, read_toml
 from .body import G
 from .errors import InputError
 from .spectra import _foh_coefficients  # the SDOF recurrence, shared with the spectra
@@ -189,12 +188,7 @@ class ShearFrame:
         """Frame from a TOML file with the keys of :meth:`from_mapping` (name defaults to the
         file's stem)."""
         path = Path(path)
-        try:
-            with path.open("rb") as fh:
-                data = tomllib.load(fh)
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"{path}: not valid TOML ({exc})") from None
-        return cls.from_mapping(data, path.stem, str(path))
+        return cls.from_mapping(read_toml(path), path.stem, str(path))
 
     def to_meta(self) -> dict:
         """The frame as flat ``meta`` entries (numbers and lists only; survives netCDF attrs)."""

@@ -35,12 +35,11 @@ from __future__ import annotations
 
 import csv
 import re
-import tomllib
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._validate import in_range, positive
+from ._validate import in_range, positive, read_toml
 from .body import Block
 from .errors import InputError
 from .frames import PRESETS, ShearFrame
@@ -250,11 +249,7 @@ def _csv_rows(path: Path) -> list[tuple[str, dict]]:
 
 
 def _toml_rows(path: Path) -> tuple[list[tuple[str, dict]], dict, str | None]:
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path}: not valid TOML ({exc})") from None
+    data = read_toml(path)
     unknown = set(data) - {"items", "frames", "frame"}
     if unknown:
         raise InputError(f"{path}: unknown key(s) {', '.join(sorted(unknown))}; expected "

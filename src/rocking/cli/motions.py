@@ -15,6 +15,26 @@ from ..spectra import TabulatedSpectrum, rg160
 _damping_option = click.option(
     "--damping", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True), default=0.05,
     show_default=True, help="Damping ratio of the target spectrum [-].")
+_target_option = click.option(
+    "--target", "target_path", type=click.Path(exists=True, dir_okay=False),
+    help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default RG 1.60 at 1 g.")
+_ENSEMBLE_OPTIONS = (
+    click.option("--n", "n", type=click.IntRange(1), default=200, show_default=True,
+                 help="Number of motions."),
+    click.option("--duration", type=click.FloatRange(0.0, min_open=True), default=20.0,
+                 show_default=True, help="Total duration T [s]."),
+    click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=1 / 400,
+                 show_default=True, help="Time step [s]."),
+    click.option("--envelope", type=click.Choice(sorted(ENVELOPES)), default="compound",
+                 show_default=True, help="Intensity function (shape scaled with the duration)."),
+)
+
+
+def _ensemble_options(command):
+    """--n, --duration, --dt and --envelope of a simulated ensemble (in this order in --help)."""
+    for option in reversed(_ENSEMBLE_OPTIONS):
+        command = option(command)
+    return command
 
 
 @click.group("motions")
@@ -23,14 +43,7 @@ def motions():
 
 
 @motions.command("generate")
-@click.option("--n", "n", type=click.IntRange(1), default=200, show_default=True,
-              help="Number of motions.")
-@click.option("--duration", type=click.FloatRange(0.0, min_open=True), default=20.0,
-              show_default=True, help="Total duration T [s].")
-@click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=1 / 400,
-              show_default=True, help="Time step [s].")
-@click.option("--envelope", type=click.Choice(sorted(ENVELOPES)), default="compound",
-              show_default=True, help="Intensity function (shape scaled with the duration).")
+@_ensemble_options
 @click.option("--seed", type=click.IntRange(0), default=0, show_default=True,
               help="Root seed; member k is the same motion for any --n.")
 @click.option("--baseline/--no-baseline", default=True, show_default=True,
@@ -39,9 +52,7 @@ def motions():
               help="PSD iterations of the iterative correction (0: the paper's method alone).")
 @click.option("--peak-limit/--no-peak-limit", default=True, show_default=True,
               help="With --iterations: re-phase motions so their PGA stays near the ZPA.")
-@click.option("--target", "target_path", type=click.Path(exists=True, dir_okay=False),
-              help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default "
-                   "RG 1.60 at 1 g.")
+@_target_option
 @_damping_option
 @click.option("--out", type=click.Path(dir_okay=False, writable=True), required=True,
               help="Output netCDF file, e.g. ens.nc.")
@@ -125,22 +136,13 @@ def show(ensemble, agx, samples, target_path, damping, out):
 
 
 @motions.command("fit")
-@click.option("--n", "n", type=click.IntRange(1), default=200, show_default=True,
-              help="Number of motions.")
-@click.option("--duration", type=click.FloatRange(0.0, min_open=True), default=20.0,
-              show_default=True, help="Total duration T [s].")
-@click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=1 / 400,
-              show_default=True, help="Time step [s].")
-@click.option("--envelope", type=click.Choice(sorted(ENVELOPES)), default="compound",
-              show_default=True, help="Intensity function (shape scaled with the duration).")
+@_ensemble_options
 @click.option("--seed", type=click.IntRange(0), default=0, show_default=True, help="Root seed.")
 @click.option("--iterations", type=click.IntRange(1), default=2, show_default=True,
               help="PSD iterations of the iterative correction.")
 @click.option("--per-decade", type=click.IntRange(1), default=100, show_default=True,
               help="Frequencies per decade at which the fit is checked.")
-@click.option("--target", "target_path", type=click.Path(exists=True, dir_okay=False),
-              help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default "
-                   "RG 1.60 at 1 g.")
+@_target_option
 @_damping_option
 @click.option("--out", type=click.Path(file_okay=False, writable=True), required=True,
               help="Output folder for fit.png and fit.csv.")

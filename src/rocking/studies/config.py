@@ -50,6 +50,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from .._validate import read_toml
 from ..body import FOOT, Block, paper_bodies
 from ..errors import InputError
 from ..frames import PRESETS as FRAME_PRESETS
@@ -130,11 +131,7 @@ def load_config(fidelity: str = "quick", path=None, sets=()) -> dict:
     cfg = copy.deepcopy(PRESETS[fidelity])
     if path is not None:
         path = Path(path)
-        try:
-            with path.open("rb") as fh:
-                data = tomllib.load(fh)
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"config {path}: not valid TOML ({exc})") from None
+        data = read_toml(path, f"config {path}")
         for section, table in data.items():
             if not isinstance(table, dict):
                 raise InputError(f"config {path}: {section!r} must be a [section] table of "
