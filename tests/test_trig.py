@@ -15,8 +15,8 @@ import numba
 import numpy as np
 import pytest
 
-from rocking.dynamics import (ROTATION_DMAX, SINCOS_XMAX, _rk4_fast, _rk4_stages, _rot,
-                              _sincos)
+from rocking.dynamics import (ROTATION_DMAX, SINCOS_TINY, SINCOS_XMAX, _rk4_fast, _rk4_stages,
+                              _rot, _sincos)
 
 ULP1 = np.spacing(1.0)  # 2.2e-16
 
@@ -52,7 +52,11 @@ def test_polynomial_sin_cos_match_libm_over_the_rocking_range():
     np.testing.assert_array_equal(s[half:], -s[:half])
     np.testing.assert_array_equal(c[half:], c[:half])
     # small angles: sin x = x and cos x = 1 to the last bit where the series says so
-    tiny = np.array([1e-9, 1e-12, 0.0])
+    # (x²/6 and x²/2 below half an ulp for |x| < SINCOS_TINY), as _sincos_any assumes when it
+    # skips the polynomials there
+    tiny = np.concatenate([[np.nextafter(SINCOS_TINY, 0.0), 1e-9, 1e-12, 5e-324, 0.0],
+                           np.geomspace(1e-300, SINCOS_TINY, 20001)[:-1]])
+    tiny = np.concatenate([tiny, -tiny])
     st, ct = _sincos_array(tiny)
     np.testing.assert_array_equal(st, tiny)
     np.testing.assert_array_equal(ct, 1.0)
