@@ -15,6 +15,7 @@ import math
 from fractions import Fraction
 
 import numba
+from llvmlite import ir
 from numba.core import types
 from numba.extending import intrinsic, overload
 
@@ -60,6 +61,19 @@ def _llvm_fma(typingctx, a, b, c):
 
     def codegen(context, builder, signature, args):
         return builder.fma(*args)
+
+    return sig, codegen
+
+
+@intrinsic
+def highest_bit(typingctx, x):
+    """Index of the highest set bit of a nonzero uint64 (63 − count of leading zeros; the LZCNT
+    instruction).  Numba has this only in an internal module, hence the few lines here."""
+    sig = types.int64(types.uint64)
+
+    def codegen(context, builder, signature, args):
+        lz = builder.ctlz(args[0], ir.Constant(ir.IntType(1), 1))
+        return builder.sub(ir.Constant(ir.IntType(64), 63), lz)
 
     return sig, codegen
 

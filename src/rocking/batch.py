@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ._numba import kernel, parallel_kernel, prange
+from ._numba import highest_bit, kernel, parallel_kernel, prange
 from ._validate import finite_array, positive
 from .body import G, Block
 from .dynamics import (_OVERTURNED, _REST, _ROCKING, _advance_events, _plain_step, _uplifts,
@@ -71,12 +71,11 @@ _PK = 12  # max |θ| so far [rad]
 _TH1 = 13  # RK4 step over the interval ...
 _OM1 = 14
 _VAL = 15  # ... and whether it is _rk4's step (1.0) or not (0.0)
-_ATT = 16  # 1.0 if the lane needs attention after the round: an event, or its motion ended
-_TAU = 17  # local time [s] from which the interval is still to be integrated (0 but after an event)
-_H = 18  # dt − tau [s]
-_TST = 19  # _advance_events' t_start and false_side in this interval
-_FS = 20
-_ROWS = 21
+_TAU = 16  # local time [s] from which the interval is still to be integrated (0 but after an event)
+_H = 17  # dt − tau [s]
+_TST = 18  # _advance_events' t_start and false_side in this interval
+_FS = 19
+_ROWS = 20
 
 
 @kernel
@@ -85,10 +84,12 @@ def _lane_steps(W, acc1, n, dt, g, last):
     that happens in the interval (:func:`rocking.dynamics._plain_step`).
 
     ``acc1``: each lane's ground acceleration at the end of the interval [m/s²]; ``last``: index
-    of the last sample.  Returns the number of lanes that need attention (W[_ATT] = 1).
+    of the last sample.  Returns the lanes that need attention (an event, or the end of the
+    motion) as bit masks: lanes 0 … 63, lanes 64 … 127.
     """
     L = _LANES
-    attention = 0
+    low = np.uint64(0)
+    high = np.uint64(0)
     for j in range(n):
         u0 = W[_U0 * L + j]
         u1 = W[_SC * L + j] * acc1[j] / g  # as simulate(block, scale * acc, dt)
@@ -113,9 +114,10 @@ def _lane_steps(W, acc1, n, dt, g, last):
         W[_OM1 * L + j] = om1
         W[_VAL * L + j] = 1.0 if valid else 0.0
         att = (not plain) | (k1 >= last)
-        W[_ATT * L + j] = 1.0 if att else 0.0
-        attention += 1 if att else 0
-    return attention
+        bit = np.uint64(1 if att else 0) << np.uint64(j & 63)
+        low |= bit if j < 64 else np.uint64(0)
+        high |= np.uint64(0) if j < 64 else bit
+    return low, high
 
 
 @kernel
@@ -190,15 +192,17 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
             peak[i] = 0.0
     while live > 0:
         _gather_acc(acc1, W, live, flat, base)
-        attention = _lane_steps(W, acc1, live, dt, g, float(n_t - 1))
+        low, high = _lane_steps(W, acc1, live, dt, g, float(n_t - 1))
         # the lanes that need attention, from the highest down: an event, or the end of a case
-        # (then the lane takes the next case, or the last live lane moves into it)
-        j = live - 1
-        while attention > 0:
-            if W[_ATT * L + j] == 0.0:
-                j -= 1
-                continue
-            attention -= 1
+        # (then the lane takes the next case, or the last live lane, handled already, moves
+        # into it)
+        while (high | low) != 0:
+            if high != 0:
+                j = 64 + highest_bit(high)
+                high ^= np.uint64(1) << np.uint64(j - 64)
+            else:
+                j = highest_bit(low)
+                low ^= np.uint64(1) << np.uint64(j)
             i = case[j]
             b = body[i]
             k = int(W[_K * L + j])
@@ -222,7 +226,6 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                     W[_TST * L + j] = tst
                     W[_FS * L + j] = fs
                     state[j] = st
-                    j -= 1
                     continue
                 W[_TAU * L + j] = 0.0
                 W[_H * L + j] = dt
@@ -268,7 +271,6 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                         base[j] = base[live]
                         state[j] = state[live]
                         case[live] = -1
-            j -= 1
 
 
 @kernel
