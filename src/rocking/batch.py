@@ -79,11 +79,12 @@ _ROWS = 20
 
 
 @kernel
-def _lane_steps(W, acc1, n, dt, g, last):
+def _lane_steps(W, acc1, nxt, n, dt, g, last):
     """One sample interval of lanes 0 … n−1 (a SIMD loop): the RK4 step, kept where it is all
     that happens in the interval (:func:`rocking.dynamics._plain_step`).
 
-    ``acc1``: each lane's ground acceleration at the end of the interval [m/s²]; ``last``: index
+    ``acc1``: each lane's ground acceleration at the end of the interval [m/s²], ``nxt``: index in
+    the motions end to end of that sample (advanced where the interval is done); ``last``: index
     of the last sample.  Returns the lanes that need attention (an event, or the end of the
     motion) as bit masks: lanes 0 … 63, lanes 64 … 127.
     """
@@ -107,6 +108,7 @@ def _lane_steps(W, acc1, n, dt, g, last):
         W[_U0 * L + j] = u1 if plain else u0
         W[_PK * L + j] = a1 if (plain & (a1 > pk)) else pk
         W[_K * L + j] = k1 if plain else k1 - 1.0
+        nxt[j] += np.uint64(1 if plain else 0)
         W[_TAU * L + j] = 0.0 if plain else W[_TAU * L + j]
         W[_H * L + j] = dt if plain else W[_H * L + j]
         W[_U1 * L + j] = u1
@@ -121,14 +123,16 @@ def _lane_steps(W, acc1, n, dt, g, last):
 
 
 @kernel
-def _gather_acc(acc1, W, n, flat, base):
-    """acc1[j] = the ground acceleration sample that ends lane j's interval [m/s²]."""
+def _gather_acc(acc1, nxt, n, flat):
+    """acc1[j] = flat[nxt[j]], the ground acceleration sample that ends lane j's interval [m/s²]
+    (unsigned indices: no test for negative ones)."""
     for j in range(n):
-        acc1[j] = flat[base[j] + int(W[_K * _LANES + j]) + 1]
+        acc1[j] = flat[nxt[j]]
 
 
 @kernel
-def _start_case(W, j, i, base, state, acc, amax, dt, g, p2, sa, ca, th_ov, body, motion, scale):
+def _start_case(W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, th_ov, body,
+                motion, scale):
     """Put case i in lane j at the first interval in which its block may lift; False (lane left
     as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
     peak 0)."""
@@ -145,6 +149,7 @@ def _start_case(W, j, i, base, state, acc, amax, dt, g, p2, sa, ca, th_ov, body,
     if k >= n_t - 1:
         return False
     base[j] = m * n_t
+    nxt_sample[j] = m * n_t + k + 1
     state[j] = _REST
     W[_TH * L + j] = 0.0
     W[_OM * L + j] = 0.0
@@ -175,6 +180,7 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
     flat = acc.reshape(-1)
     W = np.zeros(_ROWS * L)
     acc1 = np.zeros(L)  # ground acceleration at the end of each lane's interval [m/s²]
+    nxt_sample = np.zeros(L, np.uint64)  # index in flat of that sample
     case = np.full(L, -1, np.int64)
     base = np.zeros(L, np.int64)  # offset of the case's motion in flat
     state = np.zeros(L, np.int64)
@@ -183,16 +189,16 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
     while live < L and nxt < c1:
         i = order[nxt]
         nxt += 1
-        if _start_case(W, live, i, base, state, acc, amax, dt, g, p2, sa, ca, th_ov, body,
-                       motion, scale):
+        if _start_case(W, live, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, th_ov,
+                       body, motion, scale):
             case[live] = i
             live += 1
         else:
             overturned[i] = False
             peak[i] = 0.0
     while live > 0:
-        _gather_acc(acc1, W, live, flat, base)
-        low, high = _lane_steps(W, acc1, live, dt, g, float(n_t - 1))
+        _gather_acc(acc1, nxt_sample, live, flat)
+        low, high = _lane_steps(W, acc1, nxt_sample, live, dt, g, float(n_t - 1))
         # the lanes that need attention, from the highest down: an event, or the end of a case
         # (then the lane takes the next case, or the last live lane, handled already, moves
         # into it)
@@ -247,6 +253,7 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                     W[_U0 * L + j] = u1
                     W[_RK * L + j] = 1.0 if st == _ROCKING else 0.0
                     W[_K * L + j] = k
+                    nxt_sample[j] = base[j] + k + 1
                     state[j] = st
                     done = k >= n_t - 1
             if done:
@@ -256,8 +263,8 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                 while nxt < c1 and case[j] < 0:
                     i = order[nxt]
                     nxt += 1
-                    if _start_case(W, j, i, base, state, acc, amax, dt, g, p2, sa, ca, th_ov,
-                                   body, motion, scale):
+                    if _start_case(W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa,
+                                   ca, th_ov, body, motion, scale):
                         case[j] = i
                     else:
                         overturned[i] = False
@@ -269,6 +276,7 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                             W[r * L + j] = W[r * L + live]
                         case[j] = case[live]
                         base[j] = base[live]
+                        nxt_sample[j] = nxt_sample[live]
                         state[j] = state[live]
                         case[live] = -1
 
