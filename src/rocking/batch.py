@@ -400,11 +400,15 @@ def run_cases(table: BlockTable, acc: np.ndarray, amax: np.ndarray, dt: float,
     """
     overturned = np.empty(body.shape, dtype=np.bool_)
     peak = np.empty(body.shape, dtype=np.float64)
-    # cases of the same motion side by side: their lanes read the same samples (cache)
-    order = np.argsort(motion, kind="stable")
-    # about four groups per thread (dynamic scheduling: groups differ in cost), of at least
-    # _LANES cases so that the lanes are filled
+    # about four groups per thread (dynamic scheduling), of at least _LANES cases so that the
+    # lanes are filled
     group = max(_LANES, min(_GROUP_MAX, -(-body.size // (4 * numba.get_num_threads()))))
+    # cases of the same motion side by side, so that their lanes read the same samples (cache);
+    # every ng-th of them in a group, so that the groups have about the same mix of motions and
+    # cost (the threads finish together)
+    order = np.argsort(motion, kind="stable")
+    ng = max(1, -(-body.size // group))
+    order = np.concatenate([order[q::ng] for q in range(ng)])
     with numba.parallel_chunksize(1):
         _cases_kernel(acc, amax, dt, table.g, table.p2, table.sin_a, table.cos_a, table.tan_a,
                       table.e, table.theta_ov, table.alpha, body, motion, scale, order, group,
