@@ -234,6 +234,12 @@ def _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca):
     block: |θ'|·h > ROTATION_DMAX).
     """
     st, ct = _sincos_any(theta)
+    return _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+
+
+@kernel
+def _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca):
+    """:func:`_rk4` given st, ct = sin θ, cos θ (partial steps from one state share them)."""
     th, om, dmax = _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
     if _fast_valid(theta, dmax):
         return th, om
@@ -258,16 +264,18 @@ def _locate(theta, omega, s, u0, du, tau, lo, hi, th_lo, th_hi, target, sgn, p2,
     Taylor (θ → target, θ' → θ' − θ''·δh; the error, of order θ''' δh², is at round-off level).
     Returns (h, theta_h, omega_h).
     """
+    st, ct = _sincos_any(theta)
     h = -1.0
     if lo == 0.0:
-        h = _taylor_root(theta, omega, s, fma(du, tau, u0), du, hi, target, p2, sa, ca)
+        S, C = _angle_terms(st, ct, s, sa, ca)
+        h = _taylor_root(theta, S, C, omega, fma(du, tau, u0), du, hi, target, p2)
     if h < 0.0:
         flo = sgn * (th_lo - target)
         fhi = sgn * (th_hi - target)
         h = lo - (hi - lo) * flo / (fhi - flo) if fhi > flo else 0.5 * (lo + hi)
         if not (lo < h < hi):
             h = 0.5 * (lo + hi)
-    th, om = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+    th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
     for _ in range(100):
         f = sgn * (th - target)
         if f == 0.0:
@@ -286,19 +294,19 @@ def _locate(theta, omega, s, u0, du, tau, lo, hi, th_lo, th_hi, target, sgn, p2,
             if lo < h - step < hi:
                 hn = h - step
         h = hn
-        th, om = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+        th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
     return h, th, om
 
 
 @kernel(inline="always")
-def _taylor_root(theta, omega, s, u, du, hi, target, p2, sa, ca):
+def _taylor_root(theta, S, C, omega, u, du, hi, target, p2):
     """First root in (0, hi) of θ + θ'·τ + θ''·τ²/2 + θ'''·τ³/6 = target, the Taylor cubic of
     Eq. (1) at the state (theta, omega) with ground acceleration u + du·τ; −1 if none is found.
 
     θ'' = −p²·(S + u·C) with S = sin(sα − θ), C = cos(sα − θ), hence
-    θ''' = p²·((C − u·S)·θ' − C·du).  From the first root of the quadratic, two Newton steps.
+    θ''' = p²·((C − u·S)·θ' − C·du) (S and C given).  From the first root of the quadratic, two
+    Newton steps.
     """
-    S, C = _sin_cos_terms(theta, s, sa, ca)
     a = -p2 * fma(u, C, S)
     jerk = p2 * (fma(-u, S, C) * omega - C * du)
     c0 = theta - target
@@ -392,9 +400,10 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
     ua, ub = _u_ends(u0, du, tau, h)
     if _no_touch(theta, omega, s, ua, ub, h, p2, sa):
         return -1.0, -1.0, 0.0, 0.0
+    st, ct = _sincos_any(theta)
     hm = _hermite_min(theta, omega, th1, om1, s, h)
     if hm > 0.0:
-        tm, _w = _rk4(theta, omega, s, u0, du, tau, hm, p2, sa, ca)
+        tm, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, hm, p2, sa, ca)
         if s * tm <= 0.0:
             return 0.0, hm, theta, tm
     # all probes are computed (independent: the CPU overlaps them), the first touch is kept
@@ -404,7 +413,6 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
     th_hi = 0.0
     prev = 0.0
     th_prev = theta
-    st, ct = _sincos_any(theta)
     for j in range(1, _N_PROBES):
         hj = h * j / _N_PROBES
         tj, _w, dmax = _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, hj, p2, sa, ca)
