@@ -23,7 +23,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.optimize
-import scipy.stats
 import xarray as xr
 from tqdm.auto import tqdm
 
@@ -72,6 +71,8 @@ def wilson_interval(count, n, confidence: float = 0.95):
 
 
 def _wilson(k: int, n: int, confidence: float) -> tuple[float, float]:
+    import scipy.stats  # on first use: ~0.5 s of import that most commands do not need
+
     ci = scipy.stats.binomtest(k, n).proportion_ci(confidence, method="wilson")
     return ci.low, ci.high
 
@@ -93,6 +94,8 @@ class LognormalFit:
 
     def probability(self, agx) -> np.ndarray:
         """Probability of overturning at ``agx`` [g] (array_like, > 0) [-]."""
+        import scipy.stats  # on first use (see _wilson)
+
         return scipy.stats.norm.cdf(np.log(np.asarray(agx, dtype=float) / self.median) / self.beta)
 
 
@@ -132,6 +135,8 @@ def fit_lognormal(agx, count, n) -> LognormalFit:
     wilson_interval(count, n)  # validates 0 <= count <= n, n >= 1 (integers)
     if np.all(count == 0) or np.all(count == n):
         raise InputError("fit_lognormal needs counts that are not all 0 and not all n")
+    import scipy.stats  # on first use (see _wilson)
+
     x = np.log(agx)
     k = count.astype(float)
     m = n.astype(float)
