@@ -1,7 +1,8 @@
 """The ``rocking`` command-line interface.
 
-Each module of this package that defines a list ``COMMANDS`` of click commands or groups has them
-registered on the main group, so command groups live beside each other without a central list.
+Each module of this package defines a list ``COMMANDS`` of click commands or groups; ``COMMAND_MODULES``
+names the module of each command, which is imported only when the command runs (start-up time: the
+studies import Matplotlib, which most commands do not need).
 Errors caused by the user's input are printed in one line (``Error: ...``) with exit status 1;
 never a traceback.
 """
@@ -10,7 +11,6 @@ from __future__ import annotations
 
 import importlib
 import os
-import pkgutil
 import signal
 import sys
 
@@ -24,8 +24,28 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(msg.split())
 
 
+#: Command name → module of this package that defines it (tests/test_cli.py checks that this
+#: matches the modules' COMMANDS).
+COMMAND_MODULES = {
+    "agx50": "fragility", "assess": "fragility", "fragility": "fragility", "frame": "frame",
+    "motions": "motions", "reproduce": "reproduce", "screen": "screen", "simulate": "simulate",
+    "spectrum": "spectrum", "table1": "body",
+}
+
+
 class _Main(click.Group):
-    """Main group that turns input errors into one-line messages."""
+    """Main group that loads its commands on first use and turns input errors into one-line
+    messages (click's lazily loaded subcommands pattern)."""
+
+    def list_commands(self, ctx):
+        return sorted(COMMAND_MODULES)
+
+    def get_command(self, ctx, cmd_name):
+        module = COMMAND_MODULES.get(cmd_name)
+        if module is None:
+            return None
+        mod = importlib.import_module(f"{__name__}.{module}")
+        return next(cmd for cmd in mod.COMMANDS if cmd.name == cmd_name)
 
     def invoke(self, ctx):
         try:
@@ -49,15 +69,3 @@ def main():
 
 def _terminate(signum, frame):
     raise SystemExit(128 + signum)
-
-
-def _register():
-    for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
-        if info.name.startswith("_"):
-            continue
-        mod = importlib.import_module(f"{__name__}.{info.name}")
-        for cmd in getattr(mod, "COMMANDS", ()):
-            main.add_command(cmd)
-
-
-_register()
