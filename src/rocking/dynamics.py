@@ -124,9 +124,16 @@ def _rot(P, Q, d):
 
 
 @kernel(inline="always")
+def _signed(s, x):
+    """s·x for s = ±1, exactly, as a sign flip rather than a multiplication (in SIMD loops it
+    leaves the multiply units to the arithmetic)."""
+    return x if s > 0.0 else -x
+
+
+@kernel(inline="always")
 def _angle_terms(st, ct, s, sa, ca):
     """(sin(sα − θ), cos(sα − θ)) from sin θ, cos θ."""
-    ssa = s * sa
+    ssa = _signed(s, sa)
     # sin(sα − θ) = s·sinα·cosθ − cosα·sinθ ;  cos(sα − θ) = cosα·cosθ + s·sinα·sinθ
     return fma(ssa, ct, -(ca * st)), fma(ca, ct, ssa * st)
 
@@ -372,11 +379,11 @@ def _no_touch(theta, omega, s, ua, ub, h, p2, sa):
     s·θ(τ) ≥ s·θ + s·θ'·τ − ½a⁺τ², a concave bound whose minimum over [0, h] is at an end:
     s·θ ≥ 0 at τ = 0, and the test at τ = h.  ``ua``, ``ub``: u at the ends of the step.
     """
-    sua = s * ua
-    sub = s * ub
+    sua = _signed(s, ua)
+    sub = _signed(s, ub)
     push = sua if sua > sub else sub  # ground acceleration towards θ = 0, if positive
     amax = p2 * (sa + (push if push > 0.0 else 0.0))
-    return s * fma(omega, h, theta) > (0.5 * h) * h * amax
+    return _signed(s, fma(omega, h, theta)) > (0.5 * h) * h * amax
 
 
 @kernel(inline="always")
@@ -448,7 +455,7 @@ def _plain_step(theta, omega, s, u0, du, tau, h, p2, sa, ca, th_ov):
     th1, om1, dmax = _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca)
     valid = _fast_valid(theta, dmax)
     ua, ub = _u_ends(u0, du, tau, h)
-    plain = (valid & (s * th1 > 0.0) & _no_touch(theta, omega, s, ua, ub, h, p2, sa)
+    plain = (valid & (_signed(s, th1) > 0.0) & _no_touch(theta, omega, s, ua, ub, h, p2, sa)
              & (abs(th1) < th_ov))
     return th1, om1, valid, plain
 
