@@ -9,8 +9,8 @@ How it is fast (issue 6).  A *lane machine* integrates ``_LANES`` cases side by 
 interval per round.  Each round first computes the RK4 step of every lane in one loop that the
 compiler turns into SIMD code (:func:`rocking.dynamics._plain_step`: branch-free, polynomial
 trigonometry); the lanes whose interval holds nothing else (no impact, no possible touch of θ = 0,
-no overturning; about 98 % of rocking intervals) keep that step.  The others — and lanes at rest
-— are handled one by one by :func:`rocking.dynamics._advance_events`, exactly as
+no overturning; about 98.5 % of rocking intervals) keep that step, and the loop returns the
+others as bit masks.  Those — and lanes at rest — are handled one by one by :func:`rocking.dynamics._advance_events`, exactly as
 :func:`~rocking.dynamics.simulate` handles them, except that after an impact from which the block
 swings clear of θ = 0 the rest of the interval goes back to the SIMD loop.  Cases of the same
 motion sit side by side (they read the same samples).  A lane whose case ends takes the next case

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
-from scipy.stats import norm
 
 from ..energy import BAND_HZ
 
@@ -27,7 +26,7 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
         ``ci_high`` [-] on dimensions (``body``, ``agx``) or (``case``, ``body``, ``agx``),
         ``agx`` [g].
     fits : dict, optional
-        Lognormal fits (objects with ``median`` [g] and ``beta`` [-]) keyed by body label, or
+        :class:`~rocking.LognormalFit` objects keyed by body label, or
         by (case, body) when ``ds`` has a ``case`` dimension.
     title : str
         Figure title.
@@ -46,8 +45,7 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
                 label=label if k < MAX_LEGEND else None)
         fit = fits.get(key)
         if fit is not None and np.isfinite(fit.median) and np.isfinite(fit.beta) and fit.beta > 0:
-            ax.plot(fine, norm.cdf(np.log(fine / fit.median) / fit.beta), "--", color=color,
-                    lw=1.0)
+            ax.plot(fine, fit.probability(fine), "--", color=color, lw=1.0)
     ax.axhline(0.5, color="0.5", lw=0.8, ls=":")
     ax.set_xlabel("ensemble mean peak acceleration A_gx [g]")
     ax.set_ylabel("probability of overturning [-]")
