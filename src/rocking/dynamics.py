@@ -311,8 +311,8 @@ def _taylor_root(theta, S, C, omega, u, du, hi, target, p2):
     Eq. (1) at the state (theta, omega) with ground acceleration u + du·τ; −1 if none is found.
 
     θ'' = −p²·(S + u·C) with S = sin(sα − θ), C = cos(sα − θ), hence
-    θ''' = p²·((C − u·S)·θ' − C·du) (S and C given).  From the first root of the quadratic, two
-    Newton steps.
+    θ''' = p²·((C − u·S)·θ' − C·du) (S and C given).  From the first root of the quadratic, one
+    Newton step.
     """
     a = -p2 * fma(u, C, S)
     jerk = p2 * (fma(-u, S, C) * omega - C * du)
@@ -328,16 +328,15 @@ def _taylor_root(theta, S, C, omega, u, du, hi, target, p2):
             h = r
     if h < 0.0:
         return -1.0
+    # one Newton step: the quadratic's root is off by about p²h²/6 relative, the step leaves the
+    # square of that (≪ the cubic's own truncation error, which _locate's Newton step removes)
     j6 = jerk / 6.0
-    for _ in range(2):
-        f = ((j6 * h + qa) * h + omega) * h + c0
-        df = (3.0 * j6 * h + a) * h + omega
-        if df == 0.0:
-            break
+    f = ((j6 * h + qa) * h + omega) * h + c0
+    df = (3.0 * j6 * h + a) * h + omega
+    if df != 0.0:
         hn = h - f / df
-        if not (0.0 < hn < hi):
-            break
-        h = hn
+        if 0.0 < hn < hi:
+            h = hn
     return h
 
 
