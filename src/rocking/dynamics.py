@@ -25,7 +25,7 @@ uplift level there (u is linear in the step, so it is below it throughout).  |θ
 chatter stays below |θ''|·(CHATTER_FRACTION·dt)²/8 (1e-9 rad for the paper's bodies at
 dt = 1/400 s), so the bracket of Eq. (1) is sin α ± u·cos α to that relative accuracy.
 
-Trigonometry (speed; see :func:`_rk4_fast`): sin θ and cos θ once per step by polynomials
+Trigonometry (speed; see :func:`_rk4_rotated`): sin θ and cos θ once per step by polynomials
 (within 2.3e-16 of libm for |θ| ≤ π/2), and at the stage angles θ + δ by the angle-sum identities
 with Taylor polynomials of the small offsets δ; a step with a large offset (|θ'|·h > 1/32 rad)
 evaluates sin and cos at every stage instead (:func:`_rk4_stages`).  tests/test_trig.py bounds
