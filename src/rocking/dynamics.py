@@ -88,27 +88,21 @@ _K1, _K2 = 1.0 / 24.0, -1.0 / 720.0
 
 
 @kernel(inline="always")
+def _horner(c, z):
+    """c[0]·z^(n−1) + c[1]·z^(n−2) + … + c[n−1] by Horner's rule, one fused multiply–add per
+    coefficient (a loop of constant length: the compiler unrolls it)."""
+    r = c[0]
+    for k in range(1, len(c)):
+        r = fma(r, z, c[k])
+    return r
+
+
+@kernel(inline="always")
 def _sincos(x):
     """(sin x, cos x) by polynomials, for |x| ≤ SINCOS_XMAX [rad] (see tests/test_trig.py for
     the accuracy); branch-free, so that it vectorizes."""
     z = x * x
-    rs = _RS[0]
-    rs = fma(rs, z, _RS[1])
-    rs = fma(rs, z, _RS[2])
-    rs = fma(rs, z, _RS[3])
-    rs = fma(rs, z, _RS[4])
-    rs = fma(rs, z, _RS[5])
-    rs = fma(rs, z, _RS[6])
-    rs = fma(rs, z, _RS[7])
-    rc = _RC[0]
-    rc = fma(rc, z, _RC[1])
-    rc = fma(rc, z, _RC[2])
-    rc = fma(rc, z, _RC[3])
-    rc = fma(rc, z, _RC[4])
-    rc = fma(rc, z, _RC[5])
-    rc = fma(rc, z, _RC[6])
-    rc = fma(rc, z, _RC[7])
-    return fma(x * z, rs, x), 1.0 - fma(-(z * z), rc, 0.5 * z)
+    return fma(x * z, _horner(_RS, z), x), 1.0 - fma(-(z * z), _horner(_RC, z), 0.5 * z)
 
 
 @kernel(inline="always")
@@ -421,9 +415,7 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
     th_prev = theta
     for j in range(1, _N_PROBES):
         hj = h * j / _N_PROBES
-        tj, _w, dmax = _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, hj, p2, sa, ca)
-        if not _fast_valid(theta, dmax):
-            tj, _w = _rk4_stages(theta, omega, s, u0, du, tau, hj, p2, sa, ca)
+        tj, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, hj, p2, sa, ca)
         if hi < 0.0:
             if s * tj <= 0.0:
                 lo = prev
@@ -584,7 +576,7 @@ def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th
             omega = e * omz
             theta = 0.0
             # Zeno check: how long would the next free flight last?
-            ua = fma(du, tau, u0)
+            ua, ub = _u_ends(u0, du, tau, dt - tau)
             acc0 = -p2 * fma(ua, ca, s * sa)  # θ'' at θ = 0 on the new side
             if omega == 0.0 or (acc0 * omega < 0.0 and
                                 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)):
@@ -602,7 +594,6 @@ def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th
                     state = _REST
                     continue
             # a block that cannot come back to θ = 0 before dt (not a bounce of a chatter)
-            ua, ub = _u_ends(u0, du, tau, dt - tau)
             hand_over = defer and _no_touch(0.0, omega, s, ua, ub, dt - tau, p2, sa)
             continue
         if abs(th1) >= th_ov:
