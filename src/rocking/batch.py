@@ -10,9 +10,10 @@ interval per round.  Each round first computes the RK4 step of every lane in one
 compiler turns into SIMD code (:func:`rocking.dynamics._plain_step`: branch-free, polynomial
 trigonometry); the lanes whose interval holds nothing else (no impact, no possible touch of θ = 0,
 no overturning; about 98.5 % of rocking intervals) keep that step, and the loop returns the
-others as bit masks.  Those — and lanes at rest — are handled one by one by :func:`rocking.dynamics._advance_events`, exactly as
-:func:`~rocking.dynamics.simulate` handles them, except that after an impact from which the block
-swings clear of θ = 0 the rest of the interval goes back to the SIMD loop.  Cases of the same
+others as bit masks.  Those — and lanes at rest — are handled one by one by
+:func:`rocking.dynamics._advance_events`, exactly as :func:`~rocking.dynamics.simulate` handles
+them, except that after an impact from which the block swings clear of θ = 0 the rest of the
+interval goes back to the SIMD loop.  Cases of the same
 motion sit side by side (they read the same samples).  A lane whose case ends takes the next case
 of its group; when none is left, the last lane moves into its place, so the SIMD loop only runs
 over live lanes.  Work that cannot change the answer is skipped:
@@ -59,34 +60,33 @@ _TH = 0  # θ [rad] at the start of the lane's current interval
 _OM = 1  # θ' [rad/s]
 _SG = 2  # pivot side s = ±1
 _RK = 3  # 1.0 if rocking, 0.0 if at rest
-_K = 4  # index of the sample that starts the interval
-_U0 = 5  # u = a_g/g at the start of the interval
-_U1 = 6  # u at its end
-_SC = 7  # scale factor of the case
-_P2 = 8  # p² [1/s²]
-_SA = 9  # sin α
-_CA = 10  # cos α
-_OV = 11  # overturning angle [rad]
-_PK = 12  # max |θ| so far [rad]
-_TH1 = 13  # RK4 step over the interval ...
-_OM1 = 14
-_VAL = 15  # ... and whether it is _rk4's step (1.0) or not (0.0)
-_TAU = 16  # local time [s] from which the interval is still to be integrated (0 but after an event)
-_H = 17  # dt − tau [s]
-_TST = 18  # _advance_events' t_start and false_side in this interval
-_FS = 19
-_ROWS = 20
+_U0 = 4  # u = a_g/g at the start of the interval
+_U1 = 5  # u at its end
+_SC = 6  # scale factor of the case
+_P2 = 7  # p² [1/s²]
+_SA = 8  # sin α
+_CA = 9  # cos α
+_OV = 10  # overturning angle [rad]
+_PK = 11  # max |θ| so far [rad]
+_TH1 = 12  # RK4 step over the interval ...
+_OM1 = 13
+_VAL = 14  # ... and whether it is _rk4's step (1.0) or not (0.0)
+_TAU = 15  # local time [s] from which the interval is still to be integrated (0 but after an event)
+_H = 16  # dt − tau [s]
+_TST = 17  # _advance_events' t_start and false_side in this interval
+_FS = 18
+_ROWS = 19
 
 
 @kernel
-def _lane_steps(W, acc1, nxt, n, dt, g, last):
+def _lane_steps(W, acc1, nxt, base, n, dt, g, n_t):
     """One sample interval of lanes 0 … n−1 (a SIMD loop): the RK4 step, kept where it is all
     that happens in the interval (:func:`rocking.dynamics._plain_step`).
 
-    ``acc1``: each lane's ground acceleration at the end of the interval [m/s²], ``nxt``: index in
-    the motions end to end of that sample (advanced where the interval is done); ``last``: index
-    of the last sample.  Returns the lanes that need attention (an event, or the end of the
-    motion) as bit masks: lanes 0 … 63, lanes 64 … 127.
+    ``acc1``: each lane's ground acceleration at the end of the interval [m/s²], ``nxt``: index of
+    that sample in the motions end to end (advanced where the interval is done), ``base``: index
+    of the lane's motion there, ``n_t``: samples per motion.  Returns the lanes that need
+    attention (an event, or the end of the motion) as bit masks: lanes 0 … 63, lanes 64 … 127.
     """
     L = _LANES
     low = np.uint64(0)
@@ -102,20 +102,18 @@ def _lane_steps(W, acc1, nxt, n, dt, g, last):
         plain = plain & (W[_RK * L + j] != 0.0)
         pk = W[_PK * L + j]
         a1 = abs(th1)
-        k1 = W[_K * L + j] + 1.0
         W[_TH * L + j] = th1 if plain else theta
         W[_OM * L + j] = om1 if plain else omega
         W[_U0 * L + j] = u1 if plain else u0
         W[_PK * L + j] = a1 if (plain & (a1 > pk)) else pk
-        W[_K * L + j] = k1 if plain else k1 - 1.0
-        nxt[j] += np.uint64(1 if plain else 0)
+        nxt[j] += 1 if plain else 0
         W[_TAU * L + j] = 0.0 if plain else W[_TAU * L + j]
         W[_H * L + j] = dt if plain else W[_H * L + j]
         W[_U1 * L + j] = u1
         W[_TH1 * L + j] = th1
         W[_OM1 * L + j] = om1
         W[_VAL * L + j] = 1.0 if valid else 0.0
-        att = (not plain) | (k1 >= last)
+        att = (not plain) | (nxt[j] >= base[j] + n_t)  # an event, or the motion ended
         bit = np.uint64(1 if att else 0) << np.uint64(j & 63)
         low |= bit if j < 64 else np.uint64(0)
         high |= np.uint64(0) if j < 64 else bit
@@ -125,9 +123,9 @@ def _lane_steps(W, acc1, nxt, n, dt, g, last):
 @kernel
 def _gather_acc(acc1, nxt, n, flat):
     """acc1[j] = flat[nxt[j]], the ground acceleration sample that ends lane j's interval [m/s²]
-    (unsigned indices: no test for negative ones)."""
+    (as an unsigned index: no test for negative ones)."""
     for j in range(n):
-        acc1[j] = flat[nxt[j]]
+        acc1[j] = flat[np.uint64(nxt[j])]
 
 
 @kernel
@@ -155,7 +153,6 @@ def _start_case(W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, 
     W[_OM * L + j] = 0.0
     W[_SG * L + j] = 1.0
     W[_RK * L + j] = 0.0
-    W[_K * L + j] = k
     W[_U0 * L + j] = u0
     W[_SC * L + j] = sc
     W[_P2 * L + j] = p2[b]
@@ -180,7 +177,7 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
     flat = acc.reshape(-1)
     W = np.zeros(_ROWS * L)
     acc1 = np.zeros(L)  # ground acceleration at the end of each lane's interval [m/s²]
-    nxt_sample = np.zeros(L, np.uint64)  # index in flat of that sample
+    nxt_sample = np.zeros(L, np.int64)  # index in flat of that sample
     case = np.full(L, -1, np.int64)
     base = np.zeros(L, np.int64)  # offset of the case's motion in flat
     state = np.zeros(L, np.int64)
@@ -198,7 +195,7 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
             peak[i] = 0.0
     while live > 0:
         _gather_acc(acc1, nxt_sample, live, flat)
-        low, high = _lane_steps(W, acc1, nxt_sample, live, dt, g, float(n_t - 1))
+        low, high = _lane_steps(W, acc1, nxt_sample, base, live, dt, g, n_t)
         # the lanes that need attention, from the highest down: an event, or the end of a case
         # (then the lane takes the next case, or the last live lane, handled already, moves
         # into it)
@@ -211,7 +208,7 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                 low ^= np.uint64(1) << np.uint64(j)
             i = case[j]
             b = body[i]
-            k = int(W[_K * L + j])
+            k = nxt_sample[j] - base[j] - 1  # the interval: from sample k to k + 1
             done = k >= n_t - 1  # the motion has ended
             ov = False
             if not done:
@@ -252,7 +249,6 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                     W[_SG * L + j] = sg
                     W[_U0 * L + j] = u1
                     W[_RK * L + j] = 1.0 if st == _ROCKING else 0.0
-                    W[_K * L + j] = k
                     nxt_sample[j] = base[j] + k + 1
                     state[j] = st
                     done = k >= n_t - 1

@@ -1,8 +1,8 @@
 """The ``rocking`` command-line interface.
 
-Each module of this package defines a list ``COMMANDS`` of click commands or groups; ``COMMAND_MODULES``
-names the module of each command, which is imported only when the command runs (start-up time: the
-studies import Matplotlib, which most commands do not need).
+Each module of this package defines a list ``COMMANDS`` of click commands or groups;
+``COMMAND_MODULES`` names the module of each command, which is imported only when the command runs
+(start-up time: the studies import Matplotlib, which most commands do not need).
 Errors caused by the user's input are printed in one line (``Error: ...``) with exit status 1;
 never a traceback.
 """
