@@ -14,12 +14,12 @@ from scipy.integrate import quad
 
 from rocking.body import G, Block
 from rocking.cli import main
-from rocking.cli.simulate import EXAMPLE_SPEC
+from rocking.cli.simulate import SIMULATED_SPEC
 from rocking.dynamics import simulate
 from rocking.motions import generate
-from rocking.records import read_record
+from rocking.records import example_record_path, read_record
 
-#: The block of the examples: uplift at g·tan α = g/γ = 0.25 g.
+#: The block of the tests: uplift at g·tan α = g/γ = 0.25 g.
 BLOCK = Block(1.22, 4.0)
 BLOCK_ARGS = ["--R", "1.22", "--gamma", "4"]
 
@@ -36,16 +36,16 @@ def _write_motion(path, acc_g, dt):
 
 
 @pytest.fixture(scope="module")
-def example_acc():
-    """The built-in example motion [m/s²] and its step [s]."""
-    ens = generate(1, **EXAMPLE_SPEC)
+def simulated_acc():
+    """The built-in simulated motion (``--motion simulated``) [m/s²] and its step [s]."""
+    ens = generate(1, **SIMULATED_SPEC)
     return ens.acc[0], ens.dt
 
 
 @pytest.fixture(scope="module")
-def example_file(tmp_path_factory, example_acc):
-    acc, dt = example_acc
-    return _write_motion(tmp_path_factory.mktemp("motion") / "example.txt", acc / G, dt)
+def simulated_file(tmp_path_factory, simulated_acc):
+    acc, dt = simulated_acc
+    return _write_motion(tmp_path_factory.mktemp("motion") / "simulated.txt", acc / G, dt)
 
 
 def _library(path, peak_g, **kwargs):
@@ -93,10 +93,10 @@ def test_missing_file_gives_one_line_and_exit_1(tmp_path):
 # ----------------------------------------------------------------------------- physics
 
 
-def test_below_the_uplift_acceleration_the_block_never_moves(example_file):
+def test_below_the_uplift_acceleration_the_block_never_moves(simulated_file):
     # Housner (1963): from rest the block uplifts only if |a_g| > g·tan α = 0.25 g here; the
-    # example scaled to a peak of 0.2 g never gets there, so θ stays exactly 0.
-    result = _run([*BLOCK_ARGS, "--motion", example_file, "--scale-g", "0.2", "--json"])
+    # simulated motion scaled to a peak of 0.2 g never gets there, so θ stays exactly 0.
+    result = _run([*BLOCK_ARGS, "--motion", simulated_file, "--scale-g", "0.2", "--json"])
     assert result.exit_code == 0, result.output
     out = json.loads(result.stdout)
     assert out["motion"]["pga_g"] == pytest.approx(0.2, rel=1e-12)
@@ -138,15 +138,15 @@ def test_constant_acceleration_overturns_at_the_energy_integral_time(tmp_path, a
 
 
 @pytest.mark.parametrize("peak_g, overturns", [(0.5, False), (5.0, True)])
-def test_json_is_rocking_simulate_on_the_same_input(tmp_path, example_file, peak_g, overturns):
+def test_json_is_rocking_simulate_on_the_same_input(tmp_path, simulated_file, peak_g, overturns):
     # At 20 times the uplift acceleration the block overturns; at twice it, it rocks and stays.
     png = tmp_path / "out.png"
-    result = _run([*BLOCK_ARGS, "--motion", example_file, "--scale-g", peak_g, "--e", "housner",
+    result = _run([*BLOCK_ARGS, "--motion", simulated_file, "--scale-g", peak_g, "--e", "housner",
                    "--json", "--plot", png])
     assert result.exit_code == 0, result.output
     out = json.loads(result.stdout)  # pure JSON: the "wrote" line goes to stderr
     assert result.stderr == f"wrote {png}\n" and png.stat().st_size > 0
-    lib, ag = _library(example_file, peak_g, e="housner")
+    lib, ag = _library(simulated_file, peak_g, e="housner")
     # Housner (1963) restitution of a rectangle: e = 1 − 1.5·sin²α.
     assert out["response"]["e"] == pytest.approx(1.0 - 1.5 * math.sin(BLOCK.alpha) ** 2,
                                                  rel=1e-15)
@@ -154,7 +154,7 @@ def test_json_is_rocking_simulate_on_the_same_input(tmp_path, example_file, peak
         {**lib.summary(), "overturn_angle_rad": lib.overturn_angle}))
     assert out["response"]["overturned"] is overturns
     m = out["motion"]
-    assert (m["n_samples"], m["dt_s"], m["pga_g"]) == (ag.size, read_record(example_file).dt,
+    assert (m["n_samples"], m["dt_s"], m["pga_g"]) == (ag.size, read_record(simulated_file).dt,
                                                        pytest.approx(peak_g, rel=1e-12))
     assert m["duration_s"] == pytest.approx(20.0, rel=1e-12)
     b = out["block"]
@@ -162,11 +162,11 @@ def test_json_is_rocking_simulate_on_the_same_input(tmp_path, example_file, peak
         (BLOCK.R, BLOCK.gamma, BLOCK.H, BLOCK.B, BLOCK.p), rel=1e-15)
 
 
-def test_example_motion_summary_and_plot(tmp_path, example_acc):
+def test_simulated_motion_summary_and_plot(tmp_path, simulated_acc):
     png = tmp_path / "out.png"
-    result = _run([*BLOCK_ARGS, "--motion", "example", "--scale-g", "1", "--plot", png])
+    result = _run([*BLOCK_ARGS, "--motion", "simulated", "--scale-g", "1", "--plot", png])
     assert result.exit_code == 0, result.output
-    acc, dt = example_acc
+    acc, dt = simulated_acc
     lib = simulate(BLOCK, acc * (G / np.abs(acc).max()), dt)
     assert lib.overturned
     lines = result.output.splitlines()
@@ -181,3 +181,19 @@ def test_example_motion_summary_and_plot(tmp_path, example_acc):
     image = imread(png)
     assert image.ndim == 3 and image.shape[0] > 500 and image.shape[1] > 800
     assert image[..., :3].std() > 0.05  # not a blank canvas
+
+
+def test_example_motion_is_the_shipped_el_centro_record():
+    # 'example' is El Centro 1940 NS as shipped (src/rocking/data/records/README.md: 1559 points
+    # at 0.02 s, largest |value| 0.31882 g), unscaled, and the response is rocking.simulate on it.
+    result = _run([*BLOCK_ARGS, "--motion", "example", "--json"])
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.stdout)
+    m = out["motion"]
+    assert m["source"] == "example (ElCentro1940_NS.AT2)"
+    assert (m["n_samples"], m["dt_s"], m["scale_factor"]) == (1559, 0.02, 1.0)
+    assert m["pga_g"] == pytest.approx(0.31882, rel=1e-12)
+    rec = read_record(example_record_path())
+    lib = simulate(BLOCK, rec.acc, rec.dt)
+    assert out["response"] == json.loads(json.dumps(
+        {**lib.summary(), "overturn_angle_rad": lib.overturn_angle}))

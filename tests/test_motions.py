@@ -4,6 +4,7 @@ ensembles and the ``rocking motions`` command."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -19,12 +20,12 @@ from rocking.errors import InputError
 from rocking.motions import (Ensemble, baseline_correct, generate, limit_peaks, member_phases,
                              spectral_fit, synthesize)
 from rocking.psd import PowerSpectrum
-from rocking.records import read_record
+from rocking.records import example_record_path, read_record
 from rocking.spectra import response_spectrum, rg160
 
-RECORDS = "/work/shared/records"
-EL_CENTRO = f"{RECORDS}/ElCentro1940_NS.AT2"  # 1559 points at 0.02 s
-CHINO_HILLS = f"{RECORDS}/RSN8883_14383980_13849360.AT2"  # 16396 points at 0.005 s
+#: Shipped with the package (1559 points at 0.02 s) and with the tests (16396 points at 0.005 s).
+EL_CENTRO = str(example_record_path())
+CHINO_HILLS = str(Path(__file__).parent / "data" / "RSN8883_14383980_13849360.AT2")
 
 
 @pytest.fixture(scope="module")

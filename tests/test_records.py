@@ -9,9 +9,11 @@ import pytest
 
 from rocking.body import G
 from rocking.errors import InputError
-from rocking.records import read_record, read_records
+from rocking.records import example_record_path, read_record, read_records
 
-RECORDS = Path("/work/shared/records")
+#: El Centro 1940 NS ships with the package; Chino Hills (PEER NGA-West2 layout) with the tests.
+EL_CENTRO = example_record_path()
+CHINO_HILLS = Path(__file__).parent / "data" / "RSN8883_14383980_13849360.AT2"
 
 
 def _values_after_header(path: Path, header_lines: int) -> np.ndarray:
@@ -20,16 +22,17 @@ def _values_after_header(path: Path, header_lines: int) -> np.ndarray:
     return np.array(" ".join(text).split(), dtype=float)
 
 
-@pytest.mark.parametrize("name,npts,dt", [
-    ("ElCentro1940_NS.AT2", 1559, 0.02),  # records/README.md
-    ("RSN8883_14383980_13849360.AT2", 16396, 0.005),
+@pytest.mark.parametrize("path,npts,dt", [
+    (EL_CENTRO, 1559, 0.02),  # src/rocking/data/records/README.md
+    (CHINO_HILLS, 16396, 0.005),  # tests/data/README.md
 ])
-def test_real_records(name, npts, dt):
-    rec = read_record(RECORDS / name)
+def test_real_records(path, npts, dt):
+    name = path.name
+    rec = read_record(path)
     assert rec.acc.shape == (npts,) and rec.dt == dt
     assert rec.name == Path(name).stem and rec.source.endswith(name)
     # Both files are in g (stated in their headers): m/s² = g·9.80665, to rounding.
-    expected = _values_after_header(RECORDS / name, 4)
+    expected = _values_after_header(path, 4)
     np.testing.assert_allclose(rec.acc, expected * G, rtol=1e-15)
     assert rec.pga == pytest.approx(np.abs(expected).max(), rel=1e-15)
     np.testing.assert_allclose(rec.t[[0, -1]], [0.0, (npts - 1) * dt], rtol=1e-12)
@@ -37,7 +40,7 @@ def test_real_records(name, npts, dt):
 
 def test_el_centro_pga():
     # The largest |value| in the file (Peknold version of El Centro 1940 NS) is 0.31882 g.
-    assert read_record(RECORDS / "ElCentro1940_NS.AT2").pga == pytest.approx(0.31882, rel=1e-12)
+    assert read_record(EL_CENTRO).pga == pytest.approx(0.31882, rel=1e-12)
 
 
 VALUES = [-0.2098335e-03, -0.2108988e-03, -0.2119629e-03, 0.15, -0.25, 0.0031, 0.5]
@@ -161,7 +164,7 @@ def test_text_errors(tmp_path, text, match):
 
 def test_bad_units_name(tmp_path):
     with pytest.raises(InputError, match="units must be one of"):
-        read_record(RECORDS / "ElCentro1940_NS.AT2", units="ft/s2")
+        read_record(EL_CENTRO, units="ft/s2")
 
 
 def test_read_records_folder_and_list(tmp_path):
@@ -171,7 +174,7 @@ def test_read_records_folder_and_list(tmp_path):
     (tmp_path / "notes.md").write_text("not a record")
     recs = read_records(tmp_path)
     assert [r.name for r in recs] == ["a", "b", "c"]
-    recs = read_records([tmp_path / "c.csv", RECORDS / "ElCentro1940_NS.AT2"])
+    recs = read_records([tmp_path / "c.csv", EL_CENTRO])
     assert [r.name for r in recs] == ["c", "ElCentro1940_NS"]
     empty = tmp_path / "empty"
     empty.mkdir()

@@ -15,10 +15,10 @@ from rocking.body import G
 from rocking.cli import main
 from rocking.errors import InputError
 from rocking.plots.spectra import plot_mean_vs_target, plot_spectra
+from rocking.records import example_record_path
 from rocking.spectra import RG160, TabulatedSpectrum, response_spectrum, rg160
 
-RECORDS = "/work/shared/records"
-EL_CENTRO = f"{RECORDS}/ElCentro1940_NS.AT2"
+EL_CENTRO = str(example_record_path())  # shipped with the package
 
 # US AEC Regulatory Guide 1.60 (1973), Table 1 (as in reference.md §3): damping, B, C, D.
 RG160_TABLE = [(0.005, 4.96, 5.95, 3.20), (0.02, 3.54, 4.25, 2.50), (0.05, 2.61, 3.13, 2.05),
@@ -324,6 +324,14 @@ def test_cli_spectrum(tmp_path):
     # largest |value| in the file.
     assert float(rows[-1]["psa_g"]) == pytest.approx(0.31882, rel=1e-3)
     assert out_png.stat().st_size > 0
+
+
+def test_cli_spectrum_example_is_el_centro():
+    # The word 'example' selects the shipped El Centro 1940 NS record (1559 points at 0.02 s,
+    # largest |value| 0.31882 g: src/rocking/data/records/README.md).
+    result = CliRunner().invoke(main, ["spectrum", "example", "--n", "5", "--fmax", "20"])
+    assert result.exit_code == 0, result.output
+    assert result.output.startswith("ElCentro1940_NS: 1559 samples at 0.02 s, PGA 0.3188 g")
 
 
 def test_cli_spectrum_bad_input_is_one_line(tmp_path):

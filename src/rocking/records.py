@@ -21,6 +21,13 @@ Plain text (any file without an NPTS/DT line)
     the first sample is taken as t = 0.
 
 Every reader returns accelerations in m/s² (g = 9.80665 m/s²).
+
+Example record
+--------------
+The package ships one record, El Centro 1940 north–south (public domain; source and format in
+``rocking/data/records/README.md``). :func:`example_record_path` gives its path; wherever record
+files are named (:func:`read_records`, the command line), the word ``example`` stands for it
+unless a file of that name exists.
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
@@ -240,16 +248,34 @@ def read_record(path, *, dt: float | None = None, units: str | None = None) -> R
     return Record(acc=acc, dt=float(step), name=path.stem, source=str(path))
 
 
+#: The word that stands for the shipped example record.
+EXAMPLE = "example"
+
+
+def example_record_path() -> Path:
+    """Path of the shipped example record: El Centro 1940, north–south component, a PEER-style
+    .AT2 file of 1559 accelerations [g] at 0.02 s (public domain)."""
+    return Path(str(files("rocking") / "data" / "records" / "ElCentro1940_NS.AT2"))
+
+
+def record_path(spec) -> Path:
+    """``spec`` as a path, the word ``example`` (when no file of that name exists) standing for
+    :func:`example_record_path`."""
+    path = Path(spec)
+    return example_record_path() if str(spec) == EXAMPLE and not path.exists() else path
+
+
 #: File suffixes picked up when a folder is given to :func:`read_records`.
 RECORD_SUFFIXES = (".at2", ".txt", ".csv")
 
 
 def record_paths(paths) -> list[Path]:
-    """Expand a path or a list of paths: a folder gives its .AT2/.txt/.csv files sorted by name."""
+    """Expand a path or a list of paths: a folder gives its .AT2/.txt/.csv files sorted by name,
+    the word ``example`` the shipped example record (see :func:`record_path`)."""
     if isinstance(paths, (str, Path)):
         paths = [paths]
     out: list[Path] = []
-    for p in map(Path, paths):
+    for p in map(record_path, paths):
         if p.is_dir():
             found = sorted((q for q in p.iterdir()
                             if q.is_file() and q.suffix.lower() in RECORD_SUFFIXES),
@@ -266,5 +292,6 @@ def record_paths(paths) -> list[Path]:
 
 def read_records(paths, *, dt: float | None = None, units: str | None = None) -> list[Record]:
     """Read several records; ``paths`` is a path or a list of paths, a folder standing for its
-    .AT2/.txt/.csv files sorted by name. ``dt`` [s] and ``units`` as in :func:`read_record`."""
+    .AT2/.txt/.csv files sorted by name and the word ``example`` for the shipped example record.
+    ``dt`` [s] and ``units`` as in :func:`read_record`."""
     return [read_record(p, dt=dt, units=units) for p in record_paths(paths)]

@@ -15,33 +15,38 @@ from ..body import G, Block
 from ..dynamics import simulate
 from ..errors import InputError
 from ..motions import generate
-from ..records import read_record
+from ..records import EXAMPLE, read_record, record_path
 from .fragility import parse_e
 
-#: The word that selects the built-in example motion for ``--motion``.
-EXAMPLE = "example"
-#: The built-in example: member 0 of a simulated ensemble (seed 0) compatible with RG 1.60 at
-#: 1 g, 20 s long with the compound intensity function; sampled at 1/400 s unless --dt is given.
-EXAMPLE_SPEC = {"duration": 20.0, "envelope": "compound", "seed": 0}
-_EXAMPLE_NAME = "example (simulated, RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
+#: The word that selects the built-in simulated motion for ``--motion``.
+SIMULATED = "simulated"
+#: The built-in simulated motion: member 0 of a simulated ensemble (seed 0) compatible with
+#: RG 1.60 at 1 g, 20 s long with the compound intensity function; sampled at 1/400 s unless --dt
+#: is given.
+SIMULATED_SPEC = {"duration": 20.0, "envelope": "compound", "seed": 0}
+_SIMULATED_NAME = "simulated (RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
 #: --overturn-angle choices: the paper's π/2, or the critical angle α.
 _OVERTURN = {"pi2": math.pi / 2, "alpha": "alpha"}
 
 
 def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
-    """Ground acceleration [m/s²], its time step [s] and a name, for ``--motion`` FILE|example.
+    """Ground acceleration [m/s²], its time step [s] and a name, for ``--motion``
+    FILE|example|simulated.
 
-    ``dt`` [s] is the step of a one-column file (checked against the file's own step otherwise),
-    or the step of the example motion (1/400 s if None).
+    ``example`` is the shipped El Centro 1940 NS record
+    (:func:`rocking.records.example_record_path`), ``simulated`` the built-in simulated motion
+    (:data:`SIMULATED_SPEC`). ``dt`` [s] is the step of a one-column file (checked against the
+    file's own step otherwise), or the step of the simulated motion (1/400 s if None).
     """
-    if spec == EXAMPLE:
-        ens = generate(1, dt=1 / 400 if dt is None else dt, **EXAMPLE_SPEC)
-        return ens.acc[0], ens.dt, _EXAMPLE_NAME
-    path = Path(spec)
+    if spec == SIMULATED and not Path(spec).exists():
+        ens = generate(1, dt=1 / 400 if dt is None else dt, **SIMULATED_SPEC)
+        return ens.acc[0], ens.dt, _SIMULATED_NAME
+    path = record_path(spec)
     if not path.is_file():
-        raise InputError(f"--motion {spec}: no such file (give a record file or '{EXAMPLE}')")
+        raise InputError(f"--motion {spec}: no such file (give a record file, '{EXAMPLE}' or "
+                         f"'{SIMULATED}')")
     rec = read_record(path, dt=dt)
-    return rec.acc, rec.dt, str(path)
+    return rec.acc, rec.dt, str(path) if path == Path(spec) else f"{spec} ({path.name})"
 
 
 def scale_to_peak(ag: np.ndarray, peak_g: float) -> tuple[np.ndarray, float]:
@@ -95,10 +100,11 @@ def _text(s: dict) -> list[str]:
 @click.command("simulate")
 @click.option("--R", "R", type=float, required=True, help="Size R = half the diagonal [m].")
 @click.option("--gamma", type=float, required=True, help="Slenderness H/B [-].")
-@click.option("--motion", required=True, metavar="FILE|example",
+@click.option("--motion", required=True, metavar="FILE|example|simulated",
               help="Ground acceleration: a two-column text file (t [s], a [g]), a one-column file "
-                   "with --dt, a PEER .AT2 record; or 'example' for a built-in simulated motion "
-                   "(RG 1.60, 20 s, compound envelope, seed 0).")
+                   "with --dt, a PEER .AT2 record; 'example' for the shipped record El Centro "
+                   "1940 NS (PGA 0.319 g, 0.02 s); or 'simulated' for a built-in simulated motion "
+                   "(RG 1.60 at 1 g, 20 s, compound envelope, seed 0).")
 @click.option("--scale-g", "scale_g", type=float, default=None,
               help="Scale the motion by one factor so that its peak |a| is this many g "
                    "(default: the motion as it is).")
@@ -106,7 +112,7 @@ def _text(s: dict) -> list[str]:
               help="Coefficient of restitution in (0, 1], or 'housner' for 1 - 1.5 sin^2(alpha).")
 @click.option("--dt", type=float, default=None,
               help="Time step [s]: needed for one-column files, checked against other files' "
-                   "own step; for 'example' the step of the generated motion (default 1/400).")
+                   "own step; for 'simulated' the step of the generated motion (default 1/400).")
 @click.option("--overturn-angle", "overturn", type=click.Choice(sorted(_OVERTURN)),
               default="pi2", show_default=True,
               help="Overturned when |theta| reaches pi/2 (the paper) or alpha.")
