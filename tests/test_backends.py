@@ -2,7 +2,6 @@
 
 import os
 import signal
-import threading
 
 import numba
 import numpy as np
@@ -88,33 +87,41 @@ def test_dask_cluster_gives_identical_results(ensemble, dask_backend):
                agx_50(BLOCKS, cases, resolution=0.02, backend=dask_backend, chunk_size=16))
 
 
+class KillWorkerAfterFirstChunk:
+    """Runs on the cluster of ``backend`` and kills (-9) a worker that is computing a task as
+    soon as the first result has been handed over: the engine writes that chunk to ``out``
+    before it asks for the next result, so the kill follows an event, not a guess of timing."""
+
+    def __init__(self, backend, out):
+        self.backend, self.out = backend, out
+        self.workers = backend.workers
+        self.killed = []  # (worker address, its tasks at the kill, chunk files on disk then)
+
+    def scatter(self, data):
+        return self.backend.scatter(data)
+
+    def map(self, func, handle, tasks):
+        results = self.backend.map(func, handle, tasks)
+        yield next(results)
+        client = self.backend.client
+        pids = client.run(os.getpid)
+        busy = [(address, keys) for address, keys in client.processing().items() if keys]
+        address, keys = busy[0] if busy else (next(iter(pids)), ())
+        os.kill(pids[address], signal.SIGKILL)
+        self.killed.append((address, list(keys), len(list(self.out.glob("chunk-*.npz")))))
+        yield from results
+
+
 def test_dask_worker_killed_mid_run_loses_nothing(ensemble, dask_backend, tmp_path):
     """kill -9 one worker once the first chunk is back: its tasks run again elsewhere."""
-    client = dask_backend.client
-    victim = next(iter(client.run(os.getpid).values()))
-    done = threading.Event()
-    chunks_at_kill = []
-
-    def kill_when_started():
-        while not done.is_set():
-            finished = list(tmp_path.glob("chunk-*.npz"))
-            if finished:
-                os.kill(victim, signal.SIGKILL)
-                chunks_at_kill.append(len(finished))
-                return
-            done.wait(0.002)
-
-    watcher = threading.Thread(target=kill_when_started, daemon=True)
-    watcher.start()
+    killer = KillWorkerAfterFirstChunk(dask_backend, tmp_path)
     agx = np.round(np.arange(0.1, 2.0, 0.1), 12)
-    try:
-        remote = overturning_probability(BLOCKS, ensemble, agx, members=True, out=tmp_path,
-                                         backend=dask_backend, chunk_size=8)
-    finally:
-        done.set()
-        watcher.join()
+    remote = overturning_probability(BLOCKS, ensemble, agx, members=True, out=tmp_path,
+                                     backend=killer, chunk_size=8)
+    [(address, keys, chunks_at_kill)] = killer.killed
+    assert keys, f"worker {address} held no task when it was killed"
     n_chunks = len(BLOCKS) * agx.size
-    assert chunks_at_kill and chunks_at_kill[0] < n_chunks, "the worker was not killed mid-run"
+    assert 0 < chunks_at_kill < n_chunks, "the worker was not killed mid-run"
     assert remote.attrs["chunks_computed"] == n_chunks  # every chunk received exactly once
     assert len(list(tmp_path.glob("chunk-*.npz"))) == n_chunks
     _identical(remote, overturning_probability(BLOCKS, ensemble, agx, members=True))

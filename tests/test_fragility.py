@@ -151,13 +151,24 @@ def test_progress_bar_reports_simulations(ensemble, capsys):
 
 
 KILL_SCRIPT = """
-import json, sys
+import json, sys, threading
+from rocking.backends import LocalBackend
 from rocking.body import Block
 from rocking.motions import Ensemble
 from rocking.fragility import overturning_probability
+
+class WaitAfterFirstChunk(LocalBackend):
+    # The engine writes a chunk file before it asks for the next result: from then on this
+    # process only waits, so it is killed with exactly one chunk on disk.
+    def map(self, func, handle, tasks):
+        results = super().map(func, handle, tasks)
+        yield next(results)
+        threading.Event().wait(600)  # until the test's kill -9 (bounded: never an orphan)
+
 sizes, agx = json.loads(sys.argv[3])
 overturning_probability([Block(*rg) for rg in sizes], Ensemble.load(sys.argv[1]), agx,
-                        out=sys.argv[2], chunk_size=64, progress=False)
+                        out=sys.argv[2], chunk_size=64, progress=False,
+                        backend=WaitAfterFirstChunk())
 """
 
 
@@ -165,7 +176,7 @@ def test_killed_run_resumes_to_the_same_result(tmp_path):
     ens_path = tmp_path / "motions.nc"
     generate(8, duration=10.0, dt=1 / 200, seed=5).save(ens_path)
     ens = Ensemble.load(ens_path)
-    # 45 chunks of 64 simulations of blocks that mostly keep rocking: some 25 ms each
+    # 45 chunks of 64 simulations of blocks that mostly keep rocking
     sizes = [[R, g] for R in np.linspace(1.5, 3.5, 8).tolist() for g in (2.5, 3.5, 4.5, 5.5, 6.0)]
     agx = np.linspace(0.2, 0.6, 9).tolist()
     blocks = [Block(*rg) for rg in sizes]
@@ -173,18 +184,24 @@ def test_killed_run_resumes_to_the_same_result(tmp_path):
     n_chunks = reference.attrs["chunks_computed"]
 
     out = tmp_path / "run"
-    env = {**os.environ, "NUMBA_NUM_THREADS": "1"}  # slow and steady: chunks appear one by one
+    # The run's backend (above) stops after its first chunk is written; the kill follows that
+    # event, not a guess of how long the run takes.
     proc = subprocess.Popen([sys.executable, "-c", KILL_SCRIPT, str(ens_path), str(out),
-                             json.dumps([sizes, agx])], env=env)
-    deadline = time.monotonic() + 120
-    while not list(out.glob("chunk-*.npz")):
-        assert proc.poll() is None, "the run ended before writing a chunk"
-        assert time.monotonic() < deadline
-        time.sleep(0.005)
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
+                             json.dumps([sizes, agx])])
+    try:
+        deadline = time.monotonic() + 120
+        while not list(out.glob("chunk-*.npz")):
+            assert proc.poll() is None, "the run ended before writing a chunk"
+            assert time.monotonic() < deadline, "no chunk written in 120 s"
+            time.sleep(0.005)
+        os.kill(proc.pid, signal.SIGKILL)
+    finally:
+        if proc.poll() is None:
+            os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
     finished = {p.name: p.stat().st_mtime_ns for p in out.glob("chunk-*.npz")}
     assert 0 < len(finished) < n_chunks, "kill -9 came too late to test resuming"
+    assert len(finished) == 1
 
     resumed = overturning_probability(blocks, ens, agx, out=out, chunk_size=64)
     assert resumed.attrs["chunks_loaded"] == len(finished)

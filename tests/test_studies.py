@@ -287,10 +287,30 @@ def test_failed_run_leaves_no_report(tmp_path, monkeypatch):
     assert json.loads((tmp_path / "run.json").read_text())["status"] == "failed"
 
 
+SIGTERM_SCRIPT = """
+import sys, threading
+import rocking.studies
+from rocking.backends import LocalBackend
+from rocking.cli import main
+
+class WaitAfterFirstChunk(LocalBackend):
+    # The engine writes a chunk file before it asks for the next result: from then on the run
+    # waits, in the middle of its Monte Carlo, for the test's SIGTERM.
+    def map(self, func, handle, tasks):
+        results = super().map(func, handle, tasks)
+        yield next(results)
+        threading.Event().wait(600)  # bounded: never an orphan
+
+rocking.studies.get_backend = lambda scheduler=None: WaitAfterFirstChunk()
+main(sys.argv[1:], prog_name="rocking")
+"""
+
+
 def test_sigterm_marks_the_run_failed(tmp_path):
     # A batch system stops a job with SIGTERM: the run must not be left looking "running" (or
-    # complete). Section 6 with 400 motions runs for tens of seconds, so the signal arrives
-    # while it works; we wait until run.json says "running" (the handler is installed by then).
+    # complete). The command runs in a process whose backend (above) waits once the first
+    # Monte Carlo chunk is on disk; the signal is sent on that event, so it always arrives
+    # while the section works (run.json says "running" and the handler is installed by then).
     import os
     import signal
     import subprocess
@@ -298,12 +318,14 @@ def test_sigterm_marks_the_run_failed(tmp_path):
     import time
 
     out = tmp_path / "out"
-    proc = subprocess.Popen([sys.executable, "-m", "rocking.cli", "reproduce", "6", "--quiet",
-                             "--set", "sec6.n=400", "--out", str(out)])
+    proc = subprocess.Popen([sys.executable, "-c", SIGTERM_SCRIPT, "reproduce", "6", "--quiet",
+                             "--out", str(out)])
     try:
         deadline = time.monotonic() + 120
-        while not (out / "run.json").exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
+        while not list(out.rglob("chunk-*.npz")):
+            assert proc.poll() is None, "the run ended before writing a chunk"
+            assert time.monotonic() < deadline, "no chunk written in 120 s"
+            time.sleep(0.01)
         assert json.loads((out / "run.json").read_text())["status"] == "running"
         proc.send_signal(signal.SIGTERM)
         assert proc.wait(timeout=120) == 128 + signal.SIGTERM
