@@ -182,3 +182,16 @@ def test_read_records_folder_and_list(tmp_path):
         read_records(empty)
     with pytest.raises(FileNotFoundError):
         read_records(tmp_path / "missing.AT2")
+
+
+def test_binary_files_are_refused_for_what_they_are(tmp_path):
+    # A netCDF file (classic format starts with "CDF" and a version byte; netCDF-4 is HDF5) is
+    # an ensemble, not a record; other binary data is no text record either. Before, these were
+    # parsed as text and failed with "line N: not a finite number".
+    for name, head in (("m.nc", b"CDF\x02"), ("m4.nc", b"\x89HDF\r\n\x1a\n"), ("x.AT2", b"\0\1")):
+        (tmp_path / name).write_bytes(head + b"\0" * 64 + b"1 2 3\n")
+    for name in ("m.nc", "m4.nc"):
+        with pytest.raises(InputError, match=rf"{name}: a netCDF \(binary\) file, not a ground"):
+            read_record(tmp_path / name)
+    with pytest.raises(InputError, match=r"x\.AT2: a binary file, not a ground-motion record"):
+        read_record(tmp_path / "x.AT2")

@@ -15,6 +15,7 @@ from rocking.body import G
 from rocking.cli import main
 from rocking.errors import InputError
 from rocking.plots.spectra import plot_mean_vs_target, plot_spectra
+from rocking.motions import Ensemble
 from rocking.records import example_record_path
 from rocking.spectra import RG160, TabulatedSpectrum, response_spectrum, rg160
 
@@ -313,17 +314,47 @@ def test_plots_have_log_axes_and_units():
 
 def test_cli_spectrum(tmp_path):
     out_csv, out_png = tmp_path / "s.csv", tmp_path / "s.png"
-    result = CliRunner().invoke(main, ["spectrum", EL_CENTRO, "--n", "20", "--fmax", "1000",
+    result = CliRunner().invoke(main, ["spectrum", EL_CENTRO, "--n", "20",
                                        "--csv", str(out_csv), "--plot", str(out_png)])
     assert result.exit_code == 0, result.output
     assert "ElCentro1940_NS" in result.output and "PSA [g]" in result.output
+    # Default fmax: 50 Hz, lowered to the record's Nyquist frequency 1/(2·0.02 s) = 25 Hz.
+    assert result.output.startswith("fmax = 25 Hz: the Nyquist frequency")
     with open(out_csv, newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == 20
-    # At 1000 Hz PSA is the PGA to < 1e-3 (see the rigid-oscillator test): 0.31882 g is the
-    # largest |value| in the file.
-    assert float(rows[-1]["psa_g"]) == pytest.approx(0.31882, rel=1e-3)
+    f, psa, psv, sd = (np.array([float(r[k]) for r in rows])
+                       for k in ("freq_hz", "psa_g", "psv_cm_s", "sd_cm"))
+    assert f[0] == pytest.approx(0.1) and f[-1] == pytest.approx(25.0)
+    # Units of the columns: PSV = ω·SD and PSA = ω²·SD (definitions), SD in cm, PSV in cm/s,
+    # PSA in g; 6 significant digits in the file, so each value is rounded by up to 5e-6 (the
+    # frequency too).
+    omega = 2 * np.pi * f
+    np.testing.assert_allclose(psv, omega * sd, rtol=1.6e-5)
+    np.testing.assert_allclose(psa, omega ** 2 * sd / 100 / G, rtol=2.1e-5)
+    # Near the Nyquist frequency the oscillator is stiff: PSA approaches the PGA, 0.31882 g
+    # (the largest |value| in the file), from above by the damping term (see the rigid-oscillator
+    # test: 2ζ·ȧ/ω, a few % at 25 Hz for this record).
+    assert 1.0 < psa[-1] / 0.31882 < 1.05
     assert out_png.stat().st_size > 0
+
+
+def test_cli_spectrum_fmax_above_nyquist_is_an_error():
+    # El Centro is sampled at 0.02 s: nothing above 25 Hz is in the record.
+    result = CliRunner().invoke(main, ["spectrum", "example", "--fmax", "30"])
+    assert result.exit_code == 1 and result.output.count("\n") == 1
+    assert "--fmax 30 Hz is above the Nyquist frequency 1/(2 dt) = 25 Hz" in result.output
+    result = CliRunner().invoke(main, ["spectrum", "example", "--fmax", "25", "--n", "5"])
+    assert result.exit_code == 0 and "fmax =" not in result.output
+
+
+def test_cli_spectrum_of_a_netcdf_ensemble_says_what_it_is(tmp_path):
+    path = tmp_path / "motions.nc"
+    Ensemble(np.zeros((2, 50)), 0.01).save(path)
+    result = CliRunner().invoke(main, ["spectrum", str(path)])
+    assert result.exit_code == 1 and result.output.count("\n") == 1
+    assert "motions.nc: a netCDF (binary) file, not a ground-motion record" in result.output
+    assert "--motions" in result.output and "not a finite number" not in result.output
 
 
 def test_cli_spectrum_example_is_el_centro():

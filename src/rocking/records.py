@@ -20,7 +20,8 @@ Plain text (any file without an NPTS/DT line)
     used, otherwise accelerations are in g. Times must be equally spaced (to 0.1 % of the step);
     the first sample is taken as t = 0.
 
-Every reader returns accelerations in m/s² (g = 9.80665 m/s²).
+Every reader returns accelerations in m/s² (g = 9.80665 m/s²). Binary files (a netCDF ensemble
+of motions, say) are refused with an :class:`~rocking.errors.InputError` that says so.
 
 Example record
 --------------
@@ -198,6 +199,24 @@ def _read_text(path: Path, lines: list[str], dt: float | None):
     return data[:, 1], (t[-1] - t[0]) / (t.size - 1), header_units or "g"
 
 
+#: Leading bytes of netCDF files: classic and 64-bit offset ("CDF" and a version byte), and
+#: netCDF-4 (an HDF5 file).
+_NETCDF_MAGIC = (b"CDF\x01", b"CDF\x02", b"CDF\x05", b"\x89HDF\r\n\x1a\n")
+#: Bytes looked at to tell a binary file from a text record.
+_SNIFF_BYTES = 4096
+
+
+def _refuse_binary(path: Path, head: bytes) -> None:
+    """InputError for a netCDF or other binary file given where a text record is expected."""
+    if head.startswith(_NETCDF_MAGIC):
+        raise InputError(f"{path}: a netCDF (binary) file, not a ground-motion record; an "
+                         "ensemble of motions is read with rocking.Ensemble.load (on the command "
+                         "line: --motions of fragility, agx50 and frame spectra; its spectra: "
+                         "rocking motions show)")
+    if b"\0" in head:
+        raise InputError(f"{path}: a binary file, not a ground-motion record (PEER .AT2 or text)")
+
+
 def _looks_numeric(token: str) -> bool:
     try:
         float(token)
@@ -228,7 +247,9 @@ def read_record(path, *, dt: float | None = None, units: str | None = None) -> R
     path = Path(path)
     factor = None if units is None else unit_factor(units)
     dt_arg = None if dt is None else positive("dt", dt, "s")
-    text = path.read_text(encoding="utf-8", errors="replace")
+    data = path.read_bytes()
+    _refuse_binary(path, data[:_SNIFF_BYTES])
+    text = data.decode("utf-8", errors="replace")
     lines = text.splitlines()
     if not text.strip():
         raise InputError(f"{path}: empty file")

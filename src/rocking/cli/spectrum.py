@@ -12,6 +12,8 @@ from ..errors import InputError
 from ..records import UNITS, read_records
 from ..spectra import response_spectrum
 
+#: Highest frequency [Hz] of the spectra unless a record's Nyquist frequency is lower.
+_DEFAULT_FMAX = 50.0
 #: Frequencies [Hz] shown in the printed table (the nearest computed ones within the range).
 _TABLE_FREQS = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0)
 
@@ -27,8 +29,10 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
               show_default=True, help="Damping ratio [-].")
 @click.option("--fmin", type=click.FloatRange(0.0, min_open=True), default=0.1,
               show_default=True, help="Lowest frequency [Hz].")
-@click.option("--fmax", type=click.FloatRange(0.0, min_open=True), default=50.0,
-              show_default=True, help="Highest frequency [Hz].")
+@click.option("--fmax", type=click.FloatRange(0.0, min_open=True), default=None,
+              help="Highest frequency [Hz], at most the Nyquist frequency 1/(2 dt) of every "
+                   "record  [default: 50 Hz or the lowest Nyquist frequency of the records, "
+                   "whichever is lower]")
 @click.option("--n", "n_freq", type=click.IntRange(2), default=100, show_default=True,
               help="Number of frequencies, log-spaced from fmin to fmax.")
 @click.option("--units", type=click.Choice(sorted(UNITS)), default=None,
@@ -46,9 +50,24 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
     Prints PSA [g], PSV [cm/s] and SD [cm] at a few frequencies for each record; --csv saves
     all frequencies, --plot draws PSA against frequency.
     """
-    if not fmin < fmax:
+    if fmax is not None and not fmin < fmax:
         raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
     records = read_records(files, dt=dt, units=units)
+    # Above the Nyquist frequency a record holds no information (its samples cannot tell what
+    # happens between them); the spectrum there would only show the interpolation.
+    coarsest = max(records, key=lambda r: r.dt)  # its Nyquist frequency is the lowest
+    nyquist = 0.5 / coarsest.dt
+    if fmax is None:
+        fmax = min(_DEFAULT_FMAX, nyquist)
+        if not fmin < fmax:
+            raise InputError(f"--fmin ({fmin:g} Hz) must be below the Nyquist frequency "
+                             f"{fmax:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)")
+        if fmax < _DEFAULT_FMAX:
+            click.echo(f"fmax = {fmax:g} Hz: the Nyquist frequency 1/(2 dt) of {coarsest.name} "
+                       f"(dt = {coarsest.dt:g} s)")
+    elif fmax > nyquist * (1.0 + 1e-9):
+        raise InputError(f"--fmax {fmax:g} Hz is above the Nyquist frequency 1/(2 dt) = "
+                         f"{nyquist:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)")
     freqs = np.geomspace(fmin, fmax, n_freq)
     spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
     rows = _table_rows(freqs)
