@@ -139,6 +139,18 @@ def test_assess_paper_examples_sorted_most_at_risk_first(tmp_path, flat_spectrum
     assert first["margin"] == pytest.approx(first["sv_required_cm_s"] / 114.30 - 1, rel=1e-12)
 
 
+def test_example_bodies_are_shipped_and_hold_the_paper_section_8_pair(flat_spectrum):
+    # --bodies example: the shipped file (src/rocking/data/example_bodies.csv), whose first two
+    # rows are the paper's R = 4 ft blocks given by H and B to 0.1 mm: Eq. (11) gives the same
+    # 205.12 and 100.57 cm/s as the test above to 1e-4 (the rounding of H and B).
+    data = json.loads(_run(["assess", "--bodies", "example", "--spectrum", flat_spectrum,
+                            "--json"]).output)
+    need = {b["name"]: b["sv_required_cm_s"] for b in data["bodies"]}
+    assert len(need) == 7
+    assert need["paper stocky (R = 4 ft; gamma = 2)"] == pytest.approx(205.12, rel=1e-4)
+    assert need["paper slender (R = 4 ft; gamma = 4)"] == pytest.approx(100.57, rel=1e-4)
+
+
 def test_assess_paper_bodies_and_ensemble_source(motions, flat_spectrum):
     result = _run(["assess", "--bodies", "paper", "--spectrum", flat_spectrum, "--json"])
     assert len(json.loads(result.output)["bodies"]) == 72

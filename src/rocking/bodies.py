@@ -10,6 +10,8 @@ without regard to case or spaces and may carry a unit in brackets (``R [m]``, ``
     tank,2.44,2.5
 
 Errors name the file, the data row (1 = first body) with its line in the file, and the problem.
+The package ships an example, :func:`example_bodies_path` (``--bodies example`` on the command
+line).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import csv
 import math
 import re
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
 from .body import Block
@@ -35,6 +38,12 @@ class NamedBody:
 
     name: str
     block: Block
+
+
+def example_bodies_path() -> Path:
+    """Path of the shipped example bodies file: the paper's two Section 8 blocks and five
+    pieces of equipment, columns name, H [m], B [m]."""
+    return Path(str(files("rocking") / "data" / "example_bodies.csv"))
 
 
 def read_bodies(path) -> list[Block]:

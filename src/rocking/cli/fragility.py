@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 
 from ..backends import get_backend
-from ..bodies import NamedBody, read_bodies_table
+from ..bodies import NamedBody, example_bodies_path, read_bodies_table
 from ..body import paper_bodies
 from ..design_spectra import parse_spectrum
 from ..energy import BAND_HZ, assess, energy_balance, forms_grid, grid_table
@@ -90,9 +90,12 @@ def parse_e(text: str):
 
 
 def load_bodies(spec: str) -> list[NamedBody]:
-    """Bodies from a CSV file, or the paper's 72 bodies for the word ``paper``."""
+    """Bodies from a CSV file, the paper's 72 bodies for the word ``paper``, or the shipped
+    example file for ``example`` (unless a file of that name exists)."""
     if spec == "paper":
         return [NamedBody(b.label, b) for b in paper_bodies()]
+    if spec == "example" and not Path(spec).exists():
+        return read_bodies_table(example_bodies_path())
     return read_bodies_table(spec)
 
 
@@ -121,9 +124,11 @@ def _out_dir(out: str) -> Path:
 # --------------------------------------------------------------------------- shared options
 
 _bodies_option = click.option(
-    "--bodies", "bodies_spec", required=True, metavar="FILE|paper",
+    "--bodies", "bodies_spec", required=True, metavar="FILE|paper|example",
     help="Bodies CSV with columns R [m] and gamma [-], or H [m] and B [m], and optionally name; "
-         "or 'paper' for the paper's 72 bodies (R = 4-11 ft, gamma = 2-6).")
+         "'paper' for the paper's 72 bodies (R = 4-11 ft, gamma = 2-6); 'example' for the "
+         "shipped example file (the paper's two Section 8 blocks and five pieces of "
+         "equipment).")
 
 
 def _run_options(func):
