@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import csv
+import json
 import math
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -154,6 +156,35 @@ def test_tabulated_csv_errors_name_file_and_line(tmp_path, text, match):
     with pytest.raises(InputError, match=match) as err:
         TabulatedSpectrum.from_csv(path)
     assert "bad.csv" in str(err.value)
+
+
+@pytest.mark.parametrize("text,match", [
+    ("freq,psv\n1,50\n2,60\n", r"line 1: column 'psv': state the unit of PSV, cm/s or m/s"),
+    ("freq,psa [m/s2]\n1,5\n2,6\n", r"line 1: column 'psa \[m/s2\]': PSA must be in g"),
+    ("freq,sd_cm\n1,5\n2,6\n", r"line 1: need a column of PSA \[g\] or PSV"),
+    ("freq,psv [m/s]\n1,0.5\n2,0\n", r"line 3: PSV must be a finite number > 0 \[psv \[m/s\]\]"),
+])
+def test_tabulated_csv_column_errors(tmp_path, text, match):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(InputError, match=match):
+        TabulatedSpectrum.from_csv(path)
+
+
+def test_tabulated_csv_psv_in_m_s_and_cm_s_and_column_order(tmp_path):
+    # PSA [g] = ω·PSV/g: the same spectrum given as PSA, as PSV in m/s (period first) and as PSV
+    # in cm/s after a notes column reads the same.
+    f = [0.2, 1.0, 5.0]
+    psa = [0.1, 0.6, 0.4]
+    psv = [a * G / (2 * math.pi * x) for x, a in zip(f, psa)]  # [m/s]
+    files = {"a.csv": "freq_hz,psa_g\n" + "".join(f"{x!r},{y!r}\n" for x, y in zip(f, psa)),
+             "b.csv": "T (s),PSV (m/s)\n" + "".join(f"{1 / x!r},{y!r}\n" for x, y in zip(f, psv)),
+             "c.csv": "notes,Frequency [Hz],psv [cm/s]\n"
+                      + "".join(f"x,{x!r},{100 * y!r}\n" for x, y in zip(f, psv))}
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+        np.testing.assert_allclose(TabulatedSpectrum.from_csv(tmp_path / name).psa(f), psa,
+                                   rtol=1e-13)
 
 
 # --------------------------------------------------------------------------- response spectra
@@ -374,3 +405,92 @@ def test_cli_spectrum_bad_input_is_one_line(tmp_path):
     assert "Traceback" not in result.output
     result = CliRunner().invoke(main, ["spectrum", EL_CENTRO, "--fmin", "5", "--fmax", "1"])
     assert result.exit_code == 1 and "--fmin" in result.output
+
+
+# ----------------------------------------------------------------------- spectrum files of ours
+
+CHINO_HILLS = str(Path(__file__).parent / "data" / "RSN8883_14383980_13849360.AT2")
+
+
+def _csv_columns(path):
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    return {k: [r[k] for r in rows] for k in rows[0]}
+
+
+def test_spectrum_csv_of_several_records_is_read_one_record_at_a_time(tmp_path):
+    # rocking spectrum --csv writes record,freq_hz,psa_g,psv_cm_s,sd_cm, one record after the
+    # other: the reader takes PSA [g] against frequency of the record it is asked for.
+    path = tmp_path / "two.csv"
+    result = CliRunner().invoke(main, ["spectrum", "example", CHINO_HILLS, "--n", "30",
+                                       "--csv", str(path)])
+    assert result.exit_code == 0, result.output
+    cols = _csv_columns(path)
+    with pytest.raises(InputError, match=r"holds 2 spectra \('ElCentro1940_NS', "
+                                         r"'RSN8883_14383980_13849360'\): choose one"):
+        TabulatedSpectrum.from_csv(path)
+    with pytest.raises(InputError, match=r"no single spectrum named 'Kobe'; the file holds"):
+        TabulatedSpectrum.from_csv(path, select="Kobe")
+    for record in ("ElCentro1940_NS", "RSN8883_14383980_13849360"):
+        mine = [i for i, r in enumerate(cols["record"]) if r == record]
+        f = np.array(cols["freq_hz"], float)[mine]
+        table = TabulatedSpectrum.from_csv(path, select=record.lower())
+        assert table.name == f"two:{record}"
+        np.testing.assert_array_equal(table.freqs_hz, f)
+        # at the knots the log-log interpolation returns the values (exp(log(x)) to round-off)
+        np.testing.assert_allclose(table.psa(f), np.array(cols["psa_g"], float)[mine],
+                                   rtol=1e-14)
+
+
+def test_floor_spectra_csv_gives_psa_from_psv_of_the_chosen_floor(tmp_path):
+    # rocking frame spectra --csv writes freq_hz and PSV [cm/s] of the ground and each floor.
+    # PSA = ω·PSV/g (definition), so the table's PSV at its own frequencies is the file's.
+    path = tmp_path / "floors.csv"
+    result = CliRunner().invoke(main, ["frame", "spectra", "paper-0.5", "--n", "2", "--csv",
+                                       str(path)])
+    assert result.exit_code == 0, result.output
+    cols = _csv_columns(path)
+    f = np.array(cols["freq_hz"], float)
+    with pytest.raises(InputError, match=r"holds 6 spectra \('ground', 'floor 1', 'floor 2', "
+                                         r"'floor 3', 'floor 4', 'floor 5'\)"):
+        TabulatedSpectrum.from_csv(path)
+    for name, column in (("floor 1", "psv_floor_1_cm_s"), ("FLOOR_5", "psv_floor_5_cm_s"),
+                         ("ground", "psv_ground_cm_s")):
+        table = TabulatedSpectrum.from_csv(path, select=name)
+        psv_cm_s = np.array(cols[column], float)
+        np.testing.assert_allclose(100 * table.psv(f), psv_cm_s, rtol=1e-12)
+        np.testing.assert_allclose(table.psa(f), psv_cm_s / 100 * 2 * np.pi * f / G, rtol=1e-12)
+
+
+def test_assess_and_screen_take_the_spectra_our_commands_write(tmp_path):
+    floors, records = tmp_path / "floors.csv", tmp_path / "rec.csv"
+    runner = CliRunner()
+    assert runner.invoke(main, ["frame", "spectra", "paper-0.5", "--n", "2", "--csv",
+                                str(floors)]).exit_code == 0
+    assert runner.invoke(main, ["spectrum", "example", "--csv", str(records)]).exit_code == 0
+    cols = _csv_columns(floors)
+    f = np.array(cols["freq_hz"], float)
+    band = (f >= 0.04) & (f <= 0.6)
+    # Available S_v is the largest PSV in 0.04–0.6 Hz; PSV is monotonic between the knots of a
+    # log-log table, so it is the largest tabulated value in the band (energy.available_sv).
+    rec = _csv_columns(records)
+    rf = np.array(rec["freq_hz"], float)
+    cases = (
+        (f"{floors}:floor_2", np.array(cols["psv_floor_2_cm_s"], float)[band], 1e-9),
+        # this file has PSA and PSV, each to 6 digits; the reader takes PSA, so the PSV it
+        # gives back agrees with the file's to the rounding of the two columns
+        (str(records), np.array(rec["psv_cm_s"], float)[(rf >= 0.04) & (rf <= 0.6)], 2e-5),
+    )
+    for spec, psv_cm_s, rtol in cases:
+        result = runner.invoke(main, ["assess", "--bodies", "example", "--spectrum", spec,
+                                      "--json"])
+        assert result.exit_code == 0, result.output
+        available = json.loads(result.output)["sv_available_cm_s"]
+        assert available == pytest.approx(psv_cm_s.max(), rel=rtol)
+    result = runner.invoke(main, ["assess", "--bodies", "example", "--spectrum", str(floors)])
+    assert result.exit_code == 1 and "choose one, e.g." in result.output
+    result = runner.invoke(main, ["screen", "example", "--spectrum", f"{floors}:ground",
+                                  "--frame", "paper-0.5", "--n", "4", "--out",
+                                  str(tmp_path / "screen")])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "screen" / "report.html").is_file()

@@ -251,7 +251,10 @@ SPECTRUM_SYNTAX = (
     "rg160:PGA (e.g. rg160:0.3; optional damping=0.05), "
     "asce7:SDS=…,SD1=…,TL=… (g, g, s), "
     "ec8:type=1|2,ground=A…E,ag=… (a_gR in g; optional importance=…, damping=…), "
-    "or a CSV file of frequency [Hz] or period [s] and PSA [g] (e.g. a floor response spectrum)")
+    "or a CSV file of frequency [Hz] or period [s] and PSA [g] or PSV [cm/s or m/s] (e.g. a "
+    "floor response spectrum, or the output of 'rocking spectrum --csv' or 'rocking frame "
+    "spectra --csv'), FILE:NAME choosing one spectrum of a file that holds several (a record, "
+    "a floor)")
 
 _KINDS = {
     "rg160": (RG160, {"pga": "pga", "damping": "damping"}, "pga"),
@@ -262,12 +265,15 @@ _KINDS = {
 _TEXT_KEYS = {"ground", "type"}
 
 
-def parse_spectrum(text: str, base_dir=None) -> TargetSpectrum:
+def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpectrum:
     """A target spectrum from a short specification (see :data:`SPECTRUM_SYNTAX`).
 
     ``KIND:key=value,key=value`` with KIND one of rg160, asce7, ec8 (keys are case-insensitive;
     ``rg160:0.3`` is short for ``rg160:pga=0.3``); anything else is read as a CSV file
-    (relative paths are taken from ``base_dir`` when given, else the working directory).
+    (:meth:`rocking.spectra.TabulatedSpectrum.from_csv`; relative paths are taken from
+    ``base_dir`` when given, else the working directory). ``FILE:NAME`` reads the spectrum
+    NAME of a file that holds several (a record of ``rocking spectrum --csv``, a location such
+    as ``floor_1`` of ``rocking frame spectra --csv``).
 
     Parameters
     ----------
@@ -275,6 +281,8 @@ def parse_spectrum(text: str, base_dir=None) -> TargetSpectrum:
         The specification.
     base_dir : str or Path, optional
         Folder for relative CSV paths.
+    damping : float
+        Damping ratio [-] of a CSV spectrum (the kinds take theirs as a key).
     """
     text = str(text).strip()
     kind, sep, args = text.partition(":")
@@ -300,13 +308,19 @@ def parse_spectrum(text: str, base_dir=None) -> TargetSpectrum:
                              f"(syntax: {SPECTRUM_SYNTAX})") from None
         except InputError as exc:
             raise InputError(f"spectrum {text!r}: {exc}") from None
-    path = Path(text)
-    if base_dir is not None and not path.is_absolute():
-        path = Path(base_dir) / path
+    def located(name: str) -> Path:
+        path = Path(name)
+        return Path(base_dir) / path if base_dir is not None and not path.is_absolute() else path
+
+    path, select = located(text), None
+    if not path.is_file() and ":" in text:
+        head, _, name = text.rpartition(":")
+        if located(head).is_file():
+            path, select = located(head), name
     if not path.is_file():
         raise InputError(f"spectrum {text!r} is neither a known kind (rg160:…, asce7:…, ec8:…) "
                          f"nor an existing CSV file; syntax: {SPECTRUM_SYNTAX}")
-    return TabulatedSpectrum.from_csv(path)
+    return TabulatedSpectrum.from_csv(path, damping, select=select)
 
 
 def _number(text: str, name: str, value: str) -> float:

@@ -165,14 +165,16 @@ def rg160(freqs_hz, damping: float = 0.05, pga: float = 1.0) -> np.ndarray:
 
 
 def _check_table(x: np.ndarray, psa: np.ndarray, where: list[str], source: str,
-                 xname: str = "frequency", xunit: str = "Hz") -> None:
-    """Validate a spectrum table of abscissae ``x`` (frequencies or periods) and PSA [g].
+                 xname: str = "frequency", xunit: str = "Hz", yname: str = "PSA",
+                 yunit: str = "g") -> None:
+    """Validate a spectrum table of abscissae ``x`` (frequencies or periods) and ordinates
+    (PSA [g] unless ``yname``/``yunit`` say otherwise).
 
     ``where[i]`` names row i and ``source`` the whole table in error messages.
     """
     if len(x) < 2:
         raise InputError(f"{source}: a tabulated spectrum needs at least 2 rows, got {len(x)}")
-    for name, values, unit in ((xname, x, xunit), ("PSA", psa, "g")):
+    for name, values, unit in ((xname, x, xunit), (yname, psa, yunit)):
         bad = np.flatnonzero(~np.isfinite(values) | (values <= 0.0))
         if bad.size:
             i = bad[0]
@@ -224,13 +226,22 @@ class TabulatedSpectrum(TargetSpectrum):
             "damping", self.damping, 0.0, 1.0, lo_open=True, hi_open=True, unit="-"))
 
     @classmethod
-    def from_csv(cls, path, damping: float = 0.05) -> "TabulatedSpectrum":
-        """Read a spectrum from a CSV file with a header row.
+    def from_csv(cls, path, damping: float = 0.05, select: str | None = None
+                 ) -> "TabulatedSpectrum":
+        """Read a spectrum from a CSV file with a header row; columns are found by their header.
 
-        The first column is frequency [Hz] if its header contains "freq" or "hz", or period [s]
-        if it contains "period", is "T" or states the unit s/sec in brackets (e.g. "T (s)").
-        The second column is PSA [g]; further columns are ignored. Blank lines and lines
-        starting with ``#`` are skipped.
+        * Abscissa: the first column whose header names a frequency [Hz] ("freq", "Hz") or a
+          period [s] ("period", "T", or the unit s/sec in brackets, e.g. "T (s)").
+        * Ordinates: PSA [g] ("psa", "sa" or "acceleration"; a stated unit must be g) or PSV
+          ("psv", "sv" or "velocity", with its unit cm/s or m/s stated, e.g. "psv_cm_s",
+          "PSV [m/s]"), converted to PSA = PSV·2πf/g. Other columns (SD, notes) are ignored.
+        * Several spectra in one file: one per ordinate column that names a location besides
+          quantity and unit (``psv_floor_1_cm_s`` is "floor 1", as ``rocking frame spectra
+          --csv`` writes), and, where a label column ("record", "name", "label", "location")
+          is present, one per label value (as ``rocking spectrum --csv`` writes). Where one
+          spectrum has both PSA and PSV, PSA is used.
+
+        Blank lines and lines starting with ``#`` are skipped.
 
         Parameters
         ----------
@@ -238,6 +249,10 @@ class TabulatedSpectrum(TargetSpectrum):
             CSV file.
         damping : float
             Damping ratio of the spectrum [-].
+        select : str, optional
+            Name of the spectrum to read from a file that holds several: a label value, a
+            location, or both separated by a space (case, spaces, "_" and "-" do not matter).
+            Needed when the file holds more than one; the error lists the choices.
         """
         path = Path(path)
         rows: list[tuple[int, list[str]]] = []
@@ -249,25 +264,35 @@ class TabulatedSpectrum(TargetSpectrum):
         if not rows:
             raise InputError(f"{path}: empty spectrum file")
         head_line, head = rows[0]
-        is_period = _column_is_period(head[0], f"{path}: line {head_line}")
-        if len(head) < 2:
-            raise InputError(f"{path}: line {head_line}: need two columns (frequency or period, "
-                             f"PSA [g]), got header {','.join(head)!r}")
+        cols = _SpectrumColumns(head, f"{path}: line {head_line}")
+        spectra = cols.spectra([cells for _, cells in rows[1:]])
+        key = _select_spectrum(spectra, select, path)
+        label, group = key
+        xcol, ycol, factor = cols.x, *cols.groups[group]
+        needed = max(xcol, ycol, -1 if cols.label is None else cols.label) + 1
         x, a, where = [], [], []
         for lineno, cells in rows[1:]:
-            if len(cells) < 2:
-                raise InputError(f"{path}: line {lineno}: need 2 values, got {len(cells)}")
-            try:
-                x.append(float(cells[0]))
-                a.append(float(cells[1]))
-            except ValueError:
-                bad = cells[0] if len(x) == len(a) else cells[1]
-                raise InputError(f"{path}: line {lineno}: not a number: {bad!r}") from None
+            if len(cells) < needed:
+                raise InputError(f"{path}: line {lineno}: need {needed} values, got {len(cells)}")
+            if cols.label is not None and cells[cols.label] != label:
+                continue
+            for column, out in ((xcol, x), (ycol, a)):
+                try:
+                    out.append(float(cells[column]))
+                except ValueError:
+                    raise InputError(f"{path}: line {lineno}: not a number: "
+                                     f"{cells[column]!r}") from None
             where.append(f"{path}: line {lineno}")
         x, a = np.array(x), np.array(a)
-        xname = ("period", "s") if is_period else ("frequency", "Hz")
-        _check_table(x, a, where, str(path), *xname)
-        return cls(1.0 / x if is_period else x, a, damping=damping, name=path.stem)
+        xname = ("period", "s") if cols.is_period else ("frequency", "Hz")
+        yname = ("PSA", "g") if factor is None else ("PSV", head[ycol])
+        _check_table(x, a, where, str(path), *xname, *yname)
+        f = 1.0 / x if cols.is_period else x
+        if factor is not None:  # PSV [unit] -> PSA [g]: PSA = ω·PSV
+            a = a * factor * 2.0 * math.pi * f / G
+        name = spectra[key]
+        return cls(f, a, damping=damping,
+                   name=path.stem if not name else f"{path.stem}:{name}")
 
     def psa(self, freqs_hz) -> np.ndarray:
         """PSA [g] at ``freqs_hz`` [Hz] (any shape, every value finite and > 0)."""
@@ -280,14 +305,111 @@ class TabulatedSpectrum(TargetSpectrum):
                                  damping=self.damping, name=self.name)
 
 
-def _column_is_period(header: str, where: str) -> bool:
+def _is_frequency(header: str) -> bool:
     h = header.strip().lower()
-    if "freq" in h or "hz" in h:
-        return False
-    if "period" in h or re.fullmatch(r"t\b.*", h) or re.search(r"[\[(]\s*(s|sec)\s*[\])]", h):
-        return True
-    raise InputError(f"{where}: first column header {header!r} names neither a frequency "
-                     "('freq', 'Hz') nor a period ('period', 'T', '(s)')")
+    return "freq" in h or "hz" in h
+
+
+def _is_period(header: str) -> bool:
+    h = header.strip().lower()
+    return ("period" in h or re.fullmatch(r"t\b.*", h) is not None
+            or re.search(r"[\[(]\s*(s|sec)\s*[\])]", h) is not None)
+
+
+#: Header words of the ordinates: the quantity they name.
+_QUANTITY_WORDS = {"psa": "psa", "sa": "psa", "acceleration": "psa", "psv": "psv", "sv": "psv",
+                   "velocity": "psv"}
+#: Words of an ordinate header that name neither quantity, unit nor location.
+_FILLER_WORDS = {"pseudo", "spectral", "spectrum", "response", "mean"}
+#: Units of PSV (header words in order) and their factor to m/s.
+_PSV_UNITS = ((("cm", "s"), 0.01), (("m", "s"), 1.0))
+#: Headers of a column that names the spectrum of each row.
+_LABEL_HEADERS = {"record", "name", "label", "location"}
+
+
+def _words(header: str) -> list[str]:
+    return re.findall(r"[a-z]+|\d+", header.lower())
+
+
+def _take(words: list[str], unit: tuple[str, ...]) -> list[str] | None:
+    """``words`` without the first occurrence of the word sequence ``unit`` (None: absent)."""
+    n = len(unit)
+    for i in range(len(words) - n + 1):
+        if tuple(words[i:i + n]) == unit:
+            return words[:i] + words[i + n:]
+    return None
+
+
+class _SpectrumColumns:
+    """Meaning of the columns of a spectrum CSV file, from its header (see
+    :meth:`TabulatedSpectrum.from_csv`).
+
+    Attributes: ``x`` (index of the abscissa), ``is_period``, ``label`` (index of the label
+    column or None) and ``groups``: location name -> (column index, factor to m/s for PSV or
+    None for PSA [g]), PSA preferred where a location has both.
+    """
+
+    def __init__(self, head: list[str], where: str):
+        self.x, self.is_period, self.label = None, False, None
+        found: dict[str, dict[str, tuple[int, float | None]]] = {}
+        for i, header in enumerate(head):
+            words = _words(header)
+            quantity = next((_QUANTITY_WORDS[w] for w in words if w in _QUANTITY_WORDS), None)
+            if quantity is not None:
+                words = [w for w in words if w not in _QUANTITY_WORDS and w not in _FILLER_WORDS]
+                if quantity == "psa":
+                    rest = _take(words, ("g",))
+                    if rest is None and _take(words, ("s",)) is not None:
+                        raise InputError(f"{where}: column {header!r}: PSA must be in g")
+                    factor, words = None, words if rest is None else rest
+                else:
+                    factor, rest = next(((k, r) for unit, k in _PSV_UNITS
+                                         if (r := _take(words, unit)) is not None), (None, None))
+                    if factor is None:
+                        raise InputError(f"{where}: column {header!r}: state the unit of PSV, "
+                                         "cm/s or m/s (e.g. 'PSV [cm/s]')")
+                    words = rest
+                found.setdefault(" ".join(words), {})[quantity] = (i, factor)
+            elif self.x is None and (_is_frequency(header) or _is_period(header)):
+                self.x, self.is_period = i, not _is_frequency(header)
+            elif self.label is None and header.strip().lower() in _LABEL_HEADERS:
+                self.label = i
+        if self.x is None:
+            raise InputError(f"{where}: first column header {head[0]!r} names neither a "
+                             "frequency ('freq', 'Hz') nor a period ('period', 'T', '(s)'), nor "
+                             f"does any other ({','.join(head)})")
+        if not found:
+            raise InputError(f"{where}: need a column of PSA [g] or PSV [cm/s or m/s] (headers "
+                             f"such as 'psa_g', 'PSV [cm/s]'), got {','.join(head)!r}")
+        self.groups = {loc: q.get("psa", q.get("psv")) for loc, q in found.items()}
+
+    def spectra(self, data: list[list[str]]) -> dict[tuple[str, str], str]:
+        """(label, location) -> display name of every spectrum in the file, in file order."""
+        labels = [""] if self.label is None else list(dict.fromkeys(
+            cells[self.label] for cells in data if len(cells) > self.label))
+        return {(lab, loc): " ".join(p for p in (lab, loc) if p)
+                for lab in labels for loc in self.groups}
+
+
+def _normalised(name: str) -> str:
+    return re.sub(r"[\s_\-]+", "", name.lower())
+
+
+def _select_spectrum(spectra: dict, select: str | None, path: Path):
+    """Key of the spectrum named ``select`` (or of the only one)."""
+    names = ", ".join(repr(n) for n in spectra.values() if n)
+    if select is None:
+        if len(spectra) == 1:
+            return next(iter(spectra))
+        raise InputError(f"{path}: holds {len(spectra)} spectra ({names}): choose one, "
+                         f"e.g. {path}:{next(iter(spectra.values()))}")
+    match = [k for k, n in spectra.items() if _normalised(n) == _normalised(select)]
+    if not match:
+        match = [k for k in spectra if _normalised(select) in map(_normalised, k)]
+    if len(match) != 1:
+        raise InputError(f"{path}: no single spectrum named {select!r}; the file holds "
+                         f"{names or 'one unnamed spectrum'}")
+    return match[0]
 
 
 # --------------------------------------------------------------------------- response spectra

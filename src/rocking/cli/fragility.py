@@ -24,7 +24,6 @@ from ..errors import InputError
 from ..fragility import LognormalFit, agx_50, fit_lognormal, overturning_probability
 from ..frames import ShearFrame
 from ..motions import NETCDF_ENGINE, Ensemble
-from ..spectra import TabulatedSpectrum
 
 #: Files written by ``rocking agx50`` for the paper's Tables 1–3 (when the bodies form a grid),
 #: with the paper's decimals.
@@ -320,8 +319,11 @@ def agx50_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_te
 @_bodies_option
 @click.option("--spectrum", "spectrum_path", required=True, type=click.Path(dir_okay=False),
               help="Spectrum at the bodies' location: a CSV table (frequency [Hz] or period "
-                   "[s], PSA [g]), a saved ensemble (.nc), whose mean PSV is used, or a design "
-                   "spectrum as for 'rocking screen' (e.g. asce7:SDS=1.0,SD1=0.6,TL=8).")
+                   "[s]; PSA [g] or PSV [cm/s or m/s]), e.g. from 'rocking spectrum --csv' or "
+                   "'rocking frame spectra --csv', FILE:NAME choosing one record or floor of a "
+                   "file that holds several (FILE.csv:floor_1); a saved ensemble (.nc), whose "
+                   "mean PSV is used; or a design spectrum as for 'rocking screen' (e.g. "
+                   "asce7:SDS=1.0,SD1=0.6,TL=8).")
 @click.option("--band", "band_text", default=_BAND_TEXT, show_default=True,
               metavar="LOW:HIGH",
               help="Frequency band [Hz] in which the available S_v is the largest PSV.")
@@ -349,10 +351,8 @@ def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame
         raise InputError("--agx, --floor and --frame apply to an ensemble (.nc) spectrum only")
     if is_ensemble:
         source = _location(Ensemble.load(spectrum_path), frame, floor)
-    elif Path(spectrum_path).is_file():
-        source = TabulatedSpectrum.from_csv(spectrum_path, damping)
     else:
-        source = parse_spectrum(spectrum_path)
+        source = parse_spectrum(spectrum_path, damping=damping)
     ds = assess([b.block for b in bodies], source, band_hz=band, damping=damping, agx=agx,
                 names=[b.name for b in bodies])
     order = np.argsort(ds["margin"].values, kind="stable")
