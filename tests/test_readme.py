@@ -1,7 +1,7 @@
 """The commands of the README's table ("What it does") run exactly as printed.
 
-They run in the order printed, in one empty folder (later commands read what earlier ones
-write: motions.nc, spectrum.csv, floors.csv), through the installed ``rocking`` entry point
+They run in one empty folder, each after the commands printed above it that write a file it
+reads (motions.nc, spectrum.csv, floors.csv), through the installed ``rocking`` entry point
 (``python -m rocking.cli`` where it is not installed); each must exit with status 0 and leave
 the files its options name.
 """
@@ -14,6 +14,7 @@ import shlex
 import shutil
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -52,17 +53,38 @@ def test_readme_table_lists_runnable_commands():
         assert not re.search(r"\\\||\.\.\.|[A-Z]{3,}(?![=:\w])", command), command
 
 
+def _run(command: str, folder: Path) -> None:
+    args = shlex.split(command)[1:]
+    proc = subprocess.run([*_entry_point(), *args], cwd=folder, capture_output=True, text=True,
+                          timeout=600, stdin=subprocess.DEVNULL)
+    assert proc.returncode == 0, f"{command}\n{proc.stdout}\n{proc.stderr}"
+    for name in _outputs(args):
+        path = folder / name
+        if path.suffix:
+            assert path.is_file() and path.stat().st_size > 0, f"{command}: no {name}"
+        else:
+            assert path.is_dir() and any(path.iterdir()), f"{command}: {name} is empty"
+            if args[0] in _REPORTS:
+                assert (path / "report.html").is_file(), f"{command}: no report.html"
+
+
+def _run_after(futures, command: str, folder: Path) -> None:
+    for future in futures:
+        future.result()
+    _run(command, folder)
+
+
 def test_readme_commands_run_as_printed(tmp_path):
-    for command in readme_commands():
-        args = shlex.split(command)[1:]
-        proc = subprocess.run([*_entry_point(), *args], cwd=tmp_path, capture_output=True,
-                              text=True, timeout=600, stdin=subprocess.DEVNULL)
-        assert proc.returncode == 0, f"{command}\n{proc.stdout}\n{proc.stderr}"
-        for name in _outputs(args):
-            path = tmp_path / name
-            if path.suffix:
-                assert path.is_file() and path.stat().st_size > 0, f"{command}: no {name}"
-            else:
-                assert path.is_dir() and any(path.iterdir()), f"{command}: {name} is empty"
-                if args[0] in _REPORTS:
-                    assert (path / "report.html").is_file(), f"{command}: no report.html"
+    # Two at a time (most of a command's time is Python starting and importing), each after
+    # the earlier commands that write a file it reads (FILE or FILE:NAME among its arguments).
+    commands = readme_commands()
+    written = [_outputs(shlex.split(c)) for c in commands]
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        done = []
+        for i, command in enumerate(commands):
+            args = shlex.split(command)
+            needs = [done[j] for j in range(i) for out in written[j]
+                     if any(a == out or a.startswith(f"{out}:") for a in args)]
+            done.append(pool.submit(_run_after, needs, command, tmp_path))
+        for future in done:
+            future.result()
