@@ -14,6 +14,7 @@ import xarray as xr
 from rocking.body import Block
 from rocking.dynamics import simulate
 from rocking.errors import InputError
+from rocking.progress import Reporter
 from rocking.fragility import (LognormalFit, agx_50, fit_lognormal, overturning_probability,
                                wilson_interval)
 from rocking.motions import Ensemble, generate
@@ -143,9 +144,13 @@ def test_resume_loads_chunks_and_refuses_another_run(ensemble, tmp_path):
 
 
 def test_progress_bar_reports_simulations(ensemble, capsys):
-    overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=True)
+    # a reporter writing lines (as off a terminal) from the first instant (stages shorter than
+    # 2 s show nothing by default): the last line counts every simulation
+    reporter = Reporter(tty=False, delay=0.0)
+    overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=reporter)
     err = capsys.readouterr().err
     assert "P(overturn)" in err and f"{2 * ensemble.n}/{2 * ensemble.n}" in err
+    assert "\r" not in err  # lines, not a bar redrawn in place
     overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=False)
     assert capsys.readouterr().err == ""
 

@@ -69,3 +69,26 @@ def read_toml(path, label: str | None = None) -> dict:
 
 def _u(unit: str) -> str:
     return f" [{unit}]" if unit else ""
+
+
+def require_memory(nbytes: float, what: str) -> None:
+    """Refuse work that would need more memory than is available, before it starts.
+
+    ``nbytes`` is the estimated peak [bytes]; ``what`` says what needs it, e.g.
+    ``"--n: 1,000,000,000 motions of 8,001 samples"``.  Raises :class:`InputError` with both
+    figures when the estimate exceeds the memory available now (``psutil``).
+    """
+    import psutil
+
+    available = psutil.virtual_memory().available
+    if nbytes > available:
+        raise InputError(f"{what} would need about {_bytes(nbytes)} of memory; "
+                         f"{_bytes(available)} are available")
+
+
+def _bytes(n: float) -> str:
+    for unit in ("bytes", "kB", "MB", "GB", "TB", "PB"):
+        if n < 1000.0 or unit == "PB":
+            return f"{n:.0f} {unit}" if unit == "bytes" else f"{n:.3g} {unit}"
+        n /= 1000.0
+    raise AssertionError("unreachable")

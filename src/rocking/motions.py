@@ -29,7 +29,7 @@ import xarray as xr
 from scipy.integrate import cumulative_trapezoid, trapezoid
 
 from ._numba import parallel_kernel, prange
-from ._validate import finite_array, positive
+from ._validate import finite_array, positive, require_memory
 from .body import G
 from .envelopes import ENVELOPES, make_envelope
 from .errors import InputError
@@ -747,12 +747,16 @@ def _generate(members, *, duration, dt, envelope, envelope_params, target, seed,
               damping, n_freq, fmin, fmax, iterations, pilot, peak_limit, peak_constant,
               convention) -> Ensemble:
     """:func:`generate` for the given member indices."""
-    members = [int(m) for m in members]
     dt = positive("dt", dt, "s")
     seed = _count("seed", seed, 0)
     n_iter = _count("iterations", iterations, 0)
     n_pilot = _count("pilot", pilot, 1)
     env = make_envelope(envelope, duration, **(envelope_params or {}))
+    n_t = _n_samples(env.duration, dt)
+    # the motions, their baseline-corrected copy and one chunk of the synthesis at a time
+    require_memory(8.0 * n_t * (2 * len(members) + CHUNK + n_pilot * min(n_iter, 1)),
+                   f"n: {len(members):,} motions of {n_t:,} samples")
+    members = [int(m) for m in members]
     freqs = log_frequencies(n_freq, fmin, fmax)
     psa_g, h = target_psa(target, freqs, damping)
     spectrum = power_spectrum(psa_g, freqs, env.equivalent_duration(), damping=h,
