@@ -56,6 +56,24 @@ def finite_array(name: str, values, *, ndim: tuple[int, ...] = (1,), min_len: in
     return a
 
 
+HOUSNER = "housner"
+
+
+def restitution(value, name: str = "e"):
+    """A coefficient of restitution as given by a user: a number in (0, 1] [-] (float), or
+    the word ``"housner"`` (returned as such; 1 − 1.5·sin²α of each block, resolved by
+    :func:`rocking.dynamics.resolve_e`).  Text is accepted for both (command line, tables)."""
+    if isinstance(value, str):
+        if value.strip().lower() == HOUSNER:
+            return HOUSNER
+        try:
+            value = float(value)
+        except ValueError:
+            raise InputError(f"{name} must be a number in (0, 1] or 'housner', "
+                             f"got {value!r}") from None
+    return in_range(name, value, 0.0, 1.0, lo_open=True, unit="-")
+
+
 def read_toml(path, label: str | None = None) -> dict:
     """The TOML file ``path`` as a dict; a syntax error is an InputError that starts with
     ``label`` (default: the path)."""

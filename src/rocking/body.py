@@ -10,10 +10,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ._validate import positive
-
-#: Standard gravity [m/s²].
-G = 9.80665
+from ._validate import HOUSNER, in_range, positive, restitution
+from .defaults import G
+from .errors import InputError
 #: One international foot [m]; the paper's sizes are whole feet printed in metres.
 FOOT = 0.3048
 #: Size parameters of the paper's 72 bodies (Tables 1–3): R = 4…11 ft, printed as 1.22…3.35 m.
@@ -92,6 +91,22 @@ class Block:
 
     def __str__(self) -> str:
         return f"Block(R={self.R:g} m, gamma={self.gamma:g})"
+
+
+def resolve_e(e, block: Block) -> float:
+    """Coefficient of restitution [-]: a number in (0, 1], or ``"housner"`` for 1 − 1.5·sin²α."""
+    value = restitution(e)
+    return block.housner_e() if value == HOUSNER else value
+
+
+def resolve_overturn_angle(overturn_angle, block: Block) -> float:
+    """Overturning angle [rad]: a number in (0, π/2], or ``"alpha"`` for the critical angle α."""
+    if isinstance(overturn_angle, str):
+        if overturn_angle.strip().lower() == "alpha":
+            return block.alpha
+        raise InputError(f"overturn_angle must be an angle in (0, pi/2] rad or 'alpha', "
+                         f"got {overturn_angle!r}")
+    return in_range("overturn_angle", overturn_angle, 0.0, math.pi / 2, lo_open=True, unit="rad")
 
 
 def paper_bodies() -> list[Block]:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ._validate import finite_array, in_range, positive
+from .defaults import SPECTRUM_SYNTAX
 from .errors import InputError
 from .spectra import RG160, TabulatedSpectrum, TargetSpectrum, _freqs
 
@@ -247,12 +248,6 @@ def design_pga(spectrum: TargetSpectrum) -> float:
 
 
 #: Help text of :func:`parse_spectrum` (also shown by ``rocking screen --help``).
-SPECTRUM_SYNTAX = (
-    "rg160:PGA (e.g. rg160:0.3; optional damping=0.05), "
-    "asce7:SDS=…,SD1=…,TL=… (g, g, s), "
-    "ec8:type=1|2,ground=A…E,ag=… (a_gR in g; optional importance=…, damping=…), "
-    "or a CSV file of frequency [Hz] or period [s] and PSA [g] (e.g. a floor response spectrum)")
-
 _KINDS = {
     "rg160": (RG160, {"pga": "pga", "damping": "damping"}, "pga"),
     "asce7": (ASCE7, {"sds": "SDS", "sd1": "SD1", "tl": "TL"}, None),
@@ -263,7 +258,7 @@ _TEXT_KEYS = {"ground", "type"}
 
 
 def parse_spectrum(text: str, base_dir=None) -> TargetSpectrum:
-    """A target spectrum from a short specification (see :data:`SPECTRUM_SYNTAX`).
+    """A target spectrum from a short specification (see :data:`rocking.defaults.SPECTRUM_SYNTAX`).
 
     ``KIND:key=value,key=value`` with KIND one of rg160, asce7, ec8 (keys are case-insensitive;
     ``rg160:0.3`` is short for ``rg160:pga=0.3``); anything else is read as a CSV file

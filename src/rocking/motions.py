@@ -31,6 +31,7 @@ from scipy.integrate import cumulative_trapezoid, trapezoid
 from ._numba import parallel_kernel, prange
 from ._validate import finite_array, positive, require_memory
 from .body import G
+from .defaults import FIT_BAND
 from .envelopes import ENVELOPES, make_envelope
 from .errors import InputError
 from .psd import (DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_spectrum,
@@ -544,8 +545,6 @@ def _flat_attrs(meta: dict) -> dict:
 # --------------------------------------------------------------------------- fit to a target
 
 
-#: Frequency band [Hz] over which fits to the target are summarised.
-FIT_BAND = (0.2, 33.0)
 
 
 @dataclass(frozen=True, eq=False)
