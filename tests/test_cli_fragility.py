@@ -13,7 +13,7 @@ from click.testing import CliRunner
 
 from rocking.body import FOOT, G, Block
 from rocking.cli import main
-from rocking.cli.fragility import parse_range
+from rocking.cli._options import parse_range
 from rocking.errors import InputError
 from rocking.frames import ShearFrame
 from rocking.motions import NETCDF_ENGINE, generate

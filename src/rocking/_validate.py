@@ -71,7 +71,10 @@ def restitution(value, name: str = "e"):
         except ValueError:
             raise InputError(f"{name} must be a number in (0, 1] or 'housner', "
                              f"got {value!r}") from None
-    return in_range(name, value, 0.0, 1.0, lo_open=True, unit="-")
+    try:
+        return in_range(name, value, 0.0, 1.0, lo_open=True, unit="-")
+    except InputError:
+        raise InputError(f"{name} must be a number in (0, 1] or 'housner', got {value!r}") from None
 
 
 def read_toml(path, label: str | None = None) -> dict:

@@ -16,7 +16,7 @@ from ..dynamics import simulate
 from ..errors import InputError
 from ..motions import generate
 from ..records import read_record
-from .fragility import parse_e
+from ._options import parse_e
 
 #: The word that selects the built-in example motion for ``--motion``.
 EXAMPLE = "example"
