@@ -218,3 +218,24 @@ def test_cli_tells_a_bug_from_a_users_mistake(monkeypatch, tmp_path):
     assert "internal error" in bug.output and "a bug, not a problem with your input" in bug.output
     saved = bug.output.split("traceback is in ")[1].split("; please")[0]
     assert "KeyError" in open(saved).read()
+
+
+def test_motions_above_the_nyquist_frequency_are_refused():
+    # The defect: RG 1.60 motions at dt = 1 s were generated (the components reach 50 Hz, the
+    # target 33 Hz; a 1 s step resolves 0.5 Hz).
+    with pytest.raises(InputError, match=r"dt = 1 s samples frequencies up to 0.5 Hz"):
+        generate(2, dt=1.0)
+
+
+def test_generate_checks_its_output_file_before_the_work(tmp_path):
+    # The defect: `rocking motions generate` found that --out could not be written only after
+    # simulating every motion. 100,000 motions would take minutes: the answer must be at once.
+    import time
+
+    from rocking.cli import main
+
+    start = time.perf_counter()
+    result = CliRunner().invoke(main, ["motions", "generate", "--n", "100000", "--out",
+                                       str(tmp_path / "missing" / "ens.nc")])
+    assert result.exit_code == 1 and "--out" in result.output and "does not exist" in result.output
+    assert time.perf_counter() - start < 10.0

@@ -28,6 +28,7 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import cumulative_trapezoid, trapezoid
 
+from ._files import atomic_write
 from ._numba import parallel_kernel, prange
 from ._validate import finite_array, positive, require_memory
 from .body import G
@@ -457,7 +458,8 @@ class Ensemble:
         return Ensemble(self.acc * factor, self.dt, self.labels, meta)
 
     def save(self, path) -> Path:
-        """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`); return the path.
+        """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`) atomically (no
+        half-written file ever has the name); return the path.
 
         Variable ``acc`` [m/s²] on dimensions (member, time); coordinates ``member`` (labels)
         and ``time`` [s]. The metadata go to attribute ``meta_json`` as JSON (exact, read back
@@ -472,7 +474,7 @@ class Ensemble:
             coords={"member": list(self.labels),
                     "time": ("time", self.t, {"units": "s"})},
             attrs=attrs)
-        ds.to_netcdf(path, engine=NETCDF_ENGINE)
+        atomic_write(path, bytes(ds.to_netcdf(None, engine=NETCDF_ENGINE)))
         return path
 
     @classmethod
@@ -747,6 +749,11 @@ def _generate(members, *, duration, dt, envelope, envelope_params, target, seed,
               convention) -> Ensemble:
     """:func:`generate` for the given member indices."""
     dt = positive("dt", dt, "s")
+    fmax = positive("fmax", fmax, "Hz")
+    if fmax > 0.5 / dt:
+        raise InputError(f"dt = {dt:g} s samples frequencies up to {0.5 / dt:g} Hz (Nyquist), but "
+                         f"the motions are fitted up to fmax = {fmax:g} Hz: use dt <= "
+                         f"{0.5 / fmax:g} s or a lower fmax")
     seed = _count("seed", seed, 0)
     n_iter = _count("iterations", iterations, 0)
     n_pilot = _count("pilot", pilot, 1)
