@@ -239,3 +239,13 @@ def test_generate_checks_its_output_file_before_the_work(tmp_path):
                                        str(tmp_path / "missing" / "ens.nc")])
     assert result.exit_code == 1 and "--out" in result.output and "does not exist" in result.output
     assert time.perf_counter() - start < 10.0
+
+
+def test_show_config_refuses_invalid_values():
+    # The defect: --show-config printed a configuration that the run would then refuse.
+    from rocking.cli import main
+
+    result = CliRunner().invoke(main, ["reproduce", "all", "--show-config", "--set",
+                                       'sec7.frames=["paper-3.0"]'])
+    assert result.exit_code == 1
+    assert "sec7.frames: unknown frame preset 'paper-3.0'" in result.output

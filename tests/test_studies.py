@@ -245,7 +245,7 @@ def test_reproduce_all_quick(quick_run):
         assert (out / "figures" / f"{fig}.png").exists(), fig
     assert page.count("data:image/png;base64,") == len(list((out / "figures").iterdir()))
     run = json.loads((out / "run.json").read_text())
-    assert run["status"] == "complete" and run["version"] == rocking.__version__
+    assert run["status"] == "completed" and run["version"] == rocking.__version__
     assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "total"}
     assert run["parameters"] == PRESETS["quick"] and not run["modified"]
 

@@ -53,3 +53,10 @@ def atomic_write(path, data) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def save_figure(fig, path, dpi: int = 150) -> Path:
+    """Save a Matplotlib ``Figure`` to ``path`` atomically (format from the suffix, PNG if
+    none); return the path."""
+    fmt = Path(path).suffix.lstrip(".") or "png"
+    return atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))

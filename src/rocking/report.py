@@ -80,6 +80,8 @@ class Report:
         self._blocks: list[_Block] = []
         self._names: set[str] = set()
         self._n_tables = 0
+        #: Files written so far, relative to ``out_dir`` ('/'-separated).
+        self.files: list[str] = []
 
     # ---- content -------------------------------------------------------------------------------
     def heading(self, text: str, level: int = 2) -> None:
@@ -104,6 +106,7 @@ class Report:
         path = self.out_dir / "figures" / f"{name}.png"
         path.parent.mkdir(exist_ok=True)
         _atomic_write_bytes(path, png)
+        self.files.append(f"figures/{name}.png")
         b64 = base64.b64encode(png).decode("ascii")
         cap = " ".join(str(caption).split())
         self._blocks.append(_Block(
@@ -129,6 +132,7 @@ class Report:
         path = self.out_dir / "tables" / f"{name}.csv"
         path.parent.mkdir(exist_ok=True)
         _atomic_write_bytes(path, df.to_csv(index=False).encode())
+        self.files.append(f"tables/{name}.csv")
         header = [str(c) for c in df.columns]
         rows = [[_cell(v, floatfmt) for v in row] for row in df.itertuples(index=False)]
         cap = " ".join(str(caption).split())
@@ -184,6 +188,7 @@ class Report:
             raise
         os.replace(tmp_md, md_path)
         os.replace(tmp_html, html_path)
+        self.files += ["report.md", "report.html"]
         return md_path, html_path
 
 

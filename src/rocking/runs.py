@@ -23,7 +23,7 @@ import json
 import time
 from pathlib import Path
 
-from ._files import atomic_write
+from ._files import atomic_write, save_figure
 from .errors import InputError
 
 LOCK = ".rocking.lock"
@@ -111,8 +111,9 @@ class RunFolder:
         from .report import provenance
 
         wall = round(time.perf_counter() - self._start, 3) if self._start else 0.0
-        provenance(self.path, status=status, command=self.command, parameters=self.params,
-                   outputs=self.outputs, wall_time_s=wall, **self.info, **extra)
+        record = {"status": status, "command": self.command, "parameters": self.params,
+                  "outputs": self.outputs, "wall_time_s": wall, **self.info, **extra}
+        provenance(self.path, **record)
 
     def update(self, **info) -> None:
         """Add entries (JSON-serialisable) to run.json, e.g. a summary of the results."""
@@ -142,13 +143,8 @@ class RunFolder:
         return self.write(name, table.to_csv(**to_csv))
 
     def write_figure(self, name: str, fig, dpi: int = 150) -> Path:
-        """Save a Matplotlib figure (format from the name's suffix) and close it."""
-        fmt = Path(name).suffix.lstrip(".") or "png"
-        path = self.write(name, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))
-        import matplotlib.pyplot as plt
-
-        plt.close(fig)
-        return path
+        """Save a Matplotlib figure (format from the name's suffix) atomically."""
+        return save_figure(fig, self.file(name), dpi)
 
     def write_netcdf(self, name: str, dataset) -> Path:
         """Write an xarray Dataset as netCDF-3 (SciPy engine; see :func:`to_netcdf3_bytes`)."""
