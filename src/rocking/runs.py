@@ -42,7 +42,7 @@ class RunFolder:
     command : str
         What runs, e.g. ``"fragility"`` (recorded in run.json).
     params : dict
-        JSON-serialisable parameters and seeds of the run (recorded in run.json).
+        JSON-serialisable parameters and seeds of the run (entries of run.json).
     """
 
     def __init__(self, path, *, command: str, params: dict):
@@ -111,7 +111,7 @@ class RunFolder:
         from .report import provenance
 
         wall = round(time.perf_counter() - self._start, 3) if self._start else 0.0
-        record = {"status": status, "command": self.command, "parameters": self.params,
+        record = {"status": status, "command": self.command, **self.params,
                   "outputs": self.outputs, "wall_time_s": wall, **self.info, **extra}
         provenance(self.path, **record)
 

@@ -80,7 +80,7 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
                 "modified": modified, "scheduler": scheduler or "local",
                 "seeds": {s: cfg[s]["seed"] for s in cfg if "seed" in cfg[s]},
                 "backend": repr(backend)}
-    with RunFolder(out, command="reproduce", params=cfg) as run, reporter:
+    with RunFolder(out, command="reproduce", params={"parameters": cfg}) as run, reporter:
         # the pages of an earlier run must not look like this run's result if it fails
         remove_report(out)
         run.update(**run_info)
