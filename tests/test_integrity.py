@@ -249,3 +249,33 @@ def test_show_config_refuses_invalid_values():
                                        'sec7.frames=["paper-3.0"]'])
     assert result.exit_code == 1
     assert "sec7.frames: unknown frame preset 'paper-3.0'" in result.output
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: Block(1e308, 4.0), r"R = 1e\+308 m is outside the range"),
+    (lambda: Block(1.0, 1e-9), r"gamma = 1e-09 is outside the range"),
+    (lambda: Block.from_dimensions(2000.0, 1.0), r"R = 1000 m is outside|gamma = 2000"),
+])
+def test_nonsense_bodies_are_refused(make, message):
+    # The defect: R = 1e308 m was accepted and reported "safe" (Eq. 11 overflowed to inf);
+    # gamma = 1e-9 was accepted.
+    with pytest.raises(InputError, match=message):
+        make()
+
+
+def test_nonsense_tables_and_specifications_are_refused(tmp_path):
+    from rocking.bodies import read_bodies
+    from rocking.design_spectra import parse_spectrum
+    from rocking.screen import screen
+
+    # a spectrum specification that gives a key twice: which one would be used?
+    with pytest.raises(InputError, match="SDS is given twice"):
+        parse_spectrum("asce7:SDS=1,SDS=2,SD1=0.6,TL=8")
+    # a CSV row with more cells than the header has columns (a shifted row)
+    path = tmp_path / "bodies.csv"
+    path.write_text("R,gamma\n1.2,4\n1.5,3,7\n")
+    with pytest.raises(InputError, match=r"row 2 \(line 3\): 3 value\(s\) for 2 columns"):
+        read_bodies(path)
+    # nothing to screen: a clear error, not a TypeError
+    with pytest.raises(InputError, match="inventory is empty"):
+        screen([], "rg160:0.3")

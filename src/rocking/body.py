@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 
 from ._validate import HOUSNER, in_range, positive, restitution
-from .defaults import G
+from .defaults import GAMMA_RANGE, R_RANGE_M, G
 from .errors import InputError
 #: One international foot [m]; the paper's sizes are whole feet printed in metres.
 FOOT = 0.3048
@@ -28,17 +28,26 @@ class Block:
     Parameters
     ----------
     R : float
-        Size parameter, half the diagonal ½·sqrt(H² + B²) [m]; finite, > 0.
+        Size parameter, half the diagonal ½·sqrt(H² + B²) [m], in
+        :data:`rocking.defaults.R_RANGE_M` (1 mm to 1 km).
     gamma : float
-        Slenderness ratio H/B [-]; finite, > 0 (γ < 1 is a squat block: legal, just stable).
+        Slenderness ratio H/B [-], in :data:`rocking.defaults.GAMMA_RANGE` (0.01 to 100; γ < 1 is
+        a squat block: legal, just stable).
     """
 
     R: float
     gamma: float
 
     def __post_init__(self):
-        object.__setattr__(self, "R", positive("R", self.R, "m"))
-        object.__setattr__(self, "gamma", positive("gamma", self.gamma, "-"))
+        R = positive("R", self.R, "m")
+        gamma = positive("gamma", self.gamma, "-")
+        for name, value, (lo, hi), unit in (("R", R, R_RANGE_M, " m"),
+                                            ("gamma", gamma, GAMMA_RANGE, "")):
+            if not lo <= value <= hi:
+                raise InputError(f"{name} = {value:g}{unit} is outside the range of bodies the "
+                                 f"model is meant for ({lo:g} to {hi:g}{unit}); check the units")
+        object.__setattr__(self, "R", R)
+        object.__setattr__(self, "gamma", gamma)
 
     @classmethod
     def from_dimensions(cls, H: float, B: float) -> "Block":

@@ -11,6 +11,11 @@ from __future__ import annotations
 G = 9.80665
 #: Coefficient of restitution of the paper (Aslam et al. 1980; paper Section 2) [-].
 DEFAULT_E = 0.925
+#: Sizes R [m] and slenderness ratios γ [-] a Block may have: a rigid body from a millimetre to a
+#: kilometre, from a slab 100 times wider than high to a needle 100 times higher than wide.
+#: Outside, the input is almost surely a mistake of units (and R = 1e308 m overflows Eq. 11).
+R_RANGE_M = (1e-3, 1e3)
+GAMMA_RANGE = (1e-2, 1e2)
 #: The paper's time step of the motions and of the Runge–Kutta integration [s].
 DT = 1.0 / 400.0
 #: The paper's band of the available pseudo-velocity S_v [Hz] (Section 8).

@@ -286,6 +286,8 @@ def parse_spectrum(text: str, base_dir=None) -> TargetSpectrum:
             if name is None:
                 raise InputError(f"spectrum {text!r}: unknown key {key.strip()!r} for {kind}; "
                                  f"known: {', '.join(keys.values())}")
+            if name in kwargs:
+                raise InputError(f"spectrum {text!r}: {name} is given twice")
             kwargs[name] = value.strip() if name in _TEXT_KEYS else _number(text, name, value)
         try:
             return cls(**kwargs)

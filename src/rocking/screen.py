@@ -26,6 +26,7 @@ one A_gx50 search over all its items.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import xarray as xr
@@ -34,7 +35,7 @@ from .design_spectra import design_pga, parse_spectrum
 from .energy import BAND_HZ, assess, band_frequencies
 from .errors import InputError
 from .fragility import agx_50, overturning_probability
-from .inventory import Inventory, read_inventory
+from .inventory import Inventory, Item, read_inventory
 from .motions import Ensemble, generate
 from .spectra import ResponseSpectrum, TargetSpectrum, response_spectrum
 
@@ -56,7 +57,7 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
 
     Parameters
     ----------
-    inventory : Inventory, str or Path
+    inventory : Inventory, list of Item, str or Path
         The items, or an inventory file (:func:`rocking.inventory.read_inventory`).
     spectrum : TargetSpectrum or str
         The design spectrum at the ground, or its specification
@@ -106,7 +107,17 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
     if floor_motions not in FLOOR_MOTIONS:
         raise InputError(f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got "
                          f"{floor_motions!r}")
+    if isinstance(inventory, (list, tuple)):
+        if not inventory:
+            raise InputError("inventory is empty: there is no item to screen")
+        if not all(isinstance(it, Item) for it in inventory):
+            raise InputError("inventory must be an Inventory, a list of rocking.Item or the path "
+                             "of an inventory file")
+        inventory = Inventory(tuple(inventory))
     if not isinstance(inventory, Inventory):
+        if not isinstance(inventory, (str, os.PathLike)):
+            raise InputError(f"inventory must be an Inventory, a list of rocking.Item or the path "
+                             f"of an inventory file, got {type(inventory).__name__}")
         inventory = read_inventory(inventory, frame=frame)
     elif frame is not None:
         raise InputError("frame is the default frame of an inventory file; the Inventory given "
