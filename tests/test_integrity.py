@@ -207,12 +207,12 @@ def test_cli_tells_a_bug_from_a_users_mistake(monkeypatch, tmp_path):
     assert user.exit_code == 1 and "Error: R must be" in user.output
     assert "Traceback" not in user.output and len(user.output.strip().splitlines()) == 1
 
-    import rocking.cli.simulate as sim
+    import rocking.dynamics
 
     def broken(*args, **kw):
         raise KeyError("a bug")
 
-    monkeypatch.setattr(sim, "simulate", broken)
+    monkeypatch.setattr(rocking.dynamics, "simulate", broken)
     bug = runner.invoke(main, ["simulate", "--R", "1", "--gamma", "4", "--motion", "example"])
     assert bug.exit_code == 70
     assert "internal error" in bug.output and "a bug, not a problem with your input" in bug.output
