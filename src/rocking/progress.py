@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import functools
 import io
+import math
 import sys
 import threading
 from contextlib import contextmanager
@@ -208,19 +209,42 @@ class Reporter:
         if self.tty:
             bar = tqdm(total=total, desc=desc, unit=unit, delay=self.delay,
                        file=self.stream, smoothing=0.1, dynamic_ncols=True)
-        else:
+            every = 1.0
+        else:  # lines come from the heartbeat only, every `interval` seconds
             bar = tqdm(total=total, desc=desc, unit=unit, delay=self.delay,
-                       file=_Lines(self.stream), mininterval=self.interval,
-                       maxinterval=self.interval, smoothing=0.1,
+                       file=_Lines(self.stream), mininterval=math.inf, smoothing=0.1,
                        bar_format=_FORMAT_OPEN if total is None else _FORMAT_KNOWN)
+            every = self.interval
         stage = Stage(bar, None, lines=not self.tty)
+        stop = threading.Event()
+        beat = threading.Thread(target=_heartbeat, args=(bar, stop, self.delay, every),
+                                daemon=True, name="rocking-progress")
         self._open.append(stage)
+        beat.start()
         try:
             with self:
                 yield stage
         finally:
             self._open.pop()
+            stop.set()
+            beat.join()
+            if bar.total is not None and not self.tty:
+                bar.total = max(bar.total, bar.n)
             bar.close()
+
+
+def _heartbeat(bar, stop: threading.Event, delay: float, every: float) -> None:
+    """Redraw ``bar`` every ``every`` seconds once ``delay`` has passed, until ``stop``: the
+    elapsed time keeps moving (and a line is written off a terminal) even while one long piece
+    of work, such as the first compilation, gives no update."""
+    if stop.wait(delay):
+        return
+    while True:
+        bar.refresh()
+        # as tqdm's update() records its own redraws (close() then draws the final state)
+        bar.last_print_t, bar.last_print_n = bar._time(), bar.n
+        if stop.wait(every):
+            return
 
 
 #: A reporter that shows nothing.

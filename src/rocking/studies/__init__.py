@@ -90,7 +90,8 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
         with backend:
             for s in sections:
                 t0 = time.perf_counter()
-                with reporter.stage(f"section {s}: {STUDY_SECTIONS[s]}", unit="sim"):
+                reporter.write(f"section {s}: {STUDY_SECTIONS[s]}")
+                with reporter.stage(f"section {s}", unit="sim"):
                     results[s] = study(s).run(ctx)
                 wall[s] = round(time.perf_counter() - t0, 2)
                 run.update(wall_time_s=wall)
