@@ -279,3 +279,46 @@ def test_nonsense_tables_and_specifications_are_refused(tmp_path):
     # nothing to screen: a clear error, not a TypeError
     with pytest.raises(InputError, match="inventory is empty"):
         screen([], "rg160:0.3")
+
+
+def test_fragility_and_agx50_folders_record_their_run(motions, tmp_path):
+    # The defect: `fragility` and `agx50` wrote no run.json.
+    from rocking.cli import main
+
+    a, _ = motions
+    path = tmp_path / "m.nc"
+    a.save(path)
+    bodies = tmp_path / "b.csv"
+    bodies.write_text("R,gamma\n0.6,3\n1.22,4\n")
+    for command, extra, table in (("fragility", ["--agx", "0.3:0.9:0.3"], "probabilities.csv"),
+                                  ("agx50", ["--resolution", "0.1"], "agx50.csv")):
+        out = tmp_path / command
+        result = CliRunner().invoke(main, [command, "--bodies", str(bodies), "--motions",
+                                           str(path), "--out", str(out), "--quiet", *extra])
+        assert result.exit_code == 0, result.output
+        info = json.loads((out / "run.json").read_text())
+        assert info["status"] == "completed" and info["command"] == command
+        assert table in info["outputs"] and all((out / f).is_file() for f in info["outputs"])
+        assert info["n_motions"] == a.n and info["motions"] == str(path)
+
+
+def test_an_interrupted_screen_rerun_leaves_no_old_tables(tmp_path, monkeypatch):
+    # The defect: an interrupted rerun of `screen` left the previous run's tables beside it,
+    # looking complete.
+    from rocking.cli import main
+    import rocking.screen
+
+    args = ["screen", "example", "--spectrum", "asce7:SDS=1.0,SD1=0.6,TL=8", "--frame",
+            "paper-2.0", "--n", "4", "--duration", "4", "--resolution", "0.2", "--out",
+            str(tmp_path), "--quiet"]
+    assert CliRunner().invoke(main, args).exit_code == 0
+    assert (tmp_path / "tables" / "screen.csv").is_file()
+
+    def interrupted(*a, **kw):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(rocking.screen, "screen", interrupted)
+    assert CliRunner().invoke(main, args).exit_code != 0
+    assert not (tmp_path / "tables" / "screen.csv").exists()
+    assert not (tmp_path / "report.html").exists()
+    assert json.loads((tmp_path / "run.json").read_text())["status"] == "failed"
