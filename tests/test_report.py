@@ -2,6 +2,8 @@
 
 import base64
 import json
+import os
+import stat
 
 import numpy as np
 import pandas as pd
@@ -103,3 +105,47 @@ def test_provenance_records_versions_and_parameters(tmp_path):
     with pytest.raises(TypeError, match="run.json"):
         provenance(tmp_path, thing=object())
     assert json.loads(path.read_text())["backend"] == "local"  # the failed write left it intact
+
+
+@pytest.mark.skipif(os.name != "posix", reason="file modes and umask are POSIX")
+@pytest.mark.parametrize("umask", [0o022])
+def test_written_files_get_the_mode_open_would_give(tmp_path, umask):
+    # Reference: a file made by open(..., "w") under the same umask (0666 & ~umask). The old
+    # writer went through tempfile.mkstemp, so every report file came out 0600.
+    old = os.umask(umask)
+    try:
+        with open(tmp_path / "reference.txt", "w") as fh:
+            fh.write("x")
+        rep = Report("Study", tmp_path / "out")
+        rep.figure(_figure(), "fig", "a figure")
+        rep.table(pd.DataFrame({"x": [1.0]}), "a table", name="tab")
+        rep.write()
+        provenance(tmp_path / "out", status="complete")
+    finally:
+        os.umask(old)
+    expected = stat.S_IMODE((tmp_path / "reference.txt").stat().st_mode)
+    assert expected == 0o666 & ~umask
+    out = tmp_path / "out"
+    for name in ("report.md", "report.html", "figures/fig.png", "tables/tab.csv", "run.json"):
+        assert stat.S_IMODE((out / name).stat().st_mode) == expected, name
+
+
+def test_failed_html_write_leaves_no_page(tmp_path, monkeypatch):
+    # The pages are now written one after the other by the package's one atomic writer: if the
+    # second (report.html) fails on disk, the first must not stay behind looking like a result.
+    import rocking._files
+    import rocking.report
+
+    rep = Report("Study", tmp_path)
+    rep.text("partial")
+    real = rocking._files.atomic_write
+
+    def full_disk(path, data):
+        if path.name == "report.html":
+            raise OSError("no space left on device")
+        return real(path, data)
+
+    monkeypatch.setattr(rocking.report, "atomic_write", full_disk)
+    with pytest.raises(OSError, match="no space"):
+        rep.write()
+    assert sorted(p.name for p in tmp_path.iterdir()) == []

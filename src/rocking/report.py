@@ -4,8 +4,9 @@ A :class:`Report` collects headings, Markdown text, figures and tables in order 
 with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tables also as CSV) and
 ``report.html`` (one file: figures embedded as base64 PNG, so it can be mailed or archived alone).
 
-Both pages are written atomically: each goes to a temporary file in the same folder, which is
-renamed over the final name only after both are complete (``report.html`` last), so an interrupted
+Every file is written atomically by :func:`rocking._files.atomic_write` (a temporary file in
+the same folder renamed over the final name; mode 0666 less the umask, as ``open`` gives). Both
+pages are rendered before either is written and ``report.html`` is written last, so an interrupted
 run never leaves a page that looks finished. :func:`provenance` writes ``run.json`` (package
 version, parameters, seeds, backend, wall times, Python/NumPy/Numba versions, command line) the
 same way.
@@ -24,13 +25,13 @@ import os
 import platform
 import re
 import sys
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import markdown as _markdown
 import numpy as np
 
+from ._files import atomic_write
 from .errors import InputError
 
 #: Resolution of the PNG figures [dots per inch].
@@ -105,7 +106,7 @@ class Report:
         png = buf.getvalue()
         path = self.out_dir / "figures" / f"{name}.png"
         path.parent.mkdir(exist_ok=True)
-        _atomic_write_bytes(path, png)
+        atomic_write(path, png)
         self.files.append(f"figures/{name}.png")
         b64 = base64.b64encode(png).decode("ascii")
         cap = " ".join(str(caption).split())
@@ -131,7 +132,7 @@ class Report:
             df = df.reset_index()
         path = self.out_dir / "tables" / f"{name}.csv"
         path.parent.mkdir(exist_ok=True)
-        _atomic_write_bytes(path, df.to_csv(index=False).encode())
+        atomic_write(path, df.to_csv(index=False).encode())
         self.files.append(f"tables/{name}.csv")
         header = [str(c) for c in df.columns]
         rows = [[_cell(v, floatfmt) for v in row] for row in df.itertuples(index=False)]
@@ -174,20 +175,18 @@ class Report:
     def write(self) -> tuple[Path, Path]:
         """Write ``report.md`` and ``report.html`` atomically; return their paths.
 
-        Both are rendered and written to temporary files first; the final names appear only
-        when both are complete (``report.html`` renamed last), so an error part-way leaves no new
-        page behind.
+        Both are rendered first, then written, ``report.html`` last; if writing it fails, the new
+        ``report.md`` is removed again, so an error part-way leaves no new page behind.
         """
         md_path = self.out_dir / "report.md"
         html_path = self.out_dir / "report.html"
-        tmp_md = _write_temp(md_path, self.markdown().encode("utf-8"))
+        md, page = self.markdown(), self.html()
+        atomic_write(md_path, md)
         try:
-            tmp_html = _write_temp(html_path, self.html().encode("utf-8"))
+            atomic_write(html_path, page)
         except BaseException:
-            tmp_md.unlink(missing_ok=True)
+            md_path.unlink(missing_ok=True)
             raise
-        os.replace(tmp_md, md_path)
-        os.replace(tmp_html, html_path)
         self.files += ["report.md", "report.html"]
         return md_path, html_path
 
@@ -236,8 +235,7 @@ def provenance(out_dir, **params) -> Path:
         **params,
     }
     path = out_dir / "run.json"
-    _atomic_write_bytes(path, (json.dumps(record, indent=2, default=_json_default) + "\n")
-                        .encode("utf-8"))
+    atomic_write(path, json.dumps(record, indent=2, default=_json_default) + "\n")
     return path
 
 
@@ -252,22 +250,6 @@ def _json_default(obj):
     if isinstance(obj, Path):
         return str(obj)
     raise TypeError(f"run.json: cannot store a {type(obj).__name__} ({obj!r})")
-
-
-def _write_temp(final: Path, data: bytes) -> Path:
-    """Write ``data`` to a new temporary file beside ``final`` and return its path."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return Path(tmp)
-
-
-def _atomic_write_bytes(path: Path, data: bytes) -> None:
-    os.replace(_write_temp(path, data), path)
 
 
 def _cell(value, floatfmt: str) -> str:
