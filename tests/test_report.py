@@ -52,6 +52,26 @@ def test_report_writes_markdown_html_png_and_csv(tmp_path):
     assert csv["paper"].tolist() == [2.0, 3.0]
 
 
+def test_text_columns_are_left_aligned_and_numbers_right_aligned(tmp_path):
+    # Alignment follows each column's dtype (every cell used to be right-aligned); the index
+    # (row labels, here numbers) is shown with "g", not with the values' floatfmt.
+    rep = Report("Study", tmp_path)
+    df = pd.DataFrame({"body": ["a", "b"], "n": [3, 40], "P": [0.5, 0.25],
+                       "at risk": [True, False], "verdict": ["safe", "overturn>50%"]},
+                      index=pd.Index([1.22, 3.05], name="R [m]"))
+    rep.table(df, "mixed", name="mixed", floatfmt=".3f")
+    md_path, html_path = rep.write()
+    md = md_path.read_text()
+    assert "| R [m] | body | n | P | at risk | verdict |\n|---:|:---|---:|---:|:---|:---|" in md
+    assert "| 3.05 | b | 40 | 0.250 | False | overturn>50% |" in md
+    page = html_path.read_text()
+    assert ('<th>R [m]</th><th class="text">body</th><th>n</th><th>P</th>'
+            '<th class="text">at risk</th><th class="text">verdict</th>') in page
+    assert ('<td>1.22</td><td class="text">a</td><td>3</td><td>0.500</td>'
+            '<td class="text">True</td><td class="text">safe</td>') in page
+    assert "td.text { text-align: left; }" in page
+
+
 def test_interrupted_write_leaves_no_report(tmp_path, monkeypatch):
     rep = Report("Study", tmp_path)
     rep.text("partial")

@@ -45,6 +45,7 @@ body { font-family: system-ui, sans-serif; max-width: 70rem; margin: 2rem auto; 
 h1, h2, h3 { line-height: 1.2; }
 table { border-collapse: collapse; margin: 0.5rem 0 1.5rem; font-size: 0.85rem; }
 th, td { border: 1px solid #bbb; padding: 0.15rem 0.45rem; text-align: right; }
+th.text, td.text { text-align: left; }
 th { background: #f0f0f0; }
 figure { margin: 1rem 0 1.5rem; }
 figure img { max-width: 100%; }
@@ -121,13 +122,16 @@ class Report:
         """Add a table (a ``pandas.DataFrame``; its index is shown when it is named or not a
         plain range); also written as ``tables/<name>.csv`` at full precision.
 
-        ``floatfmt`` is the format of floats on the pages (e.g. ``".2f"``); returns the CSV path.
+        ``floatfmt`` is the format of floats on the pages (e.g. ``".2f"``); index values are
+        row labels, shown with ``"g"``. Numeric columns are right-aligned, the others (text,
+        booleans) left-aligned. Returns the CSV path.
         """
         self._n_tables += 1
         name = self._claim(name or f"table-{self._n_tables}")
         df = dataframe
         show_index = df.index.name is not None or any(df.index.names[1:]) or not (
             df.index.dtype.kind in "iu" and np.array_equal(df.index, np.arange(len(df))))
+        n_index = df.index.nlevels if show_index else 0
         if show_index:
             df = df.reset_index()
         path = self.out_dir / "tables" / f"{name}.csv"
@@ -135,14 +139,18 @@ class Report:
         atomic_write(path, df.to_csv(index=False).encode())
         self.files.append(f"tables/{name}.csv")
         header = [str(c) for c in df.columns]
-        rows = [[_cell(v, floatfmt) for v in row] for row in df.itertuples(index=False)]
+        numeric = [dtype.kind in "iufc" for dtype in df.dtypes]
+        formats = ["g"] * n_index + [floatfmt] * (len(header) - n_index)
+        rows = [[_cell(v, f) for v, f in zip(row, formats)]
+                for row in df.itertuples(index=False)]
         cap = " ".join(str(caption).split())
         md = [f"*{cap}*", "", "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |",
-              "|" + "|".join("---:" for _ in header) + "|"]
+              "|" + "|".join("---:" if num else ":---" for num in numeric) + "|"]
         md += ["| " + " | ".join(c.replace("|", "\\|") for c in row) + " |" for row in rows]
-        body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>"
-                       for row in rows)
-        head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+        cls = ["" if num else ' class="text"' for num in numeric]
+        body = "".join("<tr>" + "".join(f"<td{k}>{html.escape(c)}</td>" for k, c in zip(cls, row))
+                       + "</tr>" for row in rows)
+        head = "".join(f"<th{k}>{html.escape(h)}</th>" for k, h in zip(cls, header))
         self._blocks.append(_Block(
             "\n".join(md) + f"\n\n(CSV: `tables/{name}.csv`)",
             f"<table><caption>{_inline(cap)}</caption><thead><tr>{head}</tr></thead>"

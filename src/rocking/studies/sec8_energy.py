@@ -132,7 +132,8 @@ def _tables(b: xr.Dataset, rep, lab: str) -> None:
 
 def _r_labels(table: pd.DataFrame) -> pd.DataFrame:
     """Rows labelled by R as the paper prints it (whole feet in metres, two decimals)."""
-    return table.set_axis([f"{r:.2f}" for r in table.index], axis=0).rename_axis("R [m]")
+    return table.set_axis(np.round(table.index.to_numpy(dtype=float), 2), axis=0).rename_axis(
+        "R [m]")
 
 
 def _examples(ex: xr.Dataset, rep, lab: str) -> None:
