@@ -223,3 +223,26 @@ def test_agx50_run_writes_tables_and_plot(tmp_path, motions, bodies):
                                (table["sv1_cm_s"] / table["sv_required_cm_s"])[ok], rtol=1e-5)
     grid = pd.read_csv(out / "table1_sv_required_cm_s.csv", index_col=0)
     assert grid.shape == (1, 2)
+
+
+@pytest.fixture(scope="module")
+def paper_run(tmp_path_factory, motions):
+    """``rocking fragility --bodies paper`` on the tiny ensemble at three A_gx levels."""
+    out = tmp_path_factory.mktemp("paper") / "out"
+    result = _run(["fragility", "--bodies", "paper", "--motions", motions, "--agx",
+                   "0.3:0.9:0.3", "--out", out, "--quiet"])
+    assert result.exit_code == 0, result.output
+    return out
+
+
+def test_fragility_csv_has_no_float_noise(paper_run):
+    # R = 6 ft = 6 * 0.3048 m is 1.8288000000000002 in binary and was written so; the CSV keeps
+    # 12 significant digits, which give back every R in feet and P = count/n to half a unit in
+    # the 12th digit.
+    text = (paper_run / "probabilities.csv").read_text()
+    assert "1.8288000000000002" not in text and ",1.8288," in text
+    assert not re.search(r"\d\.\d*(0{6}|9{6})\d", text), "float noise in probabilities.csv"
+    table = pd.read_csv(paper_run / "probabilities.csv")
+    feet = np.unique(table["R"]) / FOOT
+    np.testing.assert_allclose(feet, np.arange(4, 12), rtol=5e-12)
+    np.testing.assert_allclose(table["probability"], table["count"] / table["n"], rtol=5e-12)

@@ -72,6 +72,24 @@ def test_text_columns_are_left_aligned_and_numbers_right_aligned(tmp_path):
     assert "td.text { text-align: left; }" in page
 
 
+def test_csv_tables_carry_no_float_noise(tmp_path):
+    # 0.23000000000046314: an A_gx50 of 0.23 g found on a grid of 0.01·r g and divided by r
+    # (screening of a floor item); 6 * 0.3048 = 1.8288000000000002 (6 ft in metres). Both used to
+    # reach the CSV as written here; 12 significant digits drop the noise and keep real values
+    # (1/3, a Wilson bound) to a relative 5e-12, far below any sampling error.
+    rep = Report("Study", tmp_path)
+    df = pd.DataFrame({"Agx50 [g]": [0.23000000000046314, 0.1 + 0.2],
+                       "R [m]": [6 * 0.3048, 0.5], "P": [1 / 3, 0.9568342712073097],
+                       "count": [7, 200]})
+    path = rep.table(df, "noisy", name="noisy")
+    lines = path.read_text().splitlines()
+    assert lines[1].startswith("0.23,1.8288,0.333333333333,") and lines[1].endswith(",7")
+    assert lines[2].startswith("0.3,0.5,")
+    back = pd.read_csv(path)
+    np.testing.assert_allclose(back["P"], df["P"], rtol=5e-12)  # half a unit in the 12th digit
+    assert back["count"].tolist() == [7, 200]
+
+
 def test_interrupted_write_leaves_no_report(tmp_path, monkeypatch):
     rep = Report("Study", tmp_path)
     rep.text("partial")
