@@ -246,3 +246,14 @@ def test_fragility_csv_has_no_float_noise(paper_run):
     feet = np.unique(table["R"]) / FOOT
     np.testing.assert_allclose(feet, np.arange(4, 12), rtol=5e-12)
     np.testing.assert_allclose(table["probability"], table["count"] / table["n"], rtol=5e-12)
+
+
+def test_paper_body_names_write_gamma_as_gamma(paper_run):
+    # Body names are Block labels: "R=1.22 m, γ=4", not "R=1.22m g=4" (γ read as "g").
+    for name in ("probabilities.csv", "lognormal.csv"):
+        table = pd.read_csv(paper_run / name)
+        assert "R=1.22 m, γ=4" in set(table["body"]), name
+        assert not table["body"].str.contains(r"\bg=").any(), name
+        assert "gamma" in table.columns
+    with xr.open_dataset(paper_run / "probabilities.nc", engine=NETCDF_ENGINE) as ds:
+        assert "R=3.35 m, γ=6" in ds["body"].values  # the netCDF-3 file keeps the name

@@ -11,6 +11,7 @@ import pytest
 from matplotlib.figure import Figure
 
 import rocking
+from rocking.body import FOOT, Block
 from rocking.errors import InputError
 from rocking.report import Report, markdown_to_html, provenance, remove_report, slug
 
@@ -125,6 +126,16 @@ def test_names_are_checked(tmp_path):
 def test_slug_makes_file_names():
     assert slug("frames/my frame.toml") == "frames_my_frame.toml"
     assert slug("floor 1") == "floor_1" and slug("///") == "unnamed"
+
+
+def test_slug_of_a_body_label_is_a_valid_distinct_name(tmp_path):
+    # Body labels carry "γ", a comma and spaces; the slug spells γ out rather than dropping it.
+    labels = [Block(4 * FOOT, g).label for g in (2.0, 2.5)]
+    names = [slug(label) for label in labels]
+    assert names == ["R_1.22_m_gamma_2", "R_1.22_m_gamma_2.5"]
+    rep = Report("Study", tmp_path)
+    for name in names:  # accepted as figure names (file names)
+        assert rep.figure(_figure(), name, "caption").name == f"{name}.png"
 
 
 def test_markdown_renders_lists_and_links():

@@ -2,8 +2,10 @@
 of ``rocking reproduce all --fidelity quick``."""
 
 import json
+import re
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 from click.testing import CliRunner
@@ -248,6 +250,20 @@ def test_reproduce_all_quick(quick_run):
     assert run["status"] == "completed" and run["version"] == rocking.__version__
     assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "total"}
     assert run["parameters"] == PRESETS["quick"] and not run["modified"]
+
+
+def test_reproduce_report_writes_gamma_as_gamma(quick_run):
+    # Body names, table headers and legends used to write γ as "g" ("R=1.22m g=4").
+    result, out = quick_run
+    md = (out / "report.md").read_text()
+    assert "R=1.22 m, γ=4" in md
+    assert not re.search(r"\bg=", md)
+    for table in (out / "tables").iterdir():
+        assert not re.search(r"\bg=", table.read_text()), table.name
+    floor = pd.read_csv(out / "tables" / "table3-floor_1.csv")
+    assert list(floor.columns) == ["R [m]", "γ=2", "γ=4", "γ=6"]  # were 2.0, 4.0, 6.0
+    reversals_table = pd.read_csv(out / "tables" / "sec5-reversals.csv")
+    assert "γ" in set(reversals_table["factor"]) and "gamma" not in set(reversals_table["factor"])
 
 
 def test_reproduce_bad_input_is_one_line(tmp_path):

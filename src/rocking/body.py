@@ -95,8 +95,8 @@ class Block:
 
     @property
     def label(self) -> str:
-        """Short name for tables and plots, e.g. ``"R=1.22m g=4"`` (R to the cm)."""
-        return f"R={self.R:.2f}m g={self.gamma:g}"
+        """Short name for tables and plots, e.g. ``"R=1.22 m, γ=4"`` (R to the cm)."""
+        return f"R={self.R:.2f} m, γ={self.gamma:g}"
 
     def __str__(self) -> str:
         return f"Block(R={self.R:g} m, gamma={self.gamma:g})"

@@ -25,6 +25,7 @@ import os
 import platform
 import re
 import sys
+import unicodedata
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -205,9 +206,20 @@ class Report:
 
 
 def slug(text: str) -> str:
-    """``text`` made usable as a figure or table name (other characters become ``_``)."""
-    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", str(text)).strip("_.-")
+    """``text`` made usable as a figure or table name: Greek letters spelled out (a body's
+    ``"R=1.22 m, γ=4"`` gives ``"R_1.22_m_gamma_4"``), other characters than letters, digits,
+    ``_``, ``.`` and ``-`` replaced by ``_``."""
+    spelled = "".join(_greek_name(ch) for ch in str(text))
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", spelled).strip("_.-")
     return name or "unnamed"
+
+
+def _greek_name(ch: str) -> str:
+    """The name of a Greek letter (``"γ"`` -> ``"gamma"``), any other character as it is."""
+    name = unicodedata.name(ch, "")  # e.g. "GREEK SMALL LETTER GAMMA"
+    if name.startswith("GREEK ") and " LETTER " in name:
+        return name.split(" LETTER ", 1)[1].split()[0].lower()
+    return ch
 
 
 def remove_report(out_dir) -> None:

@@ -33,7 +33,7 @@ TITLE = "Section 5: sensitivity to the motion, intensity, size, slenderness and 
 #: Relative drop of the peak θ/α that counts as a reversal (smaller drops may be numerical).
 PEAK_TOLERANCE = 0.10
 #: Factors of the sweep: name -> +1 if a larger value should be more severe, −1 if less.
-DIRECTION = {"PGA": +1, "R": -1, "gamma": +1, "e": +1}
+DIRECTION = {"PGA": +1, "R": -1, "γ": +1, "e": +1}
 
 
 @dataclass(frozen=True)
@@ -84,9 +84,9 @@ def run(ctx: RunContext) -> Sec5Result:
         "R": _sweep(p["sizes"], *overturn_batch([Block(r, p["size_gamma"]) for r in p["sizes"]],
                                                 acc, ens.dt, [p["size_agx"]], e=e),
                     lambda a: a[:, 0]),
-        "gamma": _sweep(p["gammas"], *overturn_batch([Block(p["e_R"], g) for g in p["gammas"]],
-                                                     acc, ens.dt, [p["size_agx"]], e=e),
-                        lambda a: a[:, 0]),
+        "γ": _sweep(p["gammas"], *overturn_batch([Block(p["e_R"], g) for g in p["gammas"]],
+                                                 acc, ens.dt, [p["size_agx"]], e=e),
+                    lambda a: a[:, 0]),
         "e": _sweep(p["e_values"], *overturn_batch([e_body] * len(p["e_values"]), acc, ens.dt,
                                                    [p["size_agx"]], e=p["e_values"]),
                     lambda a: a[:, 0]),

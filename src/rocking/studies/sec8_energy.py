@@ -119,7 +119,9 @@ def _tables(b: xr.Dataset, rep, lab: str) -> None:
                   f"paper's and the difference, for the bodies run [{lab}]", name=f"table{no}",
                   floatfmt=fmt)
     for loc in [str(x) for x in b["location"].values[1:]]:
-        rep.table(_r_labels(grid_table(b.sel(location=loc), "ratio")),
+        ratio = grid_table(b.sel(location=loc), "ratio")
+        ratio.columns = [f"γ={g:g}" for g in ratio.columns]
+        rep.table(_r_labels(ratio),
                   f"Ratio S_v1/S_v for bodies on the {loc} (no table in the paper) [{lab}]",
                   name=f"table3-{slug(loc)}", floatfmt=".3f")
     rows = {f"ours, {loc}": ratio_stats(b["ratio"].sel(location=loc).values)
