@@ -266,6 +266,49 @@ def test_reproduce_report_writes_gamma_as_gamma(quick_run):
     assert "γ" in set(reversals_table["factor"]) and "gamma" not in set(reversals_table["factor"])
 
 
+#: Sizes of the small run below (each section's ensemble differs from the preset's).
+SMALL_SETS = ["sec4.n_check=3", "sec6.n=6", "sec7.n=5", "sec8.n=12"]
+
+
+def _titles(fig) -> list[str]:
+    """Every title of a figure (its suptitle and each panel's three titles), whitespace
+    normalised."""
+    texts = [fig.get_suptitle()] + [ax.get_title(loc) for ax in fig.axes
+                                     for loc in ("left", "center", "right")]
+    return [" ".join(t.split()) for t in texts if t.strip()]
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    """All sections with smaller ensembles than the quick preset (SMALL_SETS); records the
+    titles and caption of every figure the report receives."""
+    from rocking.report import Report
+
+    out = tmp_path_factory.mktemp("small") / "out"
+    shown = []
+    original = Report.figure
+
+    def recording(self, fig, name, caption):
+        shown.append((name, caption, _titles(fig)))
+        return original(self, fig, name, caption)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Report, "figure", recording)
+        reproduce(list("45678"), fidelity="quick", out_dir=out, sets=SMALL_SETS)
+    return out, shown
+
+
+def test_figure_titles_do_not_repeat_their_captions(small_run):
+    # Every study figure used to carry its caption, wrapped, as its title; the report shows the
+    # caption under it, so the sentence appeared twice.
+    _, shown = small_run
+    assert len(shown) >= 20
+    for name, caption, titles in shown:
+        sentence = " ".join(caption.split(" [")[0].split())
+        for title in titles:
+            assert sentence not in title and title not in caption, (name, title)
+
+
 def test_reproduce_bad_input_is_one_line(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[sec8]\nn = -\n")

@@ -26,7 +26,7 @@ import xarray as xr
 from ..batch import overturn_batch
 from ..body import Block
 from ..dynamics import simulate
-from ..plots.studies import figure_title, plot_responses
+from ..plots.studies import plot_responses
 from .config import RunContext
 
 TITLE = "Section 5: sensitivity to the motion, intensity, size, slenderness and e (Figs. 5-8)"
@@ -38,7 +38,7 @@ DIRECTION = {"PGA": +1, "R": -1, "γ": +1, "e": +1}
 
 @dataclass(frozen=True)
 class Sec5Result:
-    """``figures``: {fig no.: (labels, θ/α (case, time), t_overturn, title text)};
+    """``figures``: {fig no.: (labels, θ/α (case, time), t_overturn, caption text)};
     ``sweeps``: {factor: Dataset ``overturned``, ``peak`` (value, motion)} with attribute
     ``direction``; ``motions``: ``overturned``/``peak`` (motion) of the Fig. 5 body at 0.6 g."""
 
@@ -141,10 +141,8 @@ def report(result: Sec5Result, rep, ctx: RunContext) -> None:
              "e = 0.92 (Fig. 8). Our motions are other random draws, so the single curves "
              "differ; the sweeps over the whole ensemble count how often such reversals occur.")
     for fig_no, (labels, theta, t_ov, text) in result.figures.items():
-        title = f"Fig. {fig_no}: {text} [{result.label}]"
-        fig = plot_responses(result.t, theta, labels, overturned=t_ov,
-                             title=figure_title(title))
-        rep.figure(fig, f"fig{fig_no}", title)
+        rep.figure(plot_responses(result.t, theta, labels, overturned=t_ov), f"fig{fig_no}",
+                   f"Fig. {fig_no}: {text} [{result.label}]")
     rows = []
     for name, ds in result.sweeps.items():
         rev = reversals(ds)

@@ -22,7 +22,6 @@ from ..energy import assess, energy_balance, grid_table
 from ..fragility import agx_50, overturning_probability
 from ..plots.fragility import plot_fragility, plot_sv1_spectrum, plot_sv_agx
 from ..spectra import response_spectrum
-from ..plots.studies import figure_title
 from ..report import slug
 from .conclusions import ratio_stats
 from .config import RunContext, resolve_bodies, resolve_frame
@@ -91,18 +90,17 @@ def report(result: Sec8Result, rep, ctx: RunContext) -> None:
     paper = paper_values()["section8"]
     f13 = result.fig13
     a50 = f13.attrs["agx50"]
-    title = f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = " \
-            f"{paper['fig13_agx50']} g; ours {a50:.2f} g) [{lab}]"
-    rep.figure(plot_fragility(f13, title=figure_title(title)), "fig13", title)
+    rep.figure(plot_fragility(f13), "fig13",
+               f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = "
+               f"{paper['fig13_agx50']} g; ours {a50:.2f} g) [{lab}]")
     freqs, psv = result.fig14
-    title = (f"Fig. 14: mean PSV of the ground motions at A_gx50 = {a50:.2f} g of "
-             f"{f13['body'].values[0]} (paper: S_v1 = {paper['fig14_sv1_cm_s']} cm/s) [{lab}]")
-    rep.figure(plot_sv1_spectrum(freqs, psv, sv_required=f13.attrs["sv_required"],
-                                 title=figure_title(title)), "fig14", title)
+    caption = (f"Fig. 14: mean PSV of the ground motions at A_gx50 = {a50:.2f} g of "
+               f"{f13['body'].values[0]} (paper: S_v1 = {paper['fig14_sv1_cm_s']} cm/s) [{lab}]")
+    rep.figure(plot_sv1_spectrum(freqs, psv, sv_required=f13.attrs["sv_required"]), "fig14",
+               caption)
     for fig_no, loc in zip((15, 16), locations):
-        title = f"Fig. {fig_no}: required S_v against A_gx50, bodies on the {loc} [{lab}]"
-        rep.figure(plot_sv_agx(b.sel(location=loc), title=figure_title(title)), f"fig{fig_no}",
-                   title)
+        rep.figure(plot_sv_agx(b.sel(location=loc)), f"fig{fig_no}",
+                   f"Fig. {fig_no}: required S_v against A_gx50, bodies on {_the(loc)} [{lab}]")
     _tables(b, rep, lab)
     _examples(result.examples, rep, lab)
 
@@ -122,7 +120,7 @@ def _tables(b: xr.Dataset, rep, lab: str) -> None:
         ratio = grid_table(b.sel(location=loc), "ratio")
         ratio.columns = [f"γ={g:g}" for g in ratio.columns]
         rep.table(_r_labels(ratio),
-                  f"Ratio S_v1/S_v for bodies on the {loc} (no table in the paper) [{lab}]",
+                  f"Ratio S_v1/S_v for bodies on {_the(loc)} (no table in the paper) [{lab}]",
                   name=f"table3-{slug(loc)}", floatfmt=".3f")
     rows = {f"ours, {loc}": ratio_stats(b["ratio"].sel(location=loc).values)
             for loc in b["location"].values}
@@ -130,6 +128,11 @@ def _tables(b: xr.Dataset, rep, lab: str) -> None:
     rep.table(pd.DataFrame.from_dict(rows, orient="index").rename_axis("ratio S_v1/S_v"),
               f"Table 3 in brief: number of bodies, mean, smallest and largest ratio [{lab}]",
               name="table3-stats", floatfmt=".3f")
+
+
+def _the(location: str) -> str:
+    """``location`` after "on": "the ground", but "floor 1" (of ...) as it is."""
+    return "the ground" if location == "ground" else location
 
 
 def _r_labels(table: pd.DataFrame) -> pd.DataFrame:
@@ -153,6 +156,6 @@ def _examples(ex: xr.Dataset, rep, lab: str) -> None:
         if i < len(paper["example_verdicts"]):
             row["verdict, paper"] = paper["example_verdicts"][i]
         rows.append(row)
-    rep.table(pd.DataFrame(rows), f"Worked examples of Section 8: bodies on the "
+    rep.table(pd.DataFrame(rows), f"Worked examples of Section 8: bodies on "
               f"{ex.attrs['location']} at A_gx = {ex.attrs['agx']:g} g [{lab}]",
               name="worked-examples", floatfmt=".2f")
