@@ -309,6 +309,17 @@ def test_figure_titles_do_not_repeat_their_captions(small_run):
             assert sentence not in title and title not in caption, (name, title)
 
 
+def test_report_quotes_the_ensemble_sizes_of_the_run(small_run):
+    # Every "N motions", "n=N" or "motions=N" in the report is a size this run used (Section 5
+    # keeps the preset's 25); the Table 3 note used to say "n = 200" whatever the run.
+    out, _ = small_run
+    md = (out / "report.md").read_text()
+    quoted = {int(n) for match in re.findall(r"(\d+) motions\b|\bn ?= ?(\d+)|motions=(\d+)", md)
+              for n in match if n}
+    assert quoted == {3, 25, 6, 5, 12}
+    assert "with the 12 motions of this run" in md
+
+
 def test_reproduce_bad_input_is_one_line(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[sec8]\nn = -\n")
