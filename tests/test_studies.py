@@ -320,6 +320,19 @@ def test_report_quotes_the_ensemble_sizes_of_the_run(small_run):
     assert "with the 12 motions of this run" in md
 
 
+def test_worked_examples_say_where_eq11_and_the_simulation_disagree(small_run):
+    # The quick run's γ = 2 example is judged "overturn>50%" by Eq. (11) beside a simulated
+    # P of about 0.05: the table now says so, and the report explains why they can differ.
+    out, _ = small_run
+    table = pd.read_csv(out / "tables" / "worked-examples.csv")
+    said = table["Eq. (11) vs Monte Carlo"]
+    same_side = (table["verdict by Eq. (11), ours"] == "safe") == (
+        table["P(overturn) simulated"] < 0.5)
+    assert (said.str.startswith("agree") == same_side).all()
+    md = (out / "report.md").read_text()
+    assert "Why Eq. (11) and the Monte Carlo probability can disagree" in md
+
+
 def test_reproduce_bad_input_is_one_line(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[sec8]\nn = -\n")

@@ -107,7 +107,7 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
                         backend=backend, progress=progress)
         table = results_table(ds)
         report = Report(f"Screening of {inv_path.name}", out)
-        report.text(_summary(ds, inv_path, notes))
+        report.text(_summary(ds, table, inv_path, notes))
         report.figure(plot_screen(ds), "sv-agx",
                       "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of "
                       "Eq. (11) against the A_gx of 50 % overturning probability; dashed: design "
@@ -130,11 +130,16 @@ _FLOORS = {
 }
 
 
-def _summary(ds, inv_path: Path, notes: list[str]) -> str:
-    """Markdown paragraph(s) above the figure."""
+def _summary(ds, table, inv_path: Path, notes: list[str]) -> str:
+    """Markdown paragraph(s) above the figure (``table``: :func:`rocking.screen.results_table`
+    of ``ds``)."""
+    from ..screen import AGREE, eq11_vs_monte_carlo_note
+
     a = ds.attrs
     n_fail_eq11 = int((ds["margin"].values <= 0.0).sum())
     n_fail_mc = int((ds["probability"].values >= 0.5).sum())
+    differ = [str(item) for item, c in zip(table["item"], table["Eq. (11) vs Monte Carlo"])
+              if not c.startswith(AGREE)]
     text = (
         f"Inventory `{inv_path}`: {ds.sizes['item']} items. Design spectrum: {a['spectrum']}; "
         f"design A_gx = {a['design_agx']:.3g} g (its zero-period acceleration). "
@@ -144,7 +149,10 @@ def _summary(ds, inv_path: Path, notes: list[str]) -> str:
         f"Hz.\n\n"
         f"- Housner's check (Eq. 11) fails for {n_fail_eq11} item(s) (margin ≤ 0).\n"
         f"- Monte Carlo: {n_fail_mc} item(s) overturn with probability ≥ 50 % at the design "
-        f"A_gx ({100 * a['confidence']:g} % Wilson intervals in the table).")
+        f"A_gx ({100 * a['confidence']:g} % Wilson intervals in the table).\n"
+        f"- The two disagree for {len(differ)} item(s){': ' if differ else ''}"
+        f"{', '.join(differ)} (column 'Eq. (11) vs Monte Carlo' says which way).\n\n"
+        + eq11_vs_monte_carlo_note(a["band_hz"]))
     if notes:
         text += "\n\n" + "\n".join(f"- **Warning:** {note}" for note in notes)
     return text

@@ -17,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from ..fragility import wilson_interval
+from ..screen import AGREE, eq11_vs_monte_carlo
 from .paper import paper_values
 from .sec5_sensitivity import reversals
 
@@ -327,7 +328,8 @@ def linear_fit(balance: xr.Dataset) -> tuple[float, float, float]:
 
 def conclusion_9(balance: xr.Dataset, examples: xr.Dataset | None = None) -> Verdict:
     """Energy balance: Section 8 ``balance`` (location, body) with ``ratio``, ``agx50``,
-    ``sv_required``; ``examples`` with ``verdict`` (Eq. 11) and simulated ``probability``."""
+    ``sv_required``; ``examples`` with ``verdict`` (Eq. 11) and simulated ``probability``,
+    ``ci_low``, ``ci_high``."""
     paper = paper_values()["section8"]
     parts, ok = [], []
     for i, loc in enumerate(balance["location"].values):
@@ -344,10 +346,12 @@ def conclusion_9(balance: xr.Dataset, examples: xr.Dataset | None = None) -> Ver
         ok.append(good)
     parts.append(f"paper (ground): range {paper['ratio_min']}–{paper['ratio_max']}")
     if examples is not None:
-        agree = [(v == "safe") == (p < 0.5) for v, p in
-                 zip(examples["verdict"].values, examples["probability"].values)]
+        compared = eq11_vs_monte_carlo(examples["verdict"].values,
+                                       examples["probability"].values,
+                                       examples["ci_low"].values, examples["ci_high"].values)
+        agree = sum(c.startswith(AGREE) for c in compared)
         parts.append(f"worked examples: Eq. (11) with our spectrum agrees with the simulated "
-                     f"probability for {sum(agree)} of {len(agree)} bodies")
+                     f"probability for {agree} of {len(compared)} bodies")
     evidence = "; ".join(parts) + (f" (thresholds: ground mean within ±{RATIO_MEAN:g} of 1 and "
                                    f"range within {RATIO_RANGE}, floor range within "
                                    f"{FLOOR_RANGE})")

@@ -23,6 +23,7 @@ from ..fragility import agx_50, overturning_probability
 from ..plots.fragility import plot_fragility, plot_sv1_spectrum, plot_sv_agx
 from ..spectra import response_spectrum
 from ..report import slug
+from ..screen import eq11_vs_monte_carlo, eq11_vs_monte_carlo_note
 from .conclusions import ratio_stats
 from .config import RunContext, resolve_bodies, resolve_frame
 from .paper import paper_table, paper_values
@@ -142,9 +143,12 @@ def _r_labels(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def _examples(ex: xr.Dataset, rep, lab: str) -> None:
-    """The two worked examples: Eq. (11) verdicts with our spectrum against the paper's, and
-    the simulated overturning probability at the same A_gx."""
+    """The two worked examples: Eq. (11) verdicts with our spectrum against the paper's, the
+    simulated overturning probability at the same A_gx, whether the two agree and why they can
+    differ."""
     paper = paper_values()["section8"]
+    compared = eq11_vs_monte_carlo(ex["verdict"].values, ex["probability"].values,
+                                   ex["ci_low"].values, ex["ci_high"].values)
     rows = []
     for i, body in enumerate(ex["body"].values):
         row = {"body": body, "required S_v [cm/s]": 100 * float(ex["sv_required"][i]),
@@ -152,10 +156,12 @@ def _examples(ex: xr.Dataset, rep, lab: str) -> None:
                "available S_v, paper [cm/s]": paper["example_floor_sv_cm_s"],
                "verdict by Eq. (11), ours": str(ex["verdict"].values[i]),
                "P(overturn) simulated": float(ex["probability"][i]),
-               "95 % CI": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}"}
+               "95 % CI": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}",
+               "Eq. (11) vs Monte Carlo": compared[i]}
         if i < len(paper["example_verdicts"]):
             row["verdict, paper"] = paper["example_verdicts"][i]
         rows.append(row)
     rep.table(pd.DataFrame(rows), f"Worked examples of Section 8: bodies on "
               f"{ex.attrs['location']} at A_gx = {ex.attrs['agx']:g} g [{lab}]",
               name="worked-examples", floatfmt=".2f")
+    rep.text(eq11_vs_monte_carlo_note(ex.attrs["band_hz"]))
