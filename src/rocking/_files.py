@@ -4,23 +4,14 @@
 renames it over the final name (:func:`os.replace`, atomic on POSIX and Windows): a process killed
 at any instant leaves either the old file or the new one, never a truncated one (at worst a stray
 hidden temporary file).  The file gets the permissions an ordinary ``open(path, "w")`` would give
-(0666 minus the umask); :func:`tempfile.mkstemp` alone would leave it private (0600).
+(0666 minus the umask in force); :func:`tempfile.mkstemp` would leave it private (0600).
 """
 
 from __future__ import annotations
 
-import functools
 import os
-import tempfile
+import secrets
 from pathlib import Path
-
-
-@functools.cache
-def _umask() -> int:
-    # The only portable way to read the umask is to set it and put it back (once per process).
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
 
 
 def atomic_write(path, data) -> Path:
@@ -35,10 +26,11 @@ def atomic_write(path, data) -> Path:
         that writes it (e.g. ``lambda f: numpy.savez(f, ...)``).
     """
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
+    # Created as open(path, "w") creates a file: mode 0666 less the umask in force, applied by
+    # the system (so a umask changed during the run is followed); O_EXCL: never an existing file.
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
     try:
-        if hasattr(os, "fchmod"):
-            os.fchmod(fd, 0o666 & ~_umask())
         with os.fdopen(fd, "wb") as fh:
             if callable(data):
                 data(fh)
@@ -46,11 +38,9 @@ def atomic_write(path, data) -> Path:
                 fh.write(data.encode("utf-8") if isinstance(data, str) else data)
             fh.flush()
             os.fsync(fh.fileno())
-        if not hasattr(os, "fchmod"):  # Windows: permissions by name
-            os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
     return path
 
