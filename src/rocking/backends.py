@@ -167,6 +167,8 @@ class DaskBackend:
         tasks (every worker lost, a task's workers killed too often, the scheduler gone); an
         exception raised by ``func`` itself is raised again as it is.
         """
+        from concurrent.futures import CancelledError
+
         from distributed import KilledWorker, as_completed
 
         try:
@@ -175,13 +177,15 @@ class DaskBackend:
             index = {f.key: i for i, f in enumerate(futures)}
             done = as_completed(futures, with_results=True, raise_errors=False)
             for future, result in done:
-                if future.status == "finished":
+                # a result was gathered: use it, whatever became of the worker holding it since
+                # (a future may read "lost" then, and its task is recomputed for nobody)
+                if not isinstance(result, BaseException):
                     yield index[future.key], result
-                elif isinstance(result, KilledWorker) or future.status == "cancelled":
+                elif isinstance(result, (KilledWorker, CancelledError)):
                     raise BackendError(f"the Dask cluster lost the workers of a task "
                                        f"({type(result).__name__}: {result})")
-                else:  # the task itself failed: not the cluster's doing
-                    raise result
+                else:
+                    raise result  # the task itself failed: not the cluster's doing
         except OSError as exc:  # the scheduler went away (CommClosedError is an OSError)
             raise BackendError(f"lost the connection to the Dask scheduler ({exc})") from None
 

@@ -34,6 +34,10 @@ STUDY_SECTIONS = {
     "7": "floors of shear frames (Figs. 11-12)",
     "8": "Housner's energy balance (Figs. 13-16, Tables 1-3, worked examples)",
 }
+#: Float format of CSV tables: 12 significant digits keep every value to far better than any
+#: result needs, and drop binary noise such as 0.23000000000046314 (an A_gx found on a 0.01 g
+#: grid, scaled and scaled back) or 1.8288000000000002 (6 ft in metres).
+CSV_FLOAT_FORMAT = "%.12g"
 #: The syntax of a design-spectrum specification (:func:`rocking.design_spectra.parse_spectrum`).
 SPECTRUM_SYNTAX = (
     "rg160:PGA (e.g. rg160:0.3; optional damping=0.05), "

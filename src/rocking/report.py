@@ -33,14 +33,11 @@ import markdown as _markdown
 import numpy as np
 
 from ._files import atomic_write
+from .defaults import CSV_FLOAT_FORMAT
 from .errors import InputError
 
 #: Resolution of the PNG figures [dots per inch].
 DPI = 110
-#: Float format of CSV tables: 12 significant digits keep every value to far better than any
-#: result needs, and drop binary noise such as 0.23000000000046314 (an A_gx found on a 0.01 g
-#: grid, scaled and scaled back) or 1.8288000000000002 (6 ft in metres).
-CSV_FLOAT_FORMAT = "%.12g"
 #: Name pattern of figures and tables (used as file names).
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 

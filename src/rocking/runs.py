@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 from ._files import atomic_write, save_figure
+from .defaults import CSV_FLOAT_FORMAT
 from .errors import InputError
 
 LOCK = ".rocking.lock"
@@ -138,8 +139,10 @@ class RunFolder:
         return atomic_write(self.file(name), data)
 
     def write_csv(self, name: str, table, **to_csv) -> Path:
-        """Write a pandas DataFrame as CSV (``to_csv`` options, default ``index=False``)."""
+        """Write a pandas DataFrame as CSV (``to_csv`` options; by default ``index=False`` and
+        floats to :data:`rocking.defaults.CSV_FLOAT_FORMAT`, no float noise)."""
         to_csv.setdefault("index", False)
+        to_csv.setdefault("float_format", CSV_FLOAT_FORMAT)
         return self.write(name, table.to_csv(**to_csv))
 
     def write_figure(self, name: str, fig, dpi: int = 150) -> Path:

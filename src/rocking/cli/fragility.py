@@ -119,7 +119,6 @@ def fragility_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, 
 
     from ..fragility import overturning_probability
     from ..plots.fragility import plot_fragility
-    from ..report import CSV_FLOAT_FORMAT
     from ..runs import RunFolder
 
     blocks = [b.block for b in bodies]
@@ -142,8 +141,7 @@ def fragility_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, 
         tidy = (ds[["probability", "count", "n", "ci_low", "ci_high"]].to_dataframe()
                 .reset_index()[["body", "R", "gamma", "agx", "probability", "count", "n",
                                 "ci_low", "ci_high"]])
-        run.write_csv("probabilities.csv", tidy,
-                      float_format=CSV_FLOAT_FORMAT)  # 12 significant digits: no float noise
+        run.write_csv("probabilities.csv", tidy)  # 12 significant digits: no float noise
         run.write_netcdf("probabilities.nc", ds)
         fit_table = pd.DataFrame({"body": ds["body"].values, "R": ds["R"].values,
                                   "gamma": ds["gamma"].values,
