@@ -206,7 +206,9 @@ def agx50_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_te
                 grid = grid_table(energy, var)
                 # float_format would also cut R and gamma: write them as text (R to 0.1 mm)
                 grid = grid.rename(index=lambda r: f"{r:.4f}", columns=lambda g: f"{g:g}")
-                run.write_csv(name, grid, float_format=fmt, index=True)
+                # the header says what the rows and the columns are
+                run.write_csv(name, grid, float_format=fmt, index=True,
+                              index_label="R [m] \\ gamma [-]")
         title = f"{ensemble.n} motions, {ensemble.meta.get('location', 'ground')}, e = {e}"
         run.write_figure("sv_agx.png", plot_sv_agx(energy, title=title))
         found = np.isfinite(energy["ratio"].values)

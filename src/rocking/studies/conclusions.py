@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from ..body import FOOT
 from ..fragility import wilson_interval
 from ..screen import AGREE, eq11_vs_monte_carlo
 from .paper import paper_values
@@ -448,6 +449,9 @@ def known_disagreements(results: dict) -> list[str]:
         ex = r8.examples
         ours = 100 * float(ex["sv_available"].values[0])
         paper = pv["section8"]["example_floor_sv_cm_s"]
+        # the paper's first worked example is R = 4 ft, γ = 2 (safe by Eq. 11 in the paper)
+        is_papers = (np.isclose(float(ex["R"].values[0]), 4 * FOOT, rtol=1e-6)
+                     and float(ex["gamma"].values[0]) == 2.0)
         items.append(
             f"**Floor spectrum of the worked examples.** Max of the mean S_v in 0.04–0.6 Hz on "
             f"{ex.attrs['location']} at A_gx = {ex.attrs['agx']:g} g: ours {ours:.1f} cm/s, "
@@ -455,8 +459,9 @@ def known_disagreements(results: dict) -> list[str]:
             "the paper does not give (how floor motions were scaled, the frequency grid of its "
             "spectra, its simulated motions' low-frequency content); the S_v1 of the ground "
             "(Table 2) agrees much better, so the difference lies in the floor motion. With our "
-            "spectrum the γ = 2.0 example is judged "
-            f"'{ex['verdict'].values[0]}' by Eq. (11) (the paper: safe); the simulated "
+            f"spectrum the example {ex['body'].values[0]} is judged "
+            f"'{ex['verdict'].values[0]}' by Eq. (11){' (the paper: safe)' if is_papers else ''}; "
+            "the simulated "
             f"probability of overturning is {float(ex['probability'].values[0]):.2f} "
             f"(95 % CI {float(ex['ci_low'].values[0]):.2f}–{float(ex['ci_high'].values[0]):.2f}).")
         g = ratio_stats(r8.balance["ratio"].isel(location=0).values)
