@@ -103,3 +103,10 @@ def test_table1_command_without_comparison_and_with_bad_gravity():
     assert bad.exit_code == 1 and "Traceback" not in bad.output
     assert bad.output.strip().splitlines() == ["Error: g must be a finite number > 0 [m/s²], "
                                                "got -1.0"]
+
+
+def test_label_writes_gamma_as_gamma():
+    # The label names bodies in tables, legends and datasets: γ was written "g" ("R=1.22m g=4"),
+    # which reads as gravity or grams.
+    assert Block(4 * FOOT, 4.0).label == "R=1.22 m, γ=4"
+    assert Block(10 * FOOT, 2.5).label == "R=3.05 m, γ=2.5"

@@ -41,3 +41,34 @@ def test_a_command_does_not_import_the_plotting_stack():
             "print('matplotlib' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip().splitlines()[-1] == "False"
+
+
+HEAVY = ("numpy", "numba", "scipy", "xarray", "pandas", "matplotlib", "dask")
+
+
+def test_help_and_option_errors_load_no_numerical_library():
+    # start-up time (issue 14: `rocking --help` and any command's argument errors in < 0.5 s):
+    # listing the commands imports every command module, so none may import the numerical stack
+    code = ("import sys\nfrom rocking.cli import main\n"
+            "for args in (['--help'], ['fragility', '--bogus'], ['simulate', '--R', '1'],\n"
+            "             ['screen', '--help'], ['reproduce', '9']):\n"
+            "    try:\n        main(args)\n    except SystemExit:\n        pass\n"
+            f"print(sorted(m for m in {HEAVY!r} if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_the_light_name_lists_match_the_library():
+    # the command line takes these names from rocking.defaults so as not to import the modules
+    # that define them; they must stay the same lists
+    from rocking import defaults
+    from rocking.cli.spectrum import UNIT_NAMES
+    from rocking.envelopes import ENVELOPES
+    from rocking.frames import PRESETS
+    from rocking.records import UNITS
+    from rocking.studies import STUDIES
+
+    assert sorted(defaults.ENVELOPE_NAMES) == sorted(ENVELOPES)
+    assert list(defaults.FRAME_PRESETS) == list(PRESETS)
+    assert list(defaults.STUDY_SECTIONS) == list(STUDIES)
+    assert sorted(UNIT_NAMES) == sorted(UNITS)

@@ -13,7 +13,7 @@ from click.testing import CliRunner
 
 from rocking.body import FOOT, G, Block
 from rocking.cli import main
-from rocking.cli.fragility import parse_range
+from rocking.cli._options import parse_range
 from rocking.errors import InputError
 from rocking.frames import ShearFrame
 from rocking.motions import NETCDF_ENGINE, generate
@@ -144,7 +144,7 @@ def test_example_bodies_are_shipped_and_hold_the_paper_section_8_pair(flat_spect
     # rows are the paper's R = 4 ft blocks given by H and B to 0.1 mm: Eq. (11) gives the same
     # 205.12 and 100.57 cm/s as the test above to 1e-4 (the rounding of H and B).
     data = json.loads(_run(["assess", "--bodies", "example", "--spectrum", flat_spectrum,
-                            "--json"]).output)
+                            "--json"]).stdout)
     need = {b["name"]: b["sv_required_cm_s"] for b in data["bodies"]}
     assert len(need) == 7
     assert need["paper stocky (R = 4 ft; gamma = 2)"] == pytest.approx(205.12, rel=1e-4)
@@ -235,3 +235,37 @@ def test_agx50_run_writes_tables_and_plot(tmp_path, motions, bodies):
                                (table["sv1_cm_s"] / table["sv_required_cm_s"])[ok], rtol=1e-5)
     grid = pd.read_csv(out / "table1_sv_required_cm_s.csv", index_col=0)
     assert grid.shape == (1, 2)
+
+
+@pytest.fixture(scope="module")
+def paper_run(tmp_path_factory, motions):
+    """``rocking fragility --bodies paper`` on the tiny ensemble at three A_gx levels."""
+    out = tmp_path_factory.mktemp("paper") / "out"
+    result = _run(["fragility", "--bodies", "paper", "--motions", motions, "--agx",
+                   "0.3:0.9:0.3", "--out", out, "--quiet"])
+    assert result.exit_code == 0, result.output
+    return out
+
+
+def test_fragility_csv_has_no_float_noise(paper_run):
+    # R = 6 ft = 6 * 0.3048 m is 1.8288000000000002 in binary and was written so; the CSV keeps
+    # 12 significant digits, which give back every R in feet and P = count/n to half a unit in
+    # the 12th digit.
+    text = (paper_run / "probabilities.csv").read_text()
+    assert "1.8288000000000002" not in text and ",1.8288," in text
+    assert not re.search(r"\d\.\d*(0{6}|9{6})\d", text), "float noise in probabilities.csv"
+    table = pd.read_csv(paper_run / "probabilities.csv")
+    feet = np.unique(table["R"]) / FOOT
+    np.testing.assert_allclose(feet, np.arange(4, 12), rtol=5e-12)
+    np.testing.assert_allclose(table["probability"], table["count"] / table["n"], rtol=5e-12)
+
+
+def test_paper_body_names_write_gamma_as_gamma(paper_run):
+    # Body names are Block labels: "R=1.22 m, γ=4", not "R=1.22m g=4" (γ read as "g").
+    for name in ("probabilities.csv", "lognormal.csv"):
+        table = pd.read_csv(paper_run / name)
+        assert "R=1.22 m, γ=4" in set(table["body"]), name
+        assert not table["body"].str.contains(r"\bg=").any(), name
+        assert "gamma" in table.columns
+    with xr.open_dataset(paper_run / "probabilities.nc", engine=NETCDF_ENGINE) as ds:
+        assert "R=3.35 m, γ=6" in ds["body"].values  # the netCDF-3 file keeps the name

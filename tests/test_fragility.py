@@ -14,6 +14,7 @@ import xarray as xr
 from rocking.body import Block
 from rocking.dynamics import simulate
 from rocking.errors import InputError
+from rocking.progress import Reporter
 from rocking.fragility import (LognormalFit, agx_50, fit_lognormal, overturning_probability,
                                wilson_interval)
 from rocking.motions import Ensemble, generate
@@ -143,9 +144,13 @@ def test_resume_loads_chunks_and_refuses_another_run(ensemble, tmp_path):
 
 
 def test_progress_bar_reports_simulations(ensemble, capsys):
-    overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=True)
+    # a reporter writing lines (as off a terminal) from the first instant (stages shorter than
+    # 2 s show nothing by default): the last line counts every simulation
+    reporter = Reporter(tty=False, delay=0.0)
+    overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=reporter)
     err = capsys.readouterr().err
     assert "P(overturn)" in err and f"{2 * ensemble.n}/{2 * ensemble.n}" in err
+    assert "\r" not in err  # lines, not a bar redrawn in place
     overturning_probability([Block(1.0, 3.0)], ensemble, [0.5, 1.0], progress=False)
     assert capsys.readouterr().err == ""
 
@@ -208,3 +213,66 @@ def test_killed_run_resumes_to_the_same_result(tmp_path):
     assert resumed.attrs["chunks_computed"] == n_chunks - len(finished)
     assert all(out.joinpath(name).stat().st_mtime_ns == t for name, t in finished.items())
     xr.testing.assert_identical(_science(resumed), _science(reference))
+
+
+def _curves_dataset(blocks, n=40):
+    """A probability dataset shaped like overturning_probability's: lognormal curves with the
+    median A_gx growing with R and falling with γ, Wilson intervals of n motions."""
+    agx = np.round(np.arange(1, 16) * 0.1, 12)
+    median = np.array([[0.4 * b.R / b.gamma ** 0.5] for b in blocks])
+    count = np.round(n * LognormalFit(1.0, 0.3).probability(agx[None, :] / median)).astype(int)
+    lo, hi = wilson_interval(count, n)
+    dims = ("body", "agx")
+    return xr.Dataset({"probability": (dims, count / n), "ci_low": (dims, lo),
+                       "ci_high": (dims, hi)},
+                      coords={"body": [b.label for b in blocks], "agx": agx,
+                              "R": ("body", [b.R for b in blocks]),
+                              "gamma": ("body", [b.gamma for b in blocks])},
+                      attrs={"confidence": 0.95})
+
+
+def _marked_lines(ax):
+    return [line for line in ax.get_lines() if line.get_marker() == "o"]
+
+
+def test_many_bodies_are_drawn_one_panel_per_size():
+    # The paper's 72 bodies were 72 curves on one axis (12 named in the legend, the rest not);
+    # now one panel per R with one curve per γ, coloured alike in every panel, γ named once.
+    from rocking.body import PAPER_GAMMAS, PAPER_R_FT, paper_bodies
+    from rocking.plots.fragility import plot_fragility
+
+    blocks = paper_bodies()
+    ds = _curves_dataset(blocks)
+    fits = {b.label: LognormalFit(0.4 * b.R / b.gamma ** 0.5, 0.3) for b in blocks}
+    fig = plot_fragility(ds, fits=fits, title="72 bodies")
+    assert [ax.get_title() for ax in fig.axes] == [f"R = {Block(f * 0.3048, 2).R:.2f} m"
+                                                    for f in PAPER_R_FT]
+    colours = None
+    for ax, r_ft in zip(fig.axes, PAPER_R_FT):
+        lines = _marked_lines(ax)
+        assert len(lines) == len(PAPER_GAMMAS)  # one curve per γ
+        mine = ds.sel(body=[Block(r_ft * 0.3048, g).label for g in PAPER_GAMMAS])
+        for line, p in zip(lines, mine["probability"].values):
+            np.testing.assert_array_equal(line.get_ydata(), p)
+        assert len([li for li in ax.get_lines() if li.get_linestyle() == "--"]) == 9  # fits
+        same = [line.get_color() for line in lines]
+        assert colours is None or same == colours  # γ has one colour in every panel
+        colours = same
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert labels == [f"γ = {g:g}" for g in PAPER_GAMMAS]
+
+
+def test_few_bodies_share_one_axis_and_many_gammas_get_a_colour_bar():
+    from rocking.plots.fragility import MAX_LEGEND, plot_fragility
+
+    few = [Block(1.0, g) for g in (3.0, 4.0, 5.0)]
+    fig = plot_fragility(_curves_dataset(few))
+    assert len(fig.axes) == 1 and len(_marked_lines(fig.axes[0])) == 3
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == \
+        [b.label for b in few]
+    # 2 sizes x 14 slenderness values: two panels and a colour bar instead of 14 legend entries
+    many = [Block(r, 2.0 + 0.25 * k) for r in (1.0, 2.0) for k in range(MAX_LEGEND + 2)]
+    fig = plot_fragility(_curves_dataset(many))
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    assert len(panels) == 2 and all(len(_marked_lines(ax)) == MAX_LEGEND + 2 for ax in panels)
+    assert len(fig.axes) == 3 and not fig.legends  # the third axis is the colour bar

@@ -111,10 +111,11 @@ def test_every_malformed_row_is_reported_with_its_row_number(tmp_path):
         read_inventory(path)
     msg = str(info.value)
     assert msg.startswith(f"10 malformed items in {path}")
+    # (row 10: the message of the one restitution parser, shared with simulate and the CLI)
     expected = {3: "missing width", 4: "height must be a number", 5: "width must be",
                 6: "unknown floor 9", 7: "unknown frame 'nosuchframe'", 8: "location must be",
-                9: "needs a frame", 10: "e must lie in", 11: "repeats that of row 2",
-                12: "missing name"}
+                9: "needs a frame", 10: "e must be a number in (0, 1]",
+                11: "repeats that of row 2", 12: "missing name"}
     for row, words in expected.items():
         line = next(li for li in msg.splitlines() if f"{path}: row {row}:" in li)
         assert words in line, line

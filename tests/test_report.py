@@ -2,6 +2,8 @@
 
 import base64
 import json
+import os
+import stat
 
 import numpy as np
 import pandas as pd
@@ -9,6 +11,7 @@ import pytest
 from matplotlib.figure import Figure
 
 import rocking
+from rocking.body import FOOT, Block
 from rocking.errors import InputError
 from rocking.report import Report, markdown_to_html, provenance, remove_report, slug
 
@@ -50,6 +53,44 @@ def test_report_writes_markdown_html_png_and_csv(tmp_path):
     assert csv["paper"].tolist() == [2.0, 3.0]
 
 
+def test_text_columns_are_left_aligned_and_numbers_right_aligned(tmp_path):
+    # Alignment follows each column's dtype (every cell used to be right-aligned); the index
+    # (row labels, here numbers) is shown with "g", not with the values' floatfmt.
+    rep = Report("Study", tmp_path)
+    df = pd.DataFrame({"body": ["a", "b"], "n": [3, 40], "P": [0.5, 0.25],
+                       "at risk": [True, False], "verdict": ["safe", "overturn>50%"]},
+                      index=pd.Index([1.22, 3.05], name="R [m]"))
+    rep.table(df, "mixed", name="mixed", floatfmt=".3f")
+    md_path, html_path = rep.write()
+    md = md_path.read_text()
+    assert "| R [m] | body | n | P | at risk | verdict |\n|---:|:---|---:|---:|:---|:---|" in md
+    assert "| 3.05 | b | 40 | 0.250 | False | overturn>50% |" in md
+    page = html_path.read_text()
+    assert ('<th>R [m]</th><th class="text">body</th><th>n</th><th>P</th>'
+            '<th class="text">at risk</th><th class="text">verdict</th>') in page
+    assert ('<td>1.22</td><td class="text">a</td><td>3</td><td>0.500</td>'
+            '<td class="text">True</td><td class="text">safe</td>') in page
+    assert "td.text { text-align: left; }" in page
+
+
+def test_csv_tables_carry_no_float_noise(tmp_path):
+    # 0.23000000000046314: an A_gx50 of 0.23 g found on a grid of 0.01·r g and divided by r
+    # (screening of a floor item); 6 * 0.3048 = 1.8288000000000002 (6 ft in metres). Both used to
+    # reach the CSV as written here; 12 significant digits drop the noise and keep real values
+    # (1/3, a Wilson bound) to a relative 5e-12, far below any sampling error.
+    rep = Report("Study", tmp_path)
+    df = pd.DataFrame({"Agx50 [g]": [0.23000000000046314, 0.1 + 0.2],
+                       "R [m]": [6 * 0.3048, 0.5], "P": [1 / 3, 0.9568342712073097],
+                       "count": [7, 200]})
+    path = rep.table(df, "noisy", name="noisy")
+    lines = path.read_text().splitlines()
+    assert lines[1].startswith("0.23,1.8288,0.333333333333,") and lines[1].endswith(",7")
+    assert lines[2].startswith("0.3,0.5,")
+    back = pd.read_csv(path)
+    np.testing.assert_allclose(back["P"], df["P"], rtol=5e-12)  # half a unit in the 12th digit
+    assert back["count"].tolist() == [7, 200]
+
+
 def test_interrupted_write_leaves_no_report(tmp_path, monkeypatch):
     rep = Report("Study", tmp_path)
     rep.text("partial")
@@ -87,6 +128,16 @@ def test_slug_makes_file_names():
     assert slug("floor 1") == "floor_1" and slug("///") == "unnamed"
 
 
+def test_slug_of_a_body_label_is_a_valid_distinct_name(tmp_path):
+    # Body labels carry "γ", a comma and spaces; the slug spells γ out rather than dropping it.
+    labels = [Block(4 * FOOT, g).label for g in (2.0, 2.5)]
+    names = [slug(label) for label in labels]
+    assert names == ["R_1.22_m_gamma_2", "R_1.22_m_gamma_2.5"]
+    rep = Report("Study", tmp_path)
+    for name in names:  # accepted as figure names (file names)
+        assert rep.figure(_figure(), name, "caption").name == f"{name}.png"
+
+
 def test_markdown_renders_lists_and_links():
     html = markdown_to_html("a\nb\n\n* x\n  y")
     assert html.startswith("<p>a") and "<ul>" in html and "<li>x" in html
@@ -103,3 +154,48 @@ def test_provenance_records_versions_and_parameters(tmp_path):
     with pytest.raises(TypeError, match="run.json"):
         provenance(tmp_path, thing=object())
     assert json.loads(path.read_text())["backend"] == "local"  # the failed write left it intact
+
+
+@pytest.mark.skipif(os.name != "posix", reason="file modes and umask are POSIX")
+@pytest.mark.parametrize("umask", [0o022, 0o027, 0o077])
+def test_written_files_get_the_mode_open_would_give(tmp_path, umask):
+    # Reference: a file made by open(..., "w") under the same umask (0666 & ~umask). The old
+    # writer went through tempfile.mkstemp, so every report file came out 0600; the shared
+    # writer then read the umask once per process, so 0o027 and 0o077 after 0o022 failed.
+    old = os.umask(umask)
+    try:
+        with open(tmp_path / "reference.txt", "w") as fh:
+            fh.write("x")
+        rep = Report("Study", tmp_path / "out")
+        rep.figure(_figure(), "fig", "a figure")
+        rep.table(pd.DataFrame({"x": [1.0]}), "a table", name="tab")
+        rep.write()
+        provenance(tmp_path / "out", status="complete")
+    finally:
+        os.umask(old)
+    expected = stat.S_IMODE((tmp_path / "reference.txt").stat().st_mode)
+    assert expected == 0o666 & ~umask
+    out = tmp_path / "out"
+    for name in ("report.md", "report.html", "figures/fig.png", "tables/tab.csv", "run.json"):
+        assert stat.S_IMODE((out / name).stat().st_mode) == expected, name
+
+
+def test_failed_html_write_leaves_no_page(tmp_path, monkeypatch):
+    # The pages are now written one after the other by the package's one atomic writer: if the
+    # second (report.html) fails on disk, the first must not stay behind looking like a result.
+    import rocking._files
+    import rocking.report
+
+    rep = Report("Study", tmp_path)
+    rep.text("partial")
+    real = rocking._files.atomic_write
+
+    def full_disk(path, data):
+        if path.name == "report.html":
+            raise OSError("no space left on device")
+        return real(path, data)
+
+    monkeypatch.setattr(rocking.report, "atomic_write", full_disk)
+    with pytest.raises(OSError, match="no space"):
+        rep.write()
+    assert sorted(p.name for p in tmp_path.iterdir()) == []

@@ -9,6 +9,7 @@ import json
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 from click.testing import CliRunner
 
@@ -19,7 +20,7 @@ from rocking.energy import available_sv
 from rocking.frames import ShearFrame
 from rocking.motions import generate
 from rocking.plots.screen import plot_screen
-from rocking.screen import screen
+from rocking.screen import eq11_vs_monte_carlo, screen
 
 # S_D1 = 0.9 g: available S_v on the ground = S_D1·g/(2π) = 1.40471 m/s (the PSV plateau from
 # T_s = 0.6 s to T_L = 8 s covers the band 0.04–0.6 Hz up to 8 s); ZPA 0.4·S_DS = 0.6 g.
@@ -137,6 +138,18 @@ def test_plot(result):
     assert "[g]" in ax.get_xlabel() and "[cm/s]" in ax.get_ylabel()
 
 
+def test_eq11_and_monte_carlo_agreement_says_which_way():
+    # Eq. (11) is a 50 % estimate: "safe" agrees with P < 0.5, "overturn>50%" with P >= 0.5.
+    # Cases (verdict, P, Wilson interval): the screening of the example inventory has rows like
+    # the second ("overturn>50%" beside P = 0.05) and the last one is unsure (interval spans 0.5).
+    got = eq11_vs_monte_carlo(["safe", "overturn>50%", "safe", "overturn>50%", "safe"],
+                              [0.02, 0.05, 0.8, 0.9, 0.45],
+                              [0.0, 0.01, 0.65, 0.8, 0.3], [0.1, 0.17, 0.9, 0.96, 0.6])
+    assert list(got) == ["agree", "disagree: Eq. (11) overturn, simulated P < 50 %",
+                         "disagree: Eq. (11) safe, simulated P ≥ 50 %", "agree",
+                         "agree; Wilson interval spans 50 %"]
+
+
 def write_inventory(tmp_path, text=INVENTORY):
     path = tmp_path / "inv.csv"
     path.write_text(text)
@@ -160,6 +173,27 @@ def test_cli_writes_table_figure_and_report(tmp_path):
     rows = (out / "tables" / "screen.csv").read_text().splitlines()
     assert len(rows) == 1 + 5 and rows[0].startswith("item,location")
     assert json.loads((out / "run.json").read_text())["n_motions"] == 8
+
+
+def test_cli_report_says_where_eq11_and_monte_carlo_disagree(tmp_path):
+    out = tmp_path / "out"
+    res = run([str(write_inventory(tmp_path)), "--spectrum", "asce7:SDS=1.5,SD1=0.9,TL=8",
+               "--frame", "paper-2.0", "--out", str(out), "--n", "8", "--duration", "5",
+               "--resolution", "0.05", "--agx-max", "3"])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out / "tables" / "screen.csv")
+    said = table["Eq. (11) vs Monte Carlo"]
+    eq11_overturn = table["Eq. (11) verdict"] == "overturn>50%"
+    mc_overturn = table["P(overturn) [-]"] >= 0.5
+    assert (said.str.startswith("agree") == (eq11_overturn == mc_overturn)).all()
+    assert (said[eq11_overturn & ~mc_overturn].str.contains("Eq. (11) overturn", regex=False)).all()
+    assert (said[~eq11_overturn & mc_overturn].str.contains("Eq. (11) safe", regex=False)).all()
+    md = (out / "report.md").read_text()
+    differ = table["item"][~said.str.startswith("agree")]
+    assert f"The two disagree for {len(differ)} item(s)" in md
+    assert all(item in md for item in differ)
+    assert "Why Eq. (11) and the Monte Carlo probability can disagree" in md
+    assert "Wilson interval says how sure" in md and "8 spectrum-compatible motions" in md
 
 
 def test_cli_bad_rows_give_one_error_and_no_report(tmp_path):

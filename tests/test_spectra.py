@@ -485,7 +485,7 @@ def test_assess_and_screen_take_the_spectra_our_commands_write(tmp_path):
         result = runner.invoke(main, ["assess", "--bodies", "example", "--spectrum", spec,
                                       "--json"])
         assert result.exit_code == 0, result.output
-        available = json.loads(result.output)["sv_available_cm_s"]
+        available = json.loads(result.stdout)["sv_available_cm_s"]  # progress goes to stderr
         assert available == pytest.approx(psv_cm_s.max(), rel=rtol)
     result = runner.invoke(main, ["assess", "--bodies", "example", "--spectrum", str(floors)])
     assert result.exit_code == 1 and "choose one, e.g." in result.output

@@ -2,8 +2,10 @@
 of ``rocking reproduce all --fidelity quick``."""
 
 import json
+import re
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 from click.testing import CliRunner
@@ -245,9 +247,90 @@ def test_reproduce_all_quick(quick_run):
         assert (out / "figures" / f"{fig}.png").exists(), fig
     assert page.count("data:image/png;base64,") == len(list((out / "figures").iterdir()))
     run = json.loads((out / "run.json").read_text())
-    assert run["status"] == "complete" and run["version"] == rocking.__version__
+    assert run["status"] == "completed" and run["version"] == rocking.__version__
     assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "total"}
     assert run["parameters"] == PRESETS["quick"] and not run["modified"]
+
+
+def test_reproduce_report_writes_gamma_as_gamma(quick_run):
+    # Body names, table headers and legends used to write γ as "g" ("R=1.22m g=4").
+    result, out = quick_run
+    md = (out / "report.md").read_text()
+    assert "R=1.22 m, γ=4" in md
+    assert not re.search(r"\bg=", md)
+    for table in (out / "tables").iterdir():
+        assert not re.search(r"\bg=", table.read_text()), table.name
+    floor = pd.read_csv(out / "tables" / "table3-floor_1.csv")
+    assert list(floor.columns) == ["R [m]", "γ=2", "γ=4", "γ=6"]  # were 2.0, 4.0, 6.0
+    reversals_table = pd.read_csv(out / "tables" / "sec5-reversals.csv")
+    assert "γ" in set(reversals_table["factor"]) and "gamma" not in set(reversals_table["factor"])
+
+
+#: Sizes of the small run below (each section's ensemble differs from the preset's).
+SMALL_SETS = ["sec4.n_check=3", "sec6.n=6", "sec7.n=5", "sec8.n=12"]
+
+
+def _titles(fig) -> list[str]:
+    """Every title of a figure (its suptitle and each panel's three titles), whitespace
+    normalised."""
+    texts = [fig.get_suptitle()] + [ax.get_title(loc) for ax in fig.axes
+                                     for loc in ("left", "center", "right")]
+    return [" ".join(t.split()) for t in texts if t.strip()]
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    """All sections with smaller ensembles than the quick preset (SMALL_SETS); records the
+    titles and caption of every figure the report receives."""
+    from rocking.report import Report
+
+    out = tmp_path_factory.mktemp("small") / "out"
+    shown = []
+    original = Report.figure
+
+    def recording(self, fig, name, caption):
+        shown.append((name, caption, _titles(fig)))
+        return original(self, fig, name, caption)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Report, "figure", recording)
+        reproduce(list("45678"), fidelity="quick", out_dir=out, sets=SMALL_SETS)
+    return out, shown
+
+
+def test_figure_titles_do_not_repeat_their_captions(small_run):
+    # Every study figure used to carry its caption, wrapped, as its title; the report shows the
+    # caption under it, so the sentence appeared twice.
+    _, shown = small_run
+    assert len(shown) >= 20
+    for name, caption, titles in shown:
+        sentence = " ".join(caption.split(" [")[0].split())
+        for title in titles:
+            assert sentence not in title and title not in caption, (name, title)
+
+
+def test_report_quotes_the_ensemble_sizes_of_the_run(small_run):
+    # Every "N motions", "n=N" or "motions=N" in the report is a size this run used (Section 5
+    # keeps the preset's 25); the Table 3 note used to say "n = 200" whatever the run.
+    out, _ = small_run
+    md = (out / "report.md").read_text()
+    quoted = {int(n) for match in re.findall(r"(\d+) motions\b|\bn ?= ?(\d+)|motions=(\d+)", md)
+              for n in match if n}
+    assert quoted == {3, 25, 6, 5, 12}
+    assert "with the 12 motions of this run" in md
+
+
+def test_worked_examples_say_where_eq11_and_the_simulation_disagree(small_run):
+    # The quick run's γ = 2 example is judged "overturn>50%" by Eq. (11) beside a simulated
+    # P of about 0.05: the table now says so, and the report explains why they can differ.
+    out, _ = small_run
+    table = pd.read_csv(out / "tables" / "worked-examples.csv")
+    said = table["Eq. (11) vs Monte Carlo"]
+    same_side = (table["verdict by Eq. (11), ours"] == "safe") == (
+        table["P(overturn) simulated"] < 0.5)
+    assert (said.str.startswith("agree") == same_side).all()
+    md = (out / "report.md").read_text()
+    assert "Why Eq. (11) and the Monte Carlo probability can disagree" in md
 
 
 def test_reproduce_bad_input_is_one_line(tmp_path):
@@ -289,7 +372,7 @@ def test_failed_run_leaves_no_report(tmp_path, monkeypatch):
 
 SIGTERM_SCRIPT = """
 import sys, threading
-import rocking.studies
+import rocking.backends
 from rocking.backends import LocalBackend
 from rocking.cli import main
 
@@ -301,7 +384,7 @@ class WaitAfterFirstChunk(LocalBackend):
         yield next(results)
         threading.Event().wait(600)  # bounded: never an orphan
 
-rocking.studies.get_backend = lambda scheduler=None: WaitAfterFirstChunk()
+rocking.backends.get_backend = lambda scheduler=None: WaitAfterFirstChunk()
 main(sys.argv[1:], prog_name="rocking")
 """
 

@@ -1,8 +1,13 @@
 """All Numba settings in one place.
 
 Every compiled kernel of the package is declared with :func:`kernel` (serial) or
-:func:`parallel_kernel`, so that ``cache=True`` (compiled code stored next to the sources and
-reused by later processes) and ``fastmath``/``error_model`` choices are uniform.
+:func:`parallel_kernel`, so that ``cache=True`` (compiled code stored on disk and reused by later
+processes) and ``fastmath``/``error_model`` choices are uniform.
+
+The compiled code goes to the user's cache folder (:func:`cache_dir`), not next to the sources:
+an installation may be read-only (a system or container install), and one cache per user serves
+every virtual environment and checkout (Numba keys each entry by the source file's path and time
+stamp, so different sources never share one).  ``NUMBA_CACHE_DIR``, when the user sets it, wins.
 
 No kernel uses ``fastmath``: without it LLVM neither reassociates nor contracts floating-point
 operations, so the same expression gives the same bits in a scalar loop and in a SIMD loop (the
@@ -12,7 +17,9 @@ batched kernel relies on this).  Fused multiply–adds are written explicitly wi
 from __future__ import annotations
 
 import math
+import os
 from fractions import Fraction
+from pathlib import Path
 
 import numba
 from llvmlite import ir
@@ -24,20 +31,48 @@ from numba.extending import intrinsic, overload
 _COMMON = dict(cache=True, nogil=True, error_model="numpy")
 
 
+def cache_dir() -> Path:
+    """Folder of the compiled kernels: ``$ROCKING_CACHE_DIR`` if set, else ``numba`` in the
+    user's cache folder of the platform (e.g. ``~/.cache/rocking/numba`` on Linux)."""
+    root = os.environ.get("ROCKING_CACHE_DIR")
+    if not root:
+        import platformdirs
+
+        root = platformdirs.user_cache_dir("rocking")
+    return Path(root) / "numba"
+
+
+def _compile(options: dict, func):
+    """``numba.njit(**options)(func)`` with the cache in :func:`cache_dir`.
+
+    Numba picks the cache folder of a function when it is decorated (from ``config.CACHE_DIR``),
+    so the setting is applied for that moment only and other Numba users are not affected.
+    """
+    if numba.config.CACHE_DIR:  # the user's NUMBA_CACHE_DIR
+        return numba.njit(**options)(func)
+    numba.config.CACHE_DIR = str(cache_dir())
+    try:
+        return numba.njit(**options)(func)
+    finally:
+        numba.config.CACHE_DIR = ""
+
+
+def _decorator(options: dict, args):
+    if args and callable(args[0]):
+        return _compile(options, args[0])
+    if args:  # explicit signatures would compile at import: not used by the package
+        raise TypeError("kernel() takes options only")
+    return lambda func: _compile(options, func)
+
+
 def kernel(*args, **kw):
     """``numba.njit`` with the package's settings (serial)."""
-    opts = {**_COMMON, **kw}
-    if args and callable(args[0]):
-        return numba.njit(**opts)(args[0])
-    return numba.njit(*args, **opts)
+    return _decorator({**_COMMON, **kw}, args)
 
 
 def parallel_kernel(*args, **kw):
     """``numba.njit(parallel=True)`` with the package's settings."""
-    opts = {**_COMMON, "parallel": True, **kw}
-    if args and callable(args[0]):
-        return numba.njit(**opts)(args[0])
-    return numba.njit(*args, **opts)
+    return _decorator({**_COMMON, "parallel": True, **kw}, args)
 
 
 prange = numba.prange

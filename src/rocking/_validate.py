@@ -56,6 +56,27 @@ def finite_array(name: str, values, *, ndim: tuple[int, ...] = (1,), min_len: in
     return a
 
 
+HOUSNER = "housner"
+
+
+def restitution(value, name: str = "e"):
+    """A coefficient of restitution as given by a user: a number in (0, 1] [-] (float), or
+    the word ``"housner"`` (returned as such; 1 − 1.5·sin²α of each block, resolved by
+    :func:`rocking.dynamics.resolve_e`).  Text is accepted for both (command line, tables)."""
+    if isinstance(value, str):
+        if value.strip().lower() == HOUSNER:
+            return HOUSNER
+        try:
+            value = float(value)
+        except ValueError:
+            raise InputError(f"{name} must be a number in (0, 1] or 'housner', "
+                             f"got {value!r}") from None
+    try:
+        return in_range(name, value, 0.0, 1.0, lo_open=True, unit="-")
+    except InputError:
+        raise InputError(f"{name} must be a number in (0, 1] or 'housner', got {value!r}") from None
+
+
 def read_toml(path, label: str | None = None) -> dict:
     """The TOML file ``path`` as a dict; a syntax error is an InputError that starts with
     ``label`` (default: the path)."""
@@ -69,3 +90,26 @@ def read_toml(path, label: str | None = None) -> dict:
 
 def _u(unit: str) -> str:
     return f" [{unit}]" if unit else ""
+
+
+def require_memory(nbytes: float, what: str) -> None:
+    """Refuse work that would need more memory than is available, before it starts.
+
+    ``nbytes`` is the estimated peak [bytes]; ``what`` says what needs it, e.g.
+    ``"--n: 1,000,000,000 motions of 8,001 samples"``.  Raises :class:`InputError` with both
+    figures when the estimate exceeds the memory available now (``psutil``).
+    """
+    import psutil
+
+    available = psutil.virtual_memory().available
+    if nbytes > available:
+        raise InputError(f"{what} would need about {_bytes(nbytes)} of memory; "
+                         f"{_bytes(available)} are available")
+
+
+def _bytes(n: float) -> str:
+    for unit in ("bytes", "kB", "MB", "GB", "TB", "PB"):
+        if n < 1000.0 or unit == "PB":
+            return f"{n:.0f} {unit}" if unit == "bytes" else f"{n:.3g} {unit}"
+        n /= 1000.0
+    raise AssertionError("unreachable")

@@ -27,7 +27,7 @@ import weakref
 
 import numba
 
-from .errors import InputError
+from .errors import BackendError, InputError
 
 
 def _call(func, threads, handle, task):
@@ -161,14 +161,33 @@ class DaskBackend:
         return future
 
     def map(self, func, handle, tasks):
-        """Submit one Dask task per entry of ``tasks``; yield ``(i, result)`` as they finish."""
-        from distributed import as_completed
+        """Submit one Dask task per entry of ``tasks``; yield ``(i, result)`` as they finish.
 
-        futures = [self.client.submit(_call, func, self.threads, handle, task, pure=False)
-                   for task in tasks]
-        index = {f.key: i for i, f in enumerate(futures)}
-        for future, result in as_completed(futures, with_results=True):
-            yield index[future.key], result
+        Raises :class:`~rocking.errors.BackendError` when the cluster can no longer compute the
+        tasks (every worker lost, a task's workers killed too often, the scheduler gone); an
+        exception raised by ``func`` itself is raised again as it is.
+        """
+        from concurrent.futures import CancelledError
+
+        from distributed import KilledWorker, as_completed
+
+        try:
+            futures = [self.client.submit(_call, func, self.threads, handle, task, pure=False)
+                       for task in tasks]
+            index = {f.key: i for i, f in enumerate(futures)}
+            done = as_completed(futures, with_results=True, raise_errors=False)
+            for future, result in done:
+                # a result was gathered: use it, whatever became of the worker holding it since
+                # (a future may read "lost" then, and its task is recomputed for nobody)
+                if not isinstance(result, BaseException):
+                    yield index[future.key], result
+                elif isinstance(result, (KilledWorker, CancelledError)):
+                    raise BackendError(f"the Dask cluster lost the workers of a task "
+                                       f"({type(result).__name__}: {result})")
+                else:
+                    raise result  # the task itself failed: not the cluster's doing
+        except OSError as exc:  # the scheduler went away (CommClosedError is an OSError)
+            raise BackendError(f"lost the connection to the Dask scheduler ({exc})") from None
 
     def close(self) -> None:
         """Close the client (and the local cluster if this backend started it)."""

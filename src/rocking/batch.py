@@ -44,9 +44,8 @@ import numpy as np
 
 from ._numba import highest_bit, kernel, parallel_kernel, prange
 from ._validate import finite_array, positive
-from .body import G, Block
-from .dynamics import (_OVERTURNED, _REST, _ROCKING, _advance_events, _plain_step, _uplifts,
-                       resolve_e, resolve_overturn_angle)
+from .body import G, Block, resolve_e, resolve_overturn_angle
+from .dynamics import _OVERTURNED, _REST, _ROCKING, _advance_events, _plain_step, _uplifts
 from .errors import InputError
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).

@@ -85,7 +85,7 @@ def read_bodies_table(path) -> list[NamedBody]:
     bodies, seen = [], {}
     for row, (lineno, cells) in enumerate(lines[1:], start=1):
         where = f"{path}: row {row} (line {lineno})"
-        if len(cells) < len(columns):
+        if len(cells) != len(columns):
             raise InputError(f"{where}: {len(cells)} value(s) for {len(columns)} columns "
                              f"({', '.join(columns)})")
         values = dict(zip(columns, cells))

@@ -10,10 +10,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ._validate import positive
-
-#: Standard gravity [m/s²].
-G = 9.80665
+from ._validate import HOUSNER, in_range, positive, restitution
+from .defaults import GAMMA_RANGE, R_RANGE_M, G
+from .errors import InputError
 #: One international foot [m]; the paper's sizes are whole feet printed in metres.
 FOOT = 0.3048
 #: Size parameters of the paper's 72 bodies (Tables 1–3): R = 4…11 ft, printed as 1.22…3.35 m.
@@ -29,17 +28,26 @@ class Block:
     Parameters
     ----------
     R : float
-        Size parameter, half the diagonal ½·sqrt(H² + B²) [m]; finite, > 0.
+        Size parameter, half the diagonal ½·sqrt(H² + B²) [m], in
+        :data:`rocking.defaults.R_RANGE_M` (1 mm to 1 km).
     gamma : float
-        Slenderness ratio H/B [-]; finite, > 0 (γ < 1 is a squat block: legal, just stable).
+        Slenderness ratio H/B [-], in :data:`rocking.defaults.GAMMA_RANGE` (0.01 to 100; γ < 1 is
+        a squat block: legal, just stable).
     """
 
     R: float
     gamma: float
 
     def __post_init__(self):
-        object.__setattr__(self, "R", positive("R", self.R, "m"))
-        object.__setattr__(self, "gamma", positive("gamma", self.gamma, "-"))
+        R = positive("R", self.R, "m")
+        gamma = positive("gamma", self.gamma, "-")
+        for name, value, (lo, hi), unit in (("R", R, R_RANGE_M, " m"),
+                                            ("gamma", gamma, GAMMA_RANGE, "")):
+            if not lo <= value <= hi:
+                raise InputError(f"{name} = {value:g}{unit} is outside the range of bodies the "
+                                 f"model is meant for ({lo:g} to {hi:g}{unit}); check the units")
+        object.__setattr__(self, "R", R)
+        object.__setattr__(self, "gamma", gamma)
 
     @classmethod
     def from_dimensions(cls, H: float, B: float) -> "Block":
@@ -87,11 +95,27 @@ class Block:
 
     @property
     def label(self) -> str:
-        """Short name for tables and plots, e.g. ``"R=1.22m g=4"`` (R to the cm)."""
-        return f"R={self.R:.2f}m g={self.gamma:g}"
+        """Short name for tables and plots, e.g. ``"R=1.22 m, γ=4"`` (R to the cm)."""
+        return f"R={self.R:.2f} m, γ={self.gamma:g}"
 
     def __str__(self) -> str:
         return f"Block(R={self.R:g} m, gamma={self.gamma:g})"
+
+
+def resolve_e(e, block: Block) -> float:
+    """Coefficient of restitution [-]: a number in (0, 1], or ``"housner"`` for 1 − 1.5·sin²α."""
+    value = restitution(e)
+    return block.housner_e() if value == HOUSNER else value
+
+
+def resolve_overturn_angle(overturn_angle, block: Block) -> float:
+    """Overturning angle [rad]: a number in (0, π/2], or ``"alpha"`` for the critical angle α."""
+    if isinstance(overturn_angle, str):
+        if overturn_angle.strip().lower() == "alpha":
+            return block.alpha
+        raise InputError(f"overturn_angle must be an angle in (0, pi/2] rad or 'alpha', "
+                         f"got {overturn_angle!r}")
+    return in_range("overturn_angle", overturn_angle, 0.0, math.pi / 2, lo_open=True, unit="rad")
 
 
 def paper_bodies() -> list[Block]:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ._validate import finite_array, in_range, positive
+from .defaults import SPECTRUM_SYNTAX
 from .errors import InputError
 from .spectra import RG160, TabulatedSpectrum, TargetSpectrum, _freqs
 
@@ -247,15 +248,6 @@ def design_pga(spectrum: TargetSpectrum) -> float:
 
 
 #: Help text of :func:`parse_spectrum` (also shown by ``rocking screen --help``).
-SPECTRUM_SYNTAX = (
-    "rg160:PGA (e.g. rg160:0.3; optional damping=0.05), "
-    "asce7:SDS=…,SD1=…,TL=… (g, g, s), "
-    "ec8:type=1|2,ground=A…E,ag=… (a_gR in g; optional importance=…, damping=…), "
-    "or a CSV file of frequency [Hz] or period [s] and PSA [g] or PSV [cm/s or m/s] (e.g. a "
-    "floor response spectrum, or the output of 'rocking spectrum --csv' or 'rocking frame "
-    "spectra --csv'), FILE:NAME choosing one spectrum of a file that holds several (a record, "
-    "a floor)")
-
 _KINDS = {
     "rg160": (RG160, {"pga": "pga", "damping": "damping"}, "pga"),
     "asce7": (ASCE7, {"sds": "SDS", "sd1": "SD1", "tl": "TL"}, None),
@@ -266,7 +258,7 @@ _TEXT_KEYS = {"ground", "type"}
 
 
 def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpectrum:
-    """A target spectrum from a short specification (see :data:`SPECTRUM_SYNTAX`).
+    """A target spectrum from a short specification (:data:`rocking.defaults.SPECTRUM_SYNTAX`).
 
     ``KIND:key=value,key=value`` with KIND one of rg160, asce7, ec8 (keys are case-insensitive;
     ``rg160:0.3`` is short for ``rg160:pga=0.3``); anything else is read as a CSV file
@@ -299,6 +291,8 @@ def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpe
             if name is None:
                 raise InputError(f"spectrum {text!r}: unknown key {key.strip()!r} for {kind}; "
                                  f"known: {', '.join(keys.values())}")
+            if name in kwargs:
+                raise InputError(f"spectrum {text!r}: {name} is given twice")
             kwargs[name] = value.strip() if name in _TEXT_KEYS else _number(text, name, value)
         try:
             return cls(**kwargs)
@@ -308,6 +302,7 @@ def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpe
                              f"(syntax: {SPECTRUM_SYNTAX})") from None
         except InputError as exc:
             raise InputError(f"spectrum {text!r}: {exc}") from None
+
     def located(name: str) -> Path:
         path = Path(name)
         return Path(base_dir) / path if base_dir is not None and not path.is_absolute() else path

@@ -47,7 +47,7 @@ import numpy as np
 
 from ._numba import fma, kernel
 from ._validate import finite_array, in_range, positive
-from .body import G, Block
+from .body import G, Block, resolve_e, resolve_overturn_angle
 from .errors import InputError
 
 #: A bounce shorter than this fraction of the time step ends an impact sequence (block at rest).
@@ -715,25 +715,6 @@ class RockingResponse:
             "max_abs_theta_rad": float(self.max_abs_theta),
             "max_abs_theta_over_alpha": float(self.max_abs_theta / self.block.alpha),
         }
-
-
-def resolve_e(e, block: Block) -> float:
-    """Coefficient of restitution [-]: a number in (0, 1], or ``"housner"`` for 1 − 1.5·sin²α."""
-    if isinstance(e, str):
-        if e.strip().lower() == "housner":
-            return block.housner_e()
-        raise InputError(f"e must be a number in (0, 1] or 'housner', got {e!r}")
-    return in_range("e", e, 0.0, 1.0, lo_open=True)
-
-
-def resolve_overturn_angle(overturn_angle, block: Block) -> float:
-    """Overturning angle [rad]: a number in (0, π/2], or ``"alpha"`` for the critical angle α."""
-    if isinstance(overturn_angle, str):
-        if overturn_angle.strip().lower() == "alpha":
-            return block.alpha
-        raise InputError(f"overturn_angle must be an angle in (0, pi/2] rad or 'alpha', "
-                         f"got {overturn_angle!r}")
-    return in_range("overturn_angle", overturn_angle, 0.0, math.pi / 2, lo_open=True, unit="rad")
 
 
 def simulate(block: Block, ag, dt: float, *, e=0.925, overturn_angle=math.pi / 2,

@@ -26,12 +26,11 @@ import xarray as xr
 from ._validate import in_range, positive
 from .batch import block_list
 from .body import G, housner_sv
+from .defaults import BAND_HZ
 from .errors import InputError
 from .motions import Ensemble
 from .spectra import RG160, ResponseSpectrum, TabulatedSpectrum, TargetSpectrum, response_spectrum
 
-#: The paper's band for the available S_v [Hz] (Section 8).
-BAND_HZ = (0.04, 0.6)
 #: Default number of log-spaced oscillator frequencies in the band [-].
 N_FREQS = 200
 #: Verdicts of :func:`assess`.

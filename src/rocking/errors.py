@@ -12,3 +12,8 @@ class RockingError(Exception):
 
 class InputError(RockingError, ValueError):
     """Bad input: the message names the parameter, file or row and what was wrong."""
+
+
+class BackendError(RockingError):
+    """The computing backend failed (e.g. a Dask cluster lost its workers): not the input's
+    fault, nor a bug; finished chunks are kept, so the same call resumes once it works again."""

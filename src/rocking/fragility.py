@@ -18,20 +18,19 @@ from __future__ import annotations
 
 import hashlib
 import math
-import sys
+from contextlib import ExitStack
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.optimize
 import xarray as xr
-from tqdm.auto import tqdm
-
-from ._validate import finite_array, in_range, positive
+from ._validate import finite_array, in_range, positive, require_memory
 from .backends import LocalBackend
 from .batch import BlockTable, block_list, motion_peaks, run_chunk
 from .body import G
 from .errors import InputError
 from .motions import Ensemble
+from .progress import resolve as resolve_progress
 from .store import ChunkStore, array_digest
 
 #: Default simulations (pairs × motions) per chunk.
@@ -159,15 +158,33 @@ def fit_lognormal(agx, count, n) -> LognormalFit:
 
 # --------------------------------------------------------------------------- engine
 
+#: A_gx levels are keyed by integers: A_gx in units of LEVEL_UNIT [g] (never by a float, whose
+#: last bits depend on how it was computed: 0.1 + 0.2 and 0.3 are one level).
+LEVEL_UNIT = 1e-9
+#: Bytes kept per (body, A_gx) pair beyond its 9 bytes per motion (dictionary entry, key, arrays).
+_PAIR_OVERHEAD = 400
 
-def _chunk_key(c: int, body: np.ndarray, scale: np.ndarray) -> str:
-    h = hashlib.sha256(np.int64(c).tobytes() + body.tobytes() + scale.tobytes())
+
+def level_key(agx: float) -> int:
+    """The integer key of the A_gx level ``agx`` [g] (A_gx in units of :data:`LEVEL_UNIT`)."""
+    return round(agx / LEVEL_UNIT)
+
+
+def level_agx(key: int) -> float:
+    """A_gx [g] of a level key; for a decimal A_gx with at most 9 decimals, exactly that decimal's
+    float (the key divided by 1e9, rounded once)."""
+    return key / round(1.0 / LEVEL_UNIT)
+
+
+def _chunk_key(c: int, body: np.ndarray, level: np.ndarray) -> str:
+    h = hashlib.sha256(np.int64(c).tobytes() + body.tobytes() + level.tobytes())
     return h.hexdigest()[:24]
 
 
 class _Engine:
-    """Results of (case, body, scale factor) pairs under all motions of the case, computed in
-    chunks on a backend, optionally kept in a resumable folder."""
+    """Results of (case, body, A_gx level) triples under all motions of the case, computed in
+    chunks on a backend, optionally kept in a resumable folder.  A context manager: the folder
+    is locked and the progress stage open while it is in use."""
 
     def __init__(self, blocks, cases: list[Ensemble], *, e, overturn_angle, g, backend, out,
                  progress, chunk_size, desc):
@@ -175,6 +192,7 @@ class _Engine:
         self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle,
                                             g=g)
         self.cases = cases
+        self.agx0 = [ens.agx for ens in cases]  # (computed from all samples: once)
         self.backend = LocalBackend() if backend is None else backend
         if not all(hasattr(self.backend, a) for a in ("map", "scatter", "workers")):
             raise InputError(f"backend must come from rocking.backends, got {backend!r}")
@@ -182,22 +200,34 @@ class _Engine:
         if not (isinstance(chunk, int) and chunk >= 1):
             raise InputError(f"chunk_size must be an integer >= 1, got {chunk_size!r}")
         self.chunk_size = chunk
-        self.results: dict[tuple[int, int, float], tuple[np.ndarray, np.ndarray]] = {}
+        self.results: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray]] = {}
         self.chunks_loaded = 0
         self.chunks_computed = 0
         self.store = None if out is None else ChunkStore(out, self._params())
-        if self.store is not None:
-            self._load()
+        self.reporter = resolve_progress(progress)
+        self.desc = desc
         self._handle = None
-        if progress is None:
-            progress = sys.stderr.isatty()
-        self.bar = tqdm(total=0, unit="sim", desc=desc, disable=not progress, smoothing=0.1)
+        self._stage = None
+        self._exit = None
+
+    def __enter__(self) -> "_Engine":
+        with ExitStack() as stack:
+            if self.store is not None:
+                stack.enter_context(self.store)
+                self._load()
+            self._stage = stack.enter_context(self.reporter.stage(self.desc, total=None))
+            self._exit = stack.pop_all()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._exit.__exit__(*exc)
 
     def _params(self) -> dict:
         t = self.table
         return {
             "bodies": [[b.R, b.gamma] for b in self.blocks],
             "e": t.e.tolist(), "overturn_angle": t.theta_ov.tolist(), "g": t.g,
+            "level_unit_g": LEVEL_UNIT,
             "motions": [{"dt": ens.dt, "shape": list(ens.acc.shape),
                          "sha256": array_digest(ens.acc)} for ens in self.cases],
         }
@@ -207,13 +237,13 @@ class _Engine:
             try:
                 c = int(a["case"])
                 ok = 0 <= c < len(self.cases) and a["overturned"].shape == (
-                    a["body"].size, self.cases[c].n)
+                    a["body"].size, self.cases[c].n) and a["level"].shape == a["body"].shape
             except KeyError:
                 ok = False
             if not ok:
                 continue  # not a chunk of this run: computed again if needed
-            for j, (b, s) in enumerate(zip(a["body"].tolist(), a["scale"].tolist())):
-                self.results[(c, b, s)] = (a["overturned"][j], a["peak"][j])
+            for j, (b, k) in enumerate(zip(a["body"].tolist(), a["level"].tolist())):
+                self.results[(c, b, k)] = (a["overturned"][j], a["peak"][j])
             self.chunks_loaded += 1
 
     def _data(self):
@@ -223,47 +253,51 @@ class _Engine:
             self._handle = self.backend.scatter({"table": self.table, "cases": cases})
         return self._handle
 
-    def run(self, pairs: list[tuple[int, int, float]]) -> None:
-        """Make sure every (case, body, scale) in ``pairs`` has a result."""
-        missing = list(dict.fromkeys(p for p in pairs if p not in self.results))
+    def run(self, keys: list[tuple[int, int, int]]) -> None:
+        """Make sure every (case, body, level key) in ``keys`` has a result."""
+        missing = list(dict.fromkeys(k for k in keys if k not in self.results))
         if not missing:
             return
         # chunks of at most chunk_size simulations, and enough of them to keep every worker busy
         total = sum(self.cases[c].n for c, _, _ in missing)
         size = min(self.chunk_size, math.ceil(total / (4 * self.backend.workers)))
-        tasks = []
+        tasks, levels = [], []
         for c in range(len(self.cases)):
-            mine = [(b, s) for cc, b, s in missing if cc == c]
+            mine = [(b, k) for cc, b, k in missing if cc == c]
             per = max(1, size // self.cases[c].n)
             for i in range(0, len(mine), per):
                 body = np.array([b for b, _ in mine[i:i + per]], dtype=np.int64)
-                scale = np.array([s for _, s in mine[i:i + per]], dtype=np.float64)
+                level = np.array([k for _, k in mine[i:i + per]], dtype=np.int64)
+                # the factor of Ensemble.scaled: A_gx / A_gx of the ensemble
+                scale = np.array([level_agx(k) / self.agx0[c] for k in level.tolist()])
                 tasks.append((c, body, scale))
-        new = sum(t[1].size * self.cases[t[0]].n for t in tasks)
-        self.bar.total = max(self.bar.total, self.bar.n + new)
-        self.bar.refresh()
+                levels.append(level)
+        self._stage.expect(sum(t[1].size * self.cases[t[0]].n for t in tasks))
         for i, (overturned, peak) in self.backend.map(run_chunk, self._data(), tasks):
-            c, body, scale = tasks[i]
+            c, body, _scale = tasks[i]
             if self.store is not None:
-                self.store.save(_chunk_key(c, body, scale), case=np.int64(c), body=body,
-                                scale=scale, overturned=overturned, peak=peak)
-            for j, (b, s) in enumerate(zip(body.tolist(), scale.tolist())):
-                self.results[(c, b, s)] = (overturned[j], peak[j])
+                self.store.save(_chunk_key(c, body, levels[i]), case=np.int64(c), body=body,
+                                level=levels[i], overturned=overturned, peak=peak)
+            for j, (b, k) in enumerate(zip(body.tolist(), levels[i].tolist())):
+                self.results[(c, b, k)] = (overturned[j], peak[j])
             self.chunks_computed += 1
-            self.bar.update(body.size * self.cases[c].n)
-
-    def count(self, c: int, b: int, s: float) -> int:
-        """Motions of case ``c`` that overturn body ``b`` at scale ``s``."""
-        return int(np.count_nonzero(self.results[(c, b, s)][0]))
+            self._stage.update(body.size * self.cases[c].n)
 
     def expect(self, simulations: int) -> None:
-        """Show ``simulations`` as the (estimated) size of the whole run in the progress bar."""
-        self.bar.total = simulations
-        self.bar.refresh()
+        """Announce about ``simulations`` simulations to come (the size of the progress stage)."""
+        self._stage.expect(simulations)
 
-    def close(self) -> None:
-        self.bar.total = self.bar.n
-        self.bar.close()
+    def count(self, c: int, b: int, k: int) -> int:
+        """Motions of case ``c`` that overturn body ``b`` at level key ``k``."""
+        return int(np.count_nonzero(self.results[(c, b, k)][0]))
+
+    def require_memory(self, pairs: int, parameter: str) -> None:
+        """Refuse, before any work, a run whose results for ``pairs`` (body, A_gx) pairs per
+        case would not fit in the available memory."""
+        per_pair = max(ens.n for ens in self.cases) * 9 + _PAIR_OVERHEAD
+        require_memory(pairs * len(self.cases) * per_pair,
+                       f"{parameter}: {pairs:,} (body, A_gx) pairs x "
+                       f"{max(ens.n for ens in self.cases):,} motions")
 
     @property
     def stats(self) -> dict:
@@ -367,21 +401,20 @@ def overturning_probability(blocks, ensemble, agx, *, e=0.925, overturn_angle=ma
     """
     labels, cases = _cases(ensemble)
     agx = finite_array("agx", np.atleast_1d(agx), ndim=(1,))
-    if np.any(agx <= 0.0):
-        raise InputError(f"agx must be > 0 [g], got {agx[agx <= 0.0][0]}")
+    if np.any(agx < LEVEL_UNIT):
+        raise InputError(f"agx must be >= {LEVEL_UNIT:g} g, got {agx[agx < LEVEL_UNIT][0]}")
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     if members and len({ens.n for ens in cases}) > 1:
         raise InputError("members=True needs ensembles with the same number of motions")
     nb = len(block_list(blocks))
     engine = _Engine(blocks, cases, e=e, overturn_angle=overturn_angle, g=g, backend=backend,
                      out=out, progress=progress, chunk_size=chunk_size, desc="P(overturn)")
-    # the factor of Ensemble.scaled: agx / ensemble.agx
-    scales = [(agx / ens.agx).tolist() for ens in cases]
-    keys = [[[(c, b, s) for s in scales[c]] for b in range(nb)] for c in range(len(cases))]
-    try:
+    engine.require_memory(nb * agx.size * (2 if members else 1), "agx")
+    levels = [level_key(a) for a in agx.tolist()]
+    agx = np.array([level_agx(k) for k in levels])
+    keys = [[[(c, b, k) for k in levels] for b in range(nb)] for c in range(len(cases))]
+    with engine:
         engine.run([k for per_case in keys for per_body in per_case for k in per_body])
-    finally:
-        engine.close()
     count = np.array([[[engine.count(*k) for k in per_body] for per_body in per_case]
                       for per_case in keys], dtype=np.int64)
     n = np.broadcast_to(np.array([ens.n for ens in cases])[:, None, None], count.shape).copy()
@@ -451,7 +484,7 @@ def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, 
         :func:`overturning_probability`; attributes ``resolution``, ``agx_max`` [g].
     """
     labels, cases = _cases(ensemble)
-    resolution = positive("resolution", resolution, "g")
+    resolution = in_range("resolution", resolution, 1e-6, math.inf, unit="g")
     agx_max = positive("agx_max", agx_max, "g")
     K = int(math.floor(agx_max / resolution * (1.0 + 1e-12)))
     if K < 1:
@@ -462,13 +495,8 @@ def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, 
     engine = _Engine(blocks, cases, e=e, overturn_angle=overturn_angle, g=g, backend=backend,
                      out=out, progress=progress, chunk_size=chunk_size, desc="A_gx(50%)")
 
-    def level_agx(k):
-        return round(k * resolution, 12)
-
-    agx0 = [ens.agx for ens in cases]  # (a property computed from all samples: once)
-
-    def key(c, b, k):
-        return (c, b, level_agx(k) / agx0[c])  # the factor of Ensemble.scaled
+    def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
+        return (c, b, level_key(round(k * resolution, 12)))
 
     def above(c, b, k):  # P(A_k) >= 0.5, exactly in integers
         return 2 * engine.count(*key(c, b, k)) >= cases[c].n
@@ -478,9 +506,10 @@ def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, 
     scan = {cb: 0 for cb in bodies}  # bracketing: index in grid of the next coarse level
     lo, hi = {}, {}  # bisection: P(lo) < 0.5 <= P(hi)
     step = max(b - a for a, b in zip([0] + grid, grid))
-    rounds = len(grid) // 2 + math.ceil(math.log2(step))  # a guess, for the progress bar
-    engine.expect(rounds * nb * sum(ens.n for ens in cases))
-    try:
+    rounds = len(grid) // 2 + math.ceil(math.log2(step))  # a guess, for the progress display
+    engine.require_memory(nb * (len(grid) + math.ceil(math.log2(step)) + 1), "resolution")
+    with engine:
+        engine.expect(rounds * nb * sum(ens.n for ens in cases))
         while True:
             level = {cb: grid[i] for cb, i in scan.items()}
             level.update({cb: (lo[cb] + hi[cb]) // 2 for cb in hi if hi[cb] - lo[cb] > 1})
@@ -500,14 +529,12 @@ def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, 
                     hi[cb] = k
                 else:
                     lo[cb] = k
-    finally:
-        engine.close()
     shape = (len(cases), nb)
     agx50 = np.full(shape, np.nan)
     p_at = np.full(shape, np.nan)
     p_below = np.full(shape, np.nan)
     for (c, b), k in hi.items():
-        agx50[c, b] = level_agx(k)
+        agx50[c, b] = level_agx(key(c, b, k)[2])
         p_at[c, b] = engine.count(*key(c, b, k)) / cases[c].n
         p_below[c, b] = engine.count(*key(c, b, k - 1)) / cases[c].n if k > 1 else 0.0
     dims = ("body",)

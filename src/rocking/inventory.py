@@ -40,12 +40,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ._validate import in_range, positive, read_toml
-from .body import Block
+from .body import Block, resolve_e
+from .defaults import DEFAULT_E
 from .errors import InputError
 from .frames import PRESETS, ShearFrame
 
-#: Coefficient of restitution used when an item does not give one (paper Section 2) [-].
-DEFAULT_E = 0.925
 
 _FIELDS = ("name", "height", "width", "r", "gamma", "location", "frame", "e", "mu")
 _ALIASES = {"h": "height", "b": "width", "slenderness": "gamma", "friction": "mu",
@@ -338,9 +337,7 @@ def _location(fields: dict, frames: _Frames, default: ShearFrame | None):
 def _restitution(value, block: Block) -> float:
     if value is None or str(value).strip() == "":
         return DEFAULT_E
-    if str(value).strip().lower() == "housner":
-        return block.housner_e()
-    return in_range("e", value, 0.0, 1.0, lo_open=True, unit="-")
+    return resolve_e(value, block)
 
 
 def _optional_positive(name: str, value) -> float | None:

@@ -28,9 +28,11 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import cumulative_trapezoid, trapezoid
 
+from ._files import atomic_write
 from ._numba import parallel_kernel, prange
-from ._validate import finite_array, positive
+from ._validate import finite_array, positive, require_memory
 from .body import G
+from .defaults import FIT_BAND
 from .envelopes import ENVELOPES, make_envelope
 from .errors import InputError
 from .psd import (DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_spectrum,
@@ -456,7 +458,8 @@ class Ensemble:
         return Ensemble(self.acc * factor, self.dt, self.labels, meta)
 
     def save(self, path) -> Path:
-        """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`); return the path.
+        """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`) atomically (no
+        half-written file ever has the name); return the path.
 
         Variable ``acc`` [m/s²] on dimensions (member, time); coordinates ``member`` (labels)
         and ``time`` [s]. The metadata go to attribute ``meta_json`` as JSON (exact, read back
@@ -471,7 +474,7 @@ class Ensemble:
             coords={"member": list(self.labels),
                     "time": ("time", self.t, {"units": "s"})},
             attrs=attrs)
-        ds.to_netcdf(path, engine=NETCDF_ENGINE)
+        atomic_write(path, bytes(ds.to_netcdf(None, engine=NETCDF_ENGINE)))
         return path
 
     @classmethod
@@ -544,8 +547,6 @@ def _flat_attrs(meta: dict) -> dict:
 # --------------------------------------------------------------------------- fit to a target
 
 
-#: Frequency band [Hz] over which fits to the target are summarised.
-FIT_BAND = (0.2, 33.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -747,12 +748,21 @@ def _generate(members, *, duration, dt, envelope, envelope_params, target, seed,
               damping, n_freq, fmin, fmax, iterations, pilot, peak_limit, peak_constant,
               convention) -> Ensemble:
     """:func:`generate` for the given member indices."""
-    members = [int(m) for m in members]
     dt = positive("dt", dt, "s")
+    fmax = positive("fmax", fmax, "Hz")
+    if fmax > 0.5 / dt:
+        raise InputError(f"dt = {dt:g} s samples frequencies up to {0.5 / dt:g} Hz (Nyquist), but "
+                         f"the motions are fitted up to fmax = {fmax:g} Hz: use dt <= "
+                         f"{0.5 / fmax:g} s or a lower fmax")
     seed = _count("seed", seed, 0)
     n_iter = _count("iterations", iterations, 0)
     n_pilot = _count("pilot", pilot, 1)
     env = make_envelope(envelope, duration, **(envelope_params or {}))
+    n_t = _n_samples(env.duration, dt)
+    # the motions, their baseline-corrected copy and one chunk of the synthesis at a time
+    require_memory(8.0 * n_t * (2 * len(members) + CHUNK + n_pilot * min(n_iter, 1)),
+                   f"n: {len(members):,} motions of {n_t:,} samples")
+    members = [int(m) for m in members]
     freqs = log_frequencies(n_freq, fmin, fmax)
     psa_g, h = target_psa(target, freqs, damping)
     spectrum = power_spectrum(psa_g, freqs, env.equivalent_duration(), damping=h,

@@ -18,7 +18,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .body import G, Block
-from .dynamics import RockingResponse, resolve_e, resolve_overturn_angle
+from .body import resolve_e, resolve_overturn_angle
+from .dynamics import RockingResponse
 from ._validate import finite_array, positive
 
 #: A bounce whose free flight would last less than this [s] ends the impact sequence (rest).

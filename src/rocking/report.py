@@ -4,8 +4,9 @@ A :class:`Report` collects headings, Markdown text, figures and tables in order 
 with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tables also as CSV) and
 ``report.html`` (one file: figures embedded as base64 PNG, so it can be mailed or archived alone).
 
-Both pages are written atomically: each goes to a temporary file in the same folder, which is
-renamed over the final name only after both are complete (``report.html`` last), so an interrupted
+Every file is written atomically by :func:`rocking._files.atomic_write` (a temporary file in
+the same folder renamed over the final name; mode 0666 less the umask, as ``open`` gives). Both
+pages are rendered before either is written and ``report.html`` is written last, so an interrupted
 run never leaves a page that looks finished. :func:`provenance` writes ``run.json`` (package
 version, parameters, seeds, backend, wall times, Python/NumPy/Numba versions, command line) the
 same way.
@@ -24,13 +25,15 @@ import os
 import platform
 import re
 import sys
-import tempfile
+import unicodedata
 from dataclasses import dataclass
 from pathlib import Path
 
 import markdown as _markdown
 import numpy as np
 
+from ._files import atomic_write
+from .defaults import CSV_FLOAT_FORMAT
 from .errors import InputError
 
 #: Resolution of the PNG figures [dots per inch].
@@ -44,6 +47,7 @@ body { font-family: system-ui, sans-serif; max-width: 70rem; margin: 2rem auto; 
 h1, h2, h3 { line-height: 1.2; }
 table { border-collapse: collapse; margin: 0.5rem 0 1.5rem; font-size: 0.85rem; }
 th, td { border: 1px solid #bbb; padding: 0.15rem 0.45rem; text-align: right; }
+th.text, td.text { text-align: left; }
 th { background: #f0f0f0; }
 figure { margin: 1rem 0 1.5rem; }
 figure img { max-width: 100%; }
@@ -80,6 +84,8 @@ class Report:
         self._blocks: list[_Block] = []
         self._names: set[str] = set()
         self._n_tables = 0
+        #: Files written so far, relative to ``out_dir`` ('/'-separated).
+        self.files: list[str] = []
 
     # ---- content -------------------------------------------------------------------------------
     def heading(self, text: str, level: int = 2) -> None:
@@ -103,7 +109,8 @@ class Report:
         png = buf.getvalue()
         path = self.out_dir / "figures" / f"{name}.png"
         path.parent.mkdir(exist_ok=True)
-        _atomic_write_bytes(path, png)
+        atomic_write(path, png)
+        self.files.append(f"figures/{name}.png")
         b64 = base64.b64encode(png).decode("ascii")
         cap = " ".join(str(caption).split())
         self._blocks.append(_Block(
@@ -115,29 +122,38 @@ class Report:
     def table(self, dataframe, caption: str, name: str | None = None, *,
               floatfmt: str = ".4g") -> Path:
         """Add a table (a ``pandas.DataFrame``; its index is shown when it is named or not a
-        plain range); also written as ``tables/<name>.csv`` at full precision.
+        plain range); also written as ``tables/<name>.csv`` (floats to 12 significant digits,
+        :data:`CSV_FLOAT_FORMAT`).
 
-        ``floatfmt`` is the format of floats on the pages (e.g. ``".2f"``); returns the CSV path.
+        ``floatfmt`` is the format of floats on the pages (e.g. ``".2f"``); index values are
+        row labels, shown with ``"g"``. Numeric columns are right-aligned, the others (text,
+        booleans) left-aligned. Returns the CSV path.
         """
         self._n_tables += 1
         name = self._claim(name or f"table-{self._n_tables}")
         df = dataframe
         show_index = df.index.name is not None or any(df.index.names[1:]) or not (
             df.index.dtype.kind in "iu" and np.array_equal(df.index, np.arange(len(df))))
+        n_index = df.index.nlevels if show_index else 0
         if show_index:
             df = df.reset_index()
         path = self.out_dir / "tables" / f"{name}.csv"
         path.parent.mkdir(exist_ok=True)
-        _atomic_write_bytes(path, df.to_csv(index=False).encode())
+        atomic_write(path, df.to_csv(index=False, float_format=CSV_FLOAT_FORMAT).encode())
+        self.files.append(f"tables/{name}.csv")
         header = [str(c) for c in df.columns]
-        rows = [[_cell(v, floatfmt) for v in row] for row in df.itertuples(index=False)]
+        numeric = [dtype.kind in "iufc" for dtype in df.dtypes]
+        formats = ["g"] * n_index + [floatfmt] * (len(header) - n_index)
+        rows = [[_cell(v, f) for v, f in zip(row, formats)]
+                for row in df.itertuples(index=False)]
         cap = " ".join(str(caption).split())
         md = [f"*{cap}*", "", "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |",
-              "|" + "|".join("---:" for _ in header) + "|"]
+              "|" + "|".join("---:" if num else ":---" for num in numeric) + "|"]
         md += ["| " + " | ".join(c.replace("|", "\\|") for c in row) + " |" for row in rows]
-        body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>"
-                       for row in rows)
-        head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+        cls = ["" if num else ' class="text"' for num in numeric]
+        body = "".join("<tr>" + "".join(f"<td{k}>{html.escape(c)}</td>" for k, c in zip(cls, row))
+                       + "</tr>" for row in rows)
+        head = "".join(f"<th{k}>{html.escape(h)}</th>" for k, h in zip(cls, header))
         self._blocks.append(_Block(
             "\n".join(md) + f"\n\n(CSV: `tables/{name}.csv`)",
             f"<table><caption>{_inline(cap)}</caption><thead><tr>{head}</tr></thead>"
@@ -170,27 +186,37 @@ class Report:
     def write(self) -> tuple[Path, Path]:
         """Write ``report.md`` and ``report.html`` atomically; return their paths.
 
-        Both are rendered and written to temporary files first; the final names appear only
-        when both are complete (``report.html`` renamed last), so an error part-way leaves no new
-        page behind.
+        Both are rendered first, then written, ``report.html`` last; if writing it fails, the new
+        ``report.md`` is removed again, so an error part-way leaves no new page behind.
         """
         md_path = self.out_dir / "report.md"
         html_path = self.out_dir / "report.html"
-        tmp_md = _write_temp(md_path, self.markdown().encode("utf-8"))
+        md, page = self.markdown(), self.html()
+        atomic_write(md_path, md)
         try:
-            tmp_html = _write_temp(html_path, self.html().encode("utf-8"))
+            atomic_write(html_path, page)
         except BaseException:
-            tmp_md.unlink(missing_ok=True)
+            md_path.unlink(missing_ok=True)
             raise
-        os.replace(tmp_md, md_path)
-        os.replace(tmp_html, html_path)
+        self.files += ["report.md", "report.html"]
         return md_path, html_path
 
 
 def slug(text: str) -> str:
-    """``text`` made usable as a figure or table name (other characters become ``_``)."""
-    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", str(text)).strip("_.-")
+    """``text`` made usable as a figure or table name: Greek letters spelled out (a body's
+    ``"R=1.22 m, γ=4"`` gives ``"R_1.22_m_gamma_4"``), other characters than letters, digits,
+    ``_``, ``.`` and ``-`` replaced by ``_``."""
+    spelled = "".join(_greek_name(ch) for ch in str(text))
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", spelled).strip("_.-")
     return name or "unnamed"
+
+
+def _greek_name(ch: str) -> str:
+    """The name of a Greek letter (``"γ"`` -> ``"gamma"``), any other character as it is."""
+    name = unicodedata.name(ch, "")  # e.g. "GREEK SMALL LETTER GAMMA"
+    if name.startswith("GREEK ") and " LETTER " in name:
+        return name.split(" LETTER ", 1)[1].split()[0].lower()
+    return ch
 
 
 def remove_report(out_dir) -> None:
@@ -231,8 +257,7 @@ def provenance(out_dir, **params) -> Path:
         **params,
     }
     path = out_dir / "run.json"
-    _atomic_write_bytes(path, (json.dumps(record, indent=2, default=_json_default) + "\n")
-                        .encode("utf-8"))
+    atomic_write(path, json.dumps(record, indent=2, default=_json_default) + "\n")
     return path
 
 
@@ -247,22 +272,6 @@ def _json_default(obj):
     if isinstance(obj, Path):
         return str(obj)
     raise TypeError(f"run.json: cannot store a {type(obj).__name__} ({obj!r})")
-
-
-def _write_temp(final: Path, data: bytes) -> Path:
-    """Write ``data`` to a new temporary file beside ``final`` and return its path."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return Path(tmp)
-
-
-def _atomic_write_bytes(path: Path, data: bytes) -> None:
-    os.replace(_write_temp(path, data), path)
 
 
 def _cell(value, floatfmt: str) -> str:

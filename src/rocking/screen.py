@@ -26,15 +26,16 @@ one A_gx50 search over all its items.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import xarray as xr
 
 from .design_spectra import design_pga, parse_spectrum
-from .energy import BAND_HZ, assess, band_frequencies
+from .energy import BAND_HZ, SAFE, assess, band_frequencies
 from .errors import InputError
 from .fragility import agx_50, overturning_probability
-from .inventory import Inventory, read_inventory
+from .inventory import Inventory, Item, read_inventory
 from .motions import Ensemble, generate
 from .spectra import ResponseSpectrum, TargetSpectrum, response_spectrum
 
@@ -56,7 +57,7 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
 
     Parameters
     ----------
-    inventory : Inventory, str or Path
+    inventory : Inventory, list of Item, str or Path
         The items, or an inventory file (:func:`rocking.inventory.read_inventory`).
     spectrum : TargetSpectrum or str
         The design spectrum at the ground, or its specification
@@ -106,7 +107,17 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
     if floor_motions not in FLOOR_MOTIONS:
         raise InputError(f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got "
                          f"{floor_motions!r}")
+    if isinstance(inventory, (list, tuple)):
+        if not inventory:
+            raise InputError("inventory is empty: there is no item to screen")
+        if not all(isinstance(it, Item) for it in inventory):
+            raise InputError("inventory must be an Inventory, a list of rocking.Item or the path "
+                             "of an inventory file")
+        inventory = Inventory(tuple(inventory))
     if not isinstance(inventory, Inventory):
+        if not isinstance(inventory, (str, os.PathLike)):
+            raise InputError(f"inventory must be an Inventory, a list of rocking.Item or the path "
+                             f"of an inventory file, got {type(inventory).__name__}")
         inventory = read_inventory(inventory, frame=frame)
     elif frame is not None:
         raise InputError("frame is the default frame of an inventory file; the Inventory given "
@@ -221,9 +232,62 @@ def _restitution(items):
     return float(e[0]) if np.all(e == e[0]) else e
 
 
+#: Entry of :func:`eq11_vs_monte_carlo` when Eq. (11) and the simulation agree.
+AGREE = "agree"
+
+
+def eq11_vs_monte_carlo(verdict, probability, ci_low, ci_high) -> np.ndarray:
+    """Whether Housner's Eq. (11) verdict and the Monte Carlo probability agree, per body.
+
+    Eq. (11) estimates the 50 % level: "safe" agrees with a simulated probability below 0.5,
+    "overturn>50%" with one of 0.5 or more.
+
+    Parameters
+    ----------
+    verdict : array_like of str
+        Eq. (11) verdicts (:func:`rocking.energy.assess`).
+    probability, ci_low, ci_high : array_like
+        Simulated overturning probability and its Wilson interval [-].
+
+    Returns
+    -------
+    numpy.ndarray of str
+        ``"agree"``, ``"disagree: Eq. (11) overturn, simulated P < 50 %"`` or
+        ``"disagree: Eq. (11) safe, simulated P ≥ 50 %"``, followed by
+        ``"; Wilson interval spans 50 %"`` when the simulation cannot tell the side of 50 %.
+    """
+    eq11_overturn = np.asarray(verdict) != SAFE
+    mc_overturn = np.asarray(probability, dtype=float) >= 0.5
+    unsure = (np.asarray(ci_low, dtype=float) <= 0.5) & (np.asarray(ci_high, dtype=float) >= 0.5)
+    text = np.where(eq11_overturn == mc_overturn, AGREE,
+                    np.where(eq11_overturn, "disagree: Eq. (11) overturn, simulated P < 50 %",
+                             "disagree: Eq. (11) safe, simulated P ≥ 50 %"))
+    return np.array([t + ("; Wilson interval spans 50 %" if u else "")
+                     for t, u in zip(text, unsure)], dtype=object)
+
+
+def eq11_vs_monte_carlo_note(band_hz=BAND_HZ) -> str:
+    """Markdown paragraph for reports: why Eq. (11) and the Monte Carlo probability can
+    disagree (``band_hz`` [Hz]: the band of the available S_v)."""
+    return (
+        "**Why Eq. (11) and the Monte Carlo probability can disagree.** Eq. (11) is Housner's "
+        "energy balance: it expects a body to overturn with about 50 % probability when the "
+        "spectrum offers more pseudo-velocity than the body needs, judged from one number, the "
+        f"largest mean PSV in {band_hz[0]:g}–{band_hz[1]:g} Hz. The Monte Carlo probability is "
+        "the share of these particular motions, at that level, that overturn the body. The two "
+        "can differ near the threshold (margin close to 0, probability close to 50 %), for "
+        "small slender bodies (for which the energy balance is a rougher approximation), and on "
+        "floors: floor motions are narrow-band, peaking at the frame's frequencies, so the band "
+        "maximum of their mean PSV, taken at a resonance, can overstate what the body meets "
+        "across the band. The Wilson "
+        "interval says how sure the simulation is: when it spans 50 %, more motions are needed "
+        "to tell on which side of 50 % the body lies.")
+
+
 def results_table(ds: xr.Dataset):
     """The screening result as a table (pandas DataFrame) in the dataset's order, with S_v in
-    cm/s, for CSV files and reports."""
+    cm/s and whether Eq. (11) and the Monte Carlo agree (:func:`eq11_vs_monte_carlo`), for CSV
+    files and reports."""
     import pandas as pd
 
     return pd.DataFrame({
@@ -245,8 +309,11 @@ def results_table(ds: xr.Dataset):
         "P(overturn) [-]": ds["probability"].values,
         "CI low [-]": ds["ci_low"].values,
         "CI high [-]": ds["ci_high"].values,
+        "Eq. (11) vs Monte Carlo": eq11_vs_monte_carlo(ds["verdict"].values,
+                                                       ds["probability"].values,
+                                                       ds["ci_low"].values, ds["ci_high"].values),
         "Agx50 [g]": ds["agx50"].values,
     })
 
 
-__all__ = ["screen", "results_table"]
+__all__ = ["screen", "results_table", "eq11_vs_monte_carlo", "eq11_vs_monte_carlo_note"]

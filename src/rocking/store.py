@@ -1,32 +1,43 @@
 """Resumable on-disk store of finished chunks of a Monte Carlo run (issue 5, part 5).
 
 A run writes each chunk of results as soon as it is finished into its output folder, as one
-``chunk-<key>.npz`` file, atomically: the arrays go to a temporary file in the same folder, which is
-flushed to disk and then renamed over the final name with :func:`os.replace`.  A process killed at
+``chunk-<key>.npz`` file, atomically (:func:`rocking._files.atomic_write`).  A process killed at
 any instant (kill -9) therefore leaves only complete chunk files (plus, at worst, a stray
-temporary file that is ignored).  Writing the same chunk twice (a Dask task run again after a worker
-died) replaces a file with an identical one.
+temporary file that is ignored).  Writing the same chunk twice (a Dask task run again after a
+worker died) replaces a file with an identical one.
 
-The folder's ``chunks.json`` manifest records what the chunks were computed from (bodies, motions,
-restitution, …: whatever the caller passes as ``params``) and its SHA-256.  Opening the folder with
-different parameters raises :class:`~rocking.errors.InputError` naming the differences, so results
-of two different runs are never mixed.
+Results of two runs are never mixed:
+
+* the folder's ``chunks.json`` manifest records what the chunks are computed from (bodies,
+  motions, restitution, …: whatever the caller passes as ``params``) and opening the folder with
+  other parameters raises :class:`~rocking.errors.InputError` naming the differences;
+* while a store is open its folder is locked (an operating-system lock on ``.rocking.lock``,
+  released if the process dies): a second run that opens it at the same time stops at once;
+* every chunk carries the *fingerprint* of what produced it: the parameters, the package version
+  and a digest of the source of the integration kernels.  A chunk with another fingerprint (left
+  by an earlier version of the package, or by a run that slipped in some other way) is never
+  loaded: its work is computed again and its file replaced.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import os
 import zipfile
+from functools import cache
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
+from ._files import atomic_write
 from .errors import InputError
 
 MANIFEST = "chunks.json"
-_FORMAT = "rocking-chunks-1"
+LOCK = ".rocking.lock"
+_FORMAT = "rocking-chunks-2"
+#: Modules whose source decides the numbers a chunk holds.
+KERNEL_MODULES = ("_numba.py", "dynamics.py", "batch.py")
 
 
 def fingerprint(params: dict) -> str:
@@ -42,22 +53,19 @@ def array_digest(a: np.ndarray) -> str:
     return h.hexdigest()
 
 
-def _atomic_write(path: Path, write) -> None:
-    """Call ``write(file)`` on a temporary file beside ``path``, then rename it to ``path``."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "wb") as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+@cache
+def code_version() -> dict:
+    """The package version and the SHA-256 of the source of the integration kernels."""
+    from . import __version__
+
+    h = hashlib.sha256()
+    for name in KERNEL_MODULES:
+        h.update(resources.files("rocking").joinpath(name).read_bytes())
+    return {"version": __version__, "kernel_sha256": h.hexdigest()}
 
 
 class ChunkStore:
-    """Folder of finished chunks of one run.
+    """Folder of finished chunks of one run; open it with ``with`` (it locks the folder).
 
     Parameters
     ----------
@@ -69,28 +77,55 @@ class ChunkStore:
     Raises
     ------
     InputError
-        If the folder cannot be created or already holds chunks of a run with other parameters.
+        If the folder cannot be created, is in use by another run, or holds chunks of a run with
+        other parameters.
     """
 
     def __init__(self, folder, params: dict):
         self.folder = Path(folder)
+        self.params = params
+        self.fingerprint = fingerprint({"params": params, **code_version()})
+        self._lock = None
+
+    def __enter__(self) -> "ChunkStore":
+        import filelock
+
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise InputError(f"out: cannot create folder {self.folder} ({exc.strerror})") from None
-        digest = fingerprint(params)
+        lock = filelock.FileLock(self.folder / LOCK, timeout=0)
+        try:
+            lock.acquire()
+        except filelock.Timeout:
+            raise InputError(f"out: {self.folder} is in use by another run; wait for it to end "
+                             "or use another folder") from None
+        self._lock = lock
+        try:
+            self._check_manifest()
+        except BaseException:
+            lock.release()
+            raise
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._lock.release()
+
+    def _check_manifest(self) -> None:
+        digest = fingerprint(self.params)
         manifest = self.folder / MANIFEST
         if manifest.exists():
             old = self._read_manifest(manifest)
             if old.get("sha256") != digest:
-                differ = sorted(k for k in set(params) | set(old.get("params", {}))
-                                if params.get(k) != old.get("params", {}).get(k))
+                differ = sorted(k for k in set(self.params) | set(old.get("params", {}))
+                                if self.params.get(k) != old.get("params", {}).get(k))
                 raise InputError(
                     f"out: {self.folder} holds results of a different run (differs in "
                     f"{', '.join(differ) or 'format'}); use another folder or empty this one")
         else:
-            text = json.dumps({"format": _FORMAT, "sha256": digest, "params": params}, indent=1)
-            _atomic_write(manifest, lambda f: f.write(text.encode()))
+            text = json.dumps({"format": _FORMAT, "sha256": digest, "params": self.params},
+                              indent=1)
+            atomic_write(manifest, text)
 
     @staticmethod
     def _read_manifest(path: Path) -> dict:
@@ -99,7 +134,8 @@ class ChunkStore:
         except (OSError, ValueError) as exc:
             raise InputError(f"out: cannot read {path} ({exc})") from None
         if not isinstance(data, dict) or data.get("format") != _FORMAT:
-            raise InputError(f"out: {path} is not a rocking chunk manifest")
+            raise InputError(f"out: {path} is not a chunk manifest of this version of rocking; "
+                             "use another folder or empty this one")
         return data
 
     def path(self, key: str) -> Path:
@@ -107,19 +143,23 @@ class ChunkStore:
         return self.folder / f"chunk-{key}.npz"
 
     def save(self, key: str, **arrays) -> None:
-        """Write chunk ``key`` (arrays by name) atomically."""
-        _atomic_write(self.path(key), lambda f: np.savez(f, **arrays))
+        """Write chunk ``key`` (arrays by name) atomically, with the store's fingerprint."""
+        atomic_write(self.path(key),
+                     lambda f: np.savez(f, fingerprint=np.array(self.fingerprint), **arrays))
 
     def load_all(self):
-        """Yield (key, dict of arrays) for every complete chunk in the folder, in key order.
+        """Yield (key, dict of arrays) for every complete chunk of this run, in key order.
 
-        A file that cannot be read (not written by :meth:`save`, e.g. copied in half) is skipped:
-        its chunk counts as missing and is computed again.
+        A file that cannot be read (not written by :meth:`save`, e.g. copied in half) or whose
+        fingerprint is not the store's is skipped: its chunk counts as missing and is computed
+        again.
         """
         for path in sorted(self.folder.glob("chunk-*.npz")):
             try:
                 with np.load(path) as data:
                     arrays = {name: data[name] for name in data.files}
             except (OSError, ValueError, zipfile.BadZipFile, EOFError):
+                continue
+            if str(arrays.pop("fingerprint", "")) != self.fingerprint:
                 continue
             yield path.name[len("chunk-"):-len(".npz")], arrays

@@ -3,16 +3,24 @@
 Each module of this package defines a list ``COMMANDS`` of click commands or groups;
 ``COMMAND_MODULES`` names the module of each command, which is imported only when the command runs
 (start-up time: the studies import Matplotlib, which most commands do not need).
-Errors caused by the user's input are printed in one line (``Error: ...``) with exit status 1;
-never a traceback.
+Errors are printed in one line, never as a traceback:
+
+* the user's input (:class:`rocking.errors.InputError`), the machine (a file that cannot be read or
+  written: ``OSError``) or the computing backend (:class:`rocking.errors.BackendError`):
+  ``Error: ...``, exit status 1;
+* anything else is a bug in ``rocking``: the message says so, the traceback is saved to a file
+  whose path is printed (for a bug report), exit status 70 (``EX_SOFTWARE``).
 """
 
 from __future__ import annotations
 
+import datetime
 import importlib
 import os
 import signal
 import sys
+import traceback
+from pathlib import Path
 
 import click
 
@@ -54,8 +62,63 @@ class _Main(click.Group):
             # the reader of our output went away (e.g. `| head`): stop quietly
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
             raise SystemExit(1) from None
-        except (RockingError, ValueError, OSError, KeyError) as exc:
+        except RockingError as exc:
             raise click.ClickException(_one_line(exc)) from None
+        except OSError as exc:
+            raise click.ClickException(_os_error(exc)) from None
+        except click.ClickException:
+            raise
+        except Exception as exc:
+            raise _Bug(exc) from None
+
+
+class _Bug(click.ClickException):
+    """An exception that is not the user's: a bug in rocking, reported as such."""
+
+    exit_code = 70
+
+    def __init__(self, exc: Exception):
+        from .. import __version__
+
+        where = _save_traceback(exc)
+        super().__init__(f"internal error in rocking {__version__} (a bug, not a problem with "
+                         f"your input): {type(exc).__name__}: {_one_line(exc)}. The traceback "
+                         f"is in {where}; please report it.")
+
+
+def _save_traceback(exc: Exception) -> str:
+    """Write the traceback of ``exc`` to a new file in the user's log folder (or the temporary
+    folder); return its path."""
+    text = "".join(traceback.format_exception(exc))
+    stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
+    name = f"crash-{stamp}-{os.getpid()}.txt"
+    folders = []
+    try:
+        import platformdirs
+
+        folders.append(Path(platformdirs.user_log_dir("rocking")))
+    except ImportError:
+        pass
+    import tempfile
+
+    folders.append(Path(tempfile.gettempdir()))
+    for folder in folders:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            path = folder / name
+            path.write_text(" ".join(sys.argv) + "\n\n" + text)
+            return str(path)
+        except OSError:
+            continue
+    return "(nowhere: no writable folder)"
+
+
+def _os_error(exc: OSError) -> str:
+    """One line for a failed file operation, naming the file."""
+    what = exc.strerror or _one_line(exc)
+    if exc.filename is not None:
+        return f"{exc.filename}: {what}"
+    return what
 
 
 @click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
@@ -65,6 +128,11 @@ def main():
     # SIGTERM (a batch system's stop) unwinds like Ctrl-C, so that long runs record their
     # status as failed in run.json; finished chunks are already on disk.
     signal.signal(signal.SIGTERM, _terminate)
+    # A local Dask cluster's own log lines (lost workers, recomputed tasks) would drown the
+    # one-line error that reports such a failure (rocking.errors.BackendError).
+    import logging
+
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
 
 
 def _terminate(signum, frame):

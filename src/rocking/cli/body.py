@@ -4,11 +4,9 @@ its 72 bodies with 50 % probability by Eq. (11), compared cell by cell with the 
 from __future__ import annotations
 
 import click
-import numpy as np
-import pandas as pd
 
-from ..body import FOOT, G, PAPER_GAMMAS, PAPER_R_FT, housner_sv, paper_bodies
-from ..studies.paper import paper_values
+from ..defaults import G
+from ._options import writable_file
 
 #: A cell differs from the paper when |Eq. (11) − printed| exceeds this [cm/s]: the paper prints
 #: two decimals (±0.005) and rounded its intermediate values; its 70 agreeing cells scatter with
@@ -16,17 +14,26 @@ from ..studies.paper import paper_values
 TOLERANCE_CM_S = 0.03
 
 
-def table1(g: float = G) -> pd.DataFrame:
-    """Eq. (11) for the paper's 72 bodies as Table 1: S_v [cm/s], rows R [ft] (whole feet, as the
-    paper's sizes are), columns γ [-]; gravity ``g`` [m/s²]."""
+def table1(g: float = G):
+    """Eq. (11) for the paper's 72 bodies as Table 1 (a pandas DataFrame): S_v [cm/s], rows R [ft]
+    (whole feet, as the paper's sizes are), columns γ [-]; gravity ``g`` [m/s²]."""
+    import numpy as np
+    import pandas as pd
+
+    from ..body import PAPER_GAMMAS, PAPER_R_FT, housner_sv, paper_bodies
+
     sv = np.array([100.0 * housner_sv(b, g) for b in paper_bodies()])
     return pd.DataFrame(sv.reshape(len(PAPER_R_FT), len(PAPER_GAMMAS)),
                         index=pd.Index(PAPER_R_FT, name="R [ft]"),
                         columns=pd.Index(PAPER_GAMMAS, name="gamma [-]"))
 
 
-def printed_table1() -> pd.DataFrame:
+def printed_table1():
     """Table 1 as printed in the paper [cm/s], laid out as :func:`table1`."""
+    import pandas as pd
+
+    from ..studies.paper import paper_values
+
     t = paper_values()["tables"]
     return pd.DataFrame(t["table1_sv_required"], index=pd.Index(t["R_ft"], name="R [ft]"),
                         columns=pd.Index(t["gamma"], name="gamma [-]"))
@@ -45,6 +52,12 @@ def table1_cmd(g, compare, csv_path):
     By default each cell is compared with the value printed in the paper, and every cell that
     differs by more than the tolerance is marked and listed with both numbers.
     """
+    writable_file(csv_path, "--csv")
+    import numpy as np
+
+    from .._files import atomic_write
+    from ..body import FOOT
+
     ours = table1(g)
     paper = printed_table1()
     diff = ours - paper
@@ -69,7 +82,7 @@ def table1_cmd(g, compare, csv_path):
     if csv_path:
         out = ours.copy()
         out.insert(0, "R [m]", ours.index * FOOT)
-        out.to_csv(csv_path, float_format="%.4f")
+        atomic_write(csv_path, out.to_csv(float_format="%.4f"))
         click.echo(f"wrote {csv_path}")
 
 

@@ -5,18 +5,14 @@ from __future__ import annotations
 import time
 
 import click
-import numpy as np
 
-from ..body import G
+from ..defaults import BAND_HZ, FRAME_PRESETS, G
+from .._files import save_figure
 from ..errors import InputError
-from ..frames import PRESETS, ShearFrame
-from ..motions import Ensemble, generate
-from ..spectra import response_spectrum
+from ._options import quiet_option, reporter, writable_file
 
-#: Frequencies of the floor spectra [Hz]: 0.04–30 Hz as paper Fig. 12, 100 per decade.
-_FREQS_HZ = np.geomspace(0.04, 30.0, 289)
-#: The paper reads S_v for rocking bodies as the largest spectral value in 0.04–0.6 Hz (Section 8).
-_LOW_BAND_HZ = (0.04, 0.6)
+#: Frequencies of the floor spectra [Hz]: 0.04–30 Hz as paper Fig. 12, 100 per decade (289).
+_FREQS = (0.04, 30.0, 289)
 
 _frame_arg = click.argument("preset", required=False, metavar="[PRESET]")
 _frame_file_opt = click.option(
@@ -25,10 +21,13 @@ _frame_file_opt = click.option(
          "stiffness_kN_per_cm; optional damping, name) instead of a PRESET.")
 
 
-def _frame(preset, frame_file) -> ShearFrame:
+def _frame(preset, frame_file):
+    """The ShearFrame of a PRESET argument or a --frame-file."""
     if (preset is None) == (frame_file is None):
-        raise InputError(f"give either a PRESET ({', '.join(PRESETS)}) or --frame-file, not both "
-                         "nor neither")
+        raise InputError(f"give either a PRESET ({', '.join(FRAME_PRESETS)}) or --frame-file, "
+                         "not both nor neither")
+    from ..frames import ShearFrame
+
     return ShearFrame.preset(preset) if frame_file is None else ShearFrame.from_toml(frame_file)
 
 
@@ -44,6 +43,9 @@ def frame_group():
               help="Draw the mode shapes into this image file.")
 def show(preset, frame_file, plot_path):
     """Print a frame's floors, periods, participation factors and mode shapes."""
+    from ..frames import PRESETS
+
+    writable_file(plot_path, "--plot")
     frame = _frame(preset, frame_file)
     stories = "story" if frame.n_stories == 1 else "stories"
     click.echo(f"{frame.name}: {frame.n_stories} {stories}, damping ratio {frame.damping:.3g} in "
@@ -63,7 +65,7 @@ def show(preset, frame_file, plot_path):
     if plot_path:
         from ..plots.frames import plot_mode_shapes  # matplotlib only when a figure is asked for
 
-        plot_mode_shapes(frame).savefig(plot_path, dpi=150)
+        save_figure(plot_mode_shapes(frame), plot_path)
         click.echo(f"\nwrote {plot_path}")
 
 
@@ -86,44 +88,68 @@ def show(preset, frame_file, plot_path):
               help="Draw the mean PSV spectra into this image file.")
 @click.option("--csv", "csv_path", type=click.Path(dir_okay=False, writable=True),
               help="Write the mean PSV spectra [cm/s] to this CSV file.")
-def spectra(preset, frame_file, agx, n_motions, seed, motions_path, damping, plot_path, csv_path):
+@quiet_option
+def spectra(preset, frame_file, agx, n_motions, seed, motions_path, damping, plot_path, csv_path,
+            quiet):
     """Mean pseudo-velocity spectra of the ground and every floor, all scaled to the same A_gx
     (paper Fig. 12)."""
     frame = _frame(preset, frame_file)
+    writable_file(plot_path, "--out")
+    writable_file(csv_path, "--csv")
+    if motions_path and (n_motions is not None or seed is not None):
+        raise InputError("--n and --seed describe generated motions; leave them out with "
+                         "--motions")
+    import numpy as np
+
+    from ..motions import Ensemble, generate
+    from ..spectra import response_spectrum
+
+    freqs_hz = np.geomspace(*_FREQS)
     start = time.perf_counter()
-    if motions_path:
-        if n_motions is not None or seed is not None:
-            raise InputError("--n and --seed describe generated motions; leave them out with "
-                             "--motions")
-        ground = Ensemble.load(motions_path)
-    else:
-        ground = generate(200 if n_motions is None else n_motions, duration=20.0,
-                          envelope="compound", seed=0 if seed is None else seed)
-    locations = frame.floor_ensembles(ground)
-    labels = ["ground"] + [f"floor {i}" for i in range(1, frame.n_stories + 1)]
-    psv = np.array([response_spectrum(ens.scaled(agx).acc, ens.dt, _FREQS_HZ, damping).mean().psv
-                    for ens in locations.values()])
+    progress = reporter(quiet)
+    with progress:
+        if motions_path:
+            ground = Ensemble.load(motions_path)
+        else:
+            n = 200 if n_motions is None else n_motions
+            with progress.stage(f"generating {n} motions", unit="motions") as stage:
+                ground = generate(n, duration=20.0, envelope="compound",
+                                  seed=0 if seed is None else seed)
+                stage.update(n)
+        locations = frame.floor_ensembles(ground)
+        labels = ["ground"] + [f"floor {i}" for i in range(1, frame.n_stories + 1)]
+        rows = []
+        with progress.stage("floor spectra", total=len(labels), unit="locations") as stage:
+            for ens in locations.values():
+                rows.append(response_spectrum(ens.scaled(agx).acc, ens.dt, freqs_hz,
+                                              damping).mean().psv)
+                stage.update()
+    psv = np.array(rows)
     elapsed = time.perf_counter() - start
 
-    low = (_FREQS_HZ >= _LOW_BAND_HZ[0]) & (_FREQS_HZ <= _LOW_BAND_HZ[1])
+    low = (freqs_hz >= BAND_HZ[0]) & (freqs_hz <= BAND_HZ[1])
     click.echo(f"{frame.name}: mean {damping:g}-damped PSV of {ground.n} motions, every location "
                f"scaled to A_gx = {agx:g} g ({elapsed:.1f} s)")
     click.echo("location   max S_v in 0.04-0.6 Hz [cm/s]   peak S_v [cm/s]   at [Hz]")
     for label, row in zip(labels, psv):
         k = int(np.argmax(row))
         click.echo(f"{label:<10} {100 * row[low].max():30.2f} {100 * row[k]:17.2f} "
-                   f"{_FREQS_HZ[k]:9.3g}")
+                   f"{freqs_hz[k]:9.3g}")
     if csv_path:
-        header = "freq_hz," + ",".join(f"psv_{lab.replace(' ', '_')}_cm_s" for lab in labels)
-        np.savetxt(csv_path, np.column_stack([_FREQS_HZ, 100.0 * psv.T]), delimiter=",",
-                   header=header, comments="", fmt="%.6g")
+        import pandas as pd
+
+        from .._files import atomic_write
+
+        table = pd.DataFrame({"freq_hz": freqs_hz, **{
+            f"psv_{lab.replace(' ', '_')}_cm_s": 100.0 * row for lab, row in zip(labels, psv)}})
+        atomic_write(csv_path, table.to_csv(index=False, float_format="%.6g"))
         click.echo(f"wrote {csv_path}")
     if plot_path:
         from ..plots.frames import plot_floor_spectra  # matplotlib only when a figure is asked for
 
         title = (f"{frame.name} (T1 = {frame.periods[0]:.3g} s): mean PSV, "
                  f"ζ = {damping:g}, A_gx = {agx:g} g, {ground.n} motions")
-        plot_floor_spectra(_FREQS_HZ, psv, labels, title=title).savefig(plot_path, dpi=150)
+        save_figure(plot_floor_spectra(freqs_hz, psv, labels, title=title), plot_path)
         click.echo(f"wrote {plot_path}")
 
 

@@ -2,14 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
-import numpy as np
 
-from ..envelopes import ENVELOPES, make_envelope
-from ..motions import FIT_BAND, Ensemble, baseline_correct, generate, spectral_fit
-from ..spectra import TabulatedSpectrum, rg160
+from ..defaults import DT, ENVELOPE_NAMES, FIT_BAND
+from ._options import quiet_option, reporter, writable_file
 
 
 _damping_option = click.option(
@@ -23,9 +19,9 @@ _ENSEMBLE_OPTIONS = (
                  help="Number of motions."),
     click.option("--duration", type=click.FloatRange(0.0, min_open=True), default=20.0,
                  show_default=True, help="Total duration T [s]."),
-    click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=1 / 400,
+    click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=DT,
                  show_default=True, help="Time step [s]."),
-    click.option("--envelope", type=click.Choice(sorted(ENVELOPES)), default="compound",
+    click.option("--envelope", type=click.Choice(ENVELOPE_NAMES), default="compound",
                  show_default=True, help="Intensity function (shape scaled with the duration)."),
 )
 
@@ -54,21 +50,32 @@ def motions():
               help="With --iterations: re-phase motions so their PGA stays near the ZPA.")
 @_target_option
 @_damping_option
-@click.option("--out", type=click.Path(dir_okay=False, writable=True), required=True,
-              help="Output netCDF file, e.g. ens.nc.")
+@click.option("--out", type=click.Path(dir_okay=False), required=True,
+              help="Output netCDF file, e.g. ens.nc (written when the motions are complete).")
+@quiet_option
 def generate_cmd(n, duration, dt, envelope, seed, baseline, iterations, peak_limit, target_path,
-                 damping, out):
+                 damping, out, quiet):
     """Simulate an ensemble and save it as netCDF."""
+    writable_file(out, "--out")  # before the work, not after
+    from ..motions import generate
+    from ..spectra import TabulatedSpectrum, rg160
+
     target = rg160 if target_path is None else TabulatedSpectrum.from_csv(target_path, damping)
-    ens = generate(n, duration=duration, dt=dt, envelope=envelope, seed=seed, baseline=baseline,
-                   iterations=iterations, peak_limit=peak_limit, target=target, damping=damping)
-    ens.save(out)
+    progress = reporter(quiet)
+    with progress, progress.stage(f"generating {n} motions", unit="motions") as stage:
+        ens = generate(n, duration=duration, dt=dt, envelope=envelope, seed=seed,
+                       baseline=baseline, iterations=iterations, peak_limit=peak_limit,
+                       target=target, damping=damping)
+        stage.update(ens.n)
+        ens.save(out)
     click.echo(f"wrote {out}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s "
                f"({envelope}, seed {seed}), A_gx = {ens.agx:.4g} g")
 
 
-def _with_and_without_baseline(ens: Ensemble) -> tuple[np.ndarray, np.ndarray]:
-    """(uncorrected, corrected) accelerations [m/s²] of the members of ``ens``."""
+def _with_and_without_baseline(ens):
+    """(uncorrected, corrected) accelerations [m/s²] of the members of the Ensemble ``ens``."""
+    from ..motions import baseline_correct
+
     if ens.simulated and ens.meta["baseline"]:
         return ens.regenerate(baseline=False).acc, ens.acc
     return ens.acc, baseline_correct(ens.acc, ens.dt)
@@ -90,12 +97,17 @@ def show(ensemble, agx, samples, target_path, damping, out):
     """Plot an ensemble and print how its mean PSA fits the target.
 
     Writes baseline.png (sample accelerations, velocities and displacements with and without
-    baseline correction), spectrum.png (mean ± 1 std PSA against the target) and, for
-    simulated ensembles, envelope.png.
+    baseline correction), spectrum.png (mean ± 1 std PSA against the target), for simulated
+    ensembles envelope.png, and run.json.
     """
+    import numpy as np
+
+    from ..envelopes import make_envelope
+    from ..motions import Ensemble, spectral_fit
     from ..plots.motions import plot_baseline_comparison, plot_envelopes
     from ..plots.spectra import plot_mean_vs_target
-    from ..spectra import RG160
+    from ..runs import RunFolder
+    from ..spectra import RG160, TabulatedSpectrum
 
     ens = Ensemble.load(ensemble)
     if agx is not None:
@@ -104,26 +116,29 @@ def show(ensemble, agx, samples, target_path, damping, out):
         target = TabulatedSpectrum.from_csv(target_path, damping=damping)
     else:
         target = ens.target_spectrum() if ens.simulated else RG160(damping, pga=ens.agx)
-    fit = spectral_fit(ens, target)
-    folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
-
-    sample = ens.subset(range(min(samples, ens.n)))
-    raw, corrected = _with_and_without_baseline(sample)
-    figures = {
-        "baseline.png": plot_baseline_comparison(
-            ens.dt, raw, corrected, sample.labels, title="Baseline correction"),
-        "spectrum.png": plot_mean_vs_target(
-            fit.freqs_hz, fit.psa_g, target,
-            title=f"{ens.n} motions, A_gx = {ens.agx:.3g} g, {100 * fit.damping:g} % damping"),
-    }
-    if ens.simulated:
-        env = make_envelope(ens.meta["envelope"], ens.meta["duration"],
-                            **ens.meta["envelope_params"])
-        figures["envelope.png"] = plot_envelopes([env], title="Intensity function")
-    for name, fig in figures.items():
-        fig.savefig(folder / name, dpi=150)
-
+    params = {"ensemble": str(ensemble), "agx_g": agx, "samples": samples,
+              "target": target.name, "damping": damping}
+    progress = reporter()
+    with RunFolder(out, command="motions show", params=params) as run, progress:
+        with progress.stage("response spectra and figures", unit="figures") as stage:
+            fit = spectral_fit(ens, target)
+            sample = ens.subset(range(min(samples, ens.n)))
+            raw, corrected = _with_and_without_baseline(sample)
+            figures = {
+                "baseline.png": plot_baseline_comparison(
+                    ens.dt, raw, corrected, sample.labels, title="Baseline correction"),
+                "spectrum.png": plot_mean_vs_target(
+                    fit.freqs_hz, fit.psa_g, target,
+                    title=f"{ens.n} motions, A_gx = {ens.agx:.3g} g, "
+                          f"{100 * fit.damping:g} % damping"),
+            }
+            if ens.simulated:
+                env = make_envelope(ens.meta["envelope"], ens.meta["duration"],
+                                    **ens.meta["envelope_params"])
+                figures["envelope.png"] = plot_envelopes([env], title="Intensity function")
+            for name, fig in figures.items():
+                run.write_figure(name, fig)
+                stage.update()
     worst = int(np.argmax(np.abs(fit.ratio - 1.0)))
     click.echo(f"{ensemble}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s, "
                f"{ens.meta.get('kind', 'motions')} at {ens.meta['location']}, "
@@ -132,7 +147,7 @@ def show(ensemble, agx, samples, target_path, damping, out):
                f"({fit.freqs_hz.size} frequencies): max deviation {100 * fit.max_deviation:.1f} % "
                f"(at {fit.freqs_hz[worst]:.3g} Hz), mean deviation "
                f"{100 * fit.mean_deviation:.1f} %")
-    click.echo(f"wrote {', '.join(str(folder / name) for name in figures)}")
+    click.echo(f"wrote {', '.join(str(run.path / name) for name in figures)}")
 
 
 @motions.command("fit")
@@ -146,34 +161,49 @@ def show(ensemble, agx, samples, target_path, damping, out):
 @_damping_option
 @click.option("--out", type=click.Path(file_okay=False, writable=True), required=True,
               help="Output folder for fit.png and fit.csv.")
-def fit_cmd(n, duration, dt, envelope, seed, iterations, per_decade, target_path, damping, out):
+@quiet_option
+def fit_cmd(n, duration, dt, envelope, seed, iterations, per_decade, target_path, damping, out,
+            quiet):
     """Mean PSA against the target: the paper's method alone and with the iterative correction.
 
     Simulates the same members both ways and checks the ensemble-mean PSA over
     0.2–33 Hz at --per-decade log-spaced frequencies (ends included). Writes fit.png (mean PSA /
-    target against frequency, ±10 % band) and fit.csv, and prints the deviations.
+    target against frequency, ±10 % band), fit.csv and run.json, and prints the deviations.
     """
+    import numpy as np
+    import pandas as pd
+
+    from ..motions import generate, spectral_fit
     from ..plots.motions import plot_fit_ratios
-    from ..spectra import RG160
+    from ..runs import RunFolder
+    from ..spectra import RG160, TabulatedSpectrum
 
     target = (RG160(damping) if target_path is None
               else TabulatedSpectrum.from_csv(target_path, damping))
     settings = dict(duration=duration, dt=dt, envelope=envelope, seed=seed, target=target)
-    methods = {"paper's method alone": generate(n, **settings),
-               f"with iterative correction ({iterations} iterations)":
-                   generate(n, iterations=iterations, **settings)}
-    fits = {label: spectral_fit(ens, target, per_decade=per_decade)
-            for label, ens in methods.items()}
-    folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
-    freqs = next(iter(fits.values())).freqs_hz
-    fig = plot_fit_ratios(freqs, {k: f.ratio for k, f in fits.items()}, band=FIT_BAND,
-                          title=f"{n} motions, {envelope} {duration:g} s, against {target.name}")
-    fig.savefig(folder / "fit.png", dpi=150)
-    columns = [freqs, next(iter(fits.values())).target_g] + [f.mean_g for f in fits.values()]
-    np.savetxt(folder / "fit.csv", np.column_stack(columns), delimiter=",", fmt="%.6g",
-               header="freq_hz,target_psa_g,mean_psa_paper_g,mean_psa_corrected_g",
-               comments="")
+    labels = {0: "paper's method alone",
+              iterations: f"with iterative correction ({iterations} iterations)"}
+    params = {"n": n, **settings, "target": target.name, "iterations": iterations,
+              "per_decade": per_decade, "damping": damping}
+    progress = reporter(quiet)
+    methods, fits = {}, {}
+    with RunFolder(out, command="motions fit", params=params) as run, progress:
+        with progress.stage(f"motions fit: {n} motions, two ways", total=2 * n,
+                            unit="motions") as stage:
+            for its, label in labels.items():
+                methods[label] = generate(n, iterations=its, **settings)
+                fits[label] = spectral_fit(methods[label], target, per_decade=per_decade)
+                stage.update(n)
+        freqs = next(iter(fits.values())).freqs_hz
+        fig = plot_fit_ratios(freqs, {k: f.ratio for k, f in fits.items()}, band=FIT_BAND,
+                              title=f"{n} motions, {envelope} {duration:g} s, against "
+                                    f"{target.name}")
+        run.write_figure("fit.png", fig)
+        paper, corrected = fits.values()
+        table = pd.DataFrame({"freq_hz": freqs, "target_psa_g": paper.target_g,
+                              "mean_psa_paper_g": paper.mean_g,
+                              "mean_psa_corrected_g": corrected.mean_g})
+        run.write_csv("fit.csv", table, float_format="%.6g")
     for label, fit in fits.items():
         ens = methods[label]
         worst = int(np.argmax(np.abs(fit.ratio - 1.0)))
@@ -181,7 +211,7 @@ def fit_cmd(n, duration, dt, envelope, seed, iterations, per_decade, target_path
                    f"{FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz ({freqs.size} frequencies), max "
                    f"deviation {100 * fit.max_deviation:.1f} % at {freqs[worst]:.3g} Hz; "
                    f"A_gx = {ens.agx:.3f} g (std {ens.pga.std():.3f} g)")
-    click.echo(f"wrote {folder / 'fit.png'}, {folder / 'fit.csv'}")
+    click.echo(f"wrote {run.path / 'fit.png'}, {run.path / 'fit.csv'}")
 
 
 COMMANDS = [motions]

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import click
 
-from ..studies import STUDIES, reproduce
-from ..studies.config import load_config, to_toml
+from ..defaults import STUDY_SECTIONS
+from ._options import quiet_option, reporter
 
 
 @click.command("reproduce")
-@click.argument("section", type=click.Choice([*STUDIES, "all"]), metavar="SECTION|all")
+@click.argument("section", type=click.Choice([*STUDY_SECTIONS, "all"]), metavar="SECTION|all")
 @click.option("--fidelity", type=click.Choice(["quick", "paper"]), default="quick",
               show_default=True,
               help="quick: small ensembles (about a minute for all sections on 2 cores); paper: "
@@ -30,7 +30,7 @@ from ..studies.config import load_config, to_toml
 @click.option("--show-config", is_flag=True,
               help="Print the parameters (preset + --config + --set) as TOML and exit: a "
                    "starting point for a --config file.")
-@click.option("--quiet", is_flag=True, help="No progress bars or messages.")
+@quiet_option
 def reproduce_command(section, fidelity, out_dir, scheduler, config_path, sets, show_config,
                       quiet):
     """Reproduce SECTION (4-8) of the paper, or all of them, into a report in --out.
@@ -45,15 +45,24 @@ def reproduce_command(section, fidelity, out_dir, scheduler, config_path, sets, 
     The report lists the paper's nine conclusions as reproduced / partly / not reproduced
     with the evidence in numbers.
     """
+    from ..studies.config import load_config, to_toml, validate
+
+    cfg = load_config(fidelity, config_path, sets)
+    validate(cfg)  # before anything is printed or written (and --show-config prints a valid one)
     if show_config:
-        click.echo(to_toml(load_config(fidelity, config_path, sets)), nl=False)
+        click.echo(to_toml(cfg), nl=False)
         return
     if out_dir is None:
         raise click.UsageError("Missing option '--out'.")
-    sections = list(STUDIES) if section == "all" else [section]
+    sections = list(STUDY_SECTIONS) if section == "all" else [section]
+    progress = reporter(quiet)
+    progress.write(f"reproducing section{'s' if len(sections) > 1 else ''} "
+                   f"{', '.join(sections)} at {fidelity} fidelity into {out_dir}")
+    from ..studies import reproduce
+
     echo = (lambda _msg: None) if quiet else click.echo
     reproduce(sections, fidelity=fidelity, out_dir=out_dir, scheduler=scheduler,
-              config=config_path, sets=sets, progress=False if quiet else None, echo=echo)
+              config=config_path, sets=sets, progress=progress, echo=echo)
 
 
 COMMANDS = [reproduce_command]

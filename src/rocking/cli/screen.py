@@ -9,9 +9,8 @@ from pathlib import Path
 
 import click
 
-from ..design_spectra import SPECTRUM_SYNTAX, design_pga, parse_spectrum
-from ..frames import ShearFrame
-from ..inventory import read_inventory
+from ..defaults import SPECTRUM_SYNTAX
+from ._options import quiet_option, reporter
 
 #: Files shipped with the package that ``example`` stands for.
 EXAMPLE_INVENTORY = files("rocking") / "data" / "example_inventory.csv"
@@ -46,8 +45,9 @@ EXAMPLE_SPECTRUM = files("rocking") / "data" / "example_spectrum.csv"
 @click.option("--scheduler", default=None, metavar="SCHED",
               help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
                    "address tcp://HOST:PORT.")
+@quiet_option
 def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, duration,
-                   resolution, agx_max, floor_motions, scheduler):
+                   resolution, agx_max, floor_motions, scheduler, quiet):
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
 
     For each item: Housner's energy balance (paper Eq. 11) against the available S_v at its
@@ -67,8 +67,12 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
         rocking screen example --spectrum asce7:SDS=1.0,SD1=0.6,TL=8 --frame paper-2.0 --out out
     """
     from ..backends import get_backend
+    from ..design_spectra import design_pga, parse_spectrum
+    from ..frames import ShearFrame
+    from ..inventory import read_inventory
     from ..plots.screen import plot_screen
-    from ..report import Report, provenance, remove_report
+    from ..report import Report, remove_report
+    from ..runs import RunFolder
     from ..screen import results_table, screen
 
     started = time.perf_counter()
@@ -87,30 +91,35 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
     notes = [str(w.message) for w in caught]
     for note in notes:
         click.echo(f"warning: {note}", err=True)
-    click.echo(f"screening {len(inv)} items against {spectrum.name} at the design "
-               f"A_gx = {design_pga(spectrum):.3g} g with {n_motions} motions ...")
-    with get_backend(scheduler) as backend:
-        ds = screen(inv, spectrum, n=n_motions, seed=seed, duration=duration,
-                    resolution=resolution, agx_max=agx_max, floor_motions=floor_motions,
-                    backend=backend)
-    table = results_table(ds)
-
-    report = Report(f"Screening of {inv_path.name}", out)
-    report.text(_summary(ds, inv_path, notes))
-    report.figure(plot_screen(ds), "sv-agx",
-                  "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of Eq. (11) "
-                  "against the A_gx of 50 % overturning probability; dashed: design A_gx; "
-                  "dotted: available S_v at each location.")
-    report.table(table, "Items, most at risk first.", name="screen")
+    backend = get_backend(scheduler)
+    params = {"inventory": str(inv_path), "spectrum": spectrum.name,
+              "spectrum_spec": spectrum_text, "design_agx": design_pga(spectrum), "frame": frame,
+              "n_motions": n_motions, "seed": seed, "duration": duration,
+              "resolution": resolution, "agx_max": agx_max, "floor_motions": floor_motions,
+              "scheduler": scheduler or "local"}
+    progress = reporter(quiet)
+    with RunFolder(out, command="screen", params=params) as run, progress:
+        progress.write(f"screening {len(inv)} items against {spectrum.name} at the design "
+                       f"A_gx = {design_pga(spectrum):.3g} g with {n_motions} motions")
+        with backend, progress.stage(f"screening {len(inv)} items", unit="sim"):
+            ds = screen(inv, spectrum, n=n_motions, seed=seed, duration=duration,
+                        resolution=resolution, agx_max=agx_max, floor_motions=floor_motions,
+                        backend=backend, progress=progress)
+        table = results_table(ds)
+        report = Report(f"Screening of {inv_path.name}", out)
+        report.text(_summary(ds, table, inv_path, notes))
+        report.figure(plot_screen(ds), "sv-agx",
+                      "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of "
+                      "Eq. (11) against the A_gx of 50 % overturning probability; dashed: design "
+                      "A_gx; dotted: available S_v at each location.")
+        report.table(table, "Items, most at risk first.", name="screen")
+        report.write()
+        for name in report.files:
+            run.file(name)
+        run.update(at_risk=int(ds["at_risk"].sum()))
     wall = time.perf_counter() - started
-    provenance(out, command="screen", inventory=str(inv_path), spectrum=spectrum.name,
-               spectrum_spec=spectrum_text, design_agx=ds.attrs["design_agx"], frame=frame,
-               n_motions=n_motions, seed=seed, duration=duration, resolution=resolution,
-               agx_max=agx_max, floor_motions=floor_motions, scheduler=scheduler or "local", wall_time_s=wall)
-    report.write()
-    at_risk = int(ds["at_risk"].sum())
-    click.echo(f"{at_risk} of {len(inv)} items at risk; wrote {out / 'report.html'} "
-               f"({wall:.1f} s)")
+    click.echo(f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk; wrote "
+               f"{out / 'report.html'} ({wall:.1f} s)")
 
 
 _FLOORS = {
@@ -121,11 +130,16 @@ _FLOORS = {
 }
 
 
-def _summary(ds, inv_path: Path, notes: list[str]) -> str:
-    """Markdown paragraph(s) above the figure."""
+def _summary(ds, table, inv_path: Path, notes: list[str]) -> str:
+    """Markdown paragraph(s) above the figure (``table``: :func:`rocking.screen.results_table`
+    of ``ds``)."""
+    from ..screen import AGREE, eq11_vs_monte_carlo_note
+
     a = ds.attrs
     n_fail_eq11 = int((ds["margin"].values <= 0.0).sum())
     n_fail_mc = int((ds["probability"].values >= 0.5).sum())
+    differ = [str(item) for item, c in zip(table["item"], table["Eq. (11) vs Monte Carlo"])
+              if not c.startswith(AGREE)]
     text = (
         f"Inventory `{inv_path}`: {ds.sizes['item']} items. Design spectrum: {a['spectrum']}; "
         f"design A_gx = {a['design_agx']:.3g} g (its zero-period acceleration). "
@@ -135,7 +149,10 @@ def _summary(ds, inv_path: Path, notes: list[str]) -> str:
         f"Hz.\n\n"
         f"- Housner's check (Eq. 11) fails for {n_fail_eq11} item(s) (margin ≤ 0).\n"
         f"- Monte Carlo: {n_fail_mc} item(s) overturn with probability ≥ 50 % at the design "
-        f"A_gx ({100 * a['confidence']:g} % Wilson intervals in the table).")
+        f"A_gx ({100 * a['confidence']:g} % Wilson intervals in the table).\n"
+        f"- The two disagree for {len(differ)} item(s){': ' if differ else ''}"
+        f"{', '.join(differ)} (column 'Eq. (11) vs Monte Carlo' says which way).\n\n"
+        + eq11_vs_monte_carlo_note(a["band_hz"]))
     if notes:
         text += "\n\n" + "\n".join(f"- **Warning:** {note}" for note in notes)
     return text

@@ -8,15 +8,10 @@ import math
 from pathlib import Path
 
 import click
-import numpy as np
 
-from .._validate import positive
-from ..body import G, Block
-from ..dynamics import simulate
+from ..defaults import G
 from ..errors import InputError
-from ..motions import generate
-from ..records import EXAMPLE, read_record, record_path
-from .fragility import parse_e
+from ._options import parse_e, reporter, writable_file
 
 #: The word that selects the built-in simulated motion for ``--motion``.
 SIMULATED = "simulated"
@@ -29,7 +24,7 @@ _SIMULATED_NAME = "simulated (RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
 _OVERTURN = {"pi2": math.pi / 2, "alpha": "alpha"}
 
 
-def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
+def load_motion(spec: str, dt: float | None):
     """Ground acceleration [m/s²], its time step [s] and a name, for ``--motion``
     FILE|example|simulated.
 
@@ -38,6 +33,9 @@ def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
     (:data:`SIMULATED_SPEC`). ``dt`` [s] is the step of a one-column file (checked against the
     file's own step otherwise), or the step of the simulated motion (1/400 s if None).
     """
+    from ..motions import generate
+    from ..records import EXAMPLE, read_record, record_path
+
     if spec == SIMULATED and not Path(spec).exists():
         ens = generate(1, dt=1 / 400 if dt is None else dt, **SIMULATED_SPEC)
         return ens.acc[0], ens.dt, _SIMULATED_NAME
@@ -49,8 +47,11 @@ def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
     return rec.acc, rec.dt, str(path) if path == Path(spec) else f"{spec} ({path.name})"
 
 
-def scale_to_peak(ag: np.ndarray, peak_g: float) -> tuple[np.ndarray, float]:
-    """``ag`` [m/s²] times one factor so that max |a| is ``peak_g`` [g]; returns both."""
+def scale_to_peak(ag, peak_g: float):
+    """``ag`` [m/s²] (NumPy array) times one factor so that max |a| is ``peak_g`` [g]; returns
+    both."""
+    import numpy as np
+
     peak = float(np.abs(ag).max())
     if peak == 0.0:
         raise InputError("--scale-g: the motion is zero everywhere and cannot be scaled")
@@ -58,10 +59,11 @@ def scale_to_peak(ag: np.ndarray, peak_g: float) -> tuple[np.ndarray, float]:
     return ag * factor, factor
 
 
-def run_summary(block: Block, response, ag: np.ndarray, dt: float, name: str,
-                factor: float) -> dict:
-    """JSON-friendly description of the block, the motion and the response (SI units; g where
-    the key says so)."""
+def run_summary(block, response, ag, dt: float, name: str, factor: float) -> dict:
+    """JSON-friendly description of the block, the motion ``ag`` [m/s²] and the response (SI
+    units; g where the key says so)."""
+    import numpy as np
+
     return {
         "block": {
             "R_m": block.R, "gamma": block.gamma, "H_m": block.H, "B_m": block.B,
@@ -126,22 +128,29 @@ def simulate_cmd(R, gamma, motion, scale_g, e_text, dt, overturn, plot_path, as_
     paper's scheme) and prints whether and when the block overturned, the number of impacts and
     the largest |theta|/alpha, with the block's and the motion's properties.
     """
+    from .._validate import positive
+    from ..body import Block
+    from ..dynamics import simulate
+
     block = Block(R, gamma)
     e = parse_e(e_text)
     peak_g = None if scale_g is None else positive("--scale-g", scale_g, "g")
     dt = None if dt is None else positive("--dt", dt, "s")
-    ag, step, name = load_motion(motion, dt)
-    ag, factor = (ag, 1.0) if peak_g is None else scale_to_peak(ag, peak_g)
-    response = simulate(block, ag, step, e=e, overturn_angle=_OVERTURN[overturn])
+    writable_file(plot_path, "--plot")
+    with reporter():
+        ag, step, name = load_motion(motion, dt)
+        ag, factor = (ag, 1.0) if peak_g is None else scale_to_peak(ag, peak_g)
+        response = simulate(block, ag, step, e=e, overturn_angle=_OVERTURN[overturn])
     summary = run_summary(block, response, ag, step, name, factor)
     if as_json:
         click.echo(json.dumps(summary, indent=2))
     else:
         click.echo("\n".join(_text(summary)))
     if plot_path:
+        from .._files import save_figure
         from ..plots.rocking import plot_response  # matplotlib only when a figure is asked for
 
-        plot_response(response, ag / G).savefig(plot_path, dpi=150)
+        save_figure(plot_response(response, ag / G), plot_path)
         click.echo(f"wrote {plot_path}", err=as_json)
 
 

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import csv
-
 import click
-import numpy as np
 
-from ..body import G
+from ..defaults import G
 from ..errors import InputError
-from ..records import UNITS, read_records
-from ..spectra import response_spectrum
+from ._options import reporter, writable_file
+
+#: Units of ``--units`` (those of :data:`rocking.records.UNITS`; tests/test_cli.py checks it).
+UNIT_NAMES = ("cm/s2", "g", "m/s2")
 
 #: Highest frequency [Hz] of the spectra unless a record's Nyquist frequency is lower.
 _DEFAULT_FMAX = 50.0
@@ -18,7 +17,9 @@ _DEFAULT_FMAX = 50.0
 _TABLE_FREQS = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0)
 
 
-def _table_rows(freqs: np.ndarray) -> np.ndarray:
+def _table_rows(freqs):
+    import numpy as np
+
     wanted = [f for f in _TABLE_FREQS if freqs[0] <= f <= freqs[-1]] or [freqs[0], freqs[-1]]
     return np.unique([int(np.argmin(np.abs(np.log(freqs / f)))) for f in wanted])
 
@@ -35,7 +36,7 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
                    "whichever is lower]")
 @click.option("--n", "n_freq", type=click.IntRange(2), default=100, show_default=True,
               help="Number of frequencies, log-spaced from fmin to fmax.")
-@click.option("--units", type=click.Choice(sorted(UNITS)), default=None,
+@click.option("--units", type=click.Choice(UNIT_NAMES), default=None,
               help="Units of the values in the files (default: as the file states, else g).")
 @click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=None,
               help="Time step [s] of one-column text files.")
@@ -52,6 +53,13 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
     """
     if fmax is not None and not fmin < fmax:
         raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
+    writable_file(csv_path, "--csv")
+    writable_file(plot_path, "--plot")
+    import numpy as np
+
+    from ..records import read_records
+    from ..spectra import response_spectrum
+
     records = read_records(files, dt=dt, units=units)
     # Above the Nyquist frequency a record holds no information (its samples cannot tell what
     # happens between them); the spectrum there would only show the interpolation.
@@ -69,7 +77,8 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
         raise InputError(f"--fmax {fmax:g} Hz is above the Nyquist frequency 1/(2 dt) = "
                          f"{nyquist:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)")
     freqs = np.geomspace(fmin, fmax, n_freq)
-    spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
+    with reporter():
+        spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
     rows = _table_rows(freqs)
     for rec, sp in zip(records, spectra):
         click.echo(f"{rec.name}: {rec.acc.size} samples at {rec.dt:g} s, PGA {rec.pga:.4g} g, "
@@ -79,20 +88,23 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
             click.echo(f"{freqs[i]:9.3g} {sp.psa[i] / G:10.4g} {100 * sp.psv[i]:11.4g} "
                        f"{100 * sp.sd[i]:10.4g}")
     if csv_path:
-        with open(csv_path, "w", newline="") as fh:
-            out = csv.writer(fh)
-            out.writerow(["record", "freq_hz", "psa_g", "psv_cm_s", "sd_cm"])
-            for rec, sp in zip(records, spectra):
-                for i, f in enumerate(freqs):
-                    out.writerow([rec.name, f"{f:.6g}", f"{sp.psa[i] / G:.6g}",
-                                  f"{100 * sp.psv[i]:.6g}", f"{100 * sp.sd[i]:.6g}"])
+        import pandas as pd
+
+        from .._files import atomic_write
+
+        table = pd.concat([pd.DataFrame({"record": rec.name, "freq_hz": freqs,
+                                         "psa_g": sp.psa / G, "psv_cm_s": 100 * sp.psv,
+                                         "sd_cm": 100 * sp.sd})
+                           for rec, sp in zip(records, spectra)])
+        atomic_write(csv_path, table.to_csv(index=False, float_format="%.6g"))
         click.echo(f"wrote {csv_path}")
     if plot_path:
+        from .._files import save_figure
         from ..plots.spectra import plot_spectra  # matplotlib only when a figure is asked for
 
         fig = plot_spectra(freqs, [sp.psa / G for sp in spectra], [r.name for r in records],
                            damping=damping, title="Response spectra")
-        fig.savefig(plot_path, dpi=150)
+        save_figure(fig, plot_path)
         click.echo(f"wrote {plot_path}")
 
 

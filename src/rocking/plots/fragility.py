@@ -4,12 +4,18 @@
 from __future__ import annotations
 
 import numpy as np
+from matplotlib import colormaps
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import ListedColormap, Normalize
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from ..energy import BAND_HZ
 
-#: Most curves given a legend entry; more would hide the plot.
+#: Most curves on one axis (each with a legend entry); more bodies are drawn as small multiples.
 MAX_LEGEND = 12
+#: Panels per row of the small multiples.
+PANEL_COLUMNS = 4
 
 
 def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
@@ -19,12 +25,19 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
     level of attribute ``confidence``, default 0.95) and,
     when ``fits`` has an entry for it, the fitted lognormal curve Φ(ln(A_gx/median)/β) dashed.
 
+    Up to :data:`MAX_LEGEND` curves share one axis, each named in the legend. More bodies
+    (e.g. the paper's 72, without a ``case`` dimension) are drawn as small multiples: one panel
+    per size R, one curve per γ coloured from light (small γ, stocky) to dark (slender) the
+    same way in every panel, named in one legend (a colour bar when there are more than
+    :data:`MAX_LEGEND` values of γ). Small multiples rather than a heat map of P over (γ, A_gx)
+    keep the Wilson bands and the fits visible and the probabilities readable off an axis.
+
     Parameters
     ----------
     ds : xarray.Dataset
         Result of :func:`rocking.fragility.overturning_probability`: ``probability``, ``ci_low``,
         ``ci_high`` [-] on dimensions (``body``, ``agx``) or (``case``, ``body``, ``agx``),
-        ``agx`` [g].
+        ``agx`` [g]; coordinates ``R`` [m] and ``gamma`` [-] on ``body``.
     fits : dict, optional
         :class:`~rocking.LognormalFit` objects keyed by body label, or
         by (case, body) when ``ds`` has a ``case`` dimension.
@@ -32,32 +45,86 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
         Figure title.
     """
     fits = fits or {}
+    if "case" not in ds.dims and ds.sizes["body"] > MAX_LEGEND:
+        return _plot_by_size(ds, fits, title)
     agx = ds["agx"].values
-    fine = np.linspace(agx.min(), agx.max(), 200)
     fig = Figure(figsize=(6.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
     curves = _curves(ds)
     for k, (key, label, sel) in enumerate(curves):
-        color = f"C{k % 10}"
-        ax.fill_between(agx, sel["ci_low"].values, sel["ci_high"].values, color=color,
-                        alpha=0.18, lw=0)
-        ax.plot(agx, sel["probability"].values, "o-", color=color, ms=3, lw=1.2,
-                label=label if k < MAX_LEGEND else None)
-        fit = fits.get(key)
-        if fit is not None and np.isfinite(fit.median) and np.isfinite(fit.beta) and fit.beta > 0:
-            ax.plot(fine, fit.probability(fine), "--", color=color, lw=1.0)
-    ax.axhline(0.5, color="0.5", lw=0.8, ls=":")
+        _draw_curve(ax, agx, sel, fits.get(key), f"C{k % 10}",
+                    label=label if k < MAX_LEGEND else None)
+    _probability_axes(ax)
     ax.set_xlabel("ensemble mean peak acceleration A_gx [g]")
     ax.set_ylabel("probability of overturning [-]")
-    ax.set_ylim(-0.02, 1.02)
-    ax.grid(True, lw=0.4, alpha=0.5)
-    band = f"shaded: {100 * ds.attrs.get('confidence', 0.95):g} % Wilson interval"
     extra = f" ({len(curves) - MAX_LEGEND} more not listed)" if len(curves) > MAX_LEGEND else ""
-    ax.legend(fontsize="small", title=band + ("; dashed: lognormal fit" if fits else "") + extra,
-              title_fontsize="small")
+    ax.legend(fontsize="small", title=_key_text(ds, fits) + extra, title_fontsize="small")
     if title:
         ax.set_title(title)
     return fig
+
+
+def _plot_by_size(ds, fits: dict, title: str) -> Figure:
+    """Small multiples of :func:`plot_fragility`: one panel per R, one curve per γ."""
+    agx = ds["agx"].values
+    r_mm = np.round(1000.0 * ds["R"].values)  # bodies of one size share a panel
+    sizes = np.unique(r_mm)
+    gammas = np.unique(ds["gamma"].values)
+    # viridis from light (stocky) to dark (slender), without its palest end (faint on white)
+    cmap = ListedColormap(colormaps["viridis_r"](np.linspace(0.15, 1.0, 256)))
+    norm = Normalize(gammas.min(), gammas.max() if gammas.size > 1 else gammas.min() + 1.0)
+    ncols = min(PANEL_COLUMNS, sizes.size)
+    nrows = -(-sizes.size // ncols)
+    fig = Figure(figsize=(2.6 * ncols + 1.8, 2.2 * nrows + 1.0), layout="constrained")
+    axes = fig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False).ravel()
+    for ax, size in zip(axes, sizes):
+        index = np.flatnonzero(r_mm == size)
+        for i in index[np.argsort(ds["gamma"].values[index])]:
+            sel = ds.isel(body=i)
+            _draw_curve(ax, agx, sel, fits.get(str(sel["body"].values)),
+                        cmap(norm(float(sel["gamma"]))), ms=2.0, alpha=0.1)
+        _probability_axes(ax)
+        ax.set_title(f"R = {size / 1000.0:.2f} m", fontsize="small")
+        ax.tick_params(labelsize="small")
+    for ax in axes[sizes.size:]:
+        ax.remove()
+    fig.supxlabel("ensemble mean peak acceleration A_gx [g]", fontsize="medium")
+    fig.supylabel("probability of overturning [-]", fontsize="medium")
+    key = _key_text(ds, fits).replace("; ", "\n")
+    if gammas.size <= MAX_LEGEND:
+        handles = [Line2D([], [], color=cmap(norm(g)), marker="o", ms=3, label=f"γ = {g:g}")
+                   for g in gammas]
+        fig.legend(handles=handles, loc="outside right upper", fontsize="small",
+                   title=f"slenderness γ\n{key}", title_fontsize="small")
+    else:
+        fig.colorbar(ScalarMappable(norm, cmap), ax=axes[:sizes.size].tolist(),
+                     label=f"slenderness γ [-] ({key})".replace("\n", "; "))
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def _draw_curve(ax, agx, sel, fit, color, *, label=None, ms: float = 3.0,
+                alpha: float = 0.18) -> None:
+    """One probability curve with its Wilson band (opacity ``alpha``) and, if fitted, its
+    lognormal fit."""
+    ax.fill_between(agx, sel["ci_low"].values, sel["ci_high"].values, color=color, alpha=alpha,
+                    lw=0)
+    ax.plot(agx, sel["probability"].values, "o-", color=color, ms=ms, lw=1.2, label=label)
+    if fit is not None and np.isfinite(fit.median) and np.isfinite(fit.beta) and fit.beta > 0:
+        fine = np.linspace(agx.min(), agx.max(), 200)
+        ax.plot(fine, fit.probability(fine), "--", color=color, lw=1.0)
+
+
+def _probability_axes(ax) -> None:
+    ax.axhline(0.5, color="0.5", lw=0.8, ls=":")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(True, lw=0.4, alpha=0.5)
+
+
+def _key_text(ds, fits) -> str:
+    band = f"shaded: {100 * ds.attrs.get('confidence', 0.95):g} % Wilson interval"
+    return band + ("; dashed: lognormal fit" if fits else "")
 
 
 def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:

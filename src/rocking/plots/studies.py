@@ -44,16 +44,3 @@ def plot_responses(t, theta_over_alpha, labels, *, overturned=None, title: str =
     if title:
         fig.suptitle(title, fontsize="medium")
     return fig
-
-
-
-def figure_title(caption: str, width: int = 60) -> str:
-    """A figure title from a caption that may end in a bracketed note (``"Fig. 9: ...
-    [quick fidelity: n=40]"``): the text wrapped to ``width`` characters, the note on a line of
-    its own, so that long titles fit the figure."""
-    import textwrap
-
-    text, sep, note = caption.rpartition(" [")
-    if not (sep and note.endswith("]")):
-        text, note = caption, ""
-    return "\n".join(textwrap.wrap(text, width) + ([f"[{note}"] if note else []))

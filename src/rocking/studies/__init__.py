@@ -9,25 +9,25 @@ Every study module has ``TITLE``, ``run(ctx) -> result`` (computation only) and
 
 from __future__ import annotations
 
+import importlib
 import time
 from pathlib import Path
 
-import pandas as pd
-
-from ..backends import get_backend
+from ..defaults import STUDY_SECTIONS
 from ..errors import InputError
-from ..report import Report, provenance, remove_report
-from . import (conclusions, sec4_baseline, sec5_sensitivity, sec6_duration, sec7_floors,
-               sec8_energy)
-from .config import PRESETS, RunContext, load_config, validate
 
-#: Study modules by section number.
-STUDIES = {"4": sec4_baseline, "5": sec5_sensitivity, "6": sec6_duration, "7": sec7_floors,
-           "8": sec8_energy}
+#: Study modules by section number (imported when a section runs: they load Matplotlib).
+STUDIES = {"4": "sec4_baseline", "5": "sec5_sensitivity", "6": "sec6_duration",
+           "7": "sec7_floors", "8": "sec8_energy"}
+
+
+def study(section: str):
+    """The module of the study of ``section`` ("4"–"8")."""
+    return importlib.import_module(f".{STUDIES[section]}", __name__)
 
 
 def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | None = None,
-              config=None, sets=(), progress: bool | None = False, echo=None) -> Path:
+              config=None, sets=(), progress=False, echo=None) -> Path:
     """Run ``sections`` (e.g. ``["8"]`` or all of :data:`STUDIES`) and write the report.
 
     Parameters
@@ -37,8 +37,9 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
     fidelity : str
         "quick" or "paper" (:data:`rocking.studies.config.PRESETS`).
     out_dir : str or Path
-        Output folder: report.md, report.html, run.json, figures/, tables/, and chunks/ (finished
-        Monte Carlo chunks: a rerun with the same parameters resumes from them).
+        Output folder (a :class:`rocking.runs.RunFolder`): report.md, report.html, run.json,
+        figures/, tables/, and chunks/ (finished Monte Carlo chunks: a rerun with the same
+        parameters resumes from them).
     scheduler : str, optional
         Backend (:func:`rocking.backends.get_backend`): None/"local", "dask-local" or a Dask
         scheduler address.
@@ -46,8 +47,8 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
         TOML file of parameter overrides (:func:`rocking.studies.config.load_config`).
     sets : sequence of str
         ``section.key=VALUE`` overrides.
-    progress : bool or None
-        Show progress bars (None: only when writing to a terminal).
+    progress : bool, None or rocking.progress.Reporter
+        Progress of each section (:func:`rocking.progress.resolve`).
     echo : callable, optional
         Called with one line of text per finished step.
 
@@ -56,6 +57,12 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
     Path
         The report.html written.
     """
+    from ..backends import get_backend
+    from ..progress import resolve
+    from ..report import remove_report
+    from ..runs import RunFolder
+    from .config import PRESETS, RunContext, load_config, validate
+
     echo = echo or (lambda _msg: None)
     sections = list(dict.fromkeys(str(s) for s in sections))
     unknown = [s for s in sections if s not in STUDIES]
@@ -65,55 +72,61 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
     cfg = load_config(fidelity, config, sets)
     validate(cfg)
     backend = get_backend(scheduler)  # checks the address before anything is written
+    reporter = resolve(progress)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    remove_report(out)
     modified = cfg != PRESETS[fidelity]
-    run_info = {"status": "running", "sections": sections, "fidelity": fidelity,
+    run_info = {"sections": sections, "fidelity": fidelity,
                 "config_file": None if config is None else str(config), "sets": list(sets),
                 "modified": modified, "scheduler": scheduler or "local",
-                "seeds": {s: cfg[s]["seed"] for s in cfg if "seed" in cfg[s]}, "parameters": cfg}
-    provenance(out, **run_info)
-    start = time.perf_counter()
-    run_info["backend"] = repr(backend)
-    ctx = RunContext(cfg, fidelity, modified, backend, progress, out / "chunks")
-    results, wall = {}, {}
-    try:
-        try:
+                "seeds": {s: cfg[s]["seed"] for s in cfg if "seed" in cfg[s]},
+                "backend": repr(backend)}
+    with RunFolder(out, command="reproduce", params={"parameters": cfg}) as run, reporter:
+        # the pages of an earlier run must not look like this run's result if it fails
+        remove_report(out)
+        run.update(**run_info)
+        ctx = RunContext(cfg, fidelity, modified, backend, reporter, out / "chunks")
+        start = time.perf_counter()
+        results, wall = {}, {}
+        with backend:
             for s in sections:
                 t0 = time.perf_counter()
-                results[s] = STUDIES[s].run(ctx)
+                reporter.write(f"section {s}: {STUDY_SECTIONS[s]}")
+                with reporter.stage(f"section {s}", unit="sim"):
+                    results[s] = study(s).run(ctx)
                 wall[s] = round(time.perf_counter() - t0, 2)
+                run.update(wall_time_s=wall)
                 echo(f"section {s}: {wall[s]:.1f} s")
-        finally:
-            backend.close()
         t0 = time.perf_counter()
-        _write_report(out, ctx, results)
-    except BaseException:
-        provenance(out, **{**run_info, "status": "failed", "wall_time_s": wall})
-        raise
-    wall["report"] = round(time.perf_counter() - t0, 2)
-    wall["total"] = round(time.perf_counter() - start, 2)
-    provenance(out, **{**run_info, "status": "complete", "wall_time_s": wall})
+        with reporter.stage("report", unit="sections"):
+            for name in _write_report(out, ctx, results):
+                run.file(name)
+        wall["report"] = round(time.perf_counter() - t0, 2)
+        wall["total"] = round(time.perf_counter() - start, 2)
+        run.info["wall_time_s"] = wall
     echo(f"report: {out / 'report.html'} ({wall['total']:.1f} s in all)")
     return out / "report.html"
 
 
-def _write_report(out: Path, ctx: RunContext, results: dict) -> None:
-    """Report of the studies in ``results`` (by section), conclusions first."""
+def _write_report(out: Path, ctx, results: dict) -> list[str]:
+    """Report of the studies in ``results`` (by section), conclusions first; returns the files
+    it wrote (relative to ``out``)."""
+    from ..report import Report
+    from . import conclusions
+
     sections = list(results)
     rep = Report(f"Reproduction of the rocking paper: sections {', '.join(sections)} "
                  f"({ctx.fidelity} fidelity)", out)
     _introduction(rep, ctx, sections, ctx.fidelity, ctx.modified)
     _conclusions(rep, conclusions.evaluate(results), ctx.label())
     for s in sections:
-        STUDIES[s].report(results[s], rep, ctx)
+        study(s).report(results[s], rep, ctx)
     rep.heading("Known disagreements with the paper and likely reasons")
     rep.text("\n".join(f"- {item}" for item in conclusions.known_disagreements(results)))
     rep.write()
+    return rep.files
 
 
-def _introduction(rep: Report, ctx: RunContext, sections, fidelity: str, modified: bool) -> None:
+def _introduction(rep, ctx, sections, fidelity: str, modified: bool) -> None:
     c = ctx.cfg["common"]
     rep.text(
         f"Fidelity **{fidelity}**{' (modified by --config/--set)' if modified else ''}; "
@@ -126,7 +139,9 @@ def _introduction(rep: Report, ctx: RunContext, sections, fidelity: str, modifie
            if fidelity == "quick" else ""))
 
 
-def _conclusions(rep: Report, verdicts, label: str) -> None:
+def _conclusions(rep, verdicts, label: str) -> None:
+    import pandas as pd
+
     rep.heading("The paper's nine conclusions")
     table = pd.DataFrame({"no.": [v.number for v in verdicts],
                           "verdict": [v.verdict for v in verdicts],

@@ -18,7 +18,7 @@ from ..batch import overturn_batch
 from ..body import G, Block
 from ..dynamics import simulate
 from ..motions import baseline_correct
-from ..plots.studies import figure_title, plot_responses
+from ..plots.studies import plot_responses
 from .config import RunContext
 
 TITLE = "Section 4: baseline correction (Figs. 3-4)"
@@ -82,11 +82,11 @@ def report(result: Sec4Result, rep, ctx: RunContext) -> None:
     for fig_no, corr in ((3, "uncorrected"), (4, "corrected")):
         sel = r.sel(correction=corr)
         labels = [f"γ = {g:g}" for g in r["gamma"].values]
-        title = (f"Fig. {fig_no}: R = {R:.2f} m, motion No. {k} {corr}, PGA {agx:g} g "
-                 f"[{result.label}]")
+        caption = (f"Fig. {fig_no}: R = {R:.2f} m, motion No. {k} {corr}, PGA {agx:g} g "
+                   f"[{result.label}]")
         rep.figure(plot_responses(r["time"].values, sel["theta_over_alpha"].values, labels,
-                                  overturned=sel["t_overturn"].values, title=figure_title(title)),
-                   f"fig{fig_no}", title)
+                                  overturned=sel["t_overturn"].values),
+                   f"fig{fig_no}", caption)
     c = result.check
     n = c.sizes["motion"]
     table = pd.DataFrame({

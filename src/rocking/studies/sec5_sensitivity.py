@@ -26,19 +26,19 @@ import xarray as xr
 from ..batch import overturn_batch
 from ..body import Block
 from ..dynamics import simulate
-from ..plots.studies import figure_title, plot_responses
+from ..plots.studies import plot_responses
 from .config import RunContext
 
 TITLE = "Section 5: sensitivity to the motion, intensity, size, slenderness and e (Figs. 5-8)"
 #: Relative drop of the peak θ/α that counts as a reversal (smaller drops may be numerical).
 PEAK_TOLERANCE = 0.10
 #: Factors of the sweep: name -> +1 if a larger value should be more severe, −1 if less.
-DIRECTION = {"PGA": +1, "R": -1, "gamma": +1, "e": +1}
+DIRECTION = {"PGA": +1, "R": -1, "γ": +1, "e": +1}
 
 
 @dataclass(frozen=True)
 class Sec5Result:
-    """``figures``: {fig no.: (labels, θ/α (case, time), t_overturn, title text)};
+    """``figures``: {fig no.: (labels, θ/α (case, time), t_overturn, caption text)};
     ``sweeps``: {factor: Dataset ``overturned``, ``peak`` (value, motion)} with attribute
     ``direction``; ``motions``: ``overturned``/``peak`` (motion) of the Fig. 5 body at 0.6 g."""
 
@@ -84,9 +84,9 @@ def run(ctx: RunContext) -> Sec5Result:
         "R": _sweep(p["sizes"], *overturn_batch([Block(r, p["size_gamma"]) for r in p["sizes"]],
                                                 acc, ens.dt, [p["size_agx"]], e=e),
                     lambda a: a[:, 0]),
-        "gamma": _sweep(p["gammas"], *overturn_batch([Block(p["e_R"], g) for g in p["gammas"]],
-                                                     acc, ens.dt, [p["size_agx"]], e=e),
-                        lambda a: a[:, 0]),
+        "γ": _sweep(p["gammas"], *overturn_batch([Block(p["e_R"], g) for g in p["gammas"]],
+                                                 acc, ens.dt, [p["size_agx"]], e=e),
+                    lambda a: a[:, 0]),
         "e": _sweep(p["e_values"], *overturn_batch([e_body] * len(p["e_values"]), acc, ens.dt,
                                                    [p["size_agx"]], e=p["e_values"]),
                     lambda a: a[:, 0]),
@@ -141,10 +141,8 @@ def report(result: Sec5Result, rep, ctx: RunContext) -> None:
              "e = 0.92 (Fig. 8). Our motions are other random draws, so the single curves "
              "differ; the sweeps over the whole ensemble count how often such reversals occur.")
     for fig_no, (labels, theta, t_ov, text) in result.figures.items():
-        title = f"Fig. {fig_no}: {text} [{result.label}]"
-        fig = plot_responses(result.t, theta, labels, overturned=t_ov,
-                             title=figure_title(title))
-        rep.figure(fig, f"fig{fig_no}", title)
+        rep.figure(plot_responses(result.t, theta, labels, overturned=t_ov), f"fig{fig_no}",
+                   f"Fig. {fig_no}: {text} [{result.label}]")
     rows = []
     for name, ds in result.sweeps.items():
         rev = reversals(ds)

@@ -21,7 +21,6 @@ from ..fragility import overturning_probability
 from ..plots.fragility import plot_fragility
 from ..plots.frames import plot_floor_spectra
 from ..spectra import response_spectrum
-from ..plots.studies import figure_title
 from ..report import slug
 from .config import RunContext, resolve_bodies, resolve_frame
 
@@ -88,14 +87,15 @@ def report(result: Sec7Result, rep, ctx: RunContext) -> None:
     for i, frame in enumerate(ds["frame"].values):
         t1 = float(ds["T1"].sel(frame=frame))
         sel = ds.sel(frame=frame, body=[body]).rename({"location": "case"})
-        title = f"Fig. 11: {body} on {frame} (T1 = {t1:.2f} s) [{result.label}]"
-        rep.figure(plot_fragility(sel, title=figure_title(title)), f"fig11-{slug(frame)}", title)
+        rep.figure(plot_fragility(sel), f"fig11-{slug(frame)}",
+                   f"Fig. 11: {body} on {frame} (T1 = {t1:.2f} s) [{result.label}]")
     for frame in psv["frame"].values:
-        title = (f"Fig. 12: mean PSV of {frame} (T1 = {float(psv['T1'].sel(frame=frame)):.2f} "
-                 f"s) at A_gx = {psv.attrs['agx']:g} g, 5 % damping [{result.label}]")
+        caption = (f"Fig. 12: mean PSV of {frame} (T1 = "
+                   f"{float(psv['T1'].sel(frame=frame)):.2f} s) at A_gx = {psv.attrs['agx']:g} g, "
+                   f"5 % damping [{result.label}]")
         rep.figure(plot_floor_spectra(psv["freq"].values, psv.sel(frame=frame).values,
-                                      list(psv["location"].values), title=figure_title(title)),
-                   f"fig12-{slug(frame)}", title)
+                                      list(psv["location"].values)),
+                   f"fig12-{slug(frame)}", caption)
     mean = ds["probability"].mean("agx").to_dataframe().reset_index()
     table = mean.pivot_table(index=["frame", "body"], columns="location",
                              values="probability")[list(ds["location"].values)]

@@ -22,8 +22,8 @@ from ..energy import assess, energy_balance, grid_table
 from ..fragility import agx_50, overturning_probability
 from ..plots.fragility import plot_fragility, plot_sv1_spectrum, plot_sv_agx
 from ..spectra import response_spectrum
-from ..plots.studies import figure_title
 from ..report import slug
+from ..screen import eq11_vs_monte_carlo, eq11_vs_monte_carlo_note
 from .conclusions import ratio_stats
 from .config import RunContext, resolve_bodies, resolve_frame
 from .paper import paper_table, paper_values
@@ -91,18 +91,17 @@ def report(result: Sec8Result, rep, ctx: RunContext) -> None:
     paper = paper_values()["section8"]
     f13 = result.fig13
     a50 = f13.attrs["agx50"]
-    title = f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = " \
-            f"{paper['fig13_agx50']} g; ours {a50:.2f} g) [{lab}]"
-    rep.figure(plot_fragility(f13, title=figure_title(title)), "fig13", title)
+    rep.figure(plot_fragility(f13), "fig13",
+               f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = "
+               f"{paper['fig13_agx50']} g; ours {a50:.2f} g) [{lab}]")
     freqs, psv = result.fig14
-    title = (f"Fig. 14: mean PSV of the ground motions at A_gx50 = {a50:.2f} g of "
-             f"{f13['body'].values[0]} (paper: S_v1 = {paper['fig14_sv1_cm_s']} cm/s) [{lab}]")
-    rep.figure(plot_sv1_spectrum(freqs, psv, sv_required=f13.attrs["sv_required"],
-                                 title=figure_title(title)), "fig14", title)
+    caption = (f"Fig. 14: mean PSV of the ground motions at A_gx50 = {a50:.2f} g of "
+               f"{f13['body'].values[0]} (paper: S_v1 = {paper['fig14_sv1_cm_s']} cm/s) [{lab}]")
+    rep.figure(plot_sv1_spectrum(freqs, psv, sv_required=f13.attrs["sv_required"]), "fig14",
+               caption)
     for fig_no, loc in zip((15, 16), locations):
-        title = f"Fig. {fig_no}: required S_v against A_gx50, bodies on the {loc} [{lab}]"
-        rep.figure(plot_sv_agx(b.sel(location=loc), title=figure_title(title)), f"fig{fig_no}",
-                   title)
+        rep.figure(plot_sv_agx(b.sel(location=loc)), f"fig{fig_no}",
+                   f"Fig. {fig_no}: required S_v against A_gx50, bodies on {_the(loc)} [{lab}]")
     _tables(b, rep, lab)
     _examples(result.examples, rep, lab)
 
@@ -119,8 +118,10 @@ def _tables(b: xr.Dataset, rep, lab: str) -> None:
                   f"paper's and the difference, for the bodies run [{lab}]", name=f"table{no}",
                   floatfmt=fmt)
     for loc in [str(x) for x in b["location"].values[1:]]:
-        rep.table(_r_labels(grid_table(b.sel(location=loc), "ratio")),
-                  f"Ratio S_v1/S_v for bodies on the {loc} (no table in the paper) [{lab}]",
+        ratio = grid_table(b.sel(location=loc), "ratio")
+        ratio.columns = [f"γ={g:g}" for g in ratio.columns]
+        rep.table(_r_labels(ratio),
+                  f"Ratio S_v1/S_v for bodies on {_the(loc)} (no table in the paper) [{lab}]",
                   name=f"table3-{slug(loc)}", floatfmt=".3f")
     rows = {f"ours, {loc}": ratio_stats(b["ratio"].sel(location=loc).values)
             for loc in b["location"].values}
@@ -130,15 +131,24 @@ def _tables(b: xr.Dataset, rep, lab: str) -> None:
               name="table3-stats", floatfmt=".3f")
 
 
+def _the(location: str) -> str:
+    """``location`` after "on": "the ground", but "floor 1" (of ...) as it is."""
+    return "the ground" if location == "ground" else location
+
+
 def _r_labels(table: pd.DataFrame) -> pd.DataFrame:
     """Rows labelled by R as the paper prints it (whole feet in metres, two decimals)."""
-    return table.set_axis([f"{r:.2f}" for r in table.index], axis=0).rename_axis("R [m]")
+    return table.set_axis(np.round(table.index.to_numpy(dtype=float), 2), axis=0).rename_axis(
+        "R [m]")
 
 
 def _examples(ex: xr.Dataset, rep, lab: str) -> None:
-    """The two worked examples: Eq. (11) verdicts with our spectrum against the paper's, and
-    the simulated overturning probability at the same A_gx."""
+    """The two worked examples: Eq. (11) verdicts with our spectrum against the paper's, the
+    simulated overturning probability at the same A_gx, whether the two agree and why they can
+    differ."""
     paper = paper_values()["section8"]
+    compared = eq11_vs_monte_carlo(ex["verdict"].values, ex["probability"].values,
+                                   ex["ci_low"].values, ex["ci_high"].values)
     rows = []
     for i, body in enumerate(ex["body"].values):
         row = {"body": body, "required S_v [cm/s]": 100 * float(ex["sv_required"][i]),
@@ -146,10 +156,12 @@ def _examples(ex: xr.Dataset, rep, lab: str) -> None:
                "available S_v, paper [cm/s]": paper["example_floor_sv_cm_s"],
                "verdict by Eq. (11), ours": str(ex["verdict"].values[i]),
                "P(overturn) simulated": float(ex["probability"][i]),
-               "95 % CI": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}"}
+               "95 % CI": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}",
+               "Eq. (11) vs Monte Carlo": compared[i]}
         if i < len(paper["example_verdicts"]):
             row["verdict, paper"] = paper["example_verdicts"][i]
         rows.append(row)
-    rep.table(pd.DataFrame(rows), f"Worked examples of Section 8: bodies on the "
+    rep.table(pd.DataFrame(rows), f"Worked examples of Section 8: bodies on "
               f"{ex.attrs['location']} at A_gx = {ex.attrs['agx']:g} g [{lab}]",
               name="worked-examples", floatfmt=".2f")
+    rep.text(eq11_vs_monte_carlo_note(ex.attrs["band_hz"]))

@@ -1,0 +1,52 @@
+"""Writing files so that nothing half-written ever carries its final name.
+
+:func:`atomic_write` writes to a temporary file in the destination folder, flushes it to disk and
+renames it over the final name (:func:`os.replace`, atomic on POSIX and Windows): a process killed
+at any instant leaves either the old file or the new one, never a truncated one (at worst a stray
+hidden temporary file).  The file gets the permissions an ordinary ``open(path, "w")`` would give
+(0666 minus the umask in force); :func:`tempfile.mkstemp` would leave it private (0600).
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+from pathlib import Path
+
+
+def atomic_write(path, data) -> Path:
+    """Write ``data`` to ``path`` atomically; return the path.
+
+    Parameters
+    ----------
+    path : str or Path
+        Destination file; its folder must exist.
+    data : bytes, str or callable
+        The content (str is written as UTF-8), or a function called with a binary file object
+        that writes it (e.g. ``lambda f: numpy.savez(f, ...)``).
+    """
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
+    # Created as open(path, "w") creates a file: mode 0666 less the umask in force, applied by
+    # the system (so a umask changed during the run is followed); O_EXCL: never an existing file.
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            if callable(data):
+                data(fh)
+            else:
+                fh.write(data.encode("utf-8") if isinstance(data, str) else data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def save_figure(fig, path, dpi: int = 150) -> Path:
+    """Save a Matplotlib ``Figure`` to ``path`` atomically (format from the suffix, PNG if
+    none); return the path."""
+    fmt = Path(path).suffix.lstrip(".") or "png"
+    return atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))

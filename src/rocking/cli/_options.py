@@ -1,0 +1,157 @@
+"""Options and input parsers shared by the commands, each parsed in one place.
+
+This module imports nothing heavy (only click and the standard library; NumPy and the numerical
+modules inside the functions that need them), so that the command line answers ``--help`` and a
+mistyped option at once.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import click
+
+from ..defaults import BAND_HZ, DEFAULT_E, FRAME_PRESETS
+from ..errors import InputError
+
+#: The paper's band of the available S_v (Section 8) as the --band text.
+BAND_TEXT = f"{BAND_HZ[0]:g}:{BAND_HZ[1]:g}"
+
+
+# --------------------------------------------------------------------------- parsers
+
+
+def parse_range(text: str, option: str = "--agx", unit: str = "g"):
+    """Values of ``start:stop:step`` [``unit``] (stop included when within 1e-9·step) or of one
+    number, as a NumPy array; all must be > 0.
+
+    Values are rounded to 12 significant digits, so 0.1:0.3:0.1 gives 0.1, 0.2, 0.3 exactly as
+    written rather than 0.30000000000000004.
+    """
+    import numpy as np
+
+    parts = str(text).split(":")
+    try:
+        nums = [float(p) for p in parts]
+    except ValueError:
+        raise InputError(f"{option} must be start:stop:step or one number, got {text!r}") from None
+    if len(nums) == 1:
+        nums = [nums[0], nums[0], 1.0]
+    if len(nums) != 3 or not all(math.isfinite(x) for x in nums):
+        raise InputError(f"{option} must be start:stop:step (three finite numbers), got {text!r}")
+    start, stop, step = nums
+    if step <= 0.0:
+        raise InputError(f"{option} {text}: step must be > 0, got {step:g}")
+    if start <= 0.0:
+        raise InputError(f"{option} {text}: values must be > 0 [{unit}], got start {start:g}")
+    if stop < start:
+        raise InputError(f"{option} {text} is an empty range: stop ({stop:g} {unit}) is below "
+                         f"start ({start:g} {unit})")
+    n = int(math.floor((stop - start) / step + 1e-9)) + 1
+    values = start + step * np.arange(n, dtype=np.float64)
+    return np.array([float(f"{v:.12g}") for v in values.tolist()])
+
+
+def parse_band(text: str) -> tuple[float, float]:
+    """``lo:hi`` [Hz] with 0 < lo < hi."""
+    try:
+        lo, hi = (float(p) for p in str(text).split(":"))
+    except ValueError:
+        raise InputError(f"--band must be LOW:HIGH in Hz, e.g. 0.04:0.6, got {text!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi):
+        raise InputError(f"--band {text}: need 0 < LOW < HIGH [Hz]")
+    return lo, hi
+
+
+def parse_e(text: str):
+    """Restitution of ``--e``: a number in (0, 1] or ``housner``."""
+    from .._validate import restitution
+
+    return restitution(text, "--e")
+
+
+def load_bodies(spec: str) -> list:
+    """Bodies (:class:`rocking.bodies.NamedBody`) of ``--bodies``: a CSV file, the word
+    ``paper`` for the paper's 72 bodies, or ``example`` for the shipped example file (unless a
+    file of that name exists)."""
+    from ..bodies import NamedBody, example_bodies_path, read_bodies_table
+    from ..body import paper_bodies
+
+    if spec == "paper":
+        return [NamedBody(b.label, b) for b in paper_bodies()]
+    if spec == "example" and not Path(spec).exists():
+        return read_bodies_table(example_bodies_path())
+    return read_bodies_table(spec)
+
+
+def frame_and_floor(frame_name: str | None, floor: int | None):
+    """(ShearFrame or None, floor) of ``--frame`` and ``--floor`` (given together or not at all)."""
+    if frame_name is None and floor is None:
+        return None, 0
+    if frame_name is None or floor is None:
+        raise InputError("--floor and --frame go together: give both (floor 0 is the ground)")
+    from ..frames import ShearFrame
+
+    frame = ShearFrame.preset(frame_name)
+    if not 0 <= floor <= frame.n_stories:
+        raise InputError(f"--floor must be from 0 (ground) to {frame.n_stories} (roof of "
+                         f"{frame.name}), got {floor}")
+    return frame, floor
+
+
+def writable_file(path: str | None, option: str) -> Path | None:
+    """Check, before any work, that the file ``path`` of ``option`` can be written (its folder
+    exists and is writable; it is not a folder)."""
+    if path is None:
+        return None
+    p = Path(path)
+    folder = p.parent if str(p.parent) else Path(".")
+    if p.is_dir():
+        raise InputError(f"{option} {path}: is a folder, not a file")
+    if not folder.is_dir():
+        raise InputError(f"{option} {path}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
+        raise InputError(f"{option} {path}: not writable")
+    return p
+
+
+def reporter(quiet: bool = False):
+    """The progress reporter of a command (:class:`rocking.progress.Reporter`); quiet: none."""
+    from ..progress import Reporter
+
+    return Reporter(enabled=not quiet)
+
+
+# --------------------------------------------------------------------------- options
+
+bodies_option = click.option(
+    "--bodies", "bodies_spec", required=True, metavar="FILE|paper|example",
+    help="Bodies CSV with columns R [m] and gamma [-], or H [m] and B [m], and optionally name; "
+         "'paper' for the paper's 72 bodies (R = 4-11 ft, gamma = 2-6); 'example' for the "
+         "shipped example file (the paper's two Section 8 blocks and five pieces of "
+         "equipment).")
+quiet_option = click.option("--quiet", is_flag=True, help="No progress bars or messages.")
+scheduler_option = click.option(
+    "--scheduler", default=None, metavar="ADDRESS",
+    help="'local' (default: all cores here), 'dask-local' (a local Dask cluster) or a Dask "
+         "scheduler address tcp://HOST:PORT.")
+e_option = click.option(
+    "--e", "e_text", default=f"{DEFAULT_E:g}", show_default=True, metavar="E|housner",
+    help="Coefficient of restitution [-] in (0, 1], or 'housner' (1 - 1.5 sin^2 alpha per body).")
+frame_option = click.option(
+    "--frame", "frame_name", default=None, metavar="PRESET",
+    help=f"Shear-frame preset: {', '.join(FRAME_PRESETS)}.")
+band_option = click.option(
+    "--band", "band_text", default=BAND_TEXT, show_default=True, metavar="LOW:HIGH",
+    help="Frequency band [Hz] of the available S_v (max of the mean 5 %-damped PSV).")
+
+
+def options(*opts):
+    """Apply click options in the order given (first listed first in --help)."""
+    def apply(func):
+        for option in reversed(opts):
+            func = option(func)
+        return func
+    return apply

@@ -1,0 +1,49 @@
+"""Constants and defaults of the package, in one place (standard library only).
+
+The modules that compute with these values import them from here, and so does the command line,
+whose options need them before anything heavy is loaded (``rocking --help`` and a mistyped
+option answer in a fraction of a second).
+"""
+
+from __future__ import annotations
+
+#: Standard gravity [m/s²].
+G = 9.80665
+#: Coefficient of restitution of the paper (Aslam et al. 1980; paper Section 2) [-].
+DEFAULT_E = 0.925
+#: Sizes R [m] and slenderness ratios γ [-] a Block may have: a rigid body from a millimetre to a
+#: kilometre, from a slab 100 times wider than high to a needle 100 times higher than wide.
+#: Outside, the input is almost surely a mistake of units (and R = 1e308 m overflows Eq. 11).
+R_RANGE_M = (1e-3, 1e3)
+GAMMA_RANGE = (1e-2, 1e2)
+#: The paper's time step of the motions and of the Runge–Kutta integration [s].
+DT = 1.0 / 400.0
+#: The paper's band of the available pseudo-velocity S_v [Hz] (Section 8).
+BAND_HZ = (0.04, 0.6)
+#: Band over which the fit of simulated motions to their target is summarised [Hz].
+FIT_BAND = (0.2, 33.0)
+#: Names of the intensity functions (paper Fig. 2; :mod:`rocking.envelopes`).
+ENVELOPE_NAMES = ("boxcar", "compound", "trapezoidal")
+#: Names of the shear-frame presets (paper Section 7; :data:`rocking.frames.PRESETS`).
+FRAME_PRESETS = ("paper-2.0", "paper-1.5", "paper-1.0", "paper-0.5")
+#: Sections of the paper that ``rocking reproduce`` runs, with what they show.
+STUDY_SECTIONS = {
+    "4": "baseline correction (Figs. 3-4)",
+    "5": "sensitivity to motion, intensity, size, slenderness, e (Figs. 5-8)",
+    "6": "duration and intensity function (Figs. 9-10)",
+    "7": "floors of shear frames (Figs. 11-12)",
+    "8": "Housner's energy balance (Figs. 13-16, Tables 1-3, worked examples)",
+}
+#: Float format of CSV tables: 12 significant digits keep every value to far better than any
+#: result needs, and drop binary noise such as 0.23000000000046314 (an A_gx found on a 0.01 g
+#: grid, scaled and scaled back) or 1.8288000000000002 (6 ft in metres).
+CSV_FLOAT_FORMAT = "%.12g"
+#: The syntax of a design-spectrum specification (:func:`rocking.design_spectra.parse_spectrum`).
+SPECTRUM_SYNTAX = (
+    "rg160:PGA (e.g. rg160:0.3; optional damping=0.05), "
+    "asce7:SDS=…,SD1=…,TL=… (g, g, s), "
+    "ec8:type=1|2,ground=A…E,ag=… (a_gR in g; optional importance=…, damping=…), "
+    "or a CSV file of frequency [Hz] or period [s] and PSA [g] or PSV [cm/s or m/s] (e.g. a "
+    "floor response spectrum, or the output of 'rocking spectrum --csv' or 'rocking frame "
+    "spectra --csv'), FILE:NAME choosing one spectrum of a file that holds several (a record, "
+    "a floor)")

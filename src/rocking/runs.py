@@ -1,0 +1,168 @@
+"""Output folders of runs: claimed by one run at a time, with a status, written file by file.
+
+Every command that writes a folder (``rocking fragility``, ``agx50``, ``screen``, ``reproduce``,
+``motions show`` and ``motions fit``) writes it through a :class:`RunFolder`:
+
+* **claim**: the run holds an operating-system lock on ``.rocking.lock`` in the folder from start
+  to end (``filelock``; released by the system if the process dies, so a crash never leaves the
+  folder locked).  A second run into the same folder while the first one works stops at once with
+  an error instead of mixing its files with the first's;
+* **status**: ``run.json`` says ``"running"`` from the start, then ``"completed"`` or
+  ``"failed"`` (an exception, Ctrl-C, SIGTERM), with the parameters, seeds, versions, wall time
+  and the list of files the run wrote (``outputs``);
+* **no stale results**: the files that the previous run of the folder listed in its ``run.json``
+  are deleted before anything else, so an interrupted rerun never leaves the previous run's tables
+  beside its own ``"failed"`` status looking like results.  Only files a run recorded are deleted,
+  never others, and resumable work (Monte Carlo chunks) is kept;
+* **atomic files**: every file goes through :func:`rocking._files.atomic_write`.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+from ._files import atomic_write, save_figure
+from .defaults import CSV_FLOAT_FORMAT
+from .errors import InputError
+
+LOCK = ".rocking.lock"
+RUN_JSON = "run.json"
+#: Status words of run.json.
+RUNNING, COMPLETED, FAILED = "running", "completed", "failed"
+
+
+class RunFolder:
+    """The output folder of one run (a context manager; see the module notes).
+
+    Parameters
+    ----------
+    path : str or Path
+        The folder (created if missing).
+    command : str
+        What runs, e.g. ``"fragility"`` (recorded in run.json).
+    params : dict
+        JSON-serialisable parameters and seeds of the run (entries of run.json).
+    """
+
+    def __init__(self, path, *, command: str, params: dict):
+        self.path = Path(path)
+        self.command = command
+        self.params = dict(params)
+        self.outputs: list[str] = []
+        self.info: dict = {}
+        self._lock = None
+        self._start = 0.0
+
+    # ---- claim and status ----------------------------------------------------------------------
+    def __enter__(self) -> "RunFolder":
+        import filelock
+
+        if self.path.exists() and not self.path.is_dir():
+            raise InputError(f"out: {self.path} exists and is not a folder")
+        try:
+            self.path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"out: cannot create folder {self.path} ({exc.strerror})") from None
+        lock = filelock.FileLock(self.path / LOCK, timeout=0)
+        try:
+            lock.acquire()
+        except filelock.Timeout:
+            raise InputError(f"out: {self.path} is in use by another rocking run (see its "
+                             f"{RUN_JSON}); wait for it to end or choose another folder") from None
+        except OSError as exc:
+            raise InputError(f"out: cannot write in {self.path} ({exc.strerror})") from None
+        self._lock = lock
+        try:
+            self._remove_previous_outputs()
+            self._start = time.perf_counter()
+            self._write_status(RUNNING)
+        except BaseException:
+            lock.release()
+            raise
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                self._write_status(COMPLETED)
+            else:
+                what = "interrupted" if issubclass(exc_type, (KeyboardInterrupt, SystemExit)) \
+                    else f"{exc_type.__name__}: {exc}"
+                self._write_status(FAILED, error=what)
+        finally:
+            self._lock.release()
+
+    def _remove_previous_outputs(self) -> None:
+        previous = self.path / RUN_JSON
+        if not previous.is_file():
+            return
+        try:
+            outputs = json.loads(previous.read_text()).get("outputs", [])
+        except (OSError, ValueError, AttributeError):
+            return  # not ours to interpret: leave the files alone
+        root = self.path.resolve()
+        for name in outputs if isinstance(outputs, list) else []:
+            target = (self.path / str(name)).resolve()
+            if target.parent == root or root in target.parents:  # never outside the folder
+                target.unlink(missing_ok=True)
+
+    def _write_status(self, status: str, **extra) -> None:
+        from .report import provenance
+
+        wall = round(time.perf_counter() - self._start, 3) if self._start else 0.0
+        record = {"status": status, "command": self.command, **self.params,
+                  "outputs": self.outputs, "wall_time_s": wall, **self.info, **extra}
+        provenance(self.path, **record)
+
+    def update(self, **info) -> None:
+        """Add entries (JSON-serialisable) to run.json, e.g. a summary of the results."""
+        self.info.update(info)
+        self._write_status(RUNNING)
+
+    # ---- files ---------------------------------------------------------------------------------
+    def file(self, name: str) -> Path:
+        """Path of the output ``name`` (relative, '/'-separated), recorded in run.json; its
+        folder is created.  For outputs written by other code, which must write atomically."""
+        rel = Path(name)
+        if rel.is_absolute() or ".." in rel.parts:
+            raise ValueError(f"output name {name!r} must be relative and inside the folder")
+        path = self.path / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if rel.as_posix() not in self.outputs:
+            self.outputs.append(rel.as_posix())
+        return path
+
+    def write(self, name: str, data) -> Path:
+        """Write ``data`` (bytes, str or a function of a binary file) to ``name`` atomically."""
+        return atomic_write(self.file(name), data)
+
+    def write_csv(self, name: str, table, **to_csv) -> Path:
+        """Write a pandas DataFrame as CSV (``to_csv`` options; by default ``index=False`` and
+        floats to :data:`rocking.defaults.CSV_FLOAT_FORMAT`, no float noise)."""
+        to_csv.setdefault("index", False)
+        to_csv.setdefault("float_format", CSV_FLOAT_FORMAT)
+        return self.write(name, table.to_csv(**to_csv))
+
+    def write_figure(self, name: str, fig, dpi: int = 150) -> Path:
+        """Save a Matplotlib figure (format from the name's suffix) atomically."""
+        return save_figure(fig, self.file(name), dpi)
+
+    def write_netcdf(self, name: str, dataset) -> Path:
+        """Write an xarray Dataset as netCDF-3 (SciPy engine; see :func:`to_netcdf3_bytes`)."""
+        return self.write(name, to_netcdf3_bytes(dataset))
+
+
+def to_netcdf3_bytes(dataset) -> bytes:
+    """A Dataset as netCDF-3 bytes, integers as int32 and booleans as int8 (netCDF-3 has no
+    64-bit integers nor booleans)."""
+    import numpy as np
+
+    ds = dataset.copy()
+    for name, var in ds.variables.items():
+        if var.dtype.kind in "iu":
+            ds[name] = var.astype(np.int32)
+        elif var.dtype.kind == "b":
+            ds[name] = var.astype(np.int8)
+    return bytes(ds.to_netcdf(None, engine="scipy"))

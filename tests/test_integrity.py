@@ -1,0 +1,324 @@
+"""Results that cannot lie: chunk fingerprints, claimed folders, integer A_gx levels, memory
+estimates, a lost Dask cluster, file modes, and the CLI telling a user's mistake from a bug.
+
+Each test reproduces a defect found in issue 14 and checks that it is gone.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import stat
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+
+from rocking import store
+from rocking._files import atomic_write
+from rocking.body import Block
+from rocking.errors import BackendError, InputError
+from rocking.fragility import level_agx, level_key, overturning_probability
+from rocking.motions import generate
+from rocking.runs import RunFolder
+
+BLOCKS = [Block(0.6, 3.0), Block(1.22, 4.0)]
+AGX = [0.3, 0.6, 0.9]
+SCIENCE = ("probability", "count", "n", "ci_low", "ci_high")
+
+
+@pytest.fixture(scope="module")
+def motions():
+    """Two ensembles of the same size and sampling that overturn the blocks differently."""
+    return generate(8, duration=6.0, dt=1 / 200, seed=9), generate(8, duration=6.0, dt=1 / 200,
+                                                                   seed=10)
+
+
+def _science(ds):
+    """The results without the counts of chunks computed and loaded."""
+    out = ds[list(SCIENCE)]
+    out.attrs = {k: v for k, v in ds.attrs.items() if not k.startswith("chunks_")}
+    return out
+
+
+def test_chunks_of_another_run_in_the_folder_are_never_loaded(motions, tmp_path):
+    # The defect: two runs started together into one folder with different motions both wrote
+    # their chunks (same file names: same bodies and levels); a rerun of the first then loaded
+    # the second's results as its own. Here the second run's chunks are put in the first run's
+    # folder, as that race left them.
+    a, b = motions
+    ref_a = overturning_probability(BLOCKS, a, AGX)
+    ref_b = overturning_probability(BLOCKS, b, AGX)
+    assert not ref_a["count"].equals(ref_b["count"])  # the mix-up would be visible
+    run_a, run_b = tmp_path / "a", tmp_path / "b"
+    overturning_probability(BLOCKS, a, AGX, out=run_a, chunk_size=8)
+    overturning_probability(BLOCKS, b, AGX, out=run_b, chunk_size=8)
+    names = sorted(p.name for p in run_b.glob("chunk-*.npz"))
+    assert names == sorted(p.name for p in run_a.glob("chunk-*.npz"))  # the same file names
+    for name in names:
+        shutil.copy(run_b / name, run_a / name)
+    again = overturning_probability(BLOCKS, a, AGX, out=run_a, chunk_size=8)
+    assert again.attrs["chunks_loaded"] == 0  # none of b's chunks is taken for a's
+    xr.testing.assert_identical(_science(again), _science(ref_a))
+
+
+def test_chunks_of_another_version_are_computed_again(motions, tmp_path, monkeypatch):
+    a, _ = motions
+    first = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert first.attrs["chunks_computed"] > 0
+    same = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert same.attrs["chunks_loaded"] == first.attrs["chunks_computed"]
+    # an upgrade changes the kernel source: the old chunks must not be mixed with new results
+    monkeypatch.setattr(store, "code_version",
+                        lambda: {"version": "9.9", "kernel_sha256": "0" * 64})
+    upgraded = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert upgraded.attrs["chunks_loaded"] == 0
+    assert upgraded.attrs["chunks_computed"] == first.attrs["chunks_computed"]
+    xr.testing.assert_identical(_science(upgraded), _science(first))
+
+
+HOLD_SCRIPT = """
+import sys
+from rocking.store import ChunkStore
+with ChunkStore(sys.argv[1], {"run": "first"}):
+    print("claimed", flush=True)
+    sys.stdin.readline()   # hold the folder until the test says so
+"""
+
+
+def test_a_folder_in_use_by_another_run_is_refused(tmp_path):
+    # The defect: two runs into one folder at the same instant both succeeded. The claim is an
+    # OS lock held by the first process; the second stops at once, whatever its parameters.
+    proc = subprocess.Popen([sys.executable, "-c", HOLD_SCRIPT, str(tmp_path)],
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "claimed"  # an observable event, not a sleep
+        for params in ({"run": "first"}, {"run": "second"}):
+            with pytest.raises(InputError, match="in use"):
+                with store.ChunkStore(tmp_path, params):
+                    pass
+        with pytest.raises(InputError, match="in use"):
+            with RunFolder(tmp_path, command="test", params={}):
+                pass
+    finally:
+        proc.stdin.write("\n")
+        proc.stdin.close()
+        proc.wait(timeout=60)
+    with store.ChunkStore(tmp_path, {"run": "first"}):  # free again once the first has ended
+        pass
+
+
+def test_levels_are_keyed_by_integers(motions, tmp_path):
+    a, _ = motions
+    assert level_key(0.1 + 0.2) == level_key(0.3) == 300_000_000
+    assert level_agx(level_key(0.23000000000046314)) == 0.23  # no float noise in the result
+    first = overturning_probability(BLOCKS, a, [0.3], out=tmp_path)
+    again = overturning_probability(BLOCKS, a, [0.1 + 0.2], out=tmp_path)
+    assert again.attrs["chunks_computed"] == 0  # one level, found by its integer key
+    assert again["agx"].values.tolist() == [0.3]
+    xr.testing.assert_identical(_science(again), _science(first))
+
+
+def test_work_too_large_for_memory_is_refused_before_it_starts(motions):
+    # The defect: --agx 0.1:1.0:1e-7 (9 million levels) ran until the OS killed it at 23 GB.
+    a, _ = motions
+    agx = np.arange(9_000_001) * 1e-7 + 0.1
+    with pytest.raises(InputError, match=r"agx: .* would need about .* of memory"):
+        overturning_probability([Block(1.0, 4.0)] * 72, a, agx)
+    with pytest.raises(InputError, match=r"n: .* would need about .* of memory"):
+        generate(1_000_000_000)
+
+
+def _close_cluster_when_first_chunk_is_written(backend, folder, done):
+    while not done.is_set():
+        if list(folder.glob("chunk-*.npz")):
+            backend.client.cluster.close()  # every worker lost at once
+            return
+        done.wait(0.005)
+
+
+def test_losing_every_dask_worker_is_a_clear_error_and_the_folder_resumes(motions, tmp_path):
+    from rocking.backends import DaskBackend
+
+    a, _ = motions
+    agx = np.round(np.arange(0.1, 8.0, 0.05), 12)
+    backend = DaskBackend(n_workers=2)
+    done = threading.Event()
+    watcher = threading.Thread(target=_close_cluster_when_first_chunk_is_written,
+                               args=(backend, tmp_path, done), daemon=True)
+    backend.client  # start the cluster before watching
+    watcher.start()
+    try:
+        with pytest.raises(BackendError, match="Dask"):
+            overturning_probability(BLOCKS, a, agx, out=tmp_path, backend=backend, chunk_size=8)
+    finally:
+        done.set()
+        watcher.join()
+        backend.close()
+    saved = len(list(tmp_path.glob("chunk-*.npz")))
+    assert saved > 0
+    resumed = overturning_probability(BLOCKS, a, agx, out=tmp_path, chunk_size=8)
+    assert resumed.attrs["chunks_loaded"] == saved
+    xr.testing.assert_identical(_science(resumed), _science(overturning_probability(BLOCKS, a,
+                                                                                    agx)))
+
+
+def test_files_follow_the_umask(tmp_path):
+    # The defect: report files were created mode 0600 whatever the umask (tempfile.mkstemp).
+    old = os.umask(0o022)
+    try:
+        path = atomic_write(tmp_path / "a.txt", "text")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
+    assert path.read_text() == "text"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]  # no temporary file left
+
+
+def test_run_folder_records_status_and_removes_the_previous_runs_outputs(tmp_path):
+    with RunFolder(tmp_path, command="test", params={"x": 1}) as run:
+        run.write("tables/a.csv", "a\n1\n")
+        assert json.loads((tmp_path / "run.json").read_text())["status"] == "running"
+    info = json.loads((tmp_path / "run.json").read_text())
+    assert info["status"] == "completed" and info["outputs"] == ["tables/a.csv"]
+    (tmp_path / "notes.txt").write_text("the user's own file")
+    # the defect: an interrupted rerun left the previous run's tables looking complete
+    with pytest.raises(KeyboardInterrupt):
+        with RunFolder(tmp_path, command="test", params={"x": 2}):
+            assert not (tmp_path / "tables" / "a.csv").exists()
+            raise KeyboardInterrupt
+    info = json.loads((tmp_path / "run.json").read_text())
+    assert info["status"] == "failed" and info["outputs"] == []
+    assert (tmp_path / "notes.txt").exists()  # never a file the run did not write
+
+
+def test_cli_tells_a_bug_from_a_users_mistake(monkeypatch, tmp_path):
+    from rocking.cli import main
+
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path))
+    monkeypatch.setenv("TMPDIR", str(tmp_path))
+    runner = CliRunner()
+    user = runner.invoke(main, ["simulate", "--R", "-1", "--gamma", "4", "--motion", "example"])
+    assert user.exit_code == 1 and "Error: R must be" in user.output
+    assert "Traceback" not in user.output and len(user.output.strip().splitlines()) == 1
+
+    import rocking.dynamics
+
+    def broken(*args, **kw):
+        raise KeyError("a bug")
+
+    monkeypatch.setattr(rocking.dynamics, "simulate", broken)
+    bug = runner.invoke(main, ["simulate", "--R", "1", "--gamma", "4", "--motion", "example"])
+    assert bug.exit_code == 70
+    assert "internal error" in bug.output and "a bug, not a problem with your input" in bug.output
+    saved = bug.output.split("traceback is in ")[1].split("; please")[0]
+    assert "KeyError" in open(saved).read()
+
+
+def test_motions_above_the_nyquist_frequency_are_refused():
+    # The defect: RG 1.60 motions at dt = 1 s were generated (the components reach 50 Hz, the
+    # target 33 Hz; a 1 s step resolves 0.5 Hz).
+    with pytest.raises(InputError, match=r"dt = 1 s samples frequencies up to 0.5 Hz"):
+        generate(2, dt=1.0)
+
+
+def test_generate_checks_its_output_file_before_the_work(tmp_path):
+    # The defect: `rocking motions generate` found that --out could not be written only after
+    # simulating every motion. 100,000 motions would take minutes: the answer must be at once.
+    import time
+
+    from rocking.cli import main
+
+    start = time.perf_counter()
+    result = CliRunner().invoke(main, ["motions", "generate", "--n", "100000", "--out",
+                                       str(tmp_path / "missing" / "ens.nc")])
+    assert result.exit_code == 1 and "--out" in result.output and "does not exist" in result.output
+    assert time.perf_counter() - start < 10.0
+
+
+def test_show_config_refuses_invalid_values():
+    # The defect: --show-config printed a configuration that the run would then refuse.
+    from rocking.cli import main
+
+    result = CliRunner().invoke(main, ["reproduce", "all", "--show-config", "--set",
+                                       'sec7.frames=["paper-3.0"]'])
+    assert result.exit_code == 1
+    assert "sec7.frames: unknown frame preset 'paper-3.0'" in result.output
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: Block(1e308, 4.0), r"R = 1e\+308 m is outside the range"),
+    (lambda: Block(1.0, 1e-9), r"gamma = 1e-09 is outside the range"),
+    (lambda: Block.from_dimensions(2000.0, 1.0), r"R = 1000 m is outside|gamma = 2000"),
+])
+def test_nonsense_bodies_are_refused(make, message):
+    # The defect: R = 1e308 m was accepted and reported "safe" (Eq. 11 overflowed to inf);
+    # gamma = 1e-9 was accepted.
+    with pytest.raises(InputError, match=message):
+        make()
+
+
+def test_nonsense_tables_and_specifications_are_refused(tmp_path):
+    from rocking.bodies import read_bodies
+    from rocking.design_spectra import parse_spectrum
+    from rocking.screen import screen
+
+    # a spectrum specification that gives a key twice: which one would be used?
+    with pytest.raises(InputError, match="SDS is given twice"):
+        parse_spectrum("asce7:SDS=1,SDS=2,SD1=0.6,TL=8")
+    # a CSV row with more cells than the header has columns (a shifted row)
+    path = tmp_path / "bodies.csv"
+    path.write_text("R,gamma\n1.2,4\n1.5,3,7\n")
+    with pytest.raises(InputError, match=r"row 2 \(line 3\): 3 value\(s\) for 2 columns"):
+        read_bodies(path)
+    # nothing to screen: a clear error, not a TypeError
+    with pytest.raises(InputError, match="inventory is empty"):
+        screen([], "rg160:0.3")
+
+
+def test_fragility_and_agx50_folders_record_their_run(motions, tmp_path):
+    # The defect: `fragility` and `agx50` wrote no run.json.
+    from rocking.cli import main
+
+    a, _ = motions
+    path = tmp_path / "m.nc"
+    a.save(path)
+    bodies = tmp_path / "b.csv"
+    bodies.write_text("R,gamma\n0.6,3\n1.22,4\n")
+    for command, extra, table in (("fragility", ["--agx", "0.3:0.9:0.3"], "probabilities.csv"),
+                                  ("agx50", ["--resolution", "0.1"], "agx50.csv")):
+        out = tmp_path / command
+        result = CliRunner().invoke(main, [command, "--bodies", str(bodies), "--motions",
+                                           str(path), "--out", str(out), "--quiet", *extra])
+        assert result.exit_code == 0, result.output
+        info = json.loads((out / "run.json").read_text())
+        assert info["status"] == "completed" and info["command"] == command
+        assert table in info["outputs"] and all((out / f).is_file() for f in info["outputs"])
+        assert info["n_motions"] == a.n and info["motions"] == str(path)
+
+
+def test_an_interrupted_screen_rerun_leaves_no_old_tables(tmp_path, monkeypatch):
+    # The defect: an interrupted rerun of `screen` left the previous run's tables beside it,
+    # looking complete.
+    from rocking.cli import main
+    import rocking.screen
+
+    args = ["screen", "example", "--spectrum", "asce7:SDS=1.0,SD1=0.6,TL=8", "--frame",
+            "paper-2.0", "--n", "4", "--duration", "4", "--resolution", "0.2", "--out",
+            str(tmp_path), "--quiet"]
+    assert CliRunner().invoke(main, args).exit_code == 0
+    assert (tmp_path / "tables" / "screen.csv").is_file()
+
+    def interrupted(*a, **kw):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(rocking.screen, "screen", interrupted)
+    assert CliRunner().invoke(main, args).exit_code != 0
+    assert not (tmp_path / "tables" / "screen.csv").exists()
+    assert not (tmp_path / "report.html").exists()
+    assert json.loads((tmp_path / "run.json").read_text())["status"] == "failed"
