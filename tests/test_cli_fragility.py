@@ -153,14 +153,14 @@ def test_example_bodies_are_shipped_and_hold_the_paper_section_8_pair(flat_spect
 
 def test_assess_paper_bodies_and_ensemble_source(motions, flat_spectrum):
     result = _run(["assess", "--bodies", "paper", "--spectrum", flat_spectrum, "--json"])
-    assert len(json.loads(result.output)["bodies"]) == 72
+    assert len(json.loads(result.stdout)["bodies"]) == 72
     # An ensemble on floor 1 of the 2.0 s frame, scaled to 0.6 g, agrees with the library.
     from rocking.energy import available_sv
     from rocking.motions import Ensemble
 
     floor = ShearFrame.preset("paper-2.0").floor_ensemble(Ensemble.load(motions), 1)
     data = json.loads(_run(["assess", "--bodies", "paper", "--spectrum", motions, "--agx", 0.6,
-                            "--frame", "paper-2.0", "--floor", 1, "--json"]).output)
+                            "--frame", "paper-2.0", "--floor", 1, "--json"]).stdout)
     assert data["sv_available_cm_s"] == pytest.approx(100 * available_sv(floor, agx=0.6),
                                                       rel=1e-12)
 
@@ -169,7 +169,7 @@ def test_assess_takes_a_design_spectrum_specification():
     # ASCE 7 with S_D1 = 0.6 g: the band 0.04–0.6 Hz lies on the constant-velocity plateau
     # (T_s = S_D1/S_DS = 0.6 s to T_L = 8 s), so S_v = S_D1·g/(2π) = 93.65 cm/s exactly.
     data = json.loads(_run(["assess", "--bodies", "paper", "--spectrum",
-                            "asce7:SDS=1.0,SD1=0.6,TL=8", "--json"]).output)
+                            "asce7:SDS=1.0,SD1=0.6,TL=8", "--json"]).stdout)
     assert data["sv_available_cm_s"] == pytest.approx(100 * 0.6 * G / (2 * math.pi), rel=1e-9)
     line = _one_line_error(_run(["assess", "--bodies", "paper", "--spectrum", "asce7:SDS=1"]))
     assert "missing SD1, TL" in line

@@ -322,3 +322,23 @@ def test_an_interrupted_screen_rerun_leaves_no_old_tables(tmp_path, monkeypatch)
     assert not (tmp_path / "tables" / "screen.csv").exists()
     assert not (tmp_path / "report.html").exists()
     assert json.loads((tmp_path / "run.json").read_text())["status"] == "failed"
+
+
+def test_compiled_kernels_are_cached_in_the_user_cache_folder(tmp_path):
+    # A read-only install must keep its compiled kernels: they go to the user's cache folder
+    # (here ROCKING_CACHE_DIR), never next to the sources.
+    import rocking
+
+    src = os.path.dirname(rocking.__file__)
+    before = {p for p in _files_under(src) if p.endswith((".nbi", ".nbc"))}
+    env = {**os.environ, "ROCKING_CACHE_DIR": str(tmp_path)}
+    code = ("import numpy as np, rocking\n"
+            "rocking.simulate(rocking.Block(1.0, 4.0), np.zeros(10), 0.01)\n")
+    subprocess.run([sys.executable, "-c", code], env=env, check=True)
+    cached = [p for p in _files_under(tmp_path) if p.endswith(".nbi")]
+    assert any("simulate_kernel" in os.path.basename(p) for p in cached)
+    assert {p for p in _files_under(src) if p.endswith((".nbi", ".nbc"))} == before
+
+
+def _files_under(root) -> list[str]:
+    return [os.path.join(d, f) for d, _, files in os.walk(root) for f in files]
