@@ -7,7 +7,7 @@ Run from the repository root:
 It prints a table and writes JSON with the machine (CPU model, cores, Python/NumPy/Numba
 versions, date, load average) and, measured in the same run:
 
-* ``kernel``: aggregate throughput of the batched kernel (:func:`rocking.batch.run_cases`, all
+* ``kernel``: aggregate throughput of the batched kernel (:func:`rocking.dynamics.batch.run_cases`, all
   Numba threads) in ns per RK4 step, on bodies that keep rocking through 20 s motions (dt =
   1/400 s).  Only steps actually integrated count: the sample intervals in which the block is
   not at rest throughout, up to overturning, counted independently from :func:`rocking.simulate`'s
@@ -16,7 +16,7 @@ versions, date, load average) and, measured in the same run:
 * ``plain_loop``: the same cases by the plain compiled scalar loop of ``plain_loop.py`` (libm
   sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
   in ns per step it integrates, and the ratio to the kernel;
-* ``scipy``: :func:`rocking.reference.simulate_reference` (``solve_ivp`` DOP853 with events) on a
+* ``scipy``: :func:`rocking.dynamics.reference.simulate_reference` (``solve_ivp`` DOP853 with events) on a
   few of the cases, seconds per simulation, and the ratio to the kernel's time per simulation;
 * ``end_to_end``: Table 2 (``rocking motions generate`` of the 200 motions + ``rocking agx50
   --bodies paper``: 72 bodies on the ground, A_gx50 to 0.01 g; best of 3 runs of each), response
@@ -51,13 +51,13 @@ import numba
 import numpy as np
 import scipy
 
-from rocking.batch import BlockTable, motion_peaks, overturn_batch, run_cases
-from rocking.body import G, paper_bodies
-from rocking.dynamics import simulate
-from rocking.frames import ShearFrame
-from rocking.motions import generate
-from rocking.reference import simulate_reference
-from rocking.spectra import response_spectrum
+from rocking.dynamics.batch import BlockTable, motion_peaks, overturn_batch, run_cases
+from rocking.dynamics.body import G, paper_bodies
+from rocking.dynamics.simulate import simulate
+from rocking.structures.frames import ShearFrame
+from rocking.motions.synthesis import generate
+from rocking.dynamics.reference import simulate_reference
+from rocking.motions.response import response_spectrum
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import plain_loop  # noqa: E402  (benchmarks/, not a package)

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rocking.backends import DaskBackend, LocalBackend, get_backend
-from rocking.body import Block
+from rocking.montecarlo.backends import DaskBackend, LocalBackend, get_backend
+from rocking.dynamics.body import Block
 from rocking.errors import InputError
-from rocking.fragility import agx_50, overturning_probability
-from rocking.motions import generate
+from rocking.montecarlo.probability import agx_50, overturning_probability
+from rocking.motions.synthesis import generate
 
 RUN_STATS = ("chunks_computed", "chunks_loaded")
 

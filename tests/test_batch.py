@@ -4,11 +4,11 @@ import numba
 import numpy as np
 import pytest
 
-from rocking.batch import overturn_batch, overturn_cases
-from rocking.body import Block
-from rocking.dynamics import simulate
+from rocking.dynamics.batch import overturn_batch, overturn_cases
+from rocking.dynamics.body import Block
+from rocking.dynamics.simulate import simulate
 from rocking.errors import InputError
-from rocking.motions import generate
+from rocking.motions.synthesis import generate
 
 
 @pytest.fixture(scope="module")

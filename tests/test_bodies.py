@@ -5,8 +5,8 @@ import math
 
 import pytest
 
-from rocking.bodies import NamedBody, read_bodies, read_bodies_table
-from rocking.body import Block
+from rocking.assessment.bodies import NamedBody, read_bodies, read_bodies_table
+from rocking.dynamics.body import Block
 from rocking.errors import InputError
 
 

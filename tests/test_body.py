@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
-from rocking.body import FOOT, PAPER_GAMMAS, PAPER_R_FT, Block, housner_sv
+from rocking.dynamics.body import FOOT, PAPER_GAMMAS, PAPER_R_FT, Block, housner_sv
 from rocking.cli import main
 from rocking.cli.body import TOLERANCE_CM_S
 from rocking.studies.paper import paper_values

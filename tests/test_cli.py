@@ -63,9 +63,9 @@ def test_the_light_name_lists_match_the_library():
     # that define them; they must stay the same lists
     from rocking import defaults
     from rocking.cli.spectrum import UNIT_NAMES
-    from rocking.envelopes import ENVELOPES
-    from rocking.frames import PRESETS
-    from rocking.records import UNITS
+    from rocking.motions.envelopes import ENVELOPES
+    from rocking.structures.frames import PRESETS
+    from rocking.motions.records import UNITS
     from rocking.studies import STUDIES
 
     assert sorted(defaults.ENVELOPE_NAMES) == sorted(ENVELOPES)

@@ -11,12 +11,13 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 
-from rocking.body import FOOT, G, Block
+from rocking.dynamics.body import FOOT, G, Block
 from rocking.cli import main
 from rocking.cli._options import parse_range
 from rocking.errors import InputError
-from rocking.frames import ShearFrame
-from rocking.motions import NETCDF_ENGINE, generate
+from rocking.structures.frames import ShearFrame
+from rocking.motions.ensemble import NETCDF_ENGINE
+from rocking.motions.synthesis import generate
 
 
 @pytest.fixture(scope="module")
@@ -155,8 +156,8 @@ def test_assess_paper_bodies_and_ensemble_source(motions, flat_spectrum):
     result = _run(["assess", "--bodies", "paper", "--spectrum", flat_spectrum, "--json"])
     assert len(json.loads(result.stdout)["bodies"]) == 72
     # An ensemble on floor 1 of the 2.0 s frame, scaled to 0.6 g, agrees with the library.
-    from rocking.energy import available_sv
-    from rocking.motions import Ensemble
+    from rocking.assessment.energy import available_sv
+    from rocking.motions.ensemble import Ensemble
 
     floor = ShearFrame.preset("paper-2.0").floor_ensemble(Ensemble.load(motions), 1)
     data = json.loads(_run(["assess", "--bodies", "paper", "--spectrum", motions, "--agx", 0.6,
@@ -189,8 +190,8 @@ def test_assess_bad_input(flat_spectrum, extra, expected):
 # ----------------------------------------------------------------------------- end to end
 
 def test_fragility_run_writes_its_files_and_matches_the_library(tmp_path, motions, bodies):
-    from rocking.fragility import overturning_probability
-    from rocking.motions import Ensemble
+    from rocking.montecarlo.probability import overturning_probability
+    from rocking.motions.ensemble import Ensemble
 
     out = tmp_path / "out"
     args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", "0.2:0.6:0.2",

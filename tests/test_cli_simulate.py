@@ -12,12 +12,12 @@ from click.testing import CliRunner
 from matplotlib.image import imread
 from scipy.integrate import quad
 
-from rocking.body import G, Block
+from rocking.dynamics.body import G, Block
 from rocking.cli import main
 from rocking.cli.simulate import SIMULATED_SPEC
-from rocking.dynamics import simulate
-from rocking.motions import generate
-from rocking.records import example_record_path, read_record
+from rocking.dynamics.simulate import simulate
+from rocking.motions.synthesis import generate
+from rocking.motions.records import example_record_path, read_record
 
 #: The block of the tests: uplift at g·tan α = g/γ = 0.25 g.
 BLOCK = Block(1.22, 4.0)

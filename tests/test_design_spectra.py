@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from rocking.body import G
-from rocking.design_spectra import ASCE7, EC8, design_pga, parse_spectrum
-from rocking.energy import available_sv
+from rocking.dynamics.body import G
+from rocking.motions.design import ASCE7, EC8, design_pga, parse_spectrum
+from rocking.assessment.energy import available_sv
 from rocking.errors import InputError
-from rocking.spectra import RG160, TabulatedSpectrum
+from rocking.motions.targets import RG160, TabulatedSpectrum
 
 # Values below are exact arithmetic on the code formulas; 1e-12 only absorbs float rounding.
 TIGHT = 1e-12

@@ -25,8 +25,8 @@ from hypothesis import strategies as st
 from scipy import integrate, signal
 
 from rocking import G, Block, InputError, housner_sv, simulate
-from rocking.reference import simulate_reference
-from rocking.spectra import response_spectrum
+from rocking.dynamics.reference import simulate_reference
+from rocking.motions.response import response_spectrum
 
 
 def _energy_level(block: Block, theta: np.ndarray, omega: np.ndarray) -> np.ndarray:

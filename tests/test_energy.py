@@ -6,12 +6,13 @@ import math
 import numpy as np
 import pytest
 
-from rocking.body import FOOT, G, Block, housner_sv, paper_bodies
-from rocking.energy import (OVERTURN, SAFE, assess, available_sv, band_frequencies,
-                            energy_balance, forms_grid, grid_table)
+from rocking.dynamics.body import FOOT, G, Block, housner_sv, paper_bodies
+from rocking.assessment.energy import (OVERTURN, SAFE, assess, available_sv, band_frequencies,
+                                       energy_balance, forms_grid, grid_table)
 from rocking.errors import InputError
-from rocking.motions import Ensemble
-from rocking.spectra import RG160, TabulatedSpectrum, response_spectrum
+from rocking.motions.ensemble import Ensemble
+from rocking.motions.targets import RG160, TabulatedSpectrum
+from rocking.motions.response import response_spectrum
 from rocking.studies.paper import paper_values
 
 #: The paper's Table 1 (required S_v [cm/s], Eq. 11) as transcribed in the package data: rows

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rocking.envelopes import Boxcar, Compound, Trapezoidal, make_envelope
+from rocking.motions.envelopes import Boxcar, Compound, Trapezoidal, make_envelope
 from rocking.errors import InputError
 
 ENVELOPES = [

@@ -11,13 +11,14 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rocking.body import Block
-from rocking.dynamics import simulate
+from rocking.dynamics.body import Block
+from rocking.dynamics.simulate import simulate
 from rocking.errors import InputError
-from rocking.progress import Reporter
-from rocking.fragility import (LognormalFit, agx_50, fit_lognormal, overturning_probability,
-                               wilson_interval)
-from rocking.motions import Ensemble, generate
+from rocking.core.progress import Reporter
+from rocking.montecarlo.statistics import LognormalFit, fit_lognormal, wilson_interval
+from rocking.montecarlo.probability import agx_50, overturning_probability
+from rocking.motions.ensemble import Ensemble
+from rocking.motions.synthesis import generate
 
 RUN_STATS = ("chunks_computed", "chunks_loaded")
 
@@ -157,10 +158,10 @@ def test_progress_bar_reports_simulations(ensemble, capsys):
 
 KILL_SCRIPT = """
 import json, sys, threading
-from rocking.backends import LocalBackend
-from rocking.body import Block
-from rocking.motions import Ensemble
-from rocking.fragility import overturning_probability
+from rocking.montecarlo.backends import LocalBackend
+from rocking.dynamics.body import Block
+from rocking.motions.ensemble import Ensemble
+from rocking.montecarlo.probability import overturning_probability
 
 class WaitAfterFirstChunk(LocalBackend):
     # The engine writes a chunk file before it asks for the next result: from then on this
@@ -238,7 +239,7 @@ def _marked_lines(ax):
 def test_many_bodies_are_drawn_one_panel_per_size():
     # The paper's 72 bodies were 72 curves on one axis (12 named in the legend, the rest not);
     # now one panel per R with one curve per γ, coloured alike in every panel, γ named once.
-    from rocking.body import PAPER_GAMMAS, PAPER_R_FT, paper_bodies
+    from rocking.dynamics.body import PAPER_GAMMAS, PAPER_R_FT, paper_bodies
     from rocking.plots.fragility import plot_fragility
 
     blocks = paper_bodies()

@@ -11,9 +11,10 @@ from scipy import signal
 
 from rocking.cli import main
 from rocking.errors import InputError
-from rocking.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
-from rocking.motions import Ensemble, generate
-from rocking.spectra import response_spectrum
+from rocking.structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
+from rocking.motions.ensemble import Ensemble
+from rocking.motions.synthesis import generate
+from rocking.motions.response import response_spectrum
 
 G = 9.80665
 

@@ -19,13 +19,14 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 
-from rocking import store
-from rocking._files import atomic_write
-from rocking.body import Block
+from rocking.montecarlo import store
+from rocking.core.files import atomic_write
+from rocking.dynamics.body import Block
 from rocking.errors import BackendError, InputError
-from rocking.fragility import level_agx, level_key, overturning_probability
-from rocking.motions import generate
-from rocking.runs import RunFolder
+from rocking.montecarlo.engine import level_agx, level_key
+from rocking.montecarlo.probability import overturning_probability
+from rocking.motions.synthesis import generate
+from rocking.core.runs import RunFolder
 
 BLOCKS = [Block(0.6, 3.0), Block(1.22, 4.0)]
 AGX = [0.3, 0.6, 0.9]
@@ -84,7 +85,7 @@ def test_chunks_of_another_version_are_computed_again(motions, tmp_path, monkeyp
 
 HOLD_SCRIPT = """
 import sys
-from rocking.store import ChunkStore
+from rocking.montecarlo.store import ChunkStore
 with ChunkStore(sys.argv[1], {"run": "first"}):
     print("claimed", flush=True)
     sys.stdin.readline()   # hold the folder until the test says so
@@ -143,7 +144,7 @@ def _close_cluster_when_first_chunk_is_written(backend, folder, done):
 
 
 def test_losing_every_dask_worker_is_a_clear_error_and_the_folder_resumes(motions, tmp_path):
-    from rocking.backends import DaskBackend
+    from rocking.montecarlo.backends import DaskBackend
 
     a, _ = motions
     agx = np.round(np.arange(0.1, 8.0, 0.05), 12)
@@ -207,12 +208,12 @@ def test_cli_tells_a_bug_from_a_users_mistake(monkeypatch, tmp_path):
     assert user.exit_code == 1 and "Error: R must be" in user.output
     assert "Traceback" not in user.output and len(user.output.strip().splitlines()) == 1
 
-    import rocking.dynamics
+    import rocking.dynamics.simulate
 
     def broken(*args, **kw):
         raise KeyError("a bug")
 
-    monkeypatch.setattr(rocking.dynamics, "simulate", broken)
+    monkeypatch.setattr(rocking.dynamics.simulate, "simulate", broken)
     bug = runner.invoke(main, ["simulate", "--R", "1", "--gamma", "4", "--motion", "example"])
     assert bug.exit_code == 70
     assert "internal error" in bug.output and "a bug, not a problem with your input" in bug.output
@@ -264,9 +265,9 @@ def test_nonsense_bodies_are_refused(make, message):
 
 
 def test_nonsense_tables_and_specifications_are_refused(tmp_path):
-    from rocking.bodies import read_bodies
-    from rocking.design_spectra import parse_spectrum
-    from rocking.screen import screen
+    from rocking.assessment.bodies import read_bodies
+    from rocking.motions.design import parse_spectrum
+    from rocking.assessment.screen import screen
 
     # a spectrum specification that gives a key twice: which one would be used?
     with pytest.raises(InputError, match="SDS is given twice"):
@@ -306,7 +307,7 @@ def test_an_interrupted_screen_rerun_leaves_no_old_tables(tmp_path, monkeypatch)
     # The defect: an interrupted rerun of `screen` left the previous run's tables beside it,
     # looking complete.
     from rocking.cli import main
-    import rocking.screen
+    import rocking.assessment.screen
 
     args = ["screen", "example", "--spectrum", "asce7:SDS=1.0,SD1=0.6,TL=8", "--frame",
             "paper-2.0", "--n", "4", "--duration", "4", "--resolution", "0.2", "--out",
@@ -317,7 +318,7 @@ def test_an_interrupted_screen_rerun_leaves_no_old_tables(tmp_path, monkeypatch)
     def interrupted(*a, **kw):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(rocking.screen, "screen", interrupted)
+    monkeypatch.setattr(rocking.assessment.screen, "screen", interrupted)
     assert CliRunner().invoke(main, args).exit_code != 0
     assert not (tmp_path / "tables" / "screen.csv").exists()
     assert not (tmp_path / "report.html").exists()

@@ -5,10 +5,10 @@ import warnings
 
 import pytest
 
-from rocking.body import Block
+from rocking.dynamics.body import Block
 from rocking.errors import InputError
-from rocking.frames import ShearFrame
-from rocking.inventory import DEFAULT_E, SlidingWarning, read_inventory
+from rocking.structures.frames import ShearFrame
+from rocking.assessment.inventory import DEFAULT_E, SlidingWarning, read_inventory
 
 
 def write(tmp_path, name, text):

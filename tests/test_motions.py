@@ -12,16 +12,19 @@ import pytest
 from click.testing import CliRunner
 from scipy.integrate import cumulative_trapezoid, quad
 
-import rocking.motions as motions
-from rocking.body import G
+import rocking.motions.ensemble as ensemble_module
+import rocking.motions.synthesis as synthesis
+from rocking.dynamics.body import G
 from rocking.cli import main
-from rocking.envelopes import make_envelope
+from rocking.motions.envelopes import make_envelope
 from rocking.errors import InputError
-from rocking.motions import (Ensemble, baseline_correct, generate, limit_peaks, member_phases,
-                             spectral_fit, synthesize)
-from rocking.psd import PowerSpectrum
-from rocking.records import example_record_path, read_record
-from rocking.spectra import response_spectrum, rg160
+from rocking.motions.ensemble import Ensemble
+from rocking.motions.baseline import baseline_correct
+from rocking.motions.synthesis import generate, limit_peaks, member_phases, spectral_fit, synthesize
+from rocking.motions.psd import PowerSpectrum
+from rocking.motions.records import example_record_path, read_record
+from rocking.motions.response import response_spectrum
+from rocking.motions.targets import rg160
 
 #: Shipped with the package (1559 points at 0.02 s) and with the tests (16396 points at 0.005 s).
 EL_CENTRO = str(example_record_path())
@@ -48,7 +51,7 @@ def test_member_k_does_not_depend_on_ensemble_size():
 def test_result_does_not_depend_on_chunking_or_threads(monkeypatch):
     ref = generate(8)
     corrected = generate(5, iterations=1, pilot=5)  # peak limiting has its own kernel
-    monkeypatch.setattr(motions, "CHUNK", 3)
+    monkeypatch.setattr(synthesis, "CHUNK", 3)
     np.testing.assert_array_equal(generate(8).acc, ref.acc)
     np.testing.assert_array_equal(generate(5, iterations=1, pilot=5).acc, corrected.acc)
     threads = numba.get_num_threads()
@@ -266,7 +269,7 @@ def test_generation_parameters_are_stored(tmp_path):
     import xarray as xr
 
     ens = generate(2, duration=12.0, envelope="trapezoidal", seed=11, iterations=0)
-    with xr.open_dataset(ens.save(tmp_path / "e.nc"), engine=motions.NETCDF_ENGINE) as ds:
+    with xr.open_dataset(ens.save(tmp_path / "e.nc"), engine=ensemble_module.NETCDF_ENGINE) as ds:
         attrs = dict(ds.attrs)
         assert ds["acc"].attrs["units"] == "m s-2" and ds["time"].attrs["units"] == "s"
     assert attrs["seed"] == 11 and attrs["envelope"] == "trapezoidal"

@@ -9,9 +9,9 @@ import time
 import numba
 from click.testing import CliRunner
 
-from rocking import progress
+from rocking.core import progress
 from rocking.cli import main
-from rocking.progress import COMPILING, Reporter
+from rocking.core.progress import COMPILING, Reporter
 
 
 def test_a_silent_stage_still_writes_a_line_every_interval():

@@ -10,13 +10,14 @@ import pytest
 from scipy import signal
 from scipy.integrate import quad
 
-from rocking.body import G
-from rocking.envelopes import make_envelope
+from rocking.dynamics.body import G
+from rocking.motions.envelopes import make_envelope
 from rocking.errors import InputError
-from rocking.motions import generate, spectral_fit
-from rocking.psd import (DAVENPORT_CONSTANT, PAPER_CONSTANT, PowerSpectrum, log_frequencies,
-                         peak_factor, power_spectrum, transfer)
-from rocking.spectra import RG160, response_spectrum, rg160
+from rocking.motions.synthesis import generate, spectral_fit
+from rocking.motions.psd import (DAVENPORT_CONSTANT, PAPER_CONSTANT, PowerSpectrum, log_frequencies,
+                                 peak_factor, power_spectrum, transfer)
+from rocking.motions.targets import RG160, rg160
+from rocking.motions.response import response_spectrum
 
 # --------------------------------------------------------------------------- Eq. (6)
 

@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rocking.body import G
+from rocking.dynamics.body import G
 from rocking.errors import InputError
-from rocking.records import example_record_path, read_record, read_records
+from rocking.motions.records import example_record_path, read_record, read_records
 
 #: El Centro 1940 NS ships with the package; Chino Hills (PEER NGA-West2 layout) with the tests.
 EL_CENTRO = example_record_path()

@@ -11,7 +11,7 @@ import pytest
 from matplotlib.figure import Figure
 
 import rocking
-from rocking.body import FOOT, Block
+from rocking.dynamics.body import FOOT, Block
 from rocking.errors import InputError
 from rocking.report import Report, markdown_to_html, provenance, remove_report, slug
 
@@ -183,12 +183,12 @@ def test_written_files_get_the_mode_open_would_give(tmp_path, umask):
 def test_failed_html_write_leaves_no_page(tmp_path, monkeypatch):
     # The pages are now written one after the other by the package's one atomic writer: if the
     # second (report.html) fails on disk, the first must not stay behind looking like a result.
-    import rocking._files
+    import rocking.core.files
     import rocking.report
 
     rep = Report("Study", tmp_path)
     rep.text("partial")
-    real = rocking._files.atomic_write
+    real = rocking.core.files.atomic_write
 
     def full_disk(path, data):
         if path.name == "report.html":

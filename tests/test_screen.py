@@ -13,14 +13,14 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
-from rocking.body import FOOT, G
+from rocking.dynamics.body import FOOT, G
 from rocking.cli import main
-from rocking.design_spectra import ASCE7
-from rocking.energy import available_sv
-from rocking.frames import ShearFrame
-from rocking.motions import generate
+from rocking.motions.design import ASCE7
+from rocking.assessment.energy import available_sv
+from rocking.structures.frames import ShearFrame
+from rocking.motions.synthesis import generate
 from rocking.plots.screen import plot_screen
-from rocking.screen import eq11_vs_monte_carlo, screen
+from rocking.assessment.screen import eq11_vs_monte_carlo, screen
 
 # S_D1 = 0.9 g: available S_v on the ground = S_D1·g/(2π) = 1.40471 m/s (the PSV plateau from
 # T_s = 0.6 s to T_L = 8 s covers the band 0.04–0.6 Hz up to 8 s); ZPA 0.4·S_DS = 0.6 g.

@@ -13,13 +13,14 @@ import pytest
 from click.testing import CliRunner
 from scipy import signal
 
-from rocking.body import G
+from rocking.dynamics.body import G
 from rocking.cli import main
 from rocking.errors import InputError
 from rocking.plots.spectra import plot_mean_vs_target, plot_spectra
-from rocking.motions import Ensemble
-from rocking.records import example_record_path
-from rocking.spectra import RG160, TabulatedSpectrum, response_spectrum, rg160
+from rocking.motions.ensemble import Ensemble
+from rocking.motions.records import example_record_path
+from rocking.motions.targets import RG160, TabulatedSpectrum, rg160
+from rocking.motions.response import response_spectrum
 
 EL_CENTRO = str(example_record_path())  # shipped with the package
 

@@ -11,10 +11,10 @@ import xarray as xr
 from click.testing import CliRunner
 
 import rocking
-from rocking.body import Block, housner_sv
+from rocking.dynamics.body import Block, housner_sv
 from rocking.cli import main
 from rocking.errors import InputError
-from rocking.fragility import wilson_interval
+from rocking.montecarlo.statistics import wilson_interval
 from rocking.studies import conclusions as C
 from rocking.studies import reproduce, sec4_baseline
 from rocking.studies.config import PRESETS, load_config, to_toml
@@ -96,7 +96,7 @@ def test_paper_tables_are_transcribed_consistently():
 
 
 def _prob(count, n, dims, coords):
-    """A probability dataset as rocking.fragility returns it, from counts."""
+    """A probability dataset as rocking.montecarlo.probability returns it, from counts."""
     count = np.asarray(count)
     lo, hi = wilson_interval(count, np.full(count.shape, n))
     return xr.Dataset({"probability": (dims, count / n), "ci_low": (dims, lo),
@@ -372,8 +372,8 @@ def test_failed_run_leaves_no_report(tmp_path, monkeypatch):
 
 SIGTERM_SCRIPT = """
 import sys, threading
-import rocking.backends
-from rocking.backends import LocalBackend
+import rocking.montecarlo.backends
+from rocking.montecarlo.backends import LocalBackend
 from rocking.cli import main
 
 class WaitAfterFirstChunk(LocalBackend):
@@ -384,7 +384,7 @@ class WaitAfterFirstChunk(LocalBackend):
         yield next(results)
         threading.Event().wait(600)  # bounded: never an orphan
 
-rocking.backends.get_backend = lambda scheduler=None: WaitAfterFirstChunk()
+rocking.montecarlo.backends.get_backend = lambda scheduler=None: WaitAfterFirstChunk()
 main(sys.argv[1:], prog_name="rocking")
 """
 

@@ -1,8 +1,8 @@
 """Accuracy of the fast trigonometry of the RK4 kernel (issue 6) against libm.
 
-The kernel evaluates sin θ and cos θ once per step by polynomials (rocking.dynamics._sincos) and
+The kernel evaluates sin θ and cos θ once per step by polynomials (rocking.dynamics.equation._sincos) and
 the stage angles θ + δ by the angle-sum identities with Taylor polynomials of δ
-(rocking.dynamics._rot).  References: NumPy's sin/cos (the C library's, within 1 ulp of the
+(rocking.dynamics.equation._rot).  References: NumPy's sin/cos (the C library's, within 1 ulp of the
 exact value), and for the rotation the same expression in x87 extended precision (64-bit
 mantissa, 2^11 times finer than double).  The tolerances are a few units in the last place of
 double precision: they hold for every x tried, and a coefficient wrong in its 14th digit would
@@ -15,8 +15,8 @@ import numba
 import numpy as np
 import pytest
 
-from rocking.dynamics import (ROTATION_DMAX, SINCOS_TINY, SINCOS_XMAX, _rk4_fast, _rk4_stages,
-                              _rot, _sincos)
+from rocking.dynamics.equation import (ROTATION_DMAX, SINCOS_TINY, SINCOS_XMAX, _rk4_fast,
+                                       _rk4_stages, _rot, _sincos)
 
 ULP1 = np.spacing(1.0)  # 2.2e-16
 

@@ -14,29 +14,31 @@ from typing import TYPE_CHECKING
 
 #: Public name → module of this package that defines it.
 _EXPORTS = {
-    "DaskBackend": "backends", "LocalBackend": "backends", "get_backend": "backends",
-    "overturn_batch": "batch", "overturn_cases": "batch",
-    "NamedBody": "bodies", "read_bodies": "bodies", "read_bodies_table": "bodies",
-    "FOOT": "body", "G": "body", "Block": "body", "housner_sv": "body", "paper_bodies": "body",
-    "ASCE7": "design_spectra", "EC8": "design_spectra", "design_pga": "design_spectra",
-    "parse_spectrum": "design_spectra",
-    "RockingResponse": "dynamics", "simulate": "dynamics",
-    "assess": "energy", "available_sv": "energy", "energy_balance": "energy",
-    "InputError": "errors", "RockingError": "errors",
-    "LognormalFit": "fragility", "agx_50": "fragility", "fit_lognormal": "fragility",
-    "overturning_probability": "fragility", "wilson_interval": "fragility",
-    "PRESETS": "frames", "ShearFrame": "frames", "kN_per_cm_to_N_per_m": "frames",
-    "kN_per_g_to_kg": "frames",
-    "Inventory": "inventory", "Item": "inventory", "SlidingWarning": "inventory",
-    "read_inventory": "inventory",
-    "Ensemble": "motions", "baseline_correct": "motions", "generate": "motions",
-    "limit_peaks": "motions", "spectral_fit": "motions",
-    "Record": "records", "read_record": "records", "read_records": "records",
-    "Report": "report", "provenance": "report",
-    "results_table": "screen", "screen": "screen",
-    "RG160": "spectra", "ResponseSpectrum": "spectra", "TabulatedSpectrum": "spectra",
-    "TargetSpectrum": "spectra", "response_spectrum": "spectra", "rg160": "spectra",
-    "reproduce": "studies",
+    "DaskBackend": "montecarlo.backends", "LocalBackend": "montecarlo.backends",
+    "get_backend": "montecarlo.backends", "overturn_batch": "dynamics.batch",
+    "overturn_cases": "dynamics.batch", "NamedBody": "assessment.bodies",
+    "read_bodies": "assessment.bodies", "read_bodies_table": "assessment.bodies",
+    "FOOT": "dynamics.body", "G": "dynamics.body", "Block": "dynamics.body",
+    "housner_sv": "dynamics.body", "paper_bodies": "dynamics.body", "ASCE7": "motions.design",
+    "EC8": "motions.design", "design_pga": "motions.design", "parse_spectrum": "motions.design",
+    "RockingResponse": "dynamics.simulate", "simulate": "dynamics.simulate",
+    "assess": "assessment.energy", "available_sv": "assessment.energy",
+    "energy_balance": "assessment.energy", "InputError": "errors", "RockingError": "errors",
+    "LognormalFit": "montecarlo.statistics", "agx_50": "montecarlo.probability",
+    "fit_lognormal": "montecarlo.statistics", "overturning_probability": "montecarlo.probability",
+    "wilson_interval": "montecarlo.statistics", "PRESETS": "structures.frames",
+    "ShearFrame": "structures.frames", "kN_per_cm_to_N_per_m": "structures.frames",
+    "kN_per_g_to_kg": "structures.frames", "Inventory": "assessment.inventory",
+    "Item": "assessment.inventory", "SlidingWarning": "assessment.inventory",
+    "read_inventory": "assessment.inventory", "Ensemble": "motions.ensemble",
+    "baseline_correct": "motions.baseline", "generate": "motions.synthesis",
+    "limit_peaks": "motions.synthesis", "spectral_fit": "motions.synthesis",
+    "Record": "motions.records", "read_record": "motions.records",
+    "read_records": "motions.records", "Report": "report", "provenance": "report",
+    "results_table": "assessment.screen", "screen": "assessment.screen",
+    "RG160": "motions.targets", "ResponseSpectrum": "motions.response",
+    "TabulatedSpectrum": "motions.targets", "TargetSpectrum": "motions.targets",
+    "response_spectrum": "motions.response", "rg160": "motions.targets", "reproduce": "studies",
 }
 
 __all__ = list(_EXPORTS)
@@ -63,22 +65,24 @@ except Exception:  # pragma: no cover - not installed (running from a source tre
     __version__ = "0+unknown"
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs
-    from .backends import DaskBackend, LocalBackend, get_backend
-    from .batch import overturn_batch, overturn_cases
-    from .bodies import NamedBody, read_bodies, read_bodies_table
-    from .body import FOOT, G, Block, housner_sv, paper_bodies
-    from .design_spectra import ASCE7, EC8, design_pga, parse_spectrum
-    from .dynamics import RockingResponse, simulate
-    from .energy import assess, available_sv, energy_balance
+    from .assessment.bodies import NamedBody, read_bodies, read_bodies_table
+    from .assessment.energy import assess, available_sv, energy_balance
+    from .assessment.inventory import Inventory, Item, SlidingWarning, read_inventory
+    from .assessment.screen import results_table, screen
+    from .dynamics.batch import overturn_batch, overturn_cases
+    from .dynamics.body import FOOT, G, Block, housner_sv, paper_bodies
+    from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
-    from .fragility import (LognormalFit, agx_50, fit_lognormal, overturning_probability,
-                            wilson_interval)
-    from .frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
-    from .inventory import Inventory, Item, SlidingWarning, read_inventory
-    from .motions import Ensemble, baseline_correct, generate, limit_peaks, spectral_fit
-    from .records import Record, read_record, read_records
+    from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
+    from .montecarlo.probability import agx_50, overturning_probability
+    from .montecarlo.statistics import LognormalFit, fit_lognormal, wilson_interval
+    from .motions.baseline import baseline_correct
+    from .motions.design import ASCE7, EC8, design_pga, parse_spectrum
+    from .motions.ensemble import Ensemble
+    from .motions.records import Record, read_record, read_records
+    from .motions.response import ResponseSpectrum, response_spectrum
+    from .motions.synthesis import generate, limit_peaks, spectral_fit
+    from .motions.targets import RG160, TabulatedSpectrum, TargetSpectrum, rg160
     from .report import Report, provenance
-    from .screen import results_table, screen
-    from .spectra import (RG160, ResponseSpectrum, TabulatedSpectrum, TargetSpectrum,
-                          response_spectrum, rg160)
+    from .structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
     from .studies import reproduce

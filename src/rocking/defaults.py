@@ -22,9 +22,9 @@ DT = 1.0 / 400.0
 BAND_HZ = (0.04, 0.6)
 #: Band over which the fit of simulated motions to their target is summarised [Hz].
 FIT_BAND = (0.2, 33.0)
-#: Names of the intensity functions (paper Fig. 2; :mod:`rocking.envelopes`).
+#: Names of the intensity functions (paper Fig. 2; :mod:`rocking.motions.envelopes`).
 ENVELOPE_NAMES = ("boxcar", "compound", "trapezoidal")
-#: Names of the shear-frame presets (paper Section 7; :data:`rocking.frames.PRESETS`).
+#: Names of the shear-frame presets (paper Section 7; :data:`rocking.structures.frames.PRESETS`).
 FRAME_PRESETS = ("paper-2.0", "paper-1.5", "paper-1.0", "paper-0.5")
 #: Sections of the paper that ``rocking reproduce`` runs, with what they show.
 STUDY_SECTIONS = {
@@ -38,7 +38,7 @@ STUDY_SECTIONS = {
 #: result needs, and drop binary noise such as 0.23000000000046314 (an A_gx found on a 0.01 g
 #: grid, scaled and scaled back) or 1.8288000000000002 (6 ft in metres).
 CSV_FLOAT_FORMAT = "%.12g"
-#: The syntax of a design-spectrum specification (:func:`rocking.design_spectra.parse_spectrum`).
+#: The syntax of a design-spectrum specification (:func:`rocking.motions.design.parse_spectrum`).
 SPECTRUM_SYNTAX = (
     "rg160:PGA (e.g. rg160:0.3; optional damping=0.05), "
     "asce7:SDS=…,SD1=…,TL=… (g, g, s), "

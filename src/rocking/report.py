@@ -4,7 +4,7 @@ A :class:`Report` collects headings, Markdown text, figures and tables in order 
 with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tables also as CSV) and
 ``report.html`` (one file: figures embedded as base64 PNG, so it can be mailed or archived alone).
 
-Every file is written atomically by :func:`rocking._files.atomic_write` (a temporary file in
+Every file is written atomically by :func:`rocking.core.files.atomic_write` (a temporary file in
 the same folder renamed over the final name; mode 0666 less the umask, as ``open`` gives). Both
 pages are rendered before either is written and ``report.html`` is written last, so an interrupted
 run never leaves a page that looks finished. :func:`provenance` writes ``run.json`` (package
@@ -32,7 +32,7 @@ from pathlib import Path
 import markdown as _markdown
 import numpy as np
 
-from ._files import atomic_write
+from .core.files import atomic_write
 from .defaults import CSV_FLOAT_FORMAT
 from .errors import InputError
 

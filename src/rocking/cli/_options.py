@@ -67,17 +67,17 @@ def parse_band(text: str) -> tuple[float, float]:
 
 def parse_e(text: str):
     """Restitution of ``--e``: a number in (0, 1] or ``housner``."""
-    from .._validate import restitution
+    from ..core.checks import restitution
 
     return restitution(text, "--e")
 
 
 def load_bodies(spec: str) -> list:
-    """Bodies (:class:`rocking.bodies.NamedBody`) of ``--bodies``: a CSV file, the word
+    """Bodies (:class:`rocking.assessment.bodies.NamedBody`) of ``--bodies``: a CSV file, the word
     ``paper`` for the paper's 72 bodies, or ``example`` for the shipped example file (unless a
     file of that name exists)."""
-    from ..bodies import NamedBody, example_bodies_path, read_bodies_table
-    from ..body import paper_bodies
+    from ..assessment.bodies import NamedBody, example_bodies_path, read_bodies_table
+    from ..dynamics.body import paper_bodies
 
     if spec == "paper":
         return [NamedBody(b.label, b) for b in paper_bodies()]
@@ -92,7 +92,7 @@ def frame_and_floor(frame_name: str | None, floor: int | None):
         return None, 0
     if frame_name is None or floor is None:
         raise InputError("--floor and --frame go together: give both (floor 0 is the ground)")
-    from ..frames import ShearFrame
+    from ..structures.frames import ShearFrame
 
     frame = ShearFrame.preset(frame_name)
     if not 0 <= floor <= frame.n_stories:
@@ -118,8 +118,8 @@ def writable_file(path: str | None, option: str) -> Path | None:
 
 
 def reporter(quiet: bool = False):
-    """The progress reporter of a command (:class:`rocking.progress.Reporter`); quiet: none."""
-    from ..progress import Reporter
+    """The progress reporter of a command (:class:`rocking.core.progress.Reporter`); quiet: none."""
+    from ..core.progress import Reporter
 
     return Reporter(enabled=not quiet)
 

@@ -20,7 +20,7 @@ def table1(g: float = G):
     import numpy as np
     import pandas as pd
 
-    from ..body import PAPER_GAMMAS, PAPER_R_FT, housner_sv, paper_bodies
+    from ..dynamics.body import PAPER_GAMMAS, PAPER_R_FT, housner_sv, paper_bodies
 
     sv = np.array([100.0 * housner_sv(b, g) for b in paper_bodies()])
     return pd.DataFrame(sv.reshape(len(PAPER_R_FT), len(PAPER_GAMMAS)),
@@ -55,8 +55,8 @@ def table1_cmd(g, compare, csv_path):
     writable_file(csv_path, "--csv")
     import numpy as np
 
-    from .._files import atomic_write
-    from ..body import FOOT
+    from ..core.files import atomic_write
+    from ..dynamics.body import FOOT
 
     ours = table1(g)
     paper = printed_table1()

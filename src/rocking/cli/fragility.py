@@ -3,7 +3,7 @@ bodies under an ensemble (paper Sections 6–8) and Housner's energy-balance scr
 
 Every input (bodies file, frame preset, floor, A_gx range, restitution, band) is checked before
 any work starts; a bad one ends the command with a one-line message.  The output folders are
-:class:`rocking.runs.RunFolder`: claimed by one run, with ``run.json`` and its status, every file
+:class:`rocking.core.runs.RunFolder`: claimed by one run, with ``run.json`` and its status, every file
 written atomically; the Monte Carlo chunks in ``chunks/`` let the same command resume.
 """
 
@@ -37,8 +37,8 @@ def _prepare(bodies_spec, motions_path, floor, frame_name, e_text, scheduler):
 
     Returns the bodies, the ensemble, e and the backend (a Dask cluster is only contacted when
     the run starts)."""
-    from ..backends import get_backend
-    from ..motions import Ensemble
+    from ..montecarlo.backends import get_backend
+    from ..motions.ensemble import Ensemble
 
     bodies = load_bodies(bodies_spec)
     frame, floor = frame_and_floor(frame_name, floor)
@@ -71,7 +71,7 @@ def _fit(agx, one_body):
     information on the median (all 0 or all n: fit_lognormal refuses those)."""
     import numpy as np
 
-    from ..fragility import LognormalFit, fit_lognormal
+    from ..montecarlo.statistics import LognormalFit, fit_lognormal
 
     count, n = one_body["count"].values, one_body["n"].values
     if np.all(count == 0) or np.all(count == n):
@@ -117,9 +117,9 @@ def fragility_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, 
                                             e_text, scheduler)
     import pandas as pd
 
-    from ..fragility import overturning_probability
+    from ..montecarlo.probability import overturning_probability
     from ..plots.fragility import plot_fragility
-    from ..runs import RunFolder
+    from ..core.runs import RunFolder
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
@@ -176,10 +176,10 @@ def agx50_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_te
     import numpy as np
     import pandas as pd
 
-    from ..energy import energy_balance, forms_grid, grid_table
-    from ..fragility import agx_50
+    from ..assessment.energy import energy_balance, forms_grid, grid_table
+    from ..montecarlo.probability import agx_50
     from ..plots.fragility import plot_sv_agx
-    from ..runs import RunFolder
+    from ..core.runs import RunFolder
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
@@ -258,9 +258,9 @@ def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame
         raise InputError("--agx, --floor and --frame apply to an ensemble (.nc) spectrum only")
     import numpy as np
 
-    from ..design_spectra import parse_spectrum
-    from ..energy import assess
-    from ..motions import Ensemble
+    from ..motions.design import parse_spectrum
+    from ..assessment.energy import assess
+    from ..motions.ensemble import Ensemble
 
     with reporter():
         if is_ensemble:

@@ -7,7 +7,7 @@ import time
 import click
 
 from ..defaults import BAND_HZ, FRAME_PRESETS, G
-from .._files import save_figure
+from ..core.files import save_figure
 from ..errors import InputError
 from ._options import quiet_option, reporter, writable_file
 
@@ -26,7 +26,7 @@ def _frame(preset, frame_file):
     if (preset is None) == (frame_file is None):
         raise InputError(f"give either a PRESET ({', '.join(FRAME_PRESETS)}) or --frame-file, "
                          "not both nor neither")
-    from ..frames import ShearFrame
+    from ..structures.frames import ShearFrame
 
     return ShearFrame.preset(preset) if frame_file is None else ShearFrame.from_toml(frame_file)
 
@@ -43,7 +43,7 @@ def frame_group():
               help="Draw the mode shapes into this image file.")
 def show(preset, frame_file, plot_path):
     """Print a frame's floors, periods, participation factors and mode shapes."""
-    from ..frames import PRESETS
+    from ..structures.frames import PRESETS
 
     writable_file(plot_path, "--plot")
     frame = _frame(preset, frame_file)
@@ -101,8 +101,9 @@ def spectra(preset, frame_file, agx, n_motions, seed, motions_path, damping, plo
                          "--motions")
     import numpy as np
 
-    from ..motions import Ensemble, generate
-    from ..spectra import response_spectrum
+    from ..motions.ensemble import Ensemble
+    from ..motions.synthesis import generate
+    from ..motions.response import response_spectrum
 
     freqs_hz = np.geomspace(*_FREQS)
     start = time.perf_counter()
@@ -138,7 +139,7 @@ def spectra(preset, frame_file, agx, n_motions, seed, motions_path, damping, plo
     if csv_path:
         import pandas as pd
 
-        from .._files import atomic_write
+        from ..core.files import atomic_write
 
         table = pd.DataFrame({"freq_hz": freqs_hz, **{
             f"psv_{lab.replace(' ', '_')}_cm_s": 100.0 * row for lab, row in zip(labels, psv)}})

@@ -57,8 +57,8 @@ def generate_cmd(n, duration, dt, envelope, seed, baseline, iterations, peak_lim
                  damping, out, quiet):
     """Simulate an ensemble and save it as netCDF."""
     writable_file(out, "--out")  # before the work, not after
-    from ..motions import generate
-    from ..spectra import TabulatedSpectrum, rg160
+    from ..motions.synthesis import generate
+    from ..motions.targets import TabulatedSpectrum, rg160
 
     target = rg160 if target_path is None else TabulatedSpectrum.from_csv(target_path, damping)
     progress = reporter(quiet)
@@ -74,7 +74,7 @@ def generate_cmd(n, duration, dt, envelope, seed, baseline, iterations, peak_lim
 
 def _with_and_without_baseline(ens):
     """(uncorrected, corrected) accelerations [m/s²] of the members of the Ensemble ``ens``."""
-    from ..motions import baseline_correct
+    from ..motions.baseline import baseline_correct
 
     if ens.simulated and ens.meta["baseline"]:
         return ens.regenerate(baseline=False).acc, ens.acc
@@ -102,12 +102,13 @@ def show(ensemble, agx, samples, target_path, damping, out):
     """
     import numpy as np
 
-    from ..envelopes import make_envelope
-    from ..motions import Ensemble, spectral_fit
+    from ..motions.envelopes import make_envelope
+    from ..motions.ensemble import Ensemble
+    from ..motions.synthesis import spectral_fit
     from ..plots.motions import plot_baseline_comparison, plot_envelopes
     from ..plots.spectra import plot_mean_vs_target
-    from ..runs import RunFolder
-    from ..spectra import RG160, TabulatedSpectrum
+    from ..core.runs import RunFolder
+    from ..motions.targets import RG160, TabulatedSpectrum
 
     ens = Ensemble.load(ensemble)
     if agx is not None:
@@ -173,10 +174,10 @@ def fit_cmd(n, duration, dt, envelope, seed, iterations, per_decade, target_path
     import numpy as np
     import pandas as pd
 
-    from ..motions import generate, spectral_fit
+    from ..motions.synthesis import generate, spectral_fit
     from ..plots.motions import plot_fit_ratios
-    from ..runs import RunFolder
-    from ..spectra import RG160, TabulatedSpectrum
+    from ..core.runs import RunFolder
+    from ..motions.targets import RG160, TabulatedSpectrum
 
     target = (RG160(damping) if target_path is None
               else TabulatedSpectrum.from_csv(target_path, damping))

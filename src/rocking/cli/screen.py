@@ -66,14 +66,14 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
     \b
         rocking screen example --spectrum asce7:SDS=1.0,SD1=0.6,TL=8 --frame paper-2.0 --out out
     """
-    from ..backends import get_backend
-    from ..design_spectra import design_pga, parse_spectrum
-    from ..frames import ShearFrame
-    from ..inventory import read_inventory
+    from ..montecarlo.backends import get_backend
+    from ..motions.design import design_pga, parse_spectrum
+    from ..structures.frames import ShearFrame
+    from ..assessment.inventory import read_inventory
     from ..plots.screen import plot_screen
     from ..report import Report, remove_report
-    from ..runs import RunFolder
-    from ..screen import results_table, screen
+    from ..core.runs import RunFolder
+    from ..assessment.screen import results_table, screen
 
     started = time.perf_counter()
     out = Path(out_dir)
@@ -131,9 +131,9 @@ _FLOORS = {
 
 
 def _summary(ds, table, inv_path: Path, notes: list[str]) -> str:
-    """Markdown paragraph(s) above the figure (``table``: :func:`rocking.screen.results_table`
+    """Markdown paragraph(s) above the figure (``table``: :func:`rocking.assessment.screen.results_table`
     of ``ds``)."""
-    from ..screen import AGREE, eq11_vs_monte_carlo_note
+    from ..assessment.screen import AGREE, eq11_vs_monte_carlo_note
 
     a = ds.attrs
     n_fail_eq11 = int((ds["margin"].values <= 0.0).sum())

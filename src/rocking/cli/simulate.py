@@ -29,12 +29,12 @@ def load_motion(spec: str, dt: float | None):
     FILE|example|simulated.
 
     ``example`` is the shipped El Centro 1940 NS record
-    (:func:`rocking.records.example_record_path`), ``simulated`` the built-in simulated motion
+    (:func:`rocking.motions.records.example_record_path`), ``simulated`` the built-in simulated motion
     (:data:`SIMULATED_SPEC`). ``dt`` [s] is the step of a one-column file (checked against the
     file's own step otherwise), or the step of the simulated motion (1/400 s if None).
     """
-    from ..motions import generate
-    from ..records import EXAMPLE, read_record, record_path
+    from ..motions.synthesis import generate
+    from ..motions.records import EXAMPLE, read_record, record_path
 
     if spec == SIMULATED and not Path(spec).exists():
         ens = generate(1, dt=1 / 400 if dt is None else dt, **SIMULATED_SPEC)
@@ -128,9 +128,9 @@ def simulate_cmd(R, gamma, motion, scale_g, e_text, dt, overturn, plot_path, as_
     paper's scheme) and prints whether and when the block overturned, the number of impacts and
     the largest |theta|/alpha, with the block's and the motion's properties.
     """
-    from .._validate import positive
-    from ..body import Block
-    from ..dynamics import simulate
+    from ..core.checks import positive
+    from ..dynamics.body import Block
+    from ..dynamics.simulate import simulate
 
     block = Block(R, gamma)
     e = parse_e(e_text)
@@ -147,7 +147,7 @@ def simulate_cmd(R, gamma, motion, scale_g, e_text, dt, overturn, plot_path, as_
     else:
         click.echo("\n".join(_text(summary)))
     if plot_path:
-        from .._files import save_figure
+        from ..core.files import save_figure
         from ..plots.rocking import plot_response  # matplotlib only when a figure is asked for
 
         save_figure(plot_response(response, ag / G), plot_path)

@@ -8,7 +8,7 @@ from ..defaults import G
 from ..errors import InputError
 from ._options import reporter, writable_file
 
-#: Units of ``--units`` (those of :data:`rocking.records.UNITS`; tests/test_cli.py checks it).
+#: Units of ``--units`` (those of :data:`rocking.motions.records.UNITS`; tests/test_cli.py checks it).
 UNIT_NAMES = ("cm/s2", "g", "m/s2")
 
 #: Highest frequency [Hz] of the spectra unless a record's Nyquist frequency is lower.
@@ -57,8 +57,8 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
     writable_file(plot_path, "--plot")
     import numpy as np
 
-    from ..records import read_records
-    from ..spectra import response_spectrum
+    from ..motions.records import read_records
+    from ..motions.response import response_spectrum
 
     records = read_records(files, dt=dt, units=units)
     # Above the Nyquist frequency a record holds no information (its samples cannot tell what
@@ -90,7 +90,7 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
     if csv_path:
         import pandas as pd
 
-        from .._files import atomic_write
+        from ..core.files import atomic_write
 
         table = pd.concat([pd.DataFrame({"record": rec.name, "freq_hz": freqs,
                                          "psa_g": sp.psa / G, "psv_cm_s": 100 * sp.psv,
@@ -99,7 +99,7 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
         atomic_write(csv_path, table.to_csv(index=False, float_format="%.6g"))
         click.echo(f"wrote {csv_path}")
     if plot_path:
-        from .._files import save_figure
+        from ..core.files import save_figure
         from ..plots.spectra import plot_spectra  # matplotlib only when a figure is asked for
 
         fig = plot_spectra(freqs, [sp.psa / G for sp in spectra], [r.name for r in records],

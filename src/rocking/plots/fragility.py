@@ -10,7 +10,7 @@ from matplotlib.colors import ListedColormap, Normalize
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from ..energy import BAND_HZ
+from ..assessment.energy import BAND_HZ
 
 #: Most curves on one axis (each with a legend entry); more bodies are drawn as small multiples.
 MAX_LEGEND = 12
@@ -35,7 +35,7 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
     Parameters
     ----------
     ds : xarray.Dataset
-        Result of :func:`rocking.fragility.overturning_probability`: ``probability``, ``ci_low``,
+        Result of :func:`rocking.montecarlo.probability.overturning_probability`: ``probability``, ``ci_low``,
         ``ci_high`` [-] on dimensions (``body``, ``agx``) or (``case``, ``body``, ``agx``),
         ``agx`` [g]; coordinates ``R`` [m] and ``gamma`` [-] on ``body``.
     fits : dict, optional
@@ -135,7 +135,7 @@ def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
     Parameters
     ----------
     energy_ds : xarray.Dataset
-        Result of :func:`rocking.energy.energy_balance` (``sv_required`` and ``sv1`` [m/s],
+        Result of :func:`rocking.assessment.energy.energy_balance` (``sv_required`` and ``sv1`` [m/s],
         ``agx50`` [g]); bodies with NaN A_gx50 are left out.
     title : str
         Figure title.

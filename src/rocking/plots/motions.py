@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from scipy.integrate import cumulative_trapezoid
 
-from ..body import G
+from ..dynamics.body import G
 
 
 def plot_envelopes(envelopes, *, title: str = "") -> Figure:
@@ -16,7 +16,7 @@ def plot_envelopes(envelopes, *, title: str = "") -> Figure:
     Parameters
     ----------
     envelopes : sequence
-        Intensity functions of :mod:`rocking.envelopes` (called on t [s], with ``duration`` [s]).
+        Intensity functions of :mod:`rocking.motions.envelopes` (called on t [s], with ``duration`` [s]).
     title : str
         Figure title.
     """

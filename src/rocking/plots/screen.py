@@ -21,7 +21,7 @@ def plot_screen(ds, *, title: str = "") -> Figure:
     Parameters
     ----------
     ds : xarray.Dataset
-        Result of :func:`rocking.screen.screen` (``agx50`` [g], ``sv_required`` and
+        Result of :func:`rocking.assessment.screen.screen` (``agx50`` [g], ``sv_required`` and
         ``sv_available`` [m/s], ``location``, ``at_risk``; attributes
         ``design_agx`` and ``agx_max`` [g]).
     title : str

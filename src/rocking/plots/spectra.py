@@ -56,7 +56,7 @@ def plot_mean_vs_target(freqs_hz, psa_members, target, *, title: str = "") -> Fi
         Frequencies [Hz].
     psa_members : array_like, shape (n_members, n_freq)
         PSA of each member [g].
-    target : rocking.spectra.TargetSpectrum
+    target : rocking.motions.targets.TargetSpectrum
         Target spectrum (its ``psa`` is in g and its ``name`` labels the line).
     title : str
         Figure title.

@@ -37,18 +37,18 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
     fidelity : str
         "quick" or "paper" (:data:`rocking.studies.config.PRESETS`).
     out_dir : str or Path
-        Output folder (a :class:`rocking.runs.RunFolder`): report.md, report.html, run.json,
+        Output folder (a :class:`rocking.core.runs.RunFolder`): report.md, report.html, run.json,
         figures/, tables/, and chunks/ (finished Monte Carlo chunks: a rerun with the same
         parameters resumes from them).
     scheduler : str, optional
-        Backend (:func:`rocking.backends.get_backend`): None/"local", "dask-local" or a Dask
+        Backend (:func:`rocking.montecarlo.backends.get_backend`): None/"local", "dask-local" or a Dask
         scheduler address.
     config : str or Path, optional
         TOML file of parameter overrides (:func:`rocking.studies.config.load_config`).
     sets : sequence of str
         ``section.key=VALUE`` overrides.
-    progress : bool, None or rocking.progress.Reporter
-        Progress of each section (:func:`rocking.progress.resolve`).
+    progress : bool, None or rocking.core.progress.Reporter
+        Progress of each section (:func:`rocking.core.progress.resolve`).
     echo : callable, optional
         Called with one line of text per finished step.
 
@@ -57,10 +57,10 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
     Path
         The report.html written.
     """
-    from ..backends import get_backend
-    from ..progress import resolve
+    from ..montecarlo.backends import get_backend
+    from ..core.progress import resolve
     from ..report import remove_report
-    from ..runs import RunFolder
+    from ..core.runs import RunFolder
     from .config import PRESETS, RunContext, load_config, validate
 
     echo = echo or (lambda _msg: None)

@@ -16,9 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..body import FOOT
-from ..fragility import wilson_interval
-from ..screen import AGREE, eq11_vs_monte_carlo
+from ..dynamics.body import FOOT
+from ..montecarlo.statistics import wilson_interval
+from ..assessment.screen import AGREE, eq11_vs_monte_carlo
 from .paper import paper_values
 from .sec5_sensitivity import reversals
 
@@ -410,8 +410,8 @@ def agx50_interval(curve: xr.Dataset) -> tuple[float, float]:
 def known_disagreements(results: dict) -> list[str]:
     """Where our numbers and the paper's differ, by how much and the likely reason (Markdown
     bullet texts). Table 1 and the peak factor need no simulation; the rest use ``results``."""
-    from ..body import FOOT, Block, housner_sv
-    from ..psd import DEFAULT_PEAK_CONSTANT
+    from ..dynamics.body import Block, housner_sv
+    from ..motions.psd import DEFAULT_PEAK_CONSTANT
 
     pv = paper_values()
     t = pv["tables"]

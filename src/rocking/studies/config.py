@@ -11,16 +11,16 @@ values (bodies, frames, envelopes, motion numbers) before a run starts.
 
 Keys (units in brackets; "No. k" motion numbers count from 1 as in the paper; body lists are
 ``[[R, gamma], ...]`` [m, -], the string ``"paper"`` for the 72 bodies of Tables 1–3, or the path
-of a CSV file read by :func:`rocking.bodies.read_bodies`; frames are preset names of
-:data:`rocking.frames.PRESETS` or paths of frame TOML files, see
-:meth:`rocking.frames.ShearFrame.from_toml`):
+of a CSV file read by :func:`rocking.assessment.bodies.read_bodies`; frames are preset names of
+:data:`rocking.structures.frames.PRESETS` or paths of frame TOML files, see
+:meth:`rocking.structures.frames.ShearFrame.from_toml`):
 
 ``[common]`` — motions of Sections 4, 5, 7 and 8 (RG 1.60 target):
     ``dt`` [s] time step of motions and rocking solver; ``e`` [-] coefficient of restitution;
     ``envelope`` ("boxcar", "trapezoidal", "compound"); ``duration`` [s];
     ``envelope_params`` (table, e.g. ``{t1 = 2.0, t2 = 12.0, c = 0.25}`` [s, s, 1/s]; empty: the
-    duration rule of :mod:`rocking.envelopes`); ``iterations`` [-] spectral-matching iterations
-    of :func:`rocking.motions.generate` (the paper: 0).
+    duration rule of :mod:`rocking.motions.envelopes`); ``iterations`` [-] spectral-matching iterations
+    of :func:`rocking.motions.synthesis.generate` (the paper: 0).
 ``[sec4]`` baseline correction (Figs. 3–4): ``seed``; ``motion`` (No.); ``R`` [m]; ``gammas``;
     ``agx`` [g] (the motion's own PGA); ``n_check`` [-] motions over which the share of changed
     outcomes is counted.
@@ -50,11 +50,11 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._validate import read_toml
-from ..body import FOOT, Block, paper_bodies
+from ..core.checks import read_toml
+from ..dynamics.body import FOOT, Block, paper_bodies
 from ..errors import InputError
-from ..frames import PRESETS as FRAME_PRESETS
-from ..frames import ShearFrame
+from ..structures.frames import PRESETS as FRAME_PRESETS
+from ..structures.frames import ShearFrame
 
 
 def _ft(*feet) -> list[float]:
@@ -230,7 +230,7 @@ def resolve_bodies(value, where: str) -> list[Block]:
     if value == "paper":
         return paper_bodies()
     if isinstance(value, str):
-        from ..bodies import read_bodies
+        from ..assessment.bodies import read_bodies
 
         return read_bodies(value)
     try:
@@ -249,7 +249,7 @@ def resolve_frame(name: str) -> ShearFrame:
 def validate(cfg: dict) -> None:
     """Check the values that only the library can judge (bodies, frames, envelopes, motion
     numbers) before any work starts; errors name the key, e.g. ``sec7.frames: ...``."""
-    from ..envelopes import make_envelope
+    from ..motions.envelopes import make_envelope
 
     c = cfg["common"]
     checks = {
@@ -297,7 +297,7 @@ class RunContext:
     modified : bool
         True if a config file or ``--set`` changed the preset.
     backend : object or None
-        Backend of :mod:`rocking.fragility` (None: local).
+        Backend of :mod:`rocking.montecarlo.probability` (None: local).
     progress : bool or None
         Show progress bars (None: only when writing to a terminal).
     chunks : Path or None
@@ -314,7 +314,7 @@ class RunContext:
     def store(self, section: str, name: str) -> Path | None:
         """Chunk folder of one Monte Carlo call, ``chunks/<section>-<hash>/<name>``: the hash
         covers the section's and the common parameters, so changed parameters never meet the
-        chunks of an earlier run (see :class:`rocking.store.ChunkStore`)."""
+        chunks of an earlier run (see :class:`rocking.montecarlo.store.ChunkStore`)."""
         if self.chunks is None:
             return None
         text = json.dumps({"common": self.cfg["common"], section: self.cfg[section]},
@@ -330,8 +330,8 @@ class RunContext:
 
     def motions(self, section: str, n: int, **changes):
         """``n`` simulated motions with the common settings and the section's seed
-        (:func:`rocking.motions.generate`); ``changes`` override generate()'s arguments."""
-        from ..motions import generate
+        (:func:`rocking.motions.synthesis.generate`); ``changes`` override generate()'s arguments."""
+        from ..motions.synthesis import generate
 
         c = self.cfg["common"]
         kwargs = dict(duration=c["duration"], dt=c["dt"], envelope=c["envelope"],

@@ -8,7 +8,7 @@ from importlib.resources import files
 
 import pandas as pd
 
-from ..body import FOOT
+from ..dynamics.body import FOOT
 
 _TABLES = {1: "table1_sv_required", 2: "table2_sv1", 3: "table3_ratio"}
 
@@ -23,7 +23,7 @@ def paper_values() -> dict:
 
 def paper_table(number: int) -> pd.DataFrame:
     """Table 1 (S_v [cm/s]), 2 (S_v1 [cm/s]) or 3 (ratio) as printed: rows R [m] = whole feet
-    rounded as :func:`rocking.energy.grid_table` labels them, columns γ [-]."""
+    rounded as :func:`rocking.assessment.energy.grid_table` labels them, columns γ [-]."""
     t = paper_values()["tables"]
     index = pd.Index([round(f * FOOT, 7) for f in t["R_ft"]], name="R [m]")
     columns = pd.Index(t["gamma"], name="gamma [-]")

@@ -14,10 +14,10 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..batch import overturn_batch
-from ..body import G, Block
-from ..dynamics import simulate
-from ..motions import baseline_correct
+from ..dynamics.batch import overturn_batch
+from ..dynamics.body import G, Block
+from ..dynamics.simulate import simulate
+from ..motions.baseline import baseline_correct
 from ..plots.studies import plot_responses
 from .config import RunContext
 

@@ -23,9 +23,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..batch import overturn_batch
-from ..body import Block
-from ..dynamics import simulate
+from ..dynamics.batch import overturn_batch
+from ..dynamics.body import Block
+from ..dynamics.simulate import simulate
 from ..plots.studies import plot_responses
 from .config import RunContext
 

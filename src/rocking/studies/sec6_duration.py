@@ -5,7 +5,7 @@ motions (500 in the paper) are simulated and the overturning probability of each
 estimated over a grid of A_gx (each ensemble scaled to its mean PGA). Every case uses the same
 seed, so the motions of different cases share their phase angles: the comparisons between
 durations and shapes are paired, which removes much of the sampling noise from the differences.
-The envelope shapes follow the duration rule of :mod:`rocking.envelopes`.
+The envelope shapes follow the duration rule of :mod:`rocking.motions.envelopes`.
 
 Fig. 9: boxcar, all durations, (a) R = 1.22 m, γ = 4 and (b) R = 3.66 m, γ = 4.
 Fig. 10: R = 1.22 m, γ = 4, the three shapes, for durations 15–30 s.
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import pandas as pd
 import xarray as xr
 
-from ..fragility import overturning_probability
+from ..montecarlo.probability import overturning_probability
 from ..plots.fragility import plot_fragility
 from .config import RunContext, resolve_bodies
 
@@ -27,7 +27,7 @@ TITLE = "Section 6: duration and intensity function (Figs. 9-10)"
 
 @dataclass(frozen=True)
 class Sec6Result:
-    """``probability``: Dataset of :func:`rocking.fragility.overturning_probability` with extra
+    """``probability``: Dataset of :func:`rocking.montecarlo.probability.overturning_probability` with extra
     leading dimensions ``envelope`` and ``duration`` [s]."""
 
     probability: xr.Dataset

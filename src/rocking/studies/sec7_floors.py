@@ -16,11 +16,11 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..body import Block
-from ..fragility import overturning_probability
+from ..dynamics.body import Block
+from ..montecarlo.probability import overturning_probability
 from ..plots.fragility import plot_fragility
 from ..plots.frames import plot_floor_spectra
-from ..spectra import response_spectrum
+from ..motions.response import response_spectrum
 from ..report import slug
 from .config import RunContext, resolve_bodies, resolve_frame
 

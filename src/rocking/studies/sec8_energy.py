@@ -4,7 +4,7 @@
 floor of a frame (floor 1 of the T1 = 2.0 s frame) scaled to the same A_gx. For every body the
 A_gx of 50 % overturning probability (A_gx50) is searched on both; S_v1 is the largest value of
 the ensemble-mean 5 %-damped PSV in 0.04–0.6 Hz with the ensemble scaled to A_gx50
-(:func:`rocking.energy.energy_balance`), to be compared with Eq. (11) (Table 1). Also: the
+(:func:`rocking.assessment.energy.energy_balance`), to be compared with Eq. (11) (Table 1). Also: the
 probability curve of R = 1.22 m, γ = 2 (Fig. 13) and its spectrum at A_gx50 (Fig. 14), and the
 two worked examples (bodies on floor 1 at A_gx = 0.6 g) both by Eq. (11) and by simulation.
 """
@@ -17,13 +17,13 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..body import housner_sv
-from ..energy import assess, energy_balance, grid_table
-from ..fragility import agx_50, overturning_probability
+from ..dynamics.body import housner_sv
+from ..assessment.energy import assess, energy_balance, grid_table
+from ..montecarlo.probability import agx_50, overturning_probability
 from ..plots.fragility import plot_fragility, plot_sv1_spectrum, plot_sv_agx
-from ..spectra import response_spectrum
+from ..motions.response import response_spectrum
 from ..report import slug
-from ..screen import eq11_vs_monte_carlo, eq11_vs_monte_carlo_note
+from ..assessment.screen import eq11_vs_monte_carlo, eq11_vs_monte_carlo_note
 from .conclusions import ratio_stats
 from .config import RunContext, resolve_bodies, resolve_frame
 from .paper import paper_table, paper_values
@@ -35,7 +35,7 @@ FIG14_FREQS_HZ = np.geomspace(0.04, 30.0, 120)
 
 @dataclass(frozen=True)
 class Sec8Result:
-    """``balance``: :func:`rocking.energy.energy_balance` datasets stacked on ``location``
+    """``balance``: :func:`rocking.assessment.energy.energy_balance` datasets stacked on ``location``
     ("ground", "floor k"); ``fig13``: probability curve of the first example body on the
     ground; ``fig14``: (freqs [Hz], mean PSV [m/s]) at its A_gx50; ``examples``: per example
     body ``sv_required``, ``sv_available`` [m/s], ``verdict`` (Eq. 11) and ``probability``,

@@ -1,6 +1,6 @@
 """Independent reference solver for the rocking equation: SciPy ``solve_ivp`` with located events.
 
-It shares nothing with :mod:`rocking.dynamics` but the physics (Eq. 1 and the impact rule), so the
+It shares nothing with :mod:`rocking.dynamics.equation` and :mod:`rocking.dynamics.impacts` but the physics (Eq. 1 and the impact rule), so the
 tests can check the fast fixed-step solver against it.  Adaptive DOP853 with tight tolerances, run
 one sample interval of the ground motion at a time: the ground acceleration is linear between
 samples and has a kink at each, so within an interval the equation is smooth and the integrator
@@ -19,8 +19,8 @@ from scipy.integrate import solve_ivp
 
 from .body import G, Block
 from .body import resolve_e, resolve_overturn_angle
-from .dynamics import RockingResponse
-from ._validate import finite_array, positive
+from .simulate import RockingResponse
+from ..core.checks import finite_array, positive
 
 #: A bounce whose free flight would last less than this [s] ends the impact sequence (rest).
 REST_FLIGHT_TIME = 1e-7

@@ -14,7 +14,7 @@ Every command that writes a folder (``rocking fragility``, ``agx50``, ``screen``
   are deleted before anything else, so an interrupted rerun never leaves the previous run's tables
   beside its own ``"failed"`` status looking like results.  Only files a run recorded are deleted,
   never others, and resumable work (Monte Carlo chunks) is kept;
-* **atomic files**: every file goes through :func:`rocking._files.atomic_write`.
+* **atomic files**: every file goes through :func:`rocking.core.files.atomic_write`.
 """
 
 from __future__ import annotations
@@ -23,9 +23,9 @@ import json
 import time
 from pathlib import Path
 
-from ._files import atomic_write, save_figure
-from .defaults import CSV_FLOAT_FORMAT
-from .errors import InputError
+from .files import atomic_write, save_figure
+from ..defaults import CSV_FLOAT_FORMAT
+from ..errors import InputError
 
 LOCK = ".rocking.lock"
 RUN_JSON = "run.json"
@@ -109,7 +109,7 @@ class RunFolder:
                 target.unlink(missing_ok=True)
 
     def _write_status(self, status: str, **extra) -> None:
-        from .report import provenance
+        from ..report import provenance
 
         wall = round(time.perf_counter() - self._start, 3) if self._start else 0.0
         record = {"status": status, "command": self.command, **self.params,

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 
 def positive(name: str, value, unit: str = "") -> float:
@@ -62,7 +62,7 @@ HOUSNER = "housner"
 def restitution(value, name: str = "e"):
     """A coefficient of restitution as given by a user: a number in (0, 1] [-] (float), or
     the word ``"housner"`` (returned as such; 1 − 1.5·sin²α of each block, resolved by
-    :func:`rocking.dynamics.resolve_e`).  Text is accepted for both (command line, tables)."""
+    :func:`rocking.dynamics.body.resolve_e`).  Text is accepted for both (command line, tables)."""
     if isinstance(value, str):
         if value.strip().lower() == HOUSNER:
             return HOUSNER

@@ -1,7 +1,7 @@
 """Resumable on-disk store of finished chunks of a Monte Carlo run (issue 5, part 5).
 
 A run writes each chunk of results as soon as it is finished into its output folder, as one
-``chunk-<key>.npz`` file, atomically (:func:`rocking._files.atomic_write`).  A process killed at
+``chunk-<key>.npz`` file, atomically (:func:`rocking.core.files.atomic_write`).  A process killed at
 any instant (kill -9) therefore leaves only complete chunk files (plus, at worst, a stray
 temporary file that is ignored).  Writing the same chunk twice (a Dask task run again after a
 worker died) replaces a file with an identical one.
@@ -30,14 +30,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import atomic_write
-from .errors import InputError
+from ..core.files import atomic_write
+from ..errors import InputError
 
 MANIFEST = "chunks.json"
 LOCK = ".rocking.lock"
 _FORMAT = "rocking-chunks-2"
 #: Modules whose source decides the numbers a chunk holds.
-KERNEL_MODULES = ("_numba.py", "dynamics.py", "batch.py")
+KERNEL_MODULES = ("core/compile.py", "dynamics/equation.py", "dynamics/impacts.py",
+                  "dynamics/batch.py")
 
 
 def fingerprint(params: dict) -> str:
@@ -56,7 +57,7 @@ def array_digest(a: np.ndarray) -> str:
 @cache
 def code_version() -> dict:
     """The package version and the SHA-256 of the source of the integration kernels."""
-    from . import __version__
+    from .. import __version__
 
     h = hashlib.sha256()
     for name in KERNEL_MODULES:

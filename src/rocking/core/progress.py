@@ -264,7 +264,7 @@ def resolve(progress) -> Reporter:
         return Reporter() if sys.stderr.isatty() else QUIET
     if isinstance(progress, bool):
         return Reporter() if progress else QUIET
-    from .errors import InputError
+    from ..errors import InputError
 
-    raise InputError(f"progress must be True, False, None or a rocking.progress.Reporter, "
+    raise InputError(f"progress must be True, False, None or a rocking.core.progress.Reporter, "
                      f"got {progress!r}")

@@ -7,11 +7,11 @@ overturned and its largest |θ|/α.
 
 How it is fast (issue 6).  A *lane machine* integrates ``_LANES`` cases side by side, one sample
 interval per round.  Each round first computes the RK4 step of every lane in one loop that the
-compiler turns into SIMD code (:func:`rocking.dynamics._plain_step`: branch-free, polynomial
+compiler turns into SIMD code (:func:`rocking.dynamics.equation._plain_step`: branch-free, polynomial
 trigonometry); the lanes whose interval holds nothing else (no impact, no possible touch of θ = 0,
 no overturning; about 98.5 % of rocking intervals) keep that step, and the loop returns the
 others as bit masks.  Those — and lanes at rest — are handled one by one by
-:func:`rocking.dynamics._advance_events`, exactly as :func:`~rocking.dynamics.simulate` handles
+:func:`rocking.dynamics.impacts._advance_events`, exactly as :func:`~rocking.dynamics.simulate` handles
 them, except that after an impact from which the block swings clear of θ = 0 the rest of the
 interval goes back to the SIMD loop.  Cases of the same
 motion sit side by side (they read the same samples).  A lane whose case ends takes the next case
@@ -31,7 +31,7 @@ into calls; they equal :func:`~rocking.dynamics.simulate` bit for bit.
 :func:`overturn_batch` runs the full product blocks × scales × motions;
 :func:`overturn_cases` runs an explicit list of (block, motion, scale) triples, for searches that
 need a different scale per block.  Both go through :func:`run_cases`, the unchecked entry used by
-the Monte Carlo engine of :mod:`rocking.fragility`.
+the Monte Carlo engine of :mod:`rocking.montecarlo.probability`.
 """
 
 from __future__ import annotations
@@ -42,11 +42,12 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ._numba import highest_bit, kernel, parallel_kernel, prange
-from ._validate import finite_array, positive
+from ..core.compile import highest_bit, kernel, parallel_kernel, prange
+from ..core.checks import finite_array, positive
 from .body import G, Block, resolve_e, resolve_overturn_angle
-from .dynamics import _OVERTURNED, _REST, _ROCKING, _advance_events, _plain_step, _uplifts
-from .errors import InputError
+from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events
+from .equation import _plain_step, _uplifts
+from ..errors import InputError
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -80,7 +81,7 @@ _ROWS = 19
 @kernel
 def _lane_steps(W, acc1, nxt, base, n, dt, g, n_t):
     """One sample interval of lanes 0 … n−1 (a SIMD loop): the RK4 step, kept where it is all
-    that happens in the interval (:func:`rocking.dynamics._plain_step`).
+    that happens in the interval (:func:`rocking.dynamics.equation._plain_step`).
 
     ``acc1``: each lane's ground acceleration at the end of the interval [m/s²], ``nxt``: index of
     that sample in the motions end to end (advanced where the interval is done), ``base``: index
@@ -409,25 +410,6 @@ def run_cases(table: BlockTable, acc: np.ndarray, amax: np.ndarray, dt: float,
                       table.e, table.theta_ov, table.alpha, body, motion, scale, order, group,
                       overturned, peak)
     return overturned, peak
-
-
-def run_chunk(data: dict, task: tuple):
-    """One chunk of a Monte Carlo run: all motions of one ensemble for each (block, scale) pair.
-
-    Executed by a backend (:mod:`rocking.backends`), possibly in a worker process, which is why it
-    lives in this light module.  ``data`` = {"table": BlockTable, "cases": [(acc, amax, dt), …]}
-    (one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
-    indices (n_pairs,) int64, scale factors (n_pairs,) float64).
-
-    Returns (overturned, peak), shape (n_pairs, n_motions).
-    """
-    c, body, scale = task
-    acc, amax, dt = data["cases"][c]
-    n_m = acc.shape[0]
-    overturned, peak = run_cases(data["table"], acc, amax, dt, np.repeat(body, n_m),
-                                 np.tile(np.arange(n_m, dtype=np.int64), body.size),
-                                 np.repeat(scale, n_m))
-    return overturned.reshape(body.size, n_m), peak.reshape(body.size, n_m)
 
 
 def _acc2d(acc) -> np.ndarray:

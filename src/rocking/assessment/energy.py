@@ -1,6 +1,6 @@
 """Housner's energy-balance check (paper Section 8): required against available pseudo-velocity.
 
-* Required S_v (Eq. 11, :func:`rocking.body.housner_sv`): the pseudo-velocity that overturns a
+* Required S_v (Eq. 11, :func:`rocking.dynamics.body.housner_sv`): the pseudo-velocity that overturns a
   body with about 50 % probability.
 * Available S_v (:func:`available_sv`): the largest value of a 5 %-damped pseudo-velocity spectrum
   (the mean spectrum of an ensemble) in a low-frequency band, 0.04–0.6 Hz in the paper, because a
@@ -23,13 +23,14 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ._validate import in_range, positive
-from .batch import block_list
-from .body import G, housner_sv
-from .defaults import BAND_HZ
-from .errors import InputError
-from .motions import Ensemble
-from .spectra import RG160, ResponseSpectrum, TabulatedSpectrum, TargetSpectrum, response_spectrum
+from ..core.checks import in_range, positive
+from ..dynamics.batch import block_list
+from ..dynamics.body import G, housner_sv
+from ..defaults import BAND_HZ
+from ..errors import InputError
+from ..motions.ensemble import Ensemble
+from ..motions.targets import RG160, TabulatedSpectrum, TargetSpectrum
+from ..motions.response import ResponseSpectrum, response_spectrum
 
 #: Default number of log-spaced oscillator frequencies in the band [-].
 N_FREQS = 200
@@ -78,12 +79,12 @@ def available_sv(source, *, band_hz=BAND_HZ, damping: float = 0.05, agx: float |
     Parameters
     ----------
     source : Ensemble, ResponseSpectrum or TargetSpectrum
-        * :class:`~rocking.motions.Ensemble`: the maximum over ``n_freqs`` log-spaced frequencies
+        * :class:`~rocking.motions.ensemble.Ensemble`: the maximum over ``n_freqs`` log-spaced frequencies
           of the band of the ensemble-mean PSV (``damping``), after scaling the ensemble to
           mean PGA ``agx`` if given. With ``agx`` = a body's A_gx at 50 % this is S_v1.
-        * :class:`~rocking.spectra.ResponseSpectrum`: the maximum of its (mean) PSV at its own
+        * :class:`~rocking.motions.response.ResponseSpectrum`: the maximum of its (mean) PSV at its own
           frequencies inside the band; its damping must equal ``damping``.
-        * :class:`~rocking.spectra.TargetSpectrum`: the maximum of its PSV on the log-spaced grid
+        * :class:`~rocking.motions.targets.TargetSpectrum`: the maximum of its PSV on the log-spaced grid
           plus its table frequencies inside the band (PSV is monotonic between the knots of a
           log-log-linear table, so the maximum of a tabulated or RG 1.60 spectrum is exact).
     band_hz : (float, float)
@@ -145,7 +146,7 @@ def energy_balance(blocks, ensemble: Ensemble, agx50, *, band_hz=BAND_HZ, dampin
         The motions the A_gx50 were found with (ground or floor), at any scale [m/s²].
     agx50 : array_like, xarray.DataArray or xarray.Dataset
         A_gx at 50 % overturning probability of each body [g], in the order of ``blocks``
-        (NaN where not reached): an array, or the result of :func:`rocking.fragility.agx_50`
+        (NaN where not reached): an array, or the result of :func:`rocking.montecarlo.probability.agx_50`
         (its ``agx50`` variable).
     band_hz : (float, float)
         Band of the available S_v [Hz].

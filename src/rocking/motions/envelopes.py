@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import in_range, positive
-from .errors import InputError
+from ..core.checks import in_range, positive
+from ..errors import InputError
 
 #: Fractions of the duration T used by :func:`make_envelope` when a parameter is not given.
 TRAPEZOID_RISE_FRACTION = 0.1

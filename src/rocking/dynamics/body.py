@@ -10,9 +10,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ._validate import HOUSNER, in_range, positive, restitution
-from .defaults import GAMMA_RANGE, R_RANGE_M, G
-from .errors import InputError
+from ..core.checks import HOUSNER, in_range, positive, restitution
+from ..defaults import GAMMA_RANGE, R_RANGE_M, G
+from ..errors import InputError
 #: One international foot [m]; the paper's sizes are whole feet printed in metres.
 FOOT = 0.3048
 #: Size parameters of the paper's 72 bodies (Tables 1–3): R = 4…11 ft, printed as 1.22…3.35 m.

@@ -1,13 +1,13 @@
 """Screening an inventory of free-standing items against a design spectrum.
 
-For every item of a :class:`rocking.inventory.Inventory`, at the design level of a target
-spectrum (its zero-period acceleration, :func:`rocking.design_spectra.design_pga`):
+For every item of a :class:`rocking.assessment.inventory.Inventory`, at the design level of a target
+spectrum (its zero-period acceleration, :func:`rocking.motions.design.design_pga`):
 
 * Housner's energy balance (paper Eq. 11, end of Section 8): required S_v against the available
   S_v at the item's location — on the ground the spectrum's own PSV, on floor N the mean PSV of
-  the floor motions — with its margin and verdict (:func:`rocking.energy.assess`);
+  the floor motions — with its margin and verdict (:func:`rocking.assessment.energy.assess`);
 * the Monte Carlo overturning probability at the design level with its Wilson interval, and the
-  ground A_gx of 50 % probability (:mod:`rocking.fragility`), from the same ensemble.
+  ground A_gx of 50 % probability (:mod:`rocking.montecarlo.probability`), from the same ensemble.
 
 Floor motions are, by default (``floor_motions="building"``), the frame's response to the
 spectrum-compatible ground motions scaled to the design A_gx: what the floor of that (linear)
@@ -31,13 +31,15 @@ import os
 import numpy as np
 import xarray as xr
 
-from .design_spectra import design_pga, parse_spectrum
+from ..motions.design import design_pga, parse_spectrum
 from .energy import BAND_HZ, SAFE, assess, band_frequencies
-from .errors import InputError
-from .fragility import agx_50, overturning_probability
+from ..errors import InputError
+from ..montecarlo.probability import agx_50, overturning_probability
 from .inventory import Inventory, Item, read_inventory
-from .motions import Ensemble, generate
-from .spectra import ResponseSpectrum, TargetSpectrum, response_spectrum
+from ..motions.ensemble import Ensemble
+from ..motions.synthesis import generate
+from ..motions.response import ResponseSpectrum, response_spectrum
+from ..motions.targets import TargetSpectrum
 
 #: Oscillator frequencies of the floor spectra in the band of the available S_v [-]: 100
 #: log-spaced frequencies in 0.04–0.6 Hz find the band maximum of the mean PSV of the floors of
@@ -58,10 +60,10 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
     Parameters
     ----------
     inventory : Inventory, list of Item, str or Path
-        The items, or an inventory file (:func:`rocking.inventory.read_inventory`).
+        The items, or an inventory file (:func:`rocking.assessment.inventory.read_inventory`).
     spectrum : TargetSpectrum or str
         The design spectrum at the ground, or its specification
-        (:func:`rocking.design_spectra.parse_spectrum`, e.g. ``"asce7:SDS=1,SD1=0.6,TL=8"``).
+        (:func:`rocking.motions.design.parse_spectrum`, e.g. ``"asce7:SDS=1,SD1=0.6,TL=8"``).
         Its zero-period acceleration is the design A_gx [g].
     frame : str or ShearFrame, optional
         Default frame of ``floor N`` items without one (only when ``inventory`` is a file).
@@ -87,9 +89,9 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
         ("building", default), or rescaled to the ground's A_gx (the paper's Section 7
         convention); see the module docstring.
     backend : optional
-        Backend of the Monte Carlo runs (:func:`rocking.backends.get_backend`); default local.
+        Backend of the Monte Carlo runs (:func:`rocking.montecarlo.backends.get_backend`); default local.
     progress : optional
-        Passed on to :func:`rocking.fragility.overturning_probability` and ``agx_50``.
+        Passed on to :func:`rocking.montecarlo.probability.overturning_probability` and ``agx_50``.
 
     Returns
     -------
@@ -245,7 +247,7 @@ def eq11_vs_monte_carlo(verdict, probability, ci_low, ci_high) -> np.ndarray:
     Parameters
     ----------
     verdict : array_like of str
-        Eq. (11) verdicts (:func:`rocking.energy.assess`).
+        Eq. (11) verdicts (:func:`rocking.assessment.energy.assess`).
     probability, ci_low, ci_high : array_like
         Simulated overturning probability and its Wilson interval [-].
 

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
-from .body import Block
-from .errors import InputError
+from ..dynamics.body import Block
+from ..errors import InputError
 
 #: Accepted column names (lower case, without units) and the canonical name they stand for.
 _ALIASES = {"r": "R", "gamma": "gamma", "γ": "gamma", "h": "H", "b": "B", "name": "name"}
@@ -34,7 +34,7 @@ _UNITS = {"R": "m", "gamma": "-", "H": "m", "B": "m"}
 @dataclass(frozen=True)
 class NamedBody:
     """A body from a bodies file: its ``name`` (the Block label when the file gives none) and
-    its :class:`~rocking.body.Block`."""
+    its :class:`~rocking.dynamics.body.Block`."""
 
     name: str
     block: Block

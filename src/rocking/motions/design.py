@@ -5,11 +5,11 @@
 * :class:`EC8` — Eurocode 8, EN 1998-1:2004 §3.2.2.2: horizontal elastic response spectrum,
   Type 1 or Type 2, ground types A–E, importance factor and damping correction η.
 * :func:`parse_spectrum` — ``rg160:0.3``, ``asce7:SDS=1.0,SD1=0.6,TL=8``,
-  ``ec8:type=1,ground=B,ag=0.25`` or a CSV path (:meth:`rocking.spectra.TabulatedSpectrum.from_csv`,
+  ``ec8:type=1,ground=B,ag=0.25`` or a CSV path (:meth:`rocking.motions.targets.TabulatedSpectrum.from_csv`,
   e.g. a floor response spectrum computed elsewhere).
 
-All of them are :class:`rocking.spectra.TargetSpectrum` objects (PSA [g], PSV [m/s], SD [m] at
-frequencies [Hz]), so they can drive :func:`rocking.motions.generate` and the energy balance.
+All of them are :class:`rocking.motions.targets.TargetSpectrum` objects (PSA [g], PSV [m/s], SD [m] at
+frequencies [Hz]), so they can drive :func:`rocking.motions.synthesis.generate` and the energy balance.
 :func:`design_pga` gives the A_gx [g] at which a spectrum is the design level (its ZPA).
 """
 
@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._validate import finite_array, in_range, positive
-from .defaults import SPECTRUM_SYNTAX
-from .errors import InputError
-from .spectra import RG160, TabulatedSpectrum, TargetSpectrum, _freqs
+from ..core.checks import finite_array, in_range, positive
+from ..defaults import SPECTRUM_SYNTAX
+from ..errors import InputError
+from .targets import RG160, TabulatedSpectrum, TargetSpectrum, _freqs
 
 #: EN 1998-1:2004 Table 3.2 (Type 1) and Table 3.3 (Type 2), recommended values:
 #: ground type -> (S [-], T_B [s], T_C [s], T_D [s]).
@@ -143,7 +143,7 @@ class EC8(TargetSpectrum):
 
     The code defines S_e up to T = 4 s; beyond it Eq. 3.5 is continued (constant spectral
     displacement), because rocking bodies respond at 0.04–0.6 Hz (periods up to 25 s) and this
-    is what :class:`rocking.spectra.TargetSpectrum` does below its lowest frequency too. The
+    is what :class:`rocking.motions.targets.TargetSpectrum` does below its lowest frequency too. The
     informative Annex A (displacement spectrum beyond 4 s) is not applied.
 
     Parameters
@@ -262,7 +262,7 @@ def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpe
 
     ``KIND:key=value,key=value`` with KIND one of rg160, asce7, ec8 (keys are case-insensitive;
     ``rg160:0.3`` is short for ``rg160:pga=0.3``); anything else is read as a CSV file
-    (:meth:`rocking.spectra.TabulatedSpectrum.from_csv`; relative paths are taken from
+    (:meth:`rocking.motions.targets.TabulatedSpectrum.from_csv`; relative paths are taken from
     ``base_dir`` when given, else the working directory). ``FILE:NAME`` reads the spectrum
     NAME of a file that holds several (a record of ``rocking spectrum --csv``, a location such
     as ``floor_1`` of ``rocking frame spectra --csv``).

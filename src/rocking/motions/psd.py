@@ -37,9 +37,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
-from ._validate import finite_array, in_range, positive
-from .body import G
-from .errors import InputError
+from ..core.checks import finite_array, in_range, positive
+from ..dynamics.body import G
+from ..errors import InputError
 
 #: Euler's constant as used by Davenport (1964) in his peak factor.
 DAVENPORT_CONSTANT = 0.5772156649015329
@@ -166,8 +166,8 @@ def transfer(omega_k, omega_j, damping: float) -> np.ndarray:
 def target_psa(target, freqs_hz, damping: float | None = None) -> tuple[np.ndarray, float]:
     """Target pseudo-spectral accelerations [g] at ``freqs_hz`` [Hz] and their damping [-].
 
-    ``target`` is anything with a ``psa(freqs_hz)`` method (a ``rocking.spectra.TargetSpectrum``)
-    or a function ``f(freqs_hz, damping=...)`` such as ``rocking.spectra.rg160``. ``damping``
+    ``target`` is anything with a ``psa(freqs_hz)`` method (a ``rocking.motions.targets.TargetSpectrum``)
+    or a function ``f(freqs_hz, damping=...)`` such as ``rocking.motions.targets.rg160``. ``damping``
     defaults to the target's own ``damping`` attribute, else 0.05; an explicit value that
     contradicts the target's raises :class:`InputError`.
     """

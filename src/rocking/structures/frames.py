@@ -23,11 +23,11 @@ from pathlib import Path
 import numpy as np
 from scipy.linalg import eigh
 
-from ._numba import parallel_kernel, prange
-from ._validate import finite_array, in_range, positive, read_toml
-from .body import G
-from .errors import InputError
-from .spectra import _foh_coefficients  # the SDOF recurrence, shared with the spectra
+from ..core.compile import parallel_kernel, prange
+from ..core.checks import finite_array, in_range, positive, read_toml
+from ..dynamics.body import G
+from ..errors import InputError
+from ..motions.response import foh_coefficients
 
 
 def kN_per_g_to_kg(w):
@@ -285,18 +285,18 @@ class ShearFrame:
         return out[0] if a.ndim == 1 else out
 
     def floor_ensemble(self, ensemble, floor: int):
-        """The absolute accelerations of one floor, as a :class:`rocking.motions.Ensemble`.
+        """The absolute accelerations of one floor, as a :class:`rocking.motions.ensemble.Ensemble`.
 
         Parameters
         ----------
-        ensemble : rocking.motions.Ensemble
+        ensemble : rocking.motions.ensemble.Ensemble
             Ground motions [m/s²] at the frame's base.
         floor : int
             0 (the ground: ``ensemble`` itself is returned) to ``n_stories`` (the roof).
 
         Returns
         -------
-        rocking.motions.Ensemble
+        rocking.motions.ensemble.Ensemble
             Same dt, labels and generation metadata (seed, scale, ...); ``meta`` also holds
             ``location`` ("floor <i> of <frame name>"), ``floor``, the frame (:meth:`to_meta`),
             ``kind`` = "floor" and ``ground_kind`` (the ground ensemble's kind). Not scaled:
@@ -344,7 +344,7 @@ class ShearFrame:
         # acceleration of a unit-participation oscillator r (u'' + 2ζω u' + ω² u = −a_g), because
         # q_r = Γ_r u_r and Σ_r φ_ir Γ_r = 1 when every mode is kept.
         weights = self._modes[1][rows] * self.participation_factors
-        coef = _foh_coefficients(omega, self.damping, np.full(omega.size, dt))
+        coef = foh_coefficients(omega, self.damping, np.full(omega.size, dt))
         return _floor_kernel(ag, coef, 2.0 * self.damping * omega, omega ** 2,
                              np.ascontiguousarray(weights))
 
@@ -360,7 +360,7 @@ def _floor_kernel(ag, coef, c, k, weights):
 
     ag (n_motions, n_t) ground acceleration [m/s²]; coef (n_modes, 8): the exact (Nigam &
     Jennings 1969) one-step recurrence of each mode for ground acceleration linear over a step,
-    from :func:`rocking.spectra._foh_coefficients`; c = 2ζω_r [1/s] and k = ω_r² [1/s²] per mode;
+    from :func:`rocking.motions.response.foh_coefficients`; c = 2ζω_r [1/s] and k = ω_r² [1/s²] per mode;
     weights (n_rows, n_modes) = φ_ir Γ_r [-].
 
     Hand-written rather than ``scipy.signal.lfilter`` per mode plus a matrix product: one pass

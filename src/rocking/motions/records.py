@@ -41,9 +41,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ._validate import positive
-from .body import G
-from .errors import InputError
+from ..core.checks import positive
+from ..dynamics.body import G
+from ..errors import InputError
 
 #: Accepted unit names and their factor to m/s².
 UNITS = {"g": G, "m/s2": 1.0, "cm/s2": 0.01}

@@ -15,7 +15,7 @@ columns, e.g. notes, are ignored)::
 Columns: ``name``; ``height`` and ``width`` [m], or ``R`` [m] and ``gamma`` [-]; ``location``:
 ``ground`` or ``floor N`` (N = 1 … number of stories; ``floor 0`` is the ground); ``frame``
 (optional): a preset (``paper-2.0`` …), a frame defined in a TOML inventory, or a frame TOML file
-(relative to the inventory; see :meth:`rocking.frames.ShearFrame.from_toml`); empty: the default
+(relative to the inventory; see :meth:`rocking.structures.frames.ShearFrame.from_toml`); empty: the default
 frame. ``e`` (optional): a number in (0, 1] or ``housner`` (1 − 1.5·sin²α); empty: 0.925, the
 paper's value. ``mu`` (optional): friction coefficient > 0.
 
@@ -39,11 +39,11 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._validate import in_range, positive, read_toml
-from .body import Block, resolve_e
-from .defaults import DEFAULT_E
-from .errors import InputError
-from .frames import PRESETS, ShearFrame
+from ..core.checks import positive, read_toml
+from ..dynamics.body import Block, resolve_e
+from ..defaults import DEFAULT_E
+from ..errors import InputError
+from ..structures.frames import PRESETS, ShearFrame
 
 
 _FIELDS = ("name", "height", "width", "r", "gamma", "location", "frame", "e", "mu")

@@ -1,11 +1,10 @@
-"""Ground-motion ensembles: spectrum-compatible simulation (paper Section 3), quadratic baseline
-correction (Section 4) and real records.
+"""Spectrum-compatible simulation of ground motions (paper Section 3): :func:`generate`.
 
 * :func:`generate` — ``n`` motions a(t) = I(t)·Σ_j A_j·sin(ω_j·t + φ_j) (Eq. 9) with amplitudes
-  from :func:`rocking.psd.power_spectrum` (Eqs. 5–8), optionally refined by an iterative
-  correction (PSD iteration and peak limiting, :func:`limit_peaks`), and baseline corrected.
-* :func:`baseline_correct` — subtract the polynomial that minimises the mean-square velocity.
-* :class:`Ensemble` — accelerations with labels and metadata, saved as netCDF.
+  from :func:`rocking.motions.psd.power_spectrum` (Eqs. 5–8), optionally refined by an iterative
+  correction (PSD iteration and peak limiting, :func:`limit_peaks`), and baseline corrected
+  (:func:`rocking.motions.baseline.baseline_correct`).
+* :func:`spectral_fit` — how the ensemble-mean PSA fits the target.
 
 Reproducibility: member k draws its phases from its own stream,
 ``default_rng(SeedSequence(seed, spawn_key=(k,)))`` (the k-th child of ``SeedSequence(seed)``),
@@ -13,90 +12,32 @@ so it is the same motion whatever the ensemble size or how the work is split.
 
 Scale: the motions are fitted to the target as given, its PSA [g] times G in m/s², so for
 RG 1.60 at 1 g the ensemble-mean PSA approximates the 1-g spectrum (how closely: see
-:func:`spectral_fit` and tests/test_motions.py). :meth:`Ensemble.scaled` rescales all members by
-one factor to a chosen A_gx (mean PGA [g], paper Section 3).
+:func:`spectral_fit` and tests/test_motions.py).
 """
 
 from __future__ import annotations
 
-import json
 import math
-from dataclasses import dataclass, field
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
-import xarray as xr
-from scipy.integrate import cumulative_trapezoid, trapezoid
 
-from ._files import atomic_write
-from ._numba import parallel_kernel, prange
-from ._validate import finite_array, positive, require_memory
-from .body import G
-from .defaults import FIT_BAND
+from ..core.checks import finite_array, positive, require_memory
+from ..core.compile import parallel_kernel, prange
+from ..defaults import FIT_BAND, G
+from ..errors import InputError
+from .baseline import baseline_correct
+from .ensemble import Ensemble, _n_samples
 from .envelopes import ENVELOPES, make_envelope
-from .errors import InputError
 from .psd import (DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_spectrum,
                   target_psa)
-from .records import read_record
-from .spectra import response_spectrum, rg160
+from .response import response_spectrum
+from .targets import rg160
+
 
 #: Members synthesised per call of the compiled kernel (bounds the memory of a chunk; the
 #: result does not depend on it).
 CHUNK = 256
-#: xarray engine for ensemble files: "scipy" writes netCDF-3 (64-bit offset) with SciPy alone.
-#: netCDF-4 (engine "h5netcdf") would add h5py and HDF5 to the install for no gain here.
-NETCDF_ENGINE = "scipy"
-#: Meta entries that hold one value per member (kept in step by :meth:`Ensemble.subset`).
-PER_MEMBER = ("members", "sources", "record_dt")
-
-
-# --------------------------------------------------------------------------- baseline correction
-
-
-def baseline_correct(acc, dt: float, order: int = 2) -> np.ndarray:
-    """Subtract the polynomial baseline that minimises the mean-square velocity (paper Section 4).
-
-    The corrected acceleration is a*(t) = a(t) − Σ_{k=0..order} (k+1)(k+2)·c_k·τ^k, τ = t/T,
-    whose velocity v*(t) (trapezoidal integration from v(0) = 0) has the least mean square
-    over [0, T] (Brady 1966; reference.md §6; ``order=2`` is the paper's quadratic correction).
-    The normal equations of reference.md §6 are formed with the trapezoidal rule — the same
-    quadrature that integrates a to v — so a polynomial of degree ≤ ``order`` is removed exactly.
-
-    Parameters
-    ----------
-    acc : array_like, shape (n_t,) or (n, n_t)
-        Acceleration(s) [m/s²] sampled at ``dt`` from t = 0; n_t > ``order`` + 1.
-    dt : float
-        Time step [s], > 0.
-    order : int
-        Degree of the acceleration polynomial [-], ≥ 0.
-
-    Returns
-    -------
-    ndarray
-        Corrected acceleration [m/s²], same shape as ``acc``.
-    """
-    k_max = int(order)
-    if k_max != order or k_max < 0:
-        raise InputError(f"order must be an integer ≥ 0, got {order!r}")
-    a = finite_array("acc", acc, ndim=(1, 2), min_len=k_max + 2)
-    dt = positive("dt", dt, "s")
-    tau = np.linspace(0.0, 1.0, a.shape[-1])
-    k = np.arange(k_max + 1)[:, None]
-    basis_acc = (k + 1) * (k + 2) * tau**k
-    basis_vel = cumulative_trapezoid(basis_acc, dx=dt, initial=0.0, axis=-1)
-    vel = cumulative_trapezoid(a, dx=dt, initial=0.0, axis=-1)
-    # Normal equations ∫ψ_k ψ_j dt · c_j = ∫ψ_k v dt (reference.md §6, ψ_k = basis velocities).
-    # Row by row, not as one matrix product, so each motion's result does not depend on how
-    # many motions are corrected together (BLAS may sum in a size-dependent order).
-    gram = trapezoid(basis_vel[:, None, :] * basis_vel[None, :, :], dx=dt, axis=-1)
-    rhs = np.stack([trapezoid(vel * psi, dx=dt, axis=-1) for psi in basis_vel], axis=-1)
-    coef = np.linalg.solve(gram, rhs[..., None])[..., 0]  # one small solve per motion
-    baseline = sum(coef[..., j, None] * basis_acc[j] for j in range(k_max + 1))
-    return a - baseline
-
-
-# --------------------------------------------------------------------------- synthesis (Eq. 9)
 
 
 def member_phases(seed: int, members, n_freq: int) -> np.ndarray:
@@ -141,7 +82,7 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
         Component frequencies ω_j [rad/s] and amplitudes A_j [m/s²].
     envelope : callable
         Intensity function I(t) [-] with a ``duration`` attribute T [s] (see
-        :mod:`rocking.envelopes`); samples run t = 0, dt, … ≤ T.
+        :mod:`rocking.motions.envelopes`); samples run t = 0, dt, … ≤ T.
     dt : float
         Time step [s], > 0.
     phases : array_like, shape (n, n_freq)
@@ -163,9 +104,6 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
     parts = [_superpose(amp * np.cos(phi[i:i + CHUNK]), amp * np.sin(phi[i:i + CHUNK]),
                         sin_wt, cos_wt, intensity) for i in range(0, phi.shape[0], CHUNK)]
     return np.concatenate(parts) if parts else np.empty((0, t.size))
-
-
-# --------------------------------------------------------------------------- peak limiting
 
 
 #: Clip-and-restore passes per motion in :func:`limit_peaks`, the over-relaxation of the
@@ -312,241 +250,11 @@ def limit_peaks(spectrum: PowerSpectrum, envelope, dt: float, phases, limit: flo
     return out
 
 
-def _n_samples(duration: float, dt: float) -> int:
-    """Samples t = 0, dt, … up to T (a T within 1e-9·dt of a whole step counts as whole)."""
-    return int(math.floor(duration / dt + 1e-9)) + 1
-
-
 def _count(name: str, value, minimum: int) -> int:
     """``value`` as an int ≥ ``minimum``, or :class:`InputError` naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise InputError(f"{name} must be an integer ≥ {minimum}, got {value!r}")
     return int(value)
-
-
-# --------------------------------------------------------------------------- ensemble
-
-
-@dataclass(frozen=True, eq=False)
-class Ensemble:
-    """An ensemble of acceleration time histories with labels and metadata.
-
-    Parameters
-    ----------
-    acc : array_like, shape (n, n_t) or (n_t,)
-        Accelerations [m/s²] sampled at ``dt`` from t = 0 (stored read-only, 2-D).
-    dt : float
-        Time step [s], > 0.
-    labels : sequence of str, optional
-        One name per member (default ``"m-0000"``, ``"m-0001"``, …).
-    meta : dict, optional
-        JSON-serialisable description: generation parameters of simulated ensembles, record
-        sources of recorded ones, ``kind`` ("simulated", "recorded", …), ``location``
-        ("ground" or e.g. "floor 3 of paper-2.0") and ``scale`` (factor applied since).
-    """
-
-    acc: np.ndarray
-    dt: float
-    labels: tuple = ()
-    meta: dict = field(default_factory=dict)
-
-    def __post_init__(self):
-        acc = finite_array("acc", self.acc, ndim=(1, 2), min_len=2)
-        acc = np.array(acc, ndmin=2, copy=acc is self.acc)
-        acc.setflags(write=False)
-        object.__setattr__(self, "acc", acc)
-        object.__setattr__(self, "dt", positive("dt", self.dt, "s"))
-        labels = tuple(str(s) for s in self.labels) or tuple(f"m-{i:04d}" for i in range(len(acc)))
-        if len(labels) != len(acc):
-            raise InputError(f"labels has {len(labels)} names for {len(acc)} members")
-        object.__setattr__(self, "labels", labels)
-        object.__setattr__(self, "meta", {"location": "ground", "scale": 1.0, **self.meta})
-
-    @property
-    def n(self) -> int:
-        """Number of members."""
-        return self.acc.shape[0]
-
-    @property
-    def n_t(self) -> int:
-        """Samples per member."""
-        return self.acc.shape[1]
-
-    @property
-    def t(self) -> np.ndarray:
-        """Sample times [s]."""
-        return np.arange(self.n_t) * self.dt
-
-    @property
-    def duration(self) -> float:
-        """Time of the last sample [s]."""
-        return (self.n_t - 1) * self.dt
-
-    @property
-    def pga(self) -> np.ndarray:
-        """Peak ground acceleration of each member, max |a| [g], shape (n,)."""
-        return np.abs(self.acc).max(axis=1) / G
-
-    @property
-    def agx(self) -> float:
-        """Ensemble intensity A_gx: mean of the members' PGA [g] (paper Section 3)."""
-        return float(self.pga.mean())
-
-    @property
-    def simulated(self) -> bool:
-        """True for a simulated ground-motion ensemble (``kind`` "simulated" at the ground),
-        which :meth:`regenerate` can rebuild from its metadata."""
-        return self.meta.get("kind") == "simulated" and self.meta.get("location") == "ground"
-
-    def __len__(self) -> int:
-        return self.n
-
-    def scaled(self, agx: float) -> "Ensemble":
-        """The ensemble times one factor, so that its mean PGA is ``agx`` [g] (> 0)."""
-        agx = positive("agx", agx, "g")
-        if self.agx == 0.0:
-            raise InputError("cannot scale an ensemble of zero motions to a given agx")
-        return self.scaled_by(agx / self.agx)
-
-    def subset(self, indices) -> "Ensemble":
-        """The members at positions ``indices`` (ints, in the order given)."""
-        idx = np.asarray(indices)
-        if idx.dtype.kind not in "iu" or idx.ndim != 1:
-            raise InputError("indices must be a 1-D sequence of integers")
-        if idx.size and not (-self.n <= idx.min() and idx.max() < self.n):
-            raise InputError(f"indices must lie in [0, {self.n}), got {idx.tolist()}")
-        meta = {k: ([v[i] for i in idx] if k in PER_MEMBER else v) for k, v in self.meta.items()}
-        return Ensemble(self.acc[idx], self.dt, [self.labels[i] for i in idx], meta)
-
-    def regenerate(self, **overrides) -> "Ensemble":
-        """Simulate this ensemble again from its metadata (same members, phases and scale).
-
-        ``overrides`` replace stored generation parameters of :func:`generate` (e.g.
-        ``baseline=False``); changing the frequencies needs a new ``target``.
-        """
-        if not self.simulated:
-            raise InputError("only simulated ground motions can be regenerated (this ensemble "
-                             f"is {self.meta.get('kind', 'of unknown kind')!r} at "
-                             f"{self.meta['location']!r})")
-        unknown = set(overrides) - set(_GENERATION_KEYS) - {"target"}
-        if unknown:
-            raise InputError(f"cannot override {', '.join(sorted(unknown))}: not a parameter "
-                             "of generate()")
-        m = self.meta
-        # Files written before peak limiting existed were generated without it.
-        params = {"peak_limit": False, **{k: m[k] for k in _GENERATION_KEYS if k in m}}
-        params["target"] = _StoredTarget(m["target"], m["freqs_hz"], m["target_psa"], m["damping"])
-        params.update(overrides)
-        ens = _generate(m["members"], **params)
-        return ens.scaled_by(m["scale"]) if m["scale"] != 1.0 else ens
-
-    def target_spectrum(self) -> "_StoredTarget":
-        """The target a simulated ensemble was fitted to, times its ``scale`` (PSA [g]); known
-        at the fitted frequencies ``meta["freqs_hz"]`` [Hz] only."""
-        if not self.simulated:
-            raise InputError("only a simulated ground-motion ensemble has a stored target")
-        m = self.meta
-        scale = m["scale"]
-        name = m["target"] if scale == 1.0 else f"{m['target']} × {scale:.4g}"
-        return _StoredTarget(name, m["freqs_hz"], [v * scale for v in m["target_psa"]],
-                             m["damping"])
-
-    def scaled_by(self, factor: float) -> "Ensemble":
-        """The ensemble with every member multiplied by ``factor`` [-] (> 0)."""
-        factor = positive("factor", factor)
-        meta = {**self.meta, "scale": self.meta["scale"] * factor}
-        return Ensemble(self.acc * factor, self.dt, self.labels, meta)
-
-    def save(self, path) -> Path:
-        """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`) atomically (no
-        half-written file ever has the name); return the path.
-
-        Variable ``acc`` [m/s²] on dimensions (member, time); coordinates ``member`` (labels)
-        and ``time`` [s]. The metadata go to attribute ``meta_json`` as JSON (exact, read back
-        by :meth:`load`) and, for other readers of the file, to plain attributes: scalars,
-        numeric lists and dictionary entries as ``<key>_<entry>`` (booleans as 0/1).
-        """
-        path = Path(path)
-        attrs = {**_flat_attrs(self.meta), "dt": self.dt, "meta_json": json.dumps(self.meta)}
-        ds = xr.Dataset(
-            {"acc": (("member", "time"), self.acc,
-                     {"units": "m s-2", "long_name": "ground acceleration"})},
-            coords={"member": list(self.labels),
-                    "time": ("time", self.t, {"units": "s"})},
-            attrs=attrs)
-        atomic_write(path, bytes(ds.to_netcdf(None, engine=NETCDF_ENGINE)))
-        return path
-
-    @classmethod
-    def load(cls, path) -> "Ensemble":
-        """Read an ensemble written by :meth:`save`."""
-        path = Path(path)
-        try:
-            with xr.open_dataset(path, engine=NETCDF_ENGINE) as ds:
-                acc = ds["acc"].values
-                labels = [str(s) for s in ds["member"].values]
-                dt = float(ds.attrs["dt"])
-                meta = json.loads(ds.attrs["meta_json"])
-        except KeyError as exc:
-            raise InputError(f"{path}: not an ensemble file (missing {exc})") from None
-        except (OSError, ValueError, TypeError) as exc:  # TypeError: SciPy's "not netCDF"
-            raise InputError(f"{path}: not a netCDF ensemble file "
-                             f"({' '.join(str(exc).split()[:12])})") from None
-        return cls(acc, dt, labels, meta)
-
-    @classmethod
-    def from_records(cls, records, dt: float | None = None) -> "Ensemble":
-        """Ensemble of real records (``rocking.records.Record`` objects or file paths).
-
-        Records at another time step than ``dt`` (default: the smallest of the records) are
-        resampled by linear interpolation over their own length (downsampling this way does not
-        filter: pass a ``dt`` no larger than the records' for an alias-free result). Records
-        shorter than the longest are padded with zeros at the end (ground at rest). The
-        records are used as given (no baseline correction).
-
-        Parameters
-        ----------
-        records : sequence of Record or path
-            At least one.
-        dt : float, optional
-            Common time step [s], > 0.
-        """
-        recs = [r if hasattr(r, "acc") else read_record(r) for r in records]
-        if not recs:
-            raise InputError("records must name at least one record")
-        step = min(r.dt for r in recs) if dt is None else positive("dt", dt, "s")
-        rows = []
-        for r in recs:
-            t_end = (len(r.acc) - 1) * r.dt
-            t = np.arange(_n_samples(t_end, step)) * step
-            rows.append(r.acc if r.dt == step else np.interp(t, np.arange(len(r.acc)) * r.dt, r.acc))
-        acc = np.zeros((len(rows), max(len(x) for x in rows)))
-        for i, x in enumerate(rows):
-            acc[i, :len(x)] = x
-        meta = {"kind": "recorded", "location": "ground",
-                "sources": [str(r.source) for r in recs], "record_dt": [r.dt for r in recs]}
-        return cls(acc, step, [r.name for r in recs], meta)
-
-
-def _flat_attrs(meta: dict) -> dict:
-    """netCDF attributes for the readable entries of ``meta`` (see :meth:`Ensemble.save`)."""
-    flat = {}
-    for key, value in meta.items():
-        entries = value.items() if isinstance(value, dict) else [("", value)]
-        for sub, v in entries:
-            name = f"{key}_{sub}" if sub else key
-            if isinstance(v, bool):
-                v = int(v)
-            numeric_list = isinstance(v, list) and v and all(
-                isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
-            if isinstance(v, (str, int, float)) or numeric_list:
-                flat[name] = v
-    return flat
-
-
-# --------------------------------------------------------------------------- fit to a target
-
-
 
 
 @dataclass(frozen=True, eq=False)
@@ -596,7 +304,7 @@ def spectral_fit(ensemble: Ensemble, target=None, band=FIT_BAND,
     """Mean PSA of ``ensemble`` against ``target`` over ``band`` [Hz].
 
     The frequencies are those the ensemble was fitted at (``meta["freqs_hz"]``) or else
-    :func:`rocking.psd.log_frequencies` defaults, restricted to ``band`` (default 0.2–33 Hz);
+    :func:`rocking.motions.psd.log_frequencies` defaults, restricted to ``band`` (default 0.2–33 Hz);
     or, with ``per_decade``, that many log-spaced frequencies per decade from one end of the
     band to the other, both included (US SRP 3.7.1 asks for 100), which also checks the fit
     between and beyond the fitted frequencies (e.g. at 33 Hz itself, where the paper's grid has
@@ -619,29 +327,6 @@ def spectral_fit(ensemble: Ensemble, target=None, band=FIT_BAND,
     return SpectralFit(freqs, psa, psa_target, h)
 
 
-# --------------------------------------------------------------------------- generation
-
-
-@dataclass(frozen=True)
-class _StoredTarget:
-    """A target known only at the frequencies it was fitted at (for :meth:`Ensemble.regenerate`)."""
-
-    name: str
-    freqs_hz: list
-    values: list
-    damping: float
-
-    def psa(self, freqs_hz) -> np.ndarray:
-        """PSA [g] at ``freqs_hz`` [Hz], which must be among the stored frequencies."""
-        known = np.asarray(self.freqs_hz)
-        f = np.asarray(freqs_hz, dtype=float)
-        idx = np.clip(np.searchsorted(known, f), 0, known.size - 1)
-        if not np.array_equal(known[idx], f):
-            raise InputError("the stored target spectrum is known only at the stored frequencies:"
-                             " pass target= when changing n_freq, fmin or fmax")
-        return np.asarray(self.values)[idx]
-
-
 #: Parameters of :func:`generate` stored in the metadata (besides the target and members).
 _GENERATION_KEYS = ("duration", "dt", "envelope", "envelope_params", "seed", "baseline",
                     "damping", "n_freq", "fmin", "fmax", "iterations", "pilot", "peak_limit",
@@ -656,7 +341,7 @@ def generate(n: int, *, duration: float = 20.0, dt: float = 1 / 400, envelope: s
              convention: str = "one-sided") -> Ensemble:
     """Simulate ``n`` ground motions compatible with a target response spectrum.
 
-    Steps: the PSD by the paper's method (:func:`rocking.psd.power_spectrum`, Eqs. 5–8); with
+    Steps: the PSD by the paper's method (:func:`rocking.motions.psd.power_spectrum`, Eqs. 5–8); with
     ``iterations`` > 0 the iterative correction (below); synthesis by Eq. (9) with phases from
     :func:`member_phases`; then, if ``baseline``, :func:`baseline_correct` (quadratic).
 
@@ -701,10 +386,10 @@ def generate(n: int, *, duration: float = 20.0, dt: float = 1 / 400, envelope: s
         Time step [s], > 0.
     envelope : str
         Intensity function: ``"boxcar"``, ``"trapezoidal"`` or ``"compound"``
-        (:func:`rocking.envelopes.make_envelope`).
+        (:func:`rocking.motions.envelopes.make_envelope`).
     envelope_params : dict, optional
         Explicit shape parameters [s, 1/s] overriding the duration rule of
-        :mod:`rocking.envelopes`.
+        :mod:`rocking.motions.envelopes`.
     target : TargetSpectrum or callable
         Target spectrum: PSA [g] from ``target.psa(freqs_hz)`` or ``target(freqs_hz,
         damping=...)``; default RG 1.60 at 1 g.
@@ -725,10 +410,10 @@ def generate(n: int, *, duration: float = 20.0, dt: float = 1 / 400, envelope: s
         With ``iterations`` > 0, limit each motion's peak to the target's ZPA by re-phasing
         (:func:`limit_peaks`); False gives the PSD iteration alone.
     peak_constant : float
-        Constant of the peak factor in Eq. (6) [-] (:func:`rocking.psd.peak_factor`).
+        Constant of the peak factor in Eq. (6) [-] (:func:`rocking.motions.psd.peak_factor`).
     convention : str
         ``"one-sided"`` (default): A_j = sqrt(2·p_j), or ``"as-printed"``: A_j = sqrt(4·p_j)
-        (see :func:`rocking.psd.power_spectrum`).
+        (see :func:`rocking.motions.psd.power_spectrum`).
 
     Returns
     -------

@@ -1,6 +1,6 @@
 """Where the chunks of a Monte Carlo run are computed (issue 5, part 4).
 
-A backend does two things for the engine of :mod:`rocking.fragility` (and says, as ``workers``,
+A backend does two things for the engine of :mod:`rocking.montecarlo.probability` (and says, as ``workers``,
 how many tasks it runs at the same time):
 
 ``scatter(data)``
@@ -27,7 +27,7 @@ import weakref
 
 import numba
 
-from .errors import BackendError, InputError
+from ..errors import BackendError, InputError
 
 
 def _call(func, threads, handle, task):

@@ -1,0 +1,255 @@
+"""The rocking equation of motion (paper Eq. 1) and its Runge–Kutta step.
+
+One form for both pivots (paper Eqs. 1–2, with the sign of Eq. 2's forcing term corrected so that
+the response to −a_g is exactly −θ; reference.md §2):
+
+    θ'' = −p²·[ sin(s·α − θ) + (a_g/g)·cos(s·α − θ) ],   s = sgn θ,   p² = 3g/(4R)      (Eq. 1)
+
+Integration (the paper's scheme): classical fourth-order Runge–Kutta with a fixed step equal to the
+motion's sample interval dt, the ground acceleration being linear between samples; within a step
+the pivot is frozen (impacts: :mod:`rocking.dynamics.impacts`).
+
+Trigonometry (speed; see :func:`_rk4_rotated`): sin θ and cos θ once per step by polynomials
+(within 2.3e-16 of libm for |θ| ≤ π/2), and at the stage angles θ + δ by the angle-sum identities
+with Taylor polynomials of the small offsets δ; a step with a large offset (|θ'|·h > 1/32 rad)
+evaluates sin and cos at every stage instead (:func:`_rk4_stages`).  tests/test_trig.py bounds
+both against libm and against each other.  :func:`_plain_step` is branch-free: the batched kernel
+(:mod:`rocking.dynamics.batch`) runs it in SIMD lanes, and :func:`rocking.simulate` takes the same
+decision with it, so both agree bit for bit.
+
+Pure compiled functions of scalars; no state.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..core.compile import fma, kernel
+
+
+#: |x| [rad] up to which :func:`_sincos` is accurate (a step starts at |θ| < overturn angle ≤ π/2).
+SINCOS_XMAX = 1.5717963267948966
+# sin x = x + x·z·R_s(z), cos x = 1 − z/2 + z²·R_c(z), z = x²: near-minimax polynomials R_s, R_c
+# (Chebyshev interpolation of (sin x/x − 1)/z and (cos x − 1 + z/2)/z² on 0 ≤ z ≤ SINCOS_XMAX²,
+# computed with 40-digit arithmetic, rounded to double), highest degree first.
+_RS = (2.731344277439919e-15, -7.643962232442654e-13, 1.6058977059718268e-10,
+       -2.5052107613095433e-08, 2.7557319219132584e-06, -0.0001984126984125486,
+       0.008333333333333316, -0.16666666666666666)
+_RC = (-1.5218134641974516e-16, 4.777873882841319e-14, -1.1470712146057573e-11,
+       2.0876756600920194e-09, -2.75573192215542e-07, 2.4801587301579797e-05,
+       -0.001388888888888888, 0.041666666666666664)
+#: |x| [rad] below which sin x and cos x round to x and 1.
+SINCOS_TINY = 1e-8
+#: Largest stage offset |δ| [rad] for which the RK4 stages use the rotation formulas of _rot.
+ROTATION_DMAX = 1.0 / 32.0
+# Taylor coefficients of sin δ (to δ⁷) and cos δ (to δ⁶); the first terms left out are below
+# δ⁹/9! ≤ 8e-20 and δ⁸/8! ≤ 2.3e-17 for |δ| ≤ ROTATION_DMAX.
+_T1, _T2, _T3 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0
+_K1, _K2 = 1.0 / 24.0, -1.0 / 720.0
+
+
+@kernel(inline="always")
+def _horner(c, z):
+    """c[0]·z^(n−1) + c[1]·z^(n−2) + … + c[n−1] by Horner's rule, one fused multiply–add per
+    coefficient (a loop of constant length: the compiler unrolls it)."""
+    r = c[0]
+    for k in range(1, len(c)):
+        r = fma(r, z, c[k])
+    return r
+
+
+@kernel(inline="always")
+def _sincos(x):
+    """(sin x, cos x) by polynomials, for |x| ≤ SINCOS_XMAX [rad] (see tests/test_trig.py for
+    the accuracy); branch-free, so that it vectorizes."""
+    z = x * x
+    return fma(x * z, _horner(_RS, z), x), 1.0 - fma(-(z * z), _horner(_RC, z), 0.5 * z)
+
+
+@kernel(inline="always")
+def _rot(P, Q, d):
+    """cos δ·P + sin δ·Q for |δ| ≤ ROTATION_DMAX (Taylor polynomials of sin δ and cos δ),
+    arranged as P + δ·Q + δ²·(c(δ²)·P + δ·s(δ²)·Q) with cos δ = 1 + δ²·c(δ²) and
+    sin δ = δ + δ³·s(δ²): nine multiplications or fused multiply–adds."""
+    z = d * d
+    c = fma(fma(z, _K2, _K1), z, -0.5)
+    sq = d * Q
+    sn = fma(fma(z, _T3, _T2), z, _T1)
+    return fma(z, fma(c, P, sq * sn), P + sq)
+
+
+@kernel(inline="always")
+def _signed(s, x):
+    """s·x for s = ±1, exactly, as a sign flip rather than a multiplication (in SIMD loops it
+    leaves the multiply units to the arithmetic)."""
+    return x if s > 0.0 else -x
+
+
+@kernel(inline="always")
+def _angle_terms(st, ct, s, sa, ca):
+    """(sin(sα − θ), cos(sα − θ)) from sin θ, cos θ."""
+    ssa = _signed(s, sa)
+    # sin(sα − θ) = s·sinα·cosθ − cosα·sinθ ;  cos(sα − θ) = cosα·cosθ + s·sinα·sinθ
+    return fma(ssa, ct, -(ca * st)), fma(ca, ct, ssa * st)
+
+
+@kernel(inline="always")
+def _sincos_any(x):
+    """(sin x, cos x) for any x [rad], outside SIMD loops: (x, 1) for |x| < SINCOS_TINY, which is
+    exactly what :func:`_sincos` rounds to there (tests/test_trig.py) and spares the latency of
+    its polynomials after every impact (θ = 0); the polynomials up to SINCOS_XMAX; else libm."""
+    if abs(x) < SINCOS_TINY:
+        return x, 1.0
+    if abs(x) <= SINCOS_XMAX:
+        return _sincos(x)
+    return math.sin(x), math.cos(x)
+
+
+@kernel(inline="always")
+def _sin_cos_terms(theta, s, sa, ca):
+    """(sin(sα − θ), cos(sα − θ)) for any θ (:func:`_sincos_any`)."""
+    st, ct = _sincos_any(theta)
+    return _angle_terms(st, ct, s, sa, ca)
+
+
+@kernel(inline="always")
+def _accel(theta, s, u, p2, sa, ca):
+    """θ'' of Eq. (1) on pivot side ``s`` for ground acceleration ``u`` = a_g/g [-]."""
+    S, C = _sin_cos_terms(theta, s, sa, ca)
+    return -p2 * fma(u, C, S)
+
+
+@kernel(inline="always")
+def _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca):
+    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second).
+    Branch-free (the batched kernel runs it in SIMD lanes): see :func:`_rk4_rotated`."""
+    st, ct = _sincos(theta)
+    return _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+
+
+@kernel(inline="always")
+def _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca):
+    """The RK4 step of :func:`_rk4_fast` given st, ct = sin θ, cos θ.
+
+    Trigonometry: the stage angles are θ + δ with small δ (δ = h/2·θ'_1, h/2·θ'_2, h·θ'_3), so
+    with S = sin(sα − θ), C = cos(sα − θ) (one :func:`_sincos` of θ per step) the bracket of
+    Eq. (1) at θ + δ and ground acceleration u is
+
+        sin(sα − θ − δ) + u·cos(sα − θ − δ) = cos δ·(S + u·C) + sin δ·(u·S − C),
+
+    evaluated by :func:`_rot`.  Valid when |θ| ≤ SINCOS_XMAX and every |δ| ≤ ROTATION_DMAX;
+    returns (θ, θ', max|δ|) so that the caller can check the second condition.
+    """
+    ua, ub = _u_ends(u0, du, tau, h)
+    um = fma(du * 0.5, h, ua)
+    S, C = _angle_terms(st, ct, s, sa, ca)
+    hh = 0.5 * h
+    # stage 1 at θ: −p²·(S + u·C); at θ = 0 its sign is that of s·sin α + u·cos α, exactly the
+    # uplift test of _advance
+    k1w = -p2 * fma(ua, C, S)
+    Pm = fma(um, C, S)
+    Qm = fma(um, S, -C)
+    d2 = hh * omega
+    k2w = -p2 * _rot(Pm, Qm, d2)
+    d3 = hh * fma(hh, k1w, omega)
+    k3w = -p2 * _rot(Pm, Qm, d3)
+    d4 = h * fma(hh, k2w, omega)
+    k4w = -p2 * _rot(fma(ub, C, S), fma(ub, S, -C), d4)
+    # θ_1 = θ + h/6·(θ'_1 + 2θ'_2 + 2θ'_3 + θ'_4) = θ + h·(θ' + h/6·(θ''_1 + θ''_2 + θ''_3))
+    th = fma(h, fma(h / 6.0, k1w + k2w + k3w, omega), theta)
+    om = fma(h / 6.0, (k1w + k4w) + 2.0 * (k2w + k3w), omega)
+    a2 = abs(d2)
+    a3 = abs(d3)
+    a4 = abs(d4)
+    dmax = a2 if a2 > a3 else a3
+    dmax = dmax if dmax > a4 else a4
+    return th, om, dmax
+
+
+@kernel(inline="always")
+def _fast_valid(theta, dmax):
+    """Whether :func:`_rk4_fast`'s result with this start angle and max|δ| is the RK4 step."""
+    return (dmax <= ROTATION_DMAX) & (abs(theta) <= SINCOS_XMAX)
+
+
+@kernel
+def _rk4_stages(theta, omega, s, u0, du, tau, h, p2, sa, ca):
+    """The RK4 step of :func:`_rk4_fast` with θ'' evaluated afresh at every stage angle
+    (:func:`_accel`): valid for any step, and the reference for the fast one's accuracy."""
+    ua, ub = _u_ends(u0, du, tau, h)
+    um = fma(du * 0.5, h, ua)
+    hh = 0.5 * h
+    k1w = _accel(theta, s, ua, p2, sa, ca)
+    k2w = _accel(theta + hh * omega, s, um, p2, sa, ca)
+    k3w = _accel(theta + hh * fma(hh, k1w, omega), s, um, p2, sa, ca)
+    k4w = _accel(theta + h * fma(hh, k2w, omega), s, ub, p2, sa, ca)
+    th = fma(h, fma(h / 6.0, k1w + k2w + k3w, omega), theta)
+    om = fma(h / 6.0, (k1w + k4w) + 2.0 * (k2w + k3w), omega)
+    return th, om
+
+
+@kernel
+def _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca):
+    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second).
+
+    :func:`_rk4_fast` where it is valid (nearly always), else :func:`_rk4_stages` (a very fast
+    block: |θ'|·h > ROTATION_DMAX).
+    """
+    st, ct = _sincos_any(theta)
+    return _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+
+
+@kernel
+def _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca):
+    """:func:`_rk4` given st, ct = sin θ, cos θ (partial steps from one state share them)."""
+    th, om, dmax = _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+    if _fast_valid(theta, dmax):
+        return th, om
+    return _rk4_stages(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+
+
+@kernel(inline="always")
+def _no_touch(theta, omega, s, ua, ub, h, p2, sa):
+    """True when the block, at s·θ ≥ 0 on side s, cannot reach θ = 0 within a step of length h.
+
+    While 0 ≤ s·θ ≤ π/2, Eq. (1) gives −s·θ'' = p²·[sin(α − sθ) + s·u·cos(α − sθ)] ≤
+    p²·(sin α + max(0, s·u)) = a⁺ (u is linear in the step: its largest s·u is at an end), so
+    s·θ(τ) ≥ s·θ + s·θ'·τ − ½a⁺τ², a concave bound whose minimum over [0, h] is at an end:
+    s·θ ≥ 0 at τ = 0, and the test at τ = h.  ``ua``, ``ub``: u at the ends of the step.
+    """
+    sua = _signed(s, ua)
+    sub = _signed(s, ub)
+    push = sua if sua > sub else sub  # ground acceleration towards θ = 0, if positive
+    amax = p2 * (sa + (push if push > 0.0 else 0.0))
+    return _signed(s, fma(omega, h, theta)) > (0.5 * h) * h * amax
+
+
+@kernel(inline="always")
+def _u_ends(u0, du, tau, h):
+    """u at the start (tau) and end (tau + h) of a step, as :func:`_rk4_rotated` computes them."""
+    ua = fma(du, tau, u0)
+    return ua, fma(du, h, ua)
+
+
+@kernel(inline="always")
+def _uplifts(u, sa, ca):
+    """Whether ground acceleration u = a_g/g [-] lifts a block at rest: |u|·cos α > sin α, rounded
+    once, i.e. exactly the sign of θ'' at θ = 0 in the RK4 stages (never a start with an
+    acceleration of the wrong sign)."""
+    return fma(abs(u), ca, -sa) > 0.0
+
+
+@kernel(inline="always")
+def _plain_step(theta, omega, s, u0, du, tau, h, p2, sa, ca, th_ov):
+    """The RK4 step of a rocking block from local time tau to the end of its interval (h =
+    dt − tau) and whether it is all that happens in it: no impact, no touch of θ = 0, no
+    overturning, and the fast trigonometry valid.  Returns (θ_1, θ'_1, fast_valid, plain); the
+    step equals :func:`_rk4`'s when fast_valid.  Branch-free (SIMD lanes of the batched kernel);
+    :func:`_advance` takes the same decision with it, so both paths agree bit for bit.
+    """
+    th1, om1, dmax = _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+    valid = _fast_valid(theta, dmax)
+    ua, ub = _u_ends(u0, du, tau, h)
+    plain = (valid & (_signed(s, th1) > 0.0) & _no_touch(theta, omega, s, ua, ub, h, p2, sa)
+             & (abs(th1) < th_ov))
+    return th1, om1, valid, plain

@@ -1,0 +1,362 @@
+"""Impacts, uplift, coming to rest and overturning: one sample interval of a rocking block.
+
+Impact at θ = 0: the pivot switches (s → −s) and θ' ← e·θ' (paper Section 2).  From rest the block
+starts to rock only when |a_g| > g·tan α, tipping to θ > 0 under a negative ground acceleration.
+
+When a Runge–Kutta step (:mod:`rocking.dynamics.equation`) ends on the other side of θ = 0, or
+turns round inside the step far enough to touch it, the impact instant is located by safeguarded
+Newton iteration on the length of a partial Runge–Kutta step (started from the root of the cubic
+Taylor polynomial of θ(t), so that one partial step usually suffices), the impact is applied and
+the rest of the step is integrated from the impact.  A bounce whose free flight would last less
+than ``ZENO_TIME_FRACTION·dt`` ends the chatter: the block is put at rest (the remaining flights of
+the geometric series carry negligible energy), and rocking restarts only if |a_g| > g·tan α.  A
+chatter whose next flight is shorter than ``CHATTER_FRACTION·dt`` and during which the ground
+acceleration stays below g·tan α is summed in closed form instead of being integrated bounce by
+bounce (such sequences are about a hundred impacts each): flights of 2|θ'|/|θ''| at θ = 0
+alternating between the pivots under the ground acceleration at its start, θ' × e at every
+impact; the block is at rest from the sum of the flights on, if that lies within the time step
+and the ground acceleration is still below the uplift level there (u is linear in the step, so it
+is below it throughout).  |θ| in such a chatter stays below |θ''|·(CHATTER_FRACTION·dt)²/8 (1e-9
+rad for the paper's bodies at dt = 1/400 s), so the bracket of Eq. (1) is sin α ± u·cos α to that
+relative accuracy.
+
+The same compiled functions serve :func:`rocking.simulate` and the batched kernel, so they agree
+bit for bit.  Pure compiled functions of scalars; no state.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..core.compile import fma, kernel
+from .equation import (_accel, _angle_terms, _no_touch, _plain_step, _rk4, _rk4_sc,
+                       _sincos_any, _u_ends, _uplifts)
+
+
+#: A bounce shorter than this fraction of the time step ends an impact sequence (block at rest).
+ZENO_TIME_FRACTION = 1e-4
+#: An impact sequence (chatter) whose next flight is shorter than this fraction of the time step
+#: is summed in closed form (:func:`_chatter_time`) when the block cannot lift off during it.
+CHATTER_FRACTION = 1.0 / 64.0
+#: Partial-step probes for a return to θ = 0 inside a step that starts near θ = 0.
+_N_PROBES = 8
+#: Safety cap on events handled within one time step (impacts, uplifts).
+_MAX_EVENTS_PER_STEP = 10_000
+# Block state codes
+_REST = 0
+_ROCKING = 1
+_OVERTURNED = 2
+
+
+@kernel(inline="always")
+def _locate(theta, omega, s, u0, du, tau, lo, hi, th_lo, th_hi, target, sgn, p2, sa, ca):
+    """Partial step length h in [lo, hi] where the RK4 solution from (theta, omega) hits ``target``.
+
+    ``th_lo``, ``th_hi``: that solution at lo and hi.  With f(h) = sgn·(θ_RK4(h) − target), the
+    caller guarantees f(lo) ≤ 0 ≤ f(hi); the root kept is the first one after leaving ``lo``
+    (f(lo) = 0 happens when the arc starts at θ = 0, and that trivial root is never returned).
+
+    Newton's method on h (dθ/dh = θ') safeguarded by bisection, from the first root of the
+    cubic Taylor polynomial of θ at the start when lo = 0 (:func:`_taylor_root`), else from the
+    secant.  It ends when the next Newton correction δh would leave an error below 1e-15 s
+    (round-off for steps of a few ms): the state is then the last RK4 state carried over δh by
+    Taylor (θ → target, θ' → θ' − θ''·δh; the error, of order θ''' δh², is at round-off level).
+    Returns (h, theta_h, omega_h).
+    """
+    st, ct = _sincos_any(theta)
+    h = -1.0
+    if lo == 0.0:
+        S, C = _angle_terms(st, ct, s, sa, ca)
+        h = _taylor_root(theta, S, C, omega, fma(du, tau, u0), du, hi, target, p2)
+    if h < 0.0:
+        flo = sgn * (th_lo - target)
+        fhi = sgn * (th_hi - target)
+        h = lo - (hi - lo) * flo / (fhi - flo) if fhi > flo else 0.5 * (lo + hi)
+        if not (lo < h < hi):
+            h = 0.5 * (lo + hi)
+    th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+    for _ in range(100):
+        f = sgn * (th - target)
+        if f == 0.0:
+            break
+        if f < 0.0:
+            lo = h
+        else:
+            hi = h
+        hn = 0.5 * (lo + hi)
+        if om != 0.0:
+            step = (th - target) / om
+            # the error left by this Newton correction is about θ''·step²/(2θ') [s]
+            acc = _accel(th, s, fma(du, tau + h, u0), p2, sa, ca)
+            if abs(acc) * step * step <= 2e-15 * abs(om) and lo <= h - step <= hi:
+                return h - step, target, fma(-acc, step, om)
+            if lo < h - step < hi:
+                hn = h - step
+        h = hn
+        th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+    return h, th, om
+
+
+@kernel(inline="always")
+def _taylor_root(theta, S, C, omega, u, du, hi, target, p2):
+    """First root in (0, hi) of θ + θ'·τ + θ''·τ²/2 + θ'''·τ³/6 = target, the Taylor cubic of
+    Eq. (1) at the state (theta, omega) with ground acceleration u + du·τ; −1 if none is found.
+
+    θ'' = −p²·(S + u·C) with S = sin(sα − θ), C = cos(sα − θ), hence
+    θ''' = p²·((C − u·S)·θ' − C·du) (S and C given).  From the first root of the quadratic, one
+    Newton step.
+    """
+    a = -p2 * fma(u, C, S)
+    jerk = p2 * (fma(-u, S, C) * omega - C * du)
+    c0 = theta - target
+    qa = 0.5 * a
+    disc = omega * omega - 4.0 * qa * c0
+    if disc < 0.0:
+        return -1.0
+    q = -0.5 * (omega + math.copysign(math.sqrt(disc), omega))
+    h = -1.0
+    for r in (q / qa if qa != 0.0 else -1.0, c0 / q if q != 0.0 else -1.0):
+        if 0.0 < r < hi and (h < 0.0 or r < h):
+            h = r
+    if h < 0.0:
+        return -1.0
+    # one Newton step: the quadratic's root is off by about p²h²/6 relative, the step leaves the
+    # square of that (≪ the cubic's own truncation error, which _locate's Newton step removes)
+    j6 = jerk / 6.0
+    f = ((j6 * h + qa) * h + omega) * h + c0
+    df = (3.0 * j6 * h + a) * h + omega
+    if df != 0.0:
+        hn = h - f / df
+        if 0.0 < hn < hi:
+            h = hn
+    return h
+
+
+@kernel
+def _hermite_min(theta, omega, th1, om1, s, h):
+    """Time (> 0) of least s·θ of the Hermite cubic through the step's end states, if that cubic
+    turns round inside the step (θ' changes sign towards θ = 0 and back), else −1."""
+    if not (s * omega < 0.0 and s * om1 > 0.0):
+        return -1.0
+    # Hermite cubic θ(x) on x = τ/h ∈ [0, 1]; find where its derivative vanishes (the minimum of sθ).
+    a = 2.0 * theta - 2.0 * th1 + h * omega + h * om1
+    b = -3.0 * theta + 3.0 * th1 - 2.0 * h * omega - h * om1
+    c = h * omega
+    # derivative 3a x² + 2b x + c = 0
+    best = -1.0
+    if abs(a) < 1e-300:
+        if b != 0.0:
+            best = -c / (2.0 * b)
+    else:
+        disc = 4.0 * b * b - 12.0 * a * c
+        if disc >= 0.0:
+            r = math.sqrt(disc)
+            for x in ((-2.0 * b - r) / (6.0 * a), (-2.0 * b + r) / (6.0 * a)):
+                if 0.0 < x < 1.0:
+                    val = s * (((a * x + b) * x + c) * x + theta)
+                    if best < 0.0 or val < s * (((a * best + b) * best + c) * best + theta):
+                        best = x
+    if best <= 0.0 or best >= 1.0:
+        return -1.0
+    return best * h
+
+
+@kernel(inline="always")
+def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
+    """Bracket (lo, hi, θ(lo), θ(hi)) of partial step lengths around the first return to θ = 0
+    inside a step that ends on the same side (s·θ > 0 at lo, ≤ 0 at hi), or lo = hi = −1 if none
+    is found.
+
+    None when :func:`_no_touch` rules it out.  Otherwise two probes: the turning point of the
+    Hermite cubic through the end states (a swing that turns round inside the step); and partial
+    RK4 steps at h/_N_PROBES intervals (during short bounces or the chatter after an impact, where
+    the cubic's error exceeds θ itself).
+    """
+    ua, ub = _u_ends(u0, du, tau, h)
+    if _no_touch(theta, omega, s, ua, ub, h, p2, sa):
+        return -1.0, -1.0, 0.0, 0.0
+    st, ct = _sincos_any(theta)
+    hm = _hermite_min(theta, omega, th1, om1, s, h)
+    if hm > 0.0:
+        tm, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, hm, p2, sa, ca)
+        if s * tm <= 0.0:
+            return 0.0, hm, theta, tm
+    # all probes are computed (independent: the CPU overlaps them), the first touch is kept
+    lo = -1.0
+    hi = -1.0
+    th_lo = 0.0
+    th_hi = 0.0
+    prev = 0.0
+    th_prev = theta
+    for j in range(1, _N_PROBES):
+        hj = h * j / _N_PROBES
+        tj, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, hj, p2, sa, ca)
+        if hi < 0.0:
+            if s * tj <= 0.0:
+                lo = prev
+                hi = hj
+                th_lo = th_prev
+                th_hi = tj
+            prev = hj
+            th_prev = tj
+    return lo, hi, th_lo, th_hi
+
+
+@kernel(inline="always")
+def _chatter_time(omega, acc_s, acc_o, e):
+    """Duration [s] of the impact sequence that starts at θ = 0 with angular velocity ``omega``
+    [rad/s] on a side where θ'' = ``acc_s``, the other side having θ'' = ``acc_o`` [rad/s²] (both
+    pointing back to θ = 0): flights of 2|θ'|/|θ''| alternating between the sides, θ' multiplied
+    by e at every impact, a geometric series of ratio e²."""
+    return 2.0 * abs(omega) * (1.0 / abs(acc_s) + e / abs(acc_o)) / (1.0 - e * e)
+
+
+@kernel(inline="always")
+def _chatter_impacts(t0, e, dt):
+    """Impacts counted for a summed chatter whose first flight lasts t0 [s]: one per flight longer
+    than ZENO_TIME_FRACTION·dt (flights shrink by the factor e), as if integrated."""
+    tz = ZENO_TIME_FRACTION * dt
+    if t0 < tz:
+        return 0
+    return 1 + int(math.log(t0 / tz) / -math.log(e))
+
+
+@kernel
+def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
+    """Advance a block over one sample interval [0, dt] of linear ground acceleration u0 → u1 (in g).
+
+    Returns (theta, omega, s, state, n_impacts, t_event): ``t_event`` is the local time of
+    overturning within the interval [s], or −1.
+    """
+    th1 = 0.0
+    om1 = 0.0
+    valid = False
+    if state == _ROCKING:
+        th1, om1, valid, plain = _plain_step(theta, omega, s, u0, (u1 - u0) / dt, 0.0, dt, p2, sa,
+                                             ca, th_ov)
+        if plain:
+            return th1, om1, s, state, 0, -1.0
+    r = _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov,
+                        0.0, -1.0, 0.0, th1, om1, valid, False)
+    return r[0], r[1], r[2], r[3], r[4], r[5]
+
+
+@kernel
+def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov,
+                    tau, t_start, false_side, th_step, om_step, have_step, defer):
+    """:func:`_advance` of the part [tau, dt] of an interval whose next step is not plain (see
+    :func:`_plain_step`): impacts, uplift, coming to rest, overturning.
+
+    ``t_start``: local time of the last start from rest in this interval (−1: none);
+    ``false_side``: sign of u of a start that landed at once (no restart on that side; 0: none).
+    ``th_step``, ``om_step``: the RK4 step from (theta, omega) at tau to dt, already computed when
+    ``have_step`` (it is the same as :func:`_rk4`'s).  With ``defer``, it stops after an impact
+    from which the block cannot come back to θ = 0 before dt (:func:`_no_touch`), so that the
+    caller computes the rest of the interval (the batched kernel: in a SIMD lane) and calls again
+    if that step is not plain.
+
+    Returns (theta, omega, s, state, n_impacts, t_event, tau', t_start, false_side, deferred):
+    ``t_event`` is the local time of overturning [s], or −1; ``deferred`` says that the interval
+    goes on from tau' < dt (else it is done).
+    """
+    du = (u1 - u0) / dt
+    n_imp = 0
+    t_event = -1.0
+    hand_over = False  # with defer: the next step is likely plain, leave it to the caller
+    for _ in range(_MAX_EVENTS_PER_STEP):
+        if state == _REST:
+            ua = fma(du, tau, u0)
+            if _uplifts(ua, sa, ca) and ua * false_side <= 0.0:
+                tstart = tau
+            elif _uplifts(u1, sa, ca) and u1 * false_side <= 0.0:
+                # linear u crosses ±tan α inside the rest of the interval
+                thr = tan_a if u1 > 0.0 else -tan_a
+                tstart = (thr - u0) / du
+                if tstart < tau:
+                    tstart = tau
+            else:
+                break  # at rest through the whole interval
+            tau = tstart
+            t_start = tau
+            hand_over = False
+            uc = fma(du, tau, u0)
+            s = -1.0 if uc > 0.0 else 1.0  # negative a_g tips the block to θ > 0
+            theta = 0.0
+            omega = 0.0
+            state = _ROCKING
+            if tau >= dt:
+                break
+            continue
+        h = dt - tau
+        if h <= 0.0:
+            break
+        if have_step:  # the step from tau to dt was computed by the caller
+            th1 = th_step
+            om1 = om_step
+            have_step = False
+        elif hand_over:
+            return theta, omega, s, state, n_imp, t_event, tau, t_start, false_side, True
+        else:
+            th1, om1 = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+        lo = 0.0
+        hit = -1.0
+        th_lo = theta
+        th_hi = th1
+        if s * th1 < 0.0 or (th1 == 0.0 and s * om1 < 0.0):
+            hit = h
+        else:
+            lo, hit, th_lo, th_hi = _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h,
+                                                    p2, sa, ca)
+        if hit > 0.0:
+            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, lo, hit, th_lo, th_hi, 0.0, -s,
+                                   p2, sa, ca)
+            tau += hz
+            if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
+                # Back at θ = 0 within the Zeno time of starting: |a_g| fell below g·tan α
+                # again at once (it exceeded it by a few ulps). The block never left the
+                # ground. u is linear in the interval, so |u| keeps falling on this side: a
+                # restart on it would land again at the same instant, forever; only a
+                # crossing of the threshold on the other side can start it in this interval.
+                theta = 0.0
+                omega = 0.0
+                state = _REST
+                false_side = 1.0 if fma(du, t_start, u0) > 0.0 else -1.0
+                continue
+            n_imp += 1
+            s = -s
+            omega = e * omz
+            theta = 0.0
+            # Zeno check: how long would the next free flight last?
+            ua, ub = _u_ends(u0, du, tau, dt - tau)
+            acc0 = -p2 * fma(ua, ca, s * sa)  # θ'' at θ = 0 on the new side
+            if omega == 0.0 or (acc0 * omega < 0.0 and
+                                2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)):
+                omega = 0.0
+                state = _REST
+            elif (e < 1.0 and acc0 * omega < 0.0
+                  and 2.0 * abs(omega) < CHATTER_FRACTION * dt * abs(acc0)
+                  and fma(abs(ua), ca, -sa) < 0.0):
+                # a chatter that cannot lift off (no uplift at either end, u linear): summed
+                t_end = tau + _chatter_time(omega, acc0, -p2 * fma(ua, ca, -s * sa), e)
+                if t_end < dt and fma(abs(fma(du, t_end, u0)), ca, -sa) < 0.0:
+                    n_imp += _chatter_impacts(2.0 * abs(omega / acc0), e, dt)
+                    tau = t_end
+                    omega = 0.0
+                    state = _REST
+                    continue
+            # a block that cannot come back to θ = 0 before dt (not a bounce of a chatter)
+            hand_over = defer and _no_touch(0.0, omega, s, ua, ub, dt - tau, p2, sa)
+            continue
+        if abs(th1) >= th_ov:
+            target = th_ov if th1 > 0.0 else -th_ov
+            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, 0.0, h, theta, th1, target, s,
+                                   p2, sa, ca)
+            t_event = tau + hz
+            theta = thz
+            omega = omz
+            state = _OVERTURNED
+            break
+        theta = th1
+        omega = om1
+        break
+    return theta, omega, s, state, n_imp, t_event, tau, t_start, false_side, False

@@ -1,0 +1,194 @@
+"""The Monte Carlo engine: (case, body, A_gx level) triples simulated under all motions of a case,
+in chunks on a backend, optionally kept in a resumable folder.
+
+The work is a list of (body, A_gx) pairs, each simulated under all motions of an ensemble.  The
+pairs are cut into chunks that a backend (:mod:`rocking.montecarlo.backends`) computes with the
+batched kernel (:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
+(:mod:`rocking.montecarlo.store`) so that an interrupted run resumes where it stopped.  Every
+chunk result is keyed by its (case, body, level) triples, never by position or arrival order, so
+the results are bit for bit the same for every backend, worker count, chunk size and interruption
+history.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from contextlib import ExitStack
+
+import numpy as np
+
+from ..core.checks import require_memory
+from ..core.progress import resolve as resolve_progress
+from ..dynamics.batch import BlockTable, block_list, motion_peaks, run_cases
+from ..errors import InputError
+from ..motions.ensemble import Ensemble
+from .backends import LocalBackend
+from .store import ChunkStore, array_digest
+
+
+#: Default simulations (pairs × motions) per chunk.
+CHUNK_SIMULATIONS = 4096
+#: A_gx levels are keyed by integers: A_gx in units of LEVEL_UNIT [g] (never by a float, whose
+#: last bits depend on how it was computed: 0.1 + 0.2 and 0.3 are one level).
+LEVEL_UNIT = 1e-9
+#: Bytes kept per (body, A_gx) pair beyond its 9 bytes per motion (dictionary entry, key, arrays).
+_PAIR_OVERHEAD = 400
+
+
+def level_key(agx: float) -> int:
+    """The integer key of the A_gx level ``agx`` [g] (A_gx in units of :data:`LEVEL_UNIT`)."""
+    return round(agx / LEVEL_UNIT)
+
+
+def level_agx(key: int) -> float:
+    """A_gx [g] of a level key; for a decimal A_gx with at most 9 decimals, exactly that decimal's
+    float (the key divided by 1e9, rounded once)."""
+    return key / round(1.0 / LEVEL_UNIT)
+
+
+def _chunk_key(c: int, body: np.ndarray, level: np.ndarray) -> str:
+    h = hashlib.sha256(np.int64(c).tobytes() + body.tobytes() + level.tobytes())
+    return h.hexdigest()[:24]
+
+
+class Engine:
+    """Results of (case, body, A_gx level) triples under all motions of the case, computed in
+    chunks on a backend, optionally kept in a resumable folder.  A context manager: the folder
+    is locked and the progress stage open while it is in use."""
+
+    def __init__(self, blocks, cases: list[Ensemble], *, e, overturn_angle, g, backend, out,
+                 progress, chunk_size, desc):
+        self.blocks = block_list(blocks)
+        self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle,
+                                            g=g)
+        self.cases = cases
+        self.agx0 = [ens.agx for ens in cases]  # (computed from all samples: once)
+        self.backend = LocalBackend() if backend is None else backend
+        if not all(hasattr(self.backend, a) for a in ("map", "scatter", "workers")):
+            raise InputError(f"backend must come from rocking.montecarlo.backends, got {backend!r}")
+        chunk = CHUNK_SIMULATIONS if chunk_size is None else chunk_size
+        if not (isinstance(chunk, int) and chunk >= 1):
+            raise InputError(f"chunk_size must be an integer >= 1, got {chunk_size!r}")
+        self.chunk_size = chunk
+        self.results: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray]] = {}
+        self.chunks_loaded = 0
+        self.chunks_computed = 0
+        self.store = None if out is None else ChunkStore(out, self._params())
+        self.reporter = resolve_progress(progress)
+        self.desc = desc
+        self._handle = None
+        self._stage = None
+        self._exit = None
+
+    def __enter__(self) -> "Engine":
+        with ExitStack() as stack:
+            if self.store is not None:
+                stack.enter_context(self.store)
+                self._load()
+            self._stage = stack.enter_context(self.reporter.stage(self.desc, total=None))
+            self._exit = stack.pop_all()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._exit.__exit__(*exc)
+
+    def _params(self) -> dict:
+        t = self.table
+        return {
+            "bodies": [[b.R, b.gamma] for b in self.blocks],
+            "e": t.e.tolist(), "overturn_angle": t.theta_ov.tolist(), "g": t.g,
+            "level_unit_g": LEVEL_UNIT,
+            "motions": [{"dt": ens.dt, "shape": list(ens.acc.shape),
+                         "sha256": array_digest(ens.acc)} for ens in self.cases],
+        }
+
+    def _load(self) -> None:
+        for _key, a in self.store.load_all():
+            try:
+                c = int(a["case"])
+                ok = 0 <= c < len(self.cases) and a["overturned"].shape == (
+                    a["body"].size, self.cases[c].n) and a["level"].shape == a["body"].shape
+            except KeyError:
+                ok = False
+            if not ok:
+                continue  # not a chunk of this run: computed again if needed
+            for j, (b, k) in enumerate(zip(a["body"].tolist(), a["level"].tolist())):
+                self.results[(c, b, k)] = (a["overturned"][j], a["peak"][j])
+            self.chunks_loaded += 1
+
+    def _data(self):
+        if self._handle is None:
+            cases = [(np.ascontiguousarray(ens.acc), motion_peaks(ens.acc), ens.dt)
+                     for ens in self.cases]
+            self._handle = self.backend.scatter({"table": self.table, "cases": cases})
+        return self._handle
+
+    def run(self, keys: list[tuple[int, int, int]]) -> None:
+        """Make sure every (case, body, level key) in ``keys`` has a result."""
+        missing = list(dict.fromkeys(k for k in keys if k not in self.results))
+        if not missing:
+            return
+        # chunks of at most chunk_size simulations, and enough of them to keep every worker busy
+        total = sum(self.cases[c].n for c, _, _ in missing)
+        size = min(self.chunk_size, math.ceil(total / (4 * self.backend.workers)))
+        tasks, levels = [], []
+        for c in range(len(self.cases)):
+            mine = [(b, k) for cc, b, k in missing if cc == c]
+            per = max(1, size // self.cases[c].n)
+            for i in range(0, len(mine), per):
+                body = np.array([b for b, _ in mine[i:i + per]], dtype=np.int64)
+                level = np.array([k for _, k in mine[i:i + per]], dtype=np.int64)
+                # the factor of Ensemble.scaled: A_gx / A_gx of the ensemble
+                scale = np.array([level_agx(k) / self.agx0[c] for k in level.tolist()])
+                tasks.append((c, body, scale))
+                levels.append(level)
+        self._stage.expect(sum(t[1].size * self.cases[t[0]].n for t in tasks))
+        for i, (overturned, peak) in self.backend.map(run_chunk, self._data(), tasks):
+            c, body, _scale = tasks[i]
+            if self.store is not None:
+                self.store.save(_chunk_key(c, body, levels[i]), case=np.int64(c), body=body,
+                                level=levels[i], overturned=overturned, peak=peak)
+            for j, (b, k) in enumerate(zip(body.tolist(), levels[i].tolist())):
+                self.results[(c, b, k)] = (overturned[j], peak[j])
+            self.chunks_computed += 1
+            self._stage.update(body.size * self.cases[c].n)
+
+    def expect(self, simulations: int) -> None:
+        """Announce about ``simulations`` simulations to come (the size of the progress stage)."""
+        self._stage.expect(simulations)
+
+    def count(self, c: int, b: int, k: int) -> int:
+        """Motions of case ``c`` that overturn body ``b`` at level key ``k``."""
+        return int(np.count_nonzero(self.results[(c, b, k)][0]))
+
+    def require_memory(self, pairs: int, parameter: str) -> None:
+        """Refuse, before any work, a run whose results for ``pairs`` (body, A_gx) pairs per
+        case would not fit in the available memory."""
+        per_pair = max(ens.n for ens in self.cases) * 9 + _PAIR_OVERHEAD
+        require_memory(pairs * len(self.cases) * per_pair,
+                       f"{parameter}: {pairs:,} (body, A_gx) pairs x "
+                       f"{max(ens.n for ens in self.cases):,} motions")
+
+    @property
+    def stats(self) -> dict:
+        return {"chunks_computed": self.chunks_computed, "chunks_loaded": self.chunks_loaded}
+
+
+def run_chunk(data: dict, task: tuple):
+    """One chunk of a Monte Carlo run: all motions of one ensemble for each (block, scale) pair.
+
+    Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process, which is why it
+    lives in this light module.  ``data`` = {"table": BlockTable, "cases": [(acc, amax, dt), …]}
+    (one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
+    indices (n_pairs,) int64, scale factors (n_pairs,) float64).
+
+    Returns (overturned, peak), shape (n_pairs, n_motions).
+    """
+    c, body, scale = task
+    acc, amax, dt = data["cases"][c]
+    n_m = acc.shape[0]
+    overturned, peak = run_cases(data["table"], acc, amax, dt, np.repeat(body, n_m),
+                                 np.tile(np.arange(n_m, dtype=np.int64), body.size),
+                                 np.repeat(scale, n_m))
+    return overturned.reshape(body.size, n_m), peak.reshape(body.size, n_m)

@@ -1,0 +1,264 @@
+"""Overturning probability and the A_gx of 50 % probability (paper Sections 6–8).
+
+For a body and an ensemble of motions scaled so that its mean PGA is A_gx (``ensemble.scaled``),
+the probability of overturning is the fraction of the motions that overturn it (paper Figs. 9–11,
+13).  :func:`overturning_probability` computes it on a grid of A_gx with a Wilson score interval
+and :func:`agx_50` searches the A_gx of 50 % probability adaptively (paper Section 8, Figs.
+15–16), both with the engine of :mod:`rocking.montecarlo.engine`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from ..core.checks import finite_array, in_range, positive
+from ..defaults import G
+from ..dynamics.batch import BlockTable, block_list
+from ..errors import InputError
+from ..motions.ensemble import Ensemble
+from .engine import LEVEL_UNIT, Engine, level_agx, level_key
+from .statistics import wilson_interval
+
+
+def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
+    """(case labels or None, ensembles) from an Ensemble or a dict label -> Ensemble."""
+    if isinstance(ensemble, Ensemble):
+        items = [(None, ensemble)]
+    elif isinstance(ensemble, dict) and ensemble:
+        items = [(str(k), v) for k, v in ensemble.items()]
+    else:
+        raise InputError("ensemble must be a rocking Ensemble or a non-empty dict label -> "
+                         f"Ensemble, got {type(ensemble).__name__}")
+    for label, ens in items:
+        where = "ensemble" if label is None else f"ensemble[{label!r}]"
+        if not isinstance(ens, Ensemble):
+            raise InputError(f"{where} must be a rocking Ensemble, got {type(ens).__name__}")
+        if ens.agx == 0.0:
+            raise InputError(f"{where} has only zero motions: it cannot be scaled to an agx")
+    labels = None if items[0][0] is None else [label for label, _ in items]
+    return labels, [ens for _, ens in items]
+
+
+def _dataset(blocks, table: BlockTable, labels, data_vars: dict, coords: dict,
+             attrs: dict) -> xr.Dataset:
+    """Labelled result; ``data_vars`` values have a leading case axis, dropped for one ensemble."""
+    lead = () if labels is None else ("case",)
+    dvars = {}
+    for name, (dims, values, vattrs) in data_vars.items():
+        values = values[0] if labels is None else values
+        dvars[name] = (lead + dims, values, vattrs)
+    all_coords = {
+        "body": ("body", [b.label for b in blocks]),
+        "R": ("body", [b.R for b in blocks], {"units": "m", "long_name": "size parameter R"}),
+        "gamma": ("body", [b.gamma for b in blocks], {"units": "1", "long_name": "H/B"}),
+        "e": ("body", table.e, {"units": "1", "long_name": "coefficient of restitution"}),
+        "overturn_angle": ("body", table.theta_ov, {"units": "rad"}),
+        **coords,
+    }
+    if labels is not None:
+        all_coords["case"] = ("case", labels)
+    return xr.Dataset(dvars, coords=all_coords, attrs={"g": table.g, **attrs})
+
+
+def overturning_probability(blocks, ensemble, agx, *, e=0.925, overturn_angle=math.pi / 2,
+                            g: float = G, backend=None, out=None, progress=None,
+                            confidence: float = 0.95, chunk_size: int | None = None,
+                            members: bool = False) -> xr.Dataset:
+    """Probability that each body overturns, as a function of the ensemble intensity A_gx.
+
+    At each A_gx the ensemble is scaled so that its mean PGA equals A_gx
+    (``ensemble.scaled(agx)``) and every body is simulated under every motion.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+        The bodies.
+    ensemble : Ensemble or dict of str -> Ensemble
+        The motions [m/s²] (ground or floor); a dict gives a leading ``case`` dimension
+        (e.g. floors, durations, intensity functions).
+    agx : array_like
+        Intensities A_gx [g], > 0.
+    e : float, "housner" or sequence
+        Coefficient of restitution [-], one for all bodies or one per body.
+    overturn_angle : float, "alpha" or sequence
+        |θ| [rad] that counts as overturning (π/2 in the paper).
+    g : float
+        Gravity [m/s²].
+    backend : LocalBackend or DaskBackend, optional
+        Where to compute (default: this process, all cores).
+    out : str or Path, optional
+        Folder for finished chunks (:class:`rocking.montecarlo.store.ChunkStore`).  A later call with the
+        same bodies, motions, e, overturning angle and g computes only what the folder lacks
+        (after a kill, or for new A_gx levels); a folder of another run is refused.
+    progress : bool, optional
+        Show a progress bar (default: only if stderr is a terminal).
+    confidence : float
+        Level of the Wilson interval, in (0, 1) [-].
+    chunk_size : int, optional
+        Largest number of simulations per chunk (default :data:`CHUNK_SIMULATIONS`; chunks are
+        smaller when needed to give each worker of the backend about four); chunks hold whole
+        (body, A_gx) pairs.  Does not change the results.
+    members : bool
+        Also return ``overturned`` and ``peak`` of every motion (dimension ``member``; for a
+        dict, all ensembles must have the same number of motions).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ([case,] body, agx[, member]); ``probability`` [-], ``count`` (motions that
+        overturned the body), ``n`` (motions), ``ci_low``/``ci_high`` (Wilson) [-], and with
+        ``members``: ``overturned`` (bool) and ``peak`` = max|θ|/α [-].  Coordinates ``body``
+        (labels), ``R`` [m], ``gamma`` [-], ``e`` [-], ``overturn_angle`` [rad] on body,
+        ``agx`` [g].  Attributes: ``g`` [m/s²], ``confidence``, and how many chunks were
+        computed / loaded from ``out`` (``chunks_computed``, ``chunks_loaded``).
+    """
+    labels, cases = _cases(ensemble)
+    agx = finite_array("agx", np.atleast_1d(agx), ndim=(1,))
+    if np.any(agx < LEVEL_UNIT):
+        raise InputError(f"agx must be >= {LEVEL_UNIT:g} g, got {agx[agx < LEVEL_UNIT][0]}")
+    confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
+    if members and len({ens.n for ens in cases}) > 1:
+        raise InputError("members=True needs ensembles with the same number of motions")
+    nb = len(block_list(blocks))
+    engine = Engine(blocks, cases, e=e, overturn_angle=overturn_angle, g=g, backend=backend,
+                     out=out, progress=progress, chunk_size=chunk_size, desc="P(overturn)")
+    engine.require_memory(nb * agx.size * (2 if members else 1), "agx")
+    levels = [level_key(a) for a in agx.tolist()]
+    agx = np.array([level_agx(k) for k in levels])
+    keys = [[[(c, b, k) for k in levels] for b in range(nb)] for c in range(len(cases))]
+    with engine:
+        engine.run([k for per_case in keys for per_body in per_case for k in per_body])
+    count = np.array([[[engine.count(*k) for k in per_body] for per_body in per_case]
+                      for per_case in keys], dtype=np.int64)
+    n = np.broadcast_to(np.array([ens.n for ens in cases])[:, None, None], count.shape).copy()
+    low, high = wilson_interval(count, n, confidence)
+    dims = ("body", "agx")
+    data_vars = {
+        "probability": (dims, count / n, {"units": "1", "long_name": "overturning probability"}),
+        "count": (dims, count, {"long_name": "motions that overturn the body"}),
+        "n": (dims, n, {"long_name": "motions"}),
+        "ci_low": (dims, low, {"units": "1", "long_name": f"Wilson {confidence:g} lower bound"}),
+        "ci_high": (dims, high, {"units": "1", "long_name": f"Wilson {confidence:g} upper bound"}),
+    }
+    coords = {"agx": ("agx", agx, {"units": "g", "long_name": "mean PGA of the ensemble"})}
+    if members:
+        flags, peaks = (np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys])
+                        for i in (0, 1))
+        data_vars["overturned"] = (dims + ("member",), flags, {})
+        data_vars["peak"] = (dims + ("member",), peaks,
+                             {"units": "1", "long_name": "max |theta| / alpha"})
+        coords["member"] = ("member", list(cases[0].labels) if labels is None
+                            else np.arange(cases[0].n))
+    return _dataset(blocks, engine.table, labels, data_vars, coords,
+                    {"confidence": confidence, **engine.stats})
+
+
+def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, e=0.925,
+           overturn_angle=math.pi / 2, g: float = G, backend=None, out=None, progress=None,
+           coarse: int = 10, chunk_size: int | None = None) -> xr.Dataset:
+    """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
+
+    The search runs on the grid A_k = k·resolution (k = 1 … K, K = ⌊agx_max/resolution⌋, values
+    rounded to 12 decimals) with P(A_0 = 0) = 0.  With the counts of a finite ensemble, P(A) need
+    not be monotone, so the result is defined by the search itself:
+
+    1. bracket: P is computed at ``coarse`` evenly spread levels (the last is K) in increasing
+       order until P ≥ 0.5; the bracket is (previous coarse level or 0, that level).  If
+       P < 0.5 at all of them, the result is NaN (not reached by ``agx_max``, or only between
+       coarse levels);
+    2. bisection on the integer levels inside the bracket, keeping P(lo) < 0.5 ≤ P(hi), until
+       hi = lo + 1.
+
+    The result A_hi is thus an upward crossing of 50 % on the grid: P(A_hi) ≥ 0.5 and
+    P(A_hi − resolution) < 0.5 (``probability`` and ``probability_below``).  Where P is monotone
+    on the grid it is the smallest grid A_gx with P ≥ 0.5.  P ≥ 0.5 means count ≥ n/2.  Each
+    round evaluates one level for every body (and case) still searching, in one batched call.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+        The bodies.
+    ensemble : Ensemble or dict of str -> Ensemble
+        The motions [m/s²]; a dict gives a leading ``case`` dimension.
+    resolution : float
+        Grid step of A_gx [g] (the paper reads A_gx to 0.01 g).
+    agx_max : float
+        Largest A_gx searched [g], ≥ resolution.
+    e, overturn_angle, g, backend, out, progress, chunk_size :
+        As for :func:`overturning_probability`.
+    coarse : int
+        Levels of the bracketing round (≥ 1).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ([case,] body): ``agx50`` [g] (NaN if not reached), ``probability`` at agx50
+        and ``probability_below`` at agx50 − resolution [-]; coordinates as for
+        :func:`overturning_probability`; attributes ``resolution``, ``agx_max`` [g].
+    """
+    labels, cases = _cases(ensemble)
+    resolution = in_range("resolution", resolution, 1e-6, math.inf, unit="g")
+    agx_max = positive("agx_max", agx_max, "g")
+    K = int(math.floor(agx_max / resolution * (1.0 + 1e-12)))
+    if K < 1:
+        raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
+    if not (isinstance(coarse, int) and coarse >= 1):
+        raise InputError(f"coarse must be an integer >= 1, got {coarse!r}")
+    nb = len(block_list(blocks))
+    engine = Engine(blocks, cases, e=e, overturn_angle=overturn_angle, g=g, backend=backend,
+                     out=out, progress=progress, chunk_size=chunk_size, desc="A_gx(50%)")
+
+    def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
+        return (c, b, level_key(round(k * resolution, 12)))
+
+    def above(c, b, k):  # P(A_k) >= 0.5, exactly in integers
+        return 2 * engine.count(*key(c, b, k)) >= cases[c].n
+
+    bodies = [(c, b) for c in range(len(cases)) for b in range(nb)]
+    grid = sorted({math.ceil(K * i / coarse) for i in range(1, coarse + 1)})
+    scan = {cb: 0 for cb in bodies}  # bracketing: index in grid of the next coarse level
+    lo, hi = {}, {}  # bisection: P(lo) < 0.5 <= P(hi)
+    step = max(b - a for a, b in zip([0] + grid, grid))
+    rounds = len(grid) // 2 + math.ceil(math.log2(step))  # a guess, for the progress display
+    engine.require_memory(nb * (len(grid) + math.ceil(math.log2(step)) + 1), "resolution")
+    with engine:
+        engine.expect(rounds * nb * sum(ens.n for ens in cases))
+        while True:
+            level = {cb: grid[i] for cb, i in scan.items()}
+            level.update({cb: (lo[cb] + hi[cb]) // 2 for cb in hi if hi[cb] - lo[cb] > 1})
+            if not level:
+                break
+            engine.run([key(c, b, k) for (c, b), k in level.items()])  # one batch per round
+            for cb, k in level.items():
+                if cb in scan:
+                    if above(*cb, k):
+                        i = scan.pop(cb)
+                        lo[cb], hi[cb] = (grid[i - 1] if i else 0), k
+                    elif scan[cb] + 1 < len(grid):
+                        scan[cb] += 1
+                    else:
+                        del scan[cb]  # P < 0.5 at every coarse level: NaN
+                elif above(*cb, k):
+                    hi[cb] = k
+                else:
+                    lo[cb] = k
+    shape = (len(cases), nb)
+    agx50 = np.full(shape, np.nan)
+    p_at = np.full(shape, np.nan)
+    p_below = np.full(shape, np.nan)
+    for (c, b), k in hi.items():
+        agx50[c, b] = level_agx(key(c, b, k)[2])
+        p_at[c, b] = engine.count(*key(c, b, k)) / cases[c].n
+        p_below[c, b] = engine.count(*key(c, b, k - 1)) / cases[c].n if k > 1 else 0.0
+    dims = ("body",)
+    data_vars = {
+        "agx50": (dims, agx50, {"units": "g", "long_name": "A_gx of 50 % overturning probability"}),
+        "probability": (dims, p_at, {"units": "1", "long_name": "probability at agx50"}),
+        "probability_below": (dims, p_below,
+                              {"units": "1", "long_name": "probability at agx50 - resolution"}),
+    }
+    return _dataset(blocks, engine.table, labels, data_vars, {},
+                    {"resolution": resolution, "agx_max": agx_max, **engine.stats})

@@ -1,0 +1,12 @@
+"""Ground and floor motions and their spectra (paper Sections 3–4).
+
+* :mod:`~rocking.motions.targets` — target spectra: RG 1.60, tables;
+* :mod:`~rocking.motions.design` — design spectra: ASCE 7, Eurocode 8, specifications;
+* :mod:`~rocking.motions.response` — response spectra of motions (SDOF recurrence);
+* :mod:`~rocking.motions.psd` — power spectra compatible with a target (Eqs. 4–8);
+* :mod:`~rocking.motions.envelopes` — intensity functions (Fig. 2, Eq. 7);
+* :mod:`~rocking.motions.synthesis` — simulated motions (Eq. 9), the iterative correction, the fit;
+* :mod:`~rocking.motions.baseline` — quadratic baseline correction (Section 4);
+* :mod:`~rocking.motions.records` — reading recorded accelerations (PEER .AT2, text);
+* :mod:`~rocking.motions.ensemble` — :class:`Ensemble`, motions with labels and metadata.
+"""
