@@ -13,7 +13,8 @@ from matplotlib.figure import Figure
 import rocking
 from rocking.dynamics.body import FOOT, Block
 from rocking.errors import InputError
-from rocking.report import Report, markdown_to_html, provenance, remove_report, slug
+from rocking.core.runs import provenance
+from rocking.report import Report, markdown_to_html, remove_report, slug
 
 
 def _figure():

@@ -34,7 +34,8 @@ _EXPORTS = {
     "baseline_correct": "motions.baseline", "generate": "motions.synthesis",
     "limit_peaks": "motions.synthesis", "spectral_fit": "motions.synthesis",
     "Record": "motions.records", "read_record": "motions.records",
-    "read_records": "motions.records", "Report": "report", "provenance": "report",
+    "read_records": "motions.records", "Report": "report",
+    "provenance": "core.runs",
     "results_table": "assessment.screen", "screen": "assessment.screen",
     "RG160": "motions.targets", "ResponseSpectrum": "motions.response",
     "TabulatedSpectrum": "motions.targets", "TargetSpectrum": "motions.targets",
@@ -83,6 +84,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit
     from .motions.targets import RG160, TabulatedSpectrum, TargetSpectrum, rg160
-    from .report import Report, provenance
+    from .core.runs import provenance
+    from .report import Report
     from .structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
     from .studies import reproduce

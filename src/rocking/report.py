@@ -1,4 +1,4 @@
-"""Reports of studies: Markdown plus a self-contained HTML page, and the provenance of a run.
+"""Reports of studies: Markdown plus a self-contained HTML page.
 
 A :class:`Report` collects headings, Markdown text, figures and tables in order and writes them
 with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tables also as CSV) and
@@ -7,9 +7,8 @@ with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tabl
 Every file is written atomically by :func:`rocking.core.files.atomic_write` (a temporary file in
 the same folder renamed over the final name; mode 0666 less the umask, as ``open`` gives). Both
 pages are rendered before either is written and ``report.html`` is written last, so an interrupted
-run never leaves a page that looks finished. :func:`provenance` writes ``run.json`` (package
-version, parameters, seeds, backend, wall times, Python/NumPy/Numba versions, command line) the
-same way.
+run never leaves a page that looks finished. The provenance of a run (``run.json``) is written by
+:func:`rocking.core.runs.provenance`.
 
 Text is Markdown, rendered to HTML by Python-Markdown; figures and tables are rendered here.
 """
@@ -226,52 +225,7 @@ def remove_report(out_dir) -> None:
         (Path(out_dir) / name).unlink(missing_ok=True)
 
 
-def provenance(out_dir, **params) -> Path:
-    """Write ``run.json`` in ``out_dir`` (atomically) and return its path.
-
-    The file holds ``params`` (e.g. parameters, seeds, backend, ``wall_time_s`` per section,
-    ``status``; anything JSON-serialisable, NumPy scalars and arrays included) and the
-    environment: package version (``rocking.__version__``), Python, NumPy, Numba, SciPy and
-    xarray versions, platform, command line and the UTC time of writing.
-    """
-    import numba
-    import scipy
-    import xarray
-
-    from . import __version__
-
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    record = {
-        "package": "rocking",
-        "version": __version__,
-        "written_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "command_line": [Path(sys.argv[0]).name] + sys.argv[1:],
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "numba": numba.__version__,
-        "scipy": scipy.__version__,
-        "xarray": xarray.__version__,
-        "platform": platform.platform(),
-        "cpu_count": os.cpu_count(),
-        **params,
-    }
-    path = out_dir / "run.json"
-    atomic_write(path, json.dumps(record, indent=2, default=_json_default) + "\n")
-    return path
-
-
 # --------------------------------------------------------------------------- helpers
-
-
-def _json_default(obj):
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"run.json: cannot store a {type(obj).__name__} ({obj!r})")
 
 
 def _cell(value, floatfmt: str) -> str:

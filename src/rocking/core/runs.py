@@ -19,7 +19,11 @@ Every command that writes a folder (``rocking fragility``, ``agx50``, ``screen``
 
 from __future__ import annotations
 
+import datetime as _dt
 import json
+import os
+import platform
+import sys
 import time
 from pathlib import Path
 
@@ -109,8 +113,6 @@ class RunFolder:
                 target.unlink(missing_ok=True)
 
     def _write_status(self, status: str, **extra) -> None:
-        from ..report import provenance
-
         wall = round(time.perf_counter() - self._start, 3) if self._start else 0.0
         record = {"status": status, "command": self.command, **self.params,
                   "outputs": self.outputs, "wall_time_s": wall, **self.info, **extra}
@@ -166,3 +168,51 @@ def to_netcdf3_bytes(dataset) -> bytes:
         elif var.dtype.kind == "b":
             ds[name] = var.astype(np.int8)
     return bytes(ds.to_netcdf(None, engine="scipy"))
+
+
+def provenance(out_dir, **params) -> Path:
+    """Write ``run.json`` in ``out_dir`` (atomically) and return its path.
+
+    The file holds ``params`` (e.g. parameters, seeds, backend, ``wall_time_s`` per section,
+    ``status``; anything JSON-serialisable, NumPy scalars and arrays included) and the
+    environment: package version (``rocking.__version__``), Python, NumPy, Numba, SciPy and
+    xarray versions, platform, command line and the UTC time of writing.
+    """
+    import numba
+    import numpy as np
+    import scipy
+    import xarray
+
+    from .. import __version__
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    record = {
+        "package": "rocking",
+        "version": __version__,
+        "written_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "command_line": [Path(sys.argv[0]).name] + sys.argv[1:],
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": numba.__version__,
+        "scipy": scipy.__version__,
+        "xarray": xarray.__version__,
+        "platform": platform.platform(),
+        "cpu_count": os.cpu_count(),
+        **params,
+    }
+    path = out_dir / "run.json"
+    atomic_write(path, json.dumps(record, indent=2, default=_json_default) + "\n")
+    return path
+
+
+def _json_default(obj):
+    import numpy as np
+
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"run.json: cannot store a {type(obj).__name__} ({obj!r})")

@@ -1,0 +1,84 @@
+"""The layout shows the design (issue 15): no module takes a private name from outside its own
+subpackage, and the layers import downwards only (kernels ← models ← studies/CLI)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import rocking
+
+ROOT = Path(rocking.__file__).parent
+#: Layers, lowest first: a module may import from its own layer and the layers below it.
+LAYERS = [
+    {"defaults", "errors", "core"},
+    {"dynamics"},
+    {"motions"},
+    {"structures"},
+    {"montecarlo"},
+    {"assessment"},
+    {"plots", "report"},
+    {"studies"},
+    {"cli"},
+]
+
+
+def _modules():
+    for path in sorted(ROOT.rglob("*.py")):
+        parts = path.relative_to(ROOT).with_suffix("").parts
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        yield path, ("rocking",) + parts
+
+
+def _imports(path: Path, module: tuple[str, ...]):
+    """(imported module, imported names) of every import in ``path``, modules as tuples."""
+    is_pkg = path.name == "__init__.py"
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = module if is_pkg else module[:-1]
+                base = base[:len(base) - (node.level - 1)]
+                target = base + (tuple(node.module.split(".")) if node.module else ())
+            else:
+                target = tuple(node.module.split("."))
+            yield target, [a.name for a in node.names], node.lineno
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                yield tuple(a.name.split(".")), [], node.lineno
+
+
+def _unit(module: tuple[str, ...]) -> str:
+    """The subpackage (or top-level module) a module of the package belongs to."""
+    return module[1] if len(module) > 1 else ""
+
+
+def test_no_private_name_crosses_a_subpackage():
+    bad = []
+    for path, module in _modules():
+        for target, names, line in _imports(path, module):
+            if target[0] != "rocking" or _unit(target) == _unit(module):
+                continue
+            private = [p for p in target[1:] if p.startswith("_") and p != "__init__"]
+            private += [n for n in names if n.startswith("_") and n != "__version__"]
+            if private:
+                bad.append(f"{path.relative_to(ROOT)}:{line} imports {', '.join(private)} "
+                           f"from {'.'.join(target)}")
+    assert not bad, "\n".join(bad)
+
+
+def test_layers_import_downwards():
+    layer = {name: i for i, names in enumerate(LAYERS) for name in names}
+    bad = []
+    for path, module in _modules():
+        here = layer.get(_unit(module))
+        if here is None:
+            continue  # the package's own __init__ (the lazy public API)
+        for target, _names, line in _imports(path, module):
+            if target[0] != "rocking" or len(target) < 2:
+                continue
+            there = layer.get(target[1])
+            if there is not None and there > here:
+                bad.append(f"{path.relative_to(ROOT)}:{line} ({LAYERS[here]}) imports "
+                           f"{'.'.join(target)} ({LAYERS[there]})")
+    assert not bad, "\n".join(bad)
