@@ -74,8 +74,9 @@ def simulate_plain(acc, scale, g, dt, p2, alpha, e, th_ov):
 def run_serial(acc, motion, scale, g, dt, p2, alpha, e, th_ov, overturned, peak, steps):
     """Case i (motion[i] scaled by scale[i], block constants [i]) one after the other."""
     for i in range(motion.shape[0]):
-        overturned[i], peak[i], steps[i] = simulate_plain(acc[motion[i]], scale[i], g, dt, p2[i],
-                                                          alpha[i], e[i], th_ov[i])
+        overturned[i], peak[i], steps[i] = simulate_plain(
+            acc[motion[i]], scale[i], g, dt, p2[i], alpha[i], e[i], th_ov[i]
+        )
 
 
 @numba.njit(cache=True, parallel=True)
@@ -83,8 +84,9 @@ def run_parallel(acc, motion, scale, g, dt, p2, alpha, e, th_ov, overturned, pea
     """The same with the cases spread over all cores (``prange``), one simulation per thread
     at a time."""
     for i in numba.prange(motion.shape[0]):
-        overturned[i], peak[i], steps[i] = simulate_plain(acc[motion[i]], scale[i], g, dt, p2[i],
-                                                          alpha[i], e[i], th_ov[i])
+        overturned[i], peak[i], steps[i] = simulate_plain(
+            acc[motion[i]], scale[i], g, dt, p2[i], alpha[i], e[i], th_ov[i]
+        )
 
 
 def run(kind: str, acc: np.ndarray, motion, scale, g, dt, p2, alpha, e, th_ov):

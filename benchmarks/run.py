@@ -7,7 +7,8 @@ Run from the repository root:
 It prints a table and writes JSON with the machine (CPU model, cores, Python/NumPy/Numba
 versions, date, load average) and, measured in the same run:
 
-* ``kernel``: aggregate throughput of the batched kernel (:func:`rocking.dynamics.batch.run_cases`, all
+* ``kernel``: aggregate throughput of the batched kernel (:func:`rocking.dynamics.batch.run_cases`,
+all
   Numba threads) in ns per RK4 step, on bodies that keep rocking through 20 s motions (dt =
   1/400 s).  Only steps actually integrated count: the sample intervals in which the block is
   not at rest throughout, up to overturning, counted independently from :func:`rocking.simulate`'s
@@ -16,7 +17,8 @@ versions, date, load average) and, measured in the same run:
 * ``plain_loop``: the same cases by the plain compiled scalar loop of ``plain_loop.py`` (libm
   sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
   in ns per step it integrates, and the ratio to the kernel;
-* ``scipy``: :func:`rocking.dynamics.reference.simulate_reference` (``solve_ivp`` DOP853 with events) on a
+* ``scipy``: :func:`rocking.dynamics.reference.simulate_reference` (``solve_ivp`` DOP853 with
+events) on a
   few of the cases, seconds per simulation, and the ratio to the kernel's time per simulation;
 * ``end_to_end``: Table 2 (``rocking motions generate`` of the 200 motions + ``rocking agx50
   --bodies paper``: 72 bodies on the ground, A_gx50 to 0.01 g; best of 3 runs of each), response
@@ -53,22 +55,28 @@ import scipy
 
 from rocking.dynamics.batch import BlockTable, motion_peaks, overturn_batch, run_cases
 from rocking.dynamics.body import G, paper_bodies
-from rocking.dynamics.simulate import simulate
-from rocking.structures.frames import ShearFrame
-from rocking.motions.synthesis import generate
 from rocking.dynamics.reference import simulate_reference
+from rocking.dynamics.simulate import simulate
 from rocking.motions.response import response_spectrum
+from rocking.motions.synthesis import generate
+from rocking.structures.frames import ShearFrame
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import plain_loop  # noqa: E402  (benchmarks/, not a package)
+import plain_loop
 
 ROOT = Path(__file__).resolve().parent.parent
 DT = 1 / 400  # [s], the paper's
 DURATION = 20.0  # [s]
 #: Issue 6's targets.
-TARGETS = {"kernel_ns_per_step": 4.0, "vs_plain_loop": 10.0, "vs_scipy": 10_000.0,
-           "table2_s": 10.0, "reproduce_paper_s": 120.0, "reproduce_paper_peak_gb": 2.0,
-           "reproduce_quick_s": 60.0}
+TARGETS = {
+    "kernel_ns_per_step": 4.0,
+    "vs_plain_loop": 10.0,
+    "vs_scipy": 10_000.0,
+    "table2_s": 10.0,
+    "reproduce_paper_s": 120.0,
+    "reproduce_paper_peak_gb": 2.0,
+    "reproduce_quick_s": 60.0,
+}
 
 
 # --------------------------------------------------------------------------- machine
@@ -85,10 +93,17 @@ def machine_info() -> dict:
     model = cpu.get("model name") or platform.processor() or "unknown"
     flags = set(cpu.get("flags", "").split())
     try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
-                                capture_output=True, text=True).stdout.strip()
-        dirty = bool(subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
-                                    cwd=ROOT, capture_output=True, text=True).stdout.strip())
+        commit = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True
+        ).stdout.strip()
+        dirty = bool(
+            subprocess.run(
+                ["git", "status", "--porcelain", "--untracked-files=no"],
+                cwd=ROOT,
+                capture_output=True,
+                text=True,
+            ).stdout.strip()
+        )
     except OSError:
         commit, dirty = "unknown", False
     return {
@@ -102,7 +117,7 @@ def machine_info() -> dict:
         "scipy": scipy.__version__,
         "numba": numba.__version__,
         "platform": platform.platform(),
-        "date_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "date_utc": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "rocking_commit": commit + ("+local changes" if dirty else ""),
     }
 
@@ -140,8 +155,14 @@ def rocking_workload(n_motions: int, seed: int = 11) -> dict:
     body = np.repeat(np.arange(len(blocks)), n_motions)
     motion = np.tile(np.arange(n_motions), len(blocks))
     scale = (level / ens.agx)[body]
-    return {"ensemble": ens, "blocks": blocks, "body": body, "motion": motion, "scale": scale,
-            "agx": level}
+    return {
+        "ensemble": ens,
+        "blocks": blocks,
+        "body": body,
+        "motion": motion,
+        "scale": scale,
+        "agx": level,
+    }
 
 
 def integrated_steps(theta: np.ndarray, omega: np.ndarray) -> int:
@@ -150,7 +171,7 @@ def integrated_steps(theta: np.ndarray, omega: np.ndarray) -> int:
     nan = np.isnan(theta)
     n_int = int(np.argmax(nan)) if nan.any() else theta.size - 1  # intervals before the NaNs
     still = (theta == 0.0) & (omega == 0.0)
-    rest_through = still[:n_int] & still[1:n_int + 1]
+    rest_through = still[:n_int] & still[1 : n_int + 1]
     return int(n_int - np.count_nonzero(rest_through))
 
 
@@ -166,8 +187,11 @@ def count_with_simulate(w: dict) -> dict:
     with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
         res = list(pool.map(one, range(w["body"].size)))
     steps = np.array([r[0] for r in res])
-    return {"steps": steps, "overturned": np.array([r[1] for r in res]),
-            "peak": np.array([r[2] for r in res])}
+    return {
+        "steps": steps,
+        "overturned": np.array([r[1] for r in res]),
+        "peak": np.array([r[2] for r in res]),
+    }
 
 
 def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
@@ -178,12 +202,14 @@ def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
     args = (table, acc, amax, DT, w["body"], w["motion"], w["scale"])
     run_cases(table, acc, amax, DT, w["body"][:200], w["motion"][:200], w["scale"][:200])
     overturned, peak = run_cases(*args)
-    same = bool(np.array_equal(overturned, counted["overturned"])
-                and np.array_equal(peak, counted["peak"]))
+    same = bool(
+        np.array_equal(overturned, counted["overturned"]) and np.array_equal(peak, counted["peak"])
+    )
     steps = int(counted["steps"].sum())
     n_t = acc.shape[1]
     out = {
-        "cases": int(w["body"].size), "steps": steps,
+        "cases": int(w["body"].size),
+        "steps": steps,
         "share_of_intervals_integrated": steps / (w["body"].size * (n_t - 1)),
         "share_overturned": float(overturned.mean()),
         "equals_simulate": same,
@@ -210,23 +236,27 @@ def bench_plain(w: dict, repeats: int) -> dict:
     body = w["body"]
     acc = np.ascontiguousarray(w["ensemble"].acc)
     n = body.size
-    per_case = {"motion": w["motion"], "scale": w["scale"],
-                "p2": np.array([blocks[b].p ** 2 for b in body]),
-                "alpha": np.array([blocks[b].alpha for b in body]),
-                "e": np.full(n, 0.925), "th_ov": np.full(n, math.pi / 2)}
+    per_case = {
+        "motion": w["motion"],
+        "scale": w["scale"],
+        "p2": np.array([blocks[b].p ** 2 for b in body]),
+        "alpha": np.array([blocks[b].alpha for b in body]),
+        "e": np.full(n, 0.925),
+        "th_ov": np.full(n, math.pi / 2),
+    }
 
     def call(kind, m):
         c = {k: v[:m] for k, v in per_case.items()}
-        return plain_loop.run(kind, acc, c["motion"], c["scale"], G, DT, c["p2"], c["alpha"],
-                              c["e"], c["th_ov"])
+        return plain_loop.run(
+            kind, acc, c["motion"], c["scale"], G, DT, c["p2"], c["alpha"], c["e"], c["th_ov"]
+        )
 
     out = {}
     for kind, reps in (("serial", 1), ("parallel", repeats)):
         call(kind, 50)  # compile / load
         _ov, _pk, steps = call(kind, n)
-        t = timed(lambda: call(kind, n), reps)
-        out[kind] = {**t, "steps": int(steps.sum()),
-                     "ns_per_step": t["best_s"] / steps.sum() * 1e9}
+        t = timed(lambda kind=kind: call(kind, n), reps)
+        out[kind] = {**t, "steps": int(steps.sum()), "ns_per_step": t["best_s"] / steps.sum() * 1e9}
     return out
 
 
@@ -241,8 +271,12 @@ def bench_scipy(w: dict, counted: dict, n: int) -> dict:
         simulate_reference(blk, w["scale"][i] * acc[w["motion"][i]], DT)
         times.append(time.perf_counter() - t0)
         steps.append(int(counted["steps"][i]))
-    return {"cases": idx, "s_per_simulation": statistics.mean(times), "all_s": times,
-            "ns_per_step": sum(times) / sum(steps) * 1e9}
+    return {
+        "cases": idx,
+        "s_per_simulation": statistics.mean(times),
+        "all_s": times,
+        "ns_per_step": sum(times) / sum(steps) * 1e9,
+    }
 
 
 # --------------------------------------------------------------------------- end to end
@@ -252,8 +286,9 @@ def run_command(args: list[str], cwd: Path) -> dict:
     """Run a ``rocking`` command; wall time [s] and peak resident memory [MB] of its process."""
     exe = shutil.which("rocking", path=os.path.dirname(sys.executable)) or "rocking"
     t0 = time.perf_counter()
-    proc = subprocess.Popen([exe, *args], cwd=cwd, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        [exe, *args], cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+    )
     _pid, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - t0
     err = proc.stderr.read().decode(errors="replace")
@@ -262,8 +297,11 @@ def run_command(args: list[str], cwd: Path) -> dict:
     if code != 0:
         raise RuntimeError(f"rocking {' '.join(args)} failed ({code}): {err[-2000:]}")
     # ru_maxrss is in kilobytes on Linux
-    return {"command": "rocking " + " ".join(args), "wall_s": wall,
-            "peak_rss_mb": usage.ru_maxrss / 1024}
+    return {
+        "command": "rocking " + " ".join(args),
+        "wall_s": wall,
+        "peak_rss_mb": usage.ru_maxrss / 1024,
+    }
 
 
 def bench_table2(tmp: Path, runs: int) -> dict:
@@ -271,17 +309,54 @@ def bench_table2(tmp: Path, runs: int) -> dict:
     wrote before); the end-to-end time is the sum of the best of each."""
     # warm-up: every kernel the two commands use, on a tiny ensemble
     run_command(["motions", "generate", "--n", "3", "--duration", "4", "--out", "w.nc"], tmp)
-    run_command(["agx50", "--bodies", "paper", "--motions", "w.nc", "--out", "w", "--quiet",
-                 "--agx-max", "0.3", "--resolution", "0.1"], tmp)
-    gen = [run_command(["motions", "generate", "--n", "200", "--seed", "8", "--out",
-                        f"m200-{r}.nc"], tmp) for r in range(runs)]
-    agx = [run_command(["agx50", "--bodies", "paper", "--motions", "m200-0.nc", "--out",
-                        f"table2-{r}", "--quiet"], tmp) for r in range(runs)]
+    run_command(
+        [
+            "agx50",
+            "--bodies",
+            "paper",
+            "--motions",
+            "w.nc",
+            "--out",
+            "w",
+            "--quiet",
+            "--agx-max",
+            "0.3",
+            "--resolution",
+            "0.1",
+        ],
+        tmp,
+    )
+    gen = [
+        run_command(
+            ["motions", "generate", "--n", "200", "--seed", "8", "--out", f"m200-{r}.nc"], tmp
+        )
+        for r in range(runs)
+    ]
+    agx = [
+        run_command(
+            [
+                "agx50",
+                "--bodies",
+                "paper",
+                "--motions",
+                "m200-0.nc",
+                "--out",
+                f"table2-{r}",
+                "--quiet",
+            ],
+            tmp,
+        )
+        for r in range(runs)
+    ]
     best_gen = min(gen, key=lambda x: x["wall_s"])
     best_agx = min(agx, key=lambda x: x["wall_s"])
-    return {"generate_200": best_gen, "agx50": best_agx,
-            "all_generate_s": [x["wall_s"] for x in gen], "all_agx50_s": [x["wall_s"] for x in agx],
-            "wall_s": best_gen["wall_s"] + best_agx["wall_s"]}
+    return {
+        "generate_200": best_gen,
+        "agx50": best_agx,
+        "all_generate_s": [x["wall_s"] for x in gen],
+        "all_agx50_s": [x["wall_s"] for x in agx],
+        "wall_s": best_gen["wall_s"] + best_agx["wall_s"],
+    }
 
 
 def bench_spectra_floors(n: int) -> dict:
@@ -294,16 +369,29 @@ def bench_spectra_floors(n: int) -> dict:
     frame.floor_ensembles(ens.subset(range(2)))
     spec = timed(lambda: response_spectrum(ens.acc, DT, freqs, 0.05), 1)
     floors = timed(lambda: frame.floor_ensembles(ens), 1)
-    return {"motions": n, "generate_s": t_gen,
-            "spectra": {"frequencies": freqs.size, "damping": 0.05, **spec},
-            "floors": {"frame": "paper-2.0 (5 stories)", **floors}}
+    return {
+        "motions": n,
+        "generate_s": t_gen,
+        "spectra": {"frequencies": freqs.size, "damping": 0.05, **spec},
+        "floors": {"frame": "paper-2.0 (5 stories)", **floors},
+    }
 
 
 def bench_reproduce(tmp: Path, fidelity: str, runs: int) -> dict:
     out = {}
     for r in range(runs):
-        res = run_command(["reproduce", "all", "--fidelity", fidelity, "--out",
-                           f"reproduce-{fidelity}-{r}", "--quiet"], tmp)
+        res = run_command(
+            [
+                "reproduce",
+                "all",
+                "--fidelity",
+                fidelity,
+                "--out",
+                f"reproduce-{fidelity}-{r}",
+                "--quiet",
+            ],
+            tmp,
+        )
         out["first" if r == 0 else "again"] = res
     return out
 
@@ -314,41 +402,79 @@ def bench_reproduce(tmp: Path, fidelity: str, runs: int) -> dict:
 def summary_rows(res: dict) -> list[tuple[str, str, str]]:
     rows = []
     k = res["kernel"]
-    rows.append(("kernel, all threads [ns/RK4 step]", f"{k['ns_per_step']:.2f}",
-                 f"median {k['ns_per_step_median']:.2f}; {k['threads']} threads; "
-                 f"{k['steps'] / 1e6:.1f} M steps, {k['cases']} cases; target ≤ "
-                 f"{TARGETS['kernel_ns_per_step']}"))
+    rows.append(
+        (
+            "kernel, all threads [ns/RK4 step]",
+            f"{k['ns_per_step']:.2f}",
+            f"median {k['ns_per_step_median']:.2f}; {k['threads']} threads; "
+            f"{k['steps'] / 1e6:.1f} M steps, {k['cases']} cases; target ≤ "
+            f"{TARGETS['kernel_ns_per_step']}",
+        )
+    )
     rows.append(("kernel, one thread [ns/RK4 step]", f"{k['ns_per_step_one_thread']:.2f}", ""))
-    rows.append(("kernel equals simulate() case by case", str(k["equals_simulate"]),
-                 f"{k['share_of_intervals_integrated']:.0%} of intervals integrated, "
-                 f"{k['share_overturned']:.0%} overturned"))
+    rows.append(
+        (
+            "kernel equals simulate() case by case",
+            str(k["equals_simulate"]),
+            f"{k['share_of_intervals_integrated']:.0%} of intervals integrated, "
+            f"{k['share_overturned']:.0%} overturned",
+        )
+    )
     p = res["plain_loop"]
-    rows.append(("plain loop, all threads [ns/step]", f"{p['parallel']['ns_per_step']:.1f}",
-                 f"kernel is {res['ratios']['vs_plain_loop']:.1f}× faster (target ≥ "
-                 f"{TARGETS['vs_plain_loop']:g}×)"))
-    rows.append(("plain loop, one thread [ns/step]", f"{p['serial']['ns_per_step']:.1f}",
-                 f"kernel on one thread is {res['ratios']['vs_plain_loop_one_thread']:.1f}× "
-                 f"faster"))
+    rows.append(
+        (
+            "plain loop, all threads [ns/step]",
+            f"{p['parallel']['ns_per_step']:.1f}",
+            f"kernel is {res['ratios']['vs_plain_loop']:.1f}× faster (target ≥ "
+            f"{TARGETS['vs_plain_loop']:g}×)",
+        )
+    )
+    rows.append(
+        (
+            "plain loop, one thread [ns/step]",
+            f"{p['serial']['ns_per_step']:.1f}",
+            f"kernel on one thread is {res['ratios']['vs_plain_loop_one_thread']:.1f}× faster",
+        )
+    )
     s = res["scipy"]
-    rows.append(("SciPy solve_ivp [s/simulation]", f"{s['s_per_simulation']:.2f}",
-                 f"kernel: {k['s_per_simulation'] * 1e6:.0f} µs/simulation, "
-                 f"{res['ratios']['vs_scipy']:,.0f}× faster (target ≥ "
-                 f"{TARGETS['vs_scipy']:,.0f}×)"))
+    rows.append(
+        (
+            "SciPy solve_ivp [s/simulation]",
+            f"{s['s_per_simulation']:.2f}",
+            f"kernel: {k['s_per_simulation'] * 1e6:.0f} µs/simulation, "
+            f"{res['ratios']['vs_scipy']:,.0f}× faster (target ≥ "
+            f"{TARGETS['vs_scipy']:,.0f}×)",
+        )
+    )
     e = res.get("end_to_end", {})
     if "table2" in e:
         t = e["table2"]
-        rows.append(("Table 2 end to end [s]", f"{t['wall_s']:.1f}",
-                     f"best of {len(t['all_agx50_s'])}: generate "
-                     f"{t['generate_200']['wall_s']:.1f} s + agx50 {t['agx50']['wall_s']:.1f} s; "
-                     f"target ≤ {TARGETS['table2_s']:g} s"))
+        rows.append(
+            (
+                "Table 2 end to end [s]",
+                f"{t['wall_s']:.1f}",
+                f"best of {len(t['all_agx50_s'])}: generate "
+                f"{t['generate_200']['wall_s']:.1f} s + agx50 {t['agx50']['wall_s']:.1f} s; "
+                f"target ≤ {TARGETS['table2_s']:g} s",
+            )
+        )
     if "spectra_floors" in e:
         sf = e["spectra_floors"]
-        rows.append((f"response spectra, {sf['motions']} motions [s]",
-                     f"{sf['spectra']['best_s']:.2f}",
-                     f"{sf['spectra']['frequencies']} frequencies; generating the motions "
-                     f"{sf['generate_s']:.1f} s"))
-        rows.append((f"floor motions, {sf['motions']} motions [s]", f"{sf['floors']['best_s']:.2f}",
-                     sf["floors"]["frame"]))
+        rows.append(
+            (
+                f"response spectra, {sf['motions']} motions [s]",
+                f"{sf['spectra']['best_s']:.2f}",
+                f"{sf['spectra']['frequencies']} frequencies; generating the motions "
+                f"{sf['generate_s']:.1f} s",
+            )
+        )
+        rows.append(
+            (
+                f"floor motions, {sf['motions']} motions [s]",
+                f"{sf['floors']['best_s']:.2f}",
+                sf["floors"]["frame"],
+            )
+        )
     for fid in ("quick", "paper"):
         key = f"reproduce_{fid}"
         if key in e:
@@ -362,25 +488,45 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--quick", action="store_true",
-                    help="fewer motions and repeats; reproduce quick run once")
-    ap.add_argument("--with-paper", action="store_true",
-                    help="also time `rocking reproduce all --fidelity paper` (about 2 minutes "
-                         "or more) and its peak memory")
-    ap.add_argument("--no-end-to-end", action="store_true",
-                    help="kernel, plain loop and SciPy only")
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results.json"),
-                    help="JSON file to write (default: benchmarks/results.json)")
+    ap = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument(
+        "--quick", action="store_true", help="fewer motions and repeats; reproduce quick run once"
+    )
+    ap.add_argument(
+        "--with-paper",
+        action="store_true",
+        help="also time `rocking reproduce all --fidelity paper` (about 2 minutes "
+        "or more) and its peak memory",
+    )
+    ap.add_argument(
+        "--no-end-to-end", action="store_true", help="kernel, plain loop and SciPy only"
+    )
+    ap.add_argument(
+        "--out",
+        default=str(ROOT / "benchmarks" / "results.json"),
+        help="JSON file to write (default: benchmarks/results.json)",
+    )
     a = ap.parse_args(argv)
     n_motions = 20 if a.quick else 100
     repeats = 3 if a.quick else 9  # best of many: the machine may be shared
-    res = {"machine": machine_info(), "load_at_start": load(),
-           "settings": {"quick": a.quick, "motions": n_motions, "repeats": repeats,
-                        "dt_s": DT, "duration_s": DURATION}}
-    print(f"rocking benchmarks on {res['machine']['cpu_model']} "
-          f"({res['machine']['logical_cpus']} CPUs), load {res['load_at_start']}", flush=True)
+    res = {
+        "machine": machine_info(),
+        "load_at_start": load(),
+        "settings": {
+            "quick": a.quick,
+            "motions": n_motions,
+            "repeats": repeats,
+            "dt_s": DT,
+            "duration_s": DURATION,
+        },
+    }
+    print(
+        f"rocking benchmarks on {res['machine']['cpu_model']} "
+        f"({res['machine']['logical_cpus']} CPUs), load {res['load_at_start']}",
+        flush=True,
+    )
 
     print("kernel workload and independent step count ...", flush=True)
     w = rocking_workload(n_motions)

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rocking.montecarlo.backends import DaskBackend, LocalBackend, get_backend
 from rocking.dynamics.body import Block
 from rocking.errors import InputError
+from rocking.montecarlo.backends import DaskBackend, LocalBackend, get_backend
 from rocking.montecarlo.probability import agx_50, overturning_probability
 from rocking.motions.synthesis import generate
 
@@ -59,8 +59,9 @@ def test_get_backend():
 
 
 def test_local_results_do_not_depend_on_chunks_or_threads(ensemble):
-    one = overturning_probability(BLOCKS, ensemble, AGX, members=True, chunk_size=8,
-                                  backend=LocalBackend(n_threads=1))
+    one = overturning_probability(
+        BLOCKS, ensemble, AGX, members=True, chunk_size=8, backend=LocalBackend(n_threads=1)
+    )
     big = overturning_probability(BLOCKS, ensemble, AGX, members=True, chunk_size=10_000)
     assert one.attrs["chunks_computed"] == len(BLOCKS) * AGX.size  # one pair per chunk
     assert big.attrs["chunks_computed"] < 10
@@ -72,19 +73,23 @@ def test_dask_cluster_gives_identical_results(ensemble, dask_backend):
     pids = client.run(os.getpid)
     assert len(pids) == 2 and os.getpid() not in pids.values()  # two worker processes
     # each task uses its worker's share of the cores: together they do not oversubscribe them
-    threads = dask_backend.map(lambda data, task: numba.get_num_threads(),
-                               dask_backend.scatter(None), range(4))
+    threads = dask_backend.map(
+        lambda data, task: numba.get_num_threads(), dask_backend.scatter(None), range(4)
+    )
     assert {n for _, n in threads} == {max(1, os.cpu_count() // 2)}
 
     local = overturning_probability(BLOCKS, ensemble, AGX, members=True)
-    remote = overturning_probability(BLOCKS, ensemble, AGX, members=True, backend=dask_backend,
-                                     chunk_size=24)
+    remote = overturning_probability(
+        BLOCKS, ensemble, AGX, members=True, backend=dask_backend, chunk_size=24
+    )
     assert remote.attrs["chunks_computed"] > 2  # really spread over tasks
     _identical(local, remote)
 
     cases = {"all": ensemble, "first six": ensemble.subset(range(6))}
-    _identical(agx_50(BLOCKS, cases, resolution=0.02),
-               agx_50(BLOCKS, cases, resolution=0.02, backend=dask_backend, chunk_size=16))
+    _identical(
+        agx_50(BLOCKS, cases, resolution=0.02),
+        agx_50(BLOCKS, cases, resolution=0.02, backend=dask_backend, chunk_size=16),
+    )
 
 
 class KillWorkerAfterFirstChunk:
@@ -116,8 +121,9 @@ def test_dask_worker_killed_mid_run_loses_nothing(ensemble, dask_backend, tmp_pa
     """kill -9 one worker once the first chunk is back: its tasks run again elsewhere."""
     killer = KillWorkerAfterFirstChunk(dask_backend, tmp_path)
     agx = np.round(np.arange(0.1, 2.0, 0.1), 12)
-    remote = overturning_probability(BLOCKS, ensemble, agx, members=True, out=tmp_path,
-                                     backend=killer, chunk_size=8)
+    remote = overturning_probability(
+        BLOCKS, ensemble, agx, members=True, out=tmp_path, backend=killer, chunk_size=8
+    )
     [(address, keys, chunks_at_kill)] = killer.killed
     assert keys, f"worker {address} held no task when it was killed"
     n_chunks = len(BLOCKS) * agx.size

@@ -42,8 +42,9 @@ def test_batch_equals_simulate_on_random_cases(ensemble):
     overturned, peak = overturn_batch(blocks, ensemble.acc, ensemble.dt, scales)
     assert overturned.shape == peak.shape == (5, 6, ensemble.n)
     b, j, m = (i.ravel() for i in np.indices(overturned.shape))
-    kinds = _check_against_simulate(blocks, ensemble.acc, ensemble.dt, b, m, scales[j],
-                                    overturned.ravel(), peak.ravel())
+    kinds = _check_against_simulate(
+        blocks, ensemble.acc, ensemble.dt, b, m, scales[j], overturned.ravel(), peak.ravel()
+    )
     assert kinds == {"overturned", "rest", "rocked"}
 
 
@@ -56,8 +57,9 @@ def test_per_case_entry_with_housner_e_and_alpha_angle(ensemble):
     scale = rng.uniform(-1.2, 1.2, n) / ensemble.agx
     kw = dict(e="housner", overturn_angle="alpha")
     overturned, peak = overturn_cases(blocks, ensemble.acc, ensemble.dt, body, motion, scale, **kw)
-    kinds = _check_against_simulate(blocks, ensemble.acc, ensemble.dt, body, motion, scale,
-                                    overturned, peak, **kw)
+    kinds = _check_against_simulate(
+        blocks, ensemble.acc, ensemble.dt, body, motion, scale, overturned, peak, **kw
+    )
     assert "overturned" in kinds and "rest" in kinds
 
 
@@ -75,9 +77,9 @@ def test_mirrored_motion_gives_the_same_flags_and_peaks(ensemble):
 def test_per_block_restitution(ensemble):
     blocks = [Block(1.0, 3.0), Block(1.0, 3.0)]
     scales = np.array([0.5, 0.8]) / ensemble.agx
-    ov, pk = overturn_batch(blocks, ensemble.acc, ensemble.dt, scales, e=[0.7, 1.0])
-    ov7, pk7 = overturn_batch(blocks[:1], ensemble.acc, ensemble.dt, scales, e=0.7)
-    ov1, pk1 = overturn_batch(blocks[:1], ensemble.acc, ensemble.dt, scales, e=1.0)
+    _ov, pk = overturn_batch(blocks, ensemble.acc, ensemble.dt, scales, e=[0.7, 1.0])
+    _ov7, pk7 = overturn_batch(blocks[:1], ensemble.acc, ensemble.dt, scales, e=0.7)
+    _ov1, pk1 = overturn_batch(blocks[:1], ensemble.acc, ensemble.dt, scales, e=1.0)
     np.testing.assert_array_equal(pk[0], pk7[0])
     np.testing.assert_array_equal(pk[1], pk1[0])
     # less energy lost at impacts: the elastic block rocks at least as far (physics, not code)

@@ -18,8 +18,10 @@ def _write(tmp_path, text, name="bodies.csv"):
 
 def test_r_gamma_columns_with_names_comments_and_units(tmp_path):
     path = _write(tmp_path, "# two cabinets\nName, R [m], gamma\ncab A,1.22,4\n\ncab B,2.44,2.5\n")
-    assert read_bodies_table(path) == [NamedBody("cab A", Block(1.22, 4.0)),
-                                       NamedBody("cab B", Block(2.44, 2.5))]
+    assert read_bodies_table(path) == [
+        NamedBody("cab A", Block(1.22, 4.0)),
+        NamedBody("cab B", Block(2.44, 2.5)),
+    ]
     assert read_bodies(path) == [Block(1.22, 4.0), Block(2.44, 2.5)]
 
 
@@ -27,7 +29,7 @@ def test_h_b_columns_give_r_and_gamma(tmp_path):
     # H = 3, B = 4: R = ½·sqrt(9 + 16) = 2.5 m, γ = 0.75 (a squat body is legal).
     path = _write(tmp_path, "H,B\n3,4\n")
     (body,) = read_bodies_table(path)
-    assert body.block.R == pytest.approx(2.5, rel=1e-15)
+    assert pytest.approx(2.5, rel=1e-15) == body.block.R
     assert body.block.gamma == pytest.approx(0.75, rel=1e-15)
     assert body.name == body.block.label  # no name column: the Block label
 
@@ -39,23 +41,26 @@ def test_paper_body_from_dimensions_round_trips(tmp_path):
     assert math.isclose(got.R, b.R, rel_tol=1e-14) and math.isclose(got.gamma, 4.0, rel_tol=1e-14)
 
 
-@pytest.mark.parametrize("text, where, problem", [
-    ("", "", "empty bodies file"),
-    ("# only a comment\n\n", "", "empty bodies file"),
-    ("R,gamma\n", "", r"no bodies below the header \(line 1\)"),
-    ("R,H\n1,2\n", "line 1", "missing column"),
-    ("name,R\na,1\n", "line 1", "missing column"),
-    ("R,gamma,H\n1,2,3\n", "line 1", "not a mix"),
-    ("R,gama\n1,2\n", "line 1", "unknown column 'gama'"),
-    ("R,gamma,R\n1,2,3\n", "line 1", "appears twice"),
-    ("R,gamma\n1,2\n1.5,four\n", r"row 2 \(line 3\)", "gamma must be a number .* 'four'"),
-    ("R,gamma\n1,2\n\n-1.5,4\n", r"row 2 \(line 4\)", r"R must be a finite number > 0 \[m\]"),
-    ("H,B\n2,0\n", r"row 1 \(line 2\)", r"B must be a finite number > 0 \[m\], got 0"),
-    ("R,gamma\nnan,3\n", r"row 1 \(line 2\)", "R must be a finite number"),
-    ("R,gamma\n1,\n", r"row 1 \(line 2\)", "an empty cell"),
-    ("R,gamma\n1,2\n3\n", r"row 2 \(line 3\)", "1 value"),
-    ("name,R,gamma\na,1,2\na,2,3\n", r"row 2 \(line 3\)", "repeats that of row 1"),
-])
+@pytest.mark.parametrize(
+    "text, where, problem",
+    [
+        ("", "", "empty bodies file"),
+        ("# only a comment\n\n", "", "empty bodies file"),
+        ("R,gamma\n", "", r"no bodies below the header \(line 1\)"),
+        ("R,H\n1,2\n", "line 1", "missing column"),
+        ("name,R\na,1\n", "line 1", "missing column"),
+        ("R,gamma,H\n1,2,3\n", "line 1", "not a mix"),
+        ("R,gama\n1,2\n", "line 1", "unknown column 'gama'"),
+        ("R,gamma,R\n1,2,3\n", "line 1", "appears twice"),
+        ("R,gamma\n1,2\n1.5,four\n", r"row 2 \(line 3\)", "gamma must be a number .* 'four'"),
+        ("R,gamma\n1,2\n\n-1.5,4\n", r"row 2 \(line 4\)", r"R must be a finite number > 0 \[m\]"),
+        ("H,B\n2,0\n", r"row 1 \(line 2\)", r"B must be a finite number > 0 \[m\], got 0"),
+        ("R,gamma\nnan,3\n", r"row 1 \(line 2\)", "R must be a finite number"),
+        ("R,gamma\n1,\n", r"row 1 \(line 2\)", "an empty cell"),
+        ("R,gamma\n1,2\n3\n", r"row 2 \(line 3\)", "1 value"),
+        ("name,R,gamma\na,1,2\na,2,3\n", r"row 2 \(line 3\)", "repeats that of row 1"),
+    ],
+)
 def test_errors_name_file_row_and_problem(tmp_path, text, where, problem):
     path = _write(tmp_path, text)
     with pytest.raises(InputError, match=f"bodies.csv: {where}.*{problem}"):

@@ -5,9 +5,9 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
-from rocking.dynamics.body import FOOT, PAPER_GAMMAS, PAPER_R_FT, Block, housner_sv
 from rocking.cli import main
 from rocking.cli.body import TOLERANCE_CM_S
+from rocking.dynamics.body import FOOT, PAPER_GAMMAS, PAPER_R_FT, Block, housner_sv
 from rocking.studies.paper import paper_values
 
 #: Table 1 cells that disagree with Eq. (11), (row = index of R in 4…11 ft, column = index of γ in
@@ -82,18 +82,25 @@ def test_table1_command_marks_and_lists_exactly_the_misprints(tmp_path):
     assert TOLERANCE_CM_S == TOL_CM_S
     rows = [line for line in result.output.splitlines() if line[:6].strip().isdigit()]
     assert [int(line.split()[0]) for line in rows] == list(PAPER_R_FT)
-    marked = {(i, j) for i, line in enumerate(rows) for j, cell in enumerate(line.split()[2:])
-              if cell.endswith("*")}
+    marked = {
+        (i, j)
+        for i, line in enumerate(rows)
+        for j, cell in enumerate(line.split()[2:])
+        if cell.endswith("*")
+    }
     assert marked == set(KNOWN_MISPRINTS)
     for (i, j), (paper, eq11) in KNOWN_MISPRINTS.items():
-        assert (f"R = {PAPER_R_FT[i]} ft ({PAPER_R_FT[i] * FOOT:.4f} m), gamma = "
-                f"{PAPER_GAMMAS[j]:.1f}: Eq. (11) {eq11:.2f} cm/s, paper {paper:.2f} cm/s"
-                in result.output)
+        assert (
+            f"R = {PAPER_R_FT[i]} ft ({PAPER_R_FT[i] * FOOT:.4f} m), gamma = "
+            f"{PAPER_GAMMAS[j]:.1f}: Eq. (11) {eq11:.2f} cm/s, paper {paper:.2f} cm/s"
+            in result.output
+        )
     assert "70 of 72 cells agree within 0.03 cm/s (largest difference 0.023 cm/s)." in result.output
     grid = pd.read_csv(csv_path, index_col=0)
     np.testing.assert_allclose(grid["R [m]"], np.array(PAPER_R_FT) * FOOT, atol=5e-5)
-    np.testing.assert_allclose(grid.drop(columns="R [m]").to_numpy(),
-                               _eq11(np.array(PAPER_R_FT) * FOOT), atol=5e-5)  # 4 decimals
+    np.testing.assert_allclose(
+        grid.drop(columns="R [m]").to_numpy(), _eq11(np.array(PAPER_R_FT) * FOOT), atol=5e-5
+    )  # 4 decimals
 
 
 def test_table1_command_without_comparison_and_with_bad_gravity():
@@ -101,8 +108,9 @@ def test_table1_command_without_comparison_and_with_bad_gravity():
     assert plain.exit_code == 0 and "*" not in plain.output and "paper" not in plain.output
     bad = CliRunner().invoke(main, ["table1", "--g", "-1"])
     assert bad.exit_code == 1 and "Traceback" not in bad.output
-    assert bad.output.strip().splitlines() == ["Error: g must be a finite number > 0 [m/s²], "
-                                               "got -1.0"]
+    assert bad.output.strip().splitlines() == [
+        "Error: g must be a finite number > 0 [m/s²], got -1.0"
+    ]
 
 
 def test_label_writes_gamma_as_gamma():

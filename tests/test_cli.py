@@ -36,9 +36,11 @@ def test_help_lists_every_command_and_unknown_commands_fail_in_one_line():
 
 def test_a_command_does_not_import_the_plotting_stack():
     # start-up time: `rocking simulate --help` must not load Matplotlib (the studies do)
-    code = ("import sys; from rocking.cli import main\n"
-            "try:\n    main(['simulate', '--help'])\nexcept SystemExit:\n    pass\n"
-            "print('matplotlib' in sys.modules)")
+    code = (
+        "import sys; from rocking.cli import main\n"
+        "try:\n    main(['simulate', '--help'])\nexcept SystemExit:\n    pass\n"
+        "print('matplotlib' in sys.modules)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip().splitlines()[-1] == "False"
 
@@ -49,11 +51,13 @@ HEAVY = ("numpy", "numba", "scipy", "xarray", "pandas", "matplotlib", "dask")
 def test_help_and_option_errors_load_no_numerical_library():
     # start-up time (issue 14: `rocking --help` and any command's argument errors in < 0.5 s):
     # listing the commands imports every command module, so none may import the numerical stack
-    code = ("import sys\nfrom rocking.cli import main\n"
-            "for args in (['--help'], ['fragility', '--bogus'], ['simulate', '--R', '1'],\n"
-            "             ['screen', '--help'], ['reproduce', '9']):\n"
-            "    try:\n        main(args)\n    except SystemExit:\n        pass\n"
-            f"print(sorted(m for m in {HEAVY!r} if m in sys.modules))")
+    code = (
+        "import sys\nfrom rocking.cli import main\n"
+        "for args in (['--help'], ['fragility', '--bogus'], ['simulate', '--R', '1'],\n"
+        "             ['screen', '--help'], ['reproduce', '9']):\n"
+        "    try:\n        main(args)\n    except SystemExit:\n        pass\n"
+        f"print(sorted(m for m in {HEAVY!r} if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip().splitlines()[-1] == "[]"
 
@@ -64,8 +68,8 @@ def test_the_light_name_lists_match_the_library():
     from rocking import defaults
     from rocking.cli.spectrum import UNIT_NAMES
     from rocking.motions.envelopes import ENVELOPES
-    from rocking.structures.frames import PRESETS
     from rocking.motions.records import UNITS
+    from rocking.structures.frames import PRESETS
     from rocking.studies import STUDIES
 
     assert sorted(defaults.ENVELOPE_NAMES) == sorted(ENVELOPES)

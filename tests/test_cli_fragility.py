@@ -11,13 +11,13 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 
-from rocking.dynamics.body import FOOT, G, Block
 from rocking.cli import main
 from rocking.cli._options import parse_range
+from rocking.dynamics.body import FOOT, Block, G
 from rocking.errors import InputError
-from rocking.structures.frames import ShearFrame
 from rocking.motions.ensemble import NETCDF_ENGINE
 from rocking.motions.synthesis import generate
+from rocking.structures.frames import ShearFrame
 
 
 @pytest.fixture(scope="module")
@@ -52,12 +52,20 @@ def _run(args):
 
 # ----------------------------------------------------------------------------- bad input
 
-@pytest.mark.parametrize("csv_text, command, expected", [
-    ("R\n1.0\n", "fragility", "missing column"),
-    ("R,gamma\n1.0,4\n-0.5,3\n", "fragility", r"row 2 \(line 3\): R must be a finite number > 0"),
-    ("H,B\n1.0,0.2\n1.0,-0.2\n", "agx50", r"row 2 \(line 3\): B must be"),
-    ("", "agx50", "empty bodies file"),
-])
+
+@pytest.mark.parametrize(
+    "csv_text, command, expected",
+    [
+        ("R\n1.0\n", "fragility", "missing column"),
+        (
+            "R,gamma\n1.0,4\n-0.5,3\n",
+            "fragility",
+            r"row 2 \(line 3\): R must be a finite number > 0",
+        ),
+        ("H,B\n1.0,0.2\n1.0,-0.2\n", "agx50", r"row 2 \(line 3\): B must be"),
+        ("", "agx50", "empty bodies file"),
+    ],
+)
 def test_bad_bodies_file_stops_before_work(tmp_path, motions, csv_text, command, expected):
     bad = tmp_path / "bad.csv"
     bad.write_text(csv_text)
@@ -67,34 +75,38 @@ def test_bad_bodies_file_stops_before_work(tmp_path, motions, csv_text, command,
     assert not out.exists()  # no work started, nothing written
 
 
-@pytest.mark.parametrize("extra, expected", [
-    (["--frame", "paper-9.9", "--floor", "1"], "unknown frame preset 'paper-9.9'"),
-    (["--frame", "paper-2.0", "--floor", "6"], "--floor must be from 0"),
-    (["--floor", "2"], "--floor and --frame go together"),
-    (["--agx", "1.5:0.1:0.05"], "empty range"),
-    (["--agx", "0.1:1.5:0"], "step must be > 0"),
-    (["--agx", "0.1:x:0.1"], "start:stop:step"),
-    (["--agx", "-0.1:0.5:0.1"], "values must be > 0"),
-    (["--e", "1.5"], "--e must be"),
-    (["--scheduler", "bogus"], "scheduler"),
-])
+@pytest.mark.parametrize(
+    "extra, expected",
+    [
+        (["--frame", "paper-9.9", "--floor", "1"], "unknown frame preset 'paper-9.9'"),
+        (["--frame", "paper-2.0", "--floor", "6"], "--floor must be from 0"),
+        (["--floor", "2"], "--floor and --frame go together"),
+        (["--agx", "1.5:0.1:0.05"], "empty range"),
+        (["--agx", "0.1:1.5:0"], "step must be > 0"),
+        (["--agx", "0.1:x:0.1"], "start:stop:step"),
+        (["--agx", "-0.1:0.5:0.1"], "values must be > 0"),
+        (["--e", "1.5"], "--e must be"),
+        (["--scheduler", "bogus"], "scheduler"),
+    ],
+)
 def test_bad_options_stop_before_work(tmp_path, motions, bodies, extra, expected):
     out = tmp_path / "out"
-    line = _one_line_error(_run(["fragility", "--bodies", bodies, "--motions", motions,
-                                 "--out", out, *extra]))
+    line = _one_line_error(
+        _run(["fragility", "--bodies", bodies, "--motions", motions, "--out", out, *extra])
+    )
     assert expected in line
     assert not out.exists()
 
 
 def test_missing_or_bad_motions_file(tmp_path, bodies):
     out = tmp_path / "out"
-    line = _one_line_error(_run(["agx50", "--bodies", bodies, "--motions",
-                                 tmp_path / "none.nc", "--out", out]))
+    line = _one_line_error(
+        _run(["agx50", "--bodies", bodies, "--motions", tmp_path / "none.nc", "--out", out])
+    )
     assert "none.nc" in line
     not_nc = tmp_path / "text.nc"
     not_nc.write_text("hello")
-    line = _one_line_error(_run(["agx50", "--bodies", bodies, "--motions", not_nc,
-                                 "--out", out]))
+    line = _one_line_error(_run(["agx50", "--bodies", bodies, "--motions", not_nc, "--out", out]))
     assert "text.nc" in line
     assert not out.exists()
 
@@ -109,6 +121,7 @@ def test_agx_range_includes_stop_within_tolerance():
 
 
 # ----------------------------------------------------------------------------- assess
+
 
 @pytest.fixture
 def flat_spectrum(tmp_path):
@@ -132,8 +145,9 @@ def test_assess_paper_examples_sorted_most_at_risk_first(tmp_path, flat_spectrum
     assert lines[3].split()[0] == "stocky" and lines[3].endswith("safe")
     assert "205.12" in lines[3] and "100.57" in lines[2]  # Eq. (11) for 4 ft (paper: .11, .56)
 
-    data = json.loads(_run(["assess", "--bodies", path, "--spectrum", flat_spectrum,
-                            "--json"]).output)
+    data = json.loads(
+        _run(["assess", "--bodies", path, "--spectrum", flat_spectrum, "--json"]).output
+    )
     assert [b["verdict"] for b in data["bodies"]] == ["overturn>50%", "safe"]
     assert data["sv_available_cm_s"] == pytest.approx(114.30, rel=1e-12)
     first = data["bodies"][0]
@@ -144,8 +158,9 @@ def test_example_bodies_are_shipped_and_hold_the_paper_section_8_pair(flat_spect
     # --bodies example: the shipped file (src/rocking/data/example_bodies.csv), whose first two
     # rows are the paper's R = 4 ft blocks given by H and B to 0.1 mm: Eq. (11) gives the same
     # 205.12 and 100.57 cm/s as the test above to 1e-4 (the rounding of H and B).
-    data = json.loads(_run(["assess", "--bodies", "example", "--spectrum", flat_spectrum,
-                            "--json"]).stdout)
+    data = json.loads(
+        _run(["assess", "--bodies", "example", "--spectrum", flat_spectrum, "--json"]).stdout
+    )
     need = {b["name"]: b["sv_required_cm_s"] for b in data["bodies"]}
     assert len(need) == 7
     assert need["paper stocky (R = 4 ft; gamma = 2)"] == pytest.approx(205.12, rel=1e-4)
@@ -160,49 +175,95 @@ def test_assess_paper_bodies_and_ensemble_source(motions, flat_spectrum):
     from rocking.motions.ensemble import Ensemble
 
     floor = ShearFrame.preset("paper-2.0").floor_ensemble(Ensemble.load(motions), 1)
-    data = json.loads(_run(["assess", "--bodies", "paper", "--spectrum", motions, "--agx", 0.6,
-                            "--frame", "paper-2.0", "--floor", 1, "--json"]).stdout)
-    assert data["sv_available_cm_s"] == pytest.approx(100 * available_sv(floor, agx=0.6),
-                                                      rel=1e-12)
+    data = json.loads(
+        _run(
+            [
+                "assess",
+                "--bodies",
+                "paper",
+                "--spectrum",
+                motions,
+                "--agx",
+                0.6,
+                "--frame",
+                "paper-2.0",
+                "--floor",
+                1,
+                "--json",
+            ]
+        ).stdout
+    )
+    assert data["sv_available_cm_s"] == pytest.approx(100 * available_sv(floor, agx=0.6), rel=1e-12)
 
 
 def test_assess_takes_a_design_spectrum_specification():
     # ASCE 7 with S_D1 = 0.6 g: the band 0.04–0.6 Hz lies on the constant-velocity plateau
     # (T_s = S_D1/S_DS = 0.6 s to T_L = 8 s), so S_v = S_D1·g/(2π) = 93.65 cm/s exactly.
-    data = json.loads(_run(["assess", "--bodies", "paper", "--spectrum",
-                            "asce7:SDS=1.0,SD1=0.6,TL=8", "--json"]).stdout)
+    data = json.loads(
+        _run(
+            ["assess", "--bodies", "paper", "--spectrum", "asce7:SDS=1.0,SD1=0.6,TL=8", "--json"]
+        ).stdout
+    )
     assert data["sv_available_cm_s"] == pytest.approx(100 * 0.6 * G / (2 * math.pi), rel=1e-9)
     line = _one_line_error(_run(["assess", "--bodies", "paper", "--spectrum", "asce7:SDS=1"]))
     assert "missing SD1, TL" in line
 
 
-@pytest.mark.parametrize("extra, expected", [
-    (["--band", "0.6:0.04"], "0 < LOW < HIGH"),
-    (["--band", "x"], "LOW:HIGH"),
-    (["--agx", "0.6"], "apply to an ensemble"),
-])
+@pytest.mark.parametrize(
+    "extra, expected",
+    [
+        (["--band", "0.6:0.04"], "0 < LOW < HIGH"),
+        (["--band", "x"], "LOW:HIGH"),
+        (["--agx", "0.6"], "apply to an ensemble"),
+    ],
+)
 def test_assess_bad_input(flat_spectrum, extra, expected):
-    line = _one_line_error(_run(["assess", "--bodies", "paper", "--spectrum", flat_spectrum,
-                                 *extra]))
+    line = _one_line_error(
+        _run(["assess", "--bodies", "paper", "--spectrum", flat_spectrum, *extra])
+    )
     assert expected in line
 
 
 # ----------------------------------------------------------------------------- end to end
+
 
 def test_fragility_run_writes_its_files_and_matches_the_library(tmp_path, motions, bodies):
     from rocking.montecarlo.probability import overturning_probability
     from rocking.motions.ensemble import Ensemble
 
     out = tmp_path / "out"
-    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", "0.2:0.6:0.2",
-            "--frame", "paper-2.0", "--floor", 1, "--out", out, "--quiet"]
+    args = [
+        "fragility",
+        "--bodies",
+        bodies,
+        "--motions",
+        motions,
+        "--agx",
+        "0.2:0.6:0.2",
+        "--frame",
+        "paper-2.0",
+        "--floor",
+        1,
+        "--out",
+        out,
+        "--quiet",
+    ]
     result = _run(args)
     assert result.exit_code == 0, result.output
     for name in ("probabilities.csv", "probabilities.nc", "lognormal.csv", "fragility.png"):
         assert (out / name).stat().st_size > 0
     table = pd.read_csv(out / "probabilities.csv")
-    assert list(table.columns) == ["body", "R", "gamma", "agx", "probability", "count", "n",
-                                   "ci_low", "ci_high"]
+    assert list(table.columns) == [
+        "body",
+        "R",
+        "gamma",
+        "agx",
+        "probability",
+        "count",
+        "n",
+        "ci_low",
+        "ci_high",
+    ]
     assert len(table) == 2 * 3 and set(table["body"]) == {"slim", "slimmer"}
     assert (table["n"] == 6).all()
     np.testing.assert_allclose(table["probability"], table["count"] / table["n"])
@@ -223,17 +284,36 @@ def test_fragility_run_writes_its_files_and_matches_the_library(tmp_path, motion
 
 def test_agx50_run_writes_tables_and_plot(tmp_path, motions, bodies):
     out = tmp_path / "out"
-    result = _run(["agx50", "--bodies", bodies, "--motions", motions, "--resolution", 0.05,
-                   "--out", out, "--quiet"])
+    result = _run(
+        [
+            "agx50",
+            "--bodies",
+            bodies,
+            "--motions",
+            motions,
+            "--resolution",
+            0.05,
+            "--out",
+            out,
+            "--quiet",
+        ]
+    )
     assert result.exit_code == 0, result.output
-    for name in ("agx50.csv", "agx50.nc", "table1_sv_required_cm_s.csv", "table2_sv1_cm_s.csv",
-                 "table3_ratio.csv", "sv_agx.png"):
+    for name in (
+        "agx50.csv",
+        "agx50.nc",
+        "table1_sv_required_cm_s.csv",
+        "table2_sv1_cm_s.csv",
+        "table3_ratio.csv",
+        "sv_agx.png",
+    ):
         assert (out / name).stat().st_size > 0
     table = pd.read_csv(out / "agx50.csv")
     assert list(table["body"]) == ["slim", "slimmer"]
     ok = np.isfinite(table["agx50_g"])
-    np.testing.assert_allclose(table["ratio"][ok],
-                               (table["sv1_cm_s"] / table["sv_required_cm_s"])[ok], rtol=1e-5)
+    np.testing.assert_allclose(
+        table["ratio"][ok], (table["sv1_cm_s"] / table["sv_required_cm_s"])[ok], rtol=1e-5
+    )
     grid = pd.read_csv(out / "table1_sv_required_cm_s.csv", index_col=0)
     assert grid.shape == (1, 2)
 
@@ -242,8 +322,20 @@ def test_agx50_run_writes_tables_and_plot(tmp_path, motions, bodies):
 def paper_run(tmp_path_factory, motions):
     """``rocking fragility --bodies paper`` on the tiny ensemble at three A_gx levels."""
     out = tmp_path_factory.mktemp("paper") / "out"
-    result = _run(["fragility", "--bodies", "paper", "--motions", motions, "--agx",
-                   "0.3:0.9:0.3", "--out", out, "--quiet"])
+    result = _run(
+        [
+            "fragility",
+            "--bodies",
+            "paper",
+            "--motions",
+            motions,
+            "--agx",
+            "0.3:0.9:0.3",
+            "--out",
+            out,
+            "--quiet",
+        ]
+    )
     assert result.exit_code == 0, result.output
     return out
 

@@ -12,12 +12,12 @@ from click.testing import CliRunner
 from matplotlib.image import imread
 from scipy.integrate import quad
 
-from rocking.dynamics.body import G, Block
 from rocking.cli import main
 from rocking.cli.simulate import SIMULATED_SPEC
+from rocking.dynamics.body import Block, G
 from rocking.dynamics.simulate import simulate
-from rocking.motions.synthesis import generate
 from rocking.motions.records import example_record_path, read_record
+from rocking.motions.synthesis import generate
 
 #: The block of the tests: uplift at g·tan α = g/γ = 0.25 g.
 BLOCK = Block(1.22, 4.0)
@@ -57,6 +57,7 @@ def _library(path, peak_g, **kwargs):
 
 # ----------------------------------------------------------------------------- bad input
 
+
 def _assert_one_line_error(result, message):
     """The command failed with exit status 1 and one line ``Error: ...`` matching ``message``."""
     assert result.exit_code == 1
@@ -66,18 +67,21 @@ def _assert_one_line_error(result, message):
     assert re.search(message, lines[0]), lines[0]
 
 
-@pytest.mark.parametrize("content, extra, message", [
-    ("0 0\n0.01 0.1\n0.02 nan\n0.03 0\n", [], r"bad\.txt: line 3: not a finite number: 'nan'"),
-    ("", [], r"bad\.txt: empty file"),
-    ("0 0\n0.01 0.1\n", ["--dt", "0"], r"--dt must be a finite number > 0 \[s\], got 0"),
-    ("0 0\n0.01 0.1\n", ["--dt", "-0.01"], r"--dt must be a finite number > 0 \[s\]"),
-    ("0 0\n0.01 0.1\n", ["--e", "0"], r"--e must be a number in \(0, 1\] or 'housner'"),
-    ("0 0\n0.01 0.1\n", ["--e", "1.01"], r"--e must be a number in \(0, 1\] or 'housner'"),
-    ("0 0\n0.01 0.1\n", ["--R", "-1.22"], r"R must be a finite number > 0 \[m\], got -1.22"),
-    ("0 0\n0.01 0.1\n", ["--gamma", "-4"], r"gamma must be a finite number > 0"),
-    ("0 0\n0.01 0.1\n", ["--scale-g", "-0.5"], r"--scale-g must be a finite number > 0 \[g\]"),
-    ("0 0\n0.01 0\n", ["--scale-g", "0.5"], r"--scale-g: the motion is zero everywhere"),
-])
+@pytest.mark.parametrize(
+    "content, extra, message",
+    [
+        ("0 0\n0.01 0.1\n0.02 nan\n0.03 0\n", [], r"bad\.txt: line 3: not a finite number: 'nan'"),
+        ("", [], r"bad\.txt: empty file"),
+        ("0 0\n0.01 0.1\n", ["--dt", "0"], r"--dt must be a finite number > 0 \[s\], got 0"),
+        ("0 0\n0.01 0.1\n", ["--dt", "-0.01"], r"--dt must be a finite number > 0 \[s\]"),
+        ("0 0\n0.01 0.1\n", ["--e", "0"], r"--e must be a number in \(0, 1\] or 'housner'"),
+        ("0 0\n0.01 0.1\n", ["--e", "1.01"], r"--e must be a number in \(0, 1\] or 'housner'"),
+        ("0 0\n0.01 0.1\n", ["--R", "-1.22"], r"R must be a finite number > 0 \[m\], got -1.22"),
+        ("0 0\n0.01 0.1\n", ["--gamma", "-4"], r"gamma must be a finite number > 0"),
+        ("0 0\n0.01 0.1\n", ["--scale-g", "-0.5"], r"--scale-g must be a finite number > 0 \[g\]"),
+        ("0 0\n0.01 0\n", ["--scale-g", "0.5"], r"--scale-g: the motion is zero everywhere"),
+    ],
+)
 def test_bad_input_gives_one_line_and_exit_1(tmp_path, content, extra, message):
     path = tmp_path / "bad.txt"
     path.write_text(content)
@@ -115,18 +119,24 @@ def test_constant_acceleration_overturns_at_the_energy_integral_time(tmp_path, a
     #      = 2·sin(θ/2)·[u·cos(α − θ/2) − sin(α − θ/2)],
     # so t(θ_ov) = ∫₀^θ_ov dθ / sqrt(2p²E(θ)); with θ = s² the integrand is regular.
     # The file holds a = −1 g and --scale-g 0.5 scales it (sign kept) to u = 0.5.
-    u, a, p2 = 0.5, BLOCK.alpha, BLOCK.p ** 2
+    u, a, p2 = 0.5, BLOCK.alpha, BLOCK.p**2
     theta_ov = math.pi / 2 if angle == "pi2" else a
 
     def integrand(s):
         th = s * s
-        return 2.0 * s / math.sqrt(4.0 * p2 * math.sin(th / 2)
-                                   * (u * math.cos(a - th / 2) - math.sin(a - th / 2)))
+        return (
+            2.0
+            * s
+            / math.sqrt(
+                4.0 * p2 * math.sin(th / 2) * (u * math.cos(a - th / 2) - math.sin(a - th / 2))
+            )
+        )
 
     t_exact = quad(integrand, 0.0, math.sqrt(theta_ov), epsabs=1e-14, epsrel=1e-13)[0]
     path = _write_motion(tmp_path / "step.txt", np.full(1601, -1.0), 0.0025)  # 4 s
-    result = _run([*BLOCK_ARGS, "--motion", path, "--scale-g", "0.5", "--overturn-angle", angle,
-                   "--json"])
+    result = _run(
+        [*BLOCK_ARGS, "--motion", path, "--scale-g", "0.5", "--overturn-angle", angle, "--json"]
+    )
     assert result.exit_code == 0, result.output
     r = json.loads(result.stdout)["response"]
     assert r["overturned"] and r["n_impacts"] == 0
@@ -141,25 +151,41 @@ def test_constant_acceleration_overturns_at_the_energy_integral_time(tmp_path, a
 def test_json_is_rocking_simulate_on_the_same_input(tmp_path, simulated_file, peak_g, overturns):
     # At 20 times the uplift acceleration the block overturns; at twice it, it rocks and stays.
     png = tmp_path / "out.png"
-    result = _run([*BLOCK_ARGS, "--motion", simulated_file, "--scale-g", peak_g, "--e", "housner",
-                   "--json", "--plot", png])
+    result = _run(
+        [
+            *BLOCK_ARGS,
+            "--motion",
+            simulated_file,
+            "--scale-g",
+            peak_g,
+            "--e",
+            "housner",
+            "--json",
+            "--plot",
+            png,
+        ]
+    )
     assert result.exit_code == 0, result.output
     out = json.loads(result.stdout)  # pure JSON: the "wrote" line goes to stderr
     assert result.stderr == f"wrote {png}\n" and png.stat().st_size > 0
     lib, ag = _library(simulated_file, peak_g, e="housner")
     # Housner (1963) restitution of a rectangle: e = 1 − 1.5·sin²α.
-    assert out["response"]["e"] == pytest.approx(1.0 - 1.5 * math.sin(BLOCK.alpha) ** 2,
-                                                 rel=1e-15)
-    assert out["response"] == json.loads(json.dumps(
-        {**lib.summary(), "overturn_angle_rad": lib.overturn_angle}))
+    assert out["response"]["e"] == pytest.approx(1.0 - 1.5 * math.sin(BLOCK.alpha) ** 2, rel=1e-15)
+    assert out["response"] == json.loads(
+        json.dumps({**lib.summary(), "overturn_angle_rad": lib.overturn_angle})
+    )
     assert out["response"]["overturned"] is overturns
     m = out["motion"]
-    assert (m["n_samples"], m["dt_s"], m["pga_g"]) == (ag.size, read_record(simulated_file).dt,
-                                                       pytest.approx(peak_g, rel=1e-12))
+    assert (m["n_samples"], m["dt_s"], m["pga_g"]) == (
+        ag.size,
+        read_record(simulated_file).dt,
+        pytest.approx(peak_g, rel=1e-12),
+    )
     assert m["duration_s"] == pytest.approx(20.0, rel=1e-12)
     b = out["block"]
     assert (b["R_m"], b["gamma"], b["H_m"], b["B_m"], b["p_rad_s"]) == pytest.approx(
-        (BLOCK.R, BLOCK.gamma, BLOCK.H, BLOCK.B, BLOCK.p), rel=1e-15)
+        (BLOCK.R, BLOCK.gamma, BLOCK.H, BLOCK.B, BLOCK.p), rel=1e-15
+    )
 
 
 def test_simulated_motion_summary_and_plot(tmp_path, simulated_acc):
@@ -170,13 +196,20 @@ def test_simulated_motion_summary_and_plot(tmp_path, simulated_acc):
     lib = simulate(BLOCK, acc * (G / np.abs(acc).max()), dt)
     assert lib.overturned
     lines = result.output.splitlines()
-    assert [line.split(":")[0] for line in lines] == ["block", "motion", "settings", "result",
-                                                      f"wrote {png}"]
+    assert [line.split(":")[0] for line in lines] == [
+        "block",
+        "motion",
+        "settings",
+        "result",
+        f"wrote {png}",
+    ]
     assert "alpha = 0.2450 rad (14.04 deg)" in lines[0] and "g*tan(alpha) = 0.25 g" in lines[0]
     assert "8001 samples at dt = 0.0025 s, duration 20 s, PGA 1 g" in lines[1]
-    assert lines[3] == (f"result:   OVERTURNED at t = {lib.t_overturn:.4f} s; {lib.n_impacts} "
-                        f"impacts; max |theta|/alpha = {math.pi / 2 / BLOCK.alpha:.4g} "
-                        f"(max |theta| = {math.pi / 2:.4g} rad)")
+    assert lines[3] == (
+        f"result:   OVERTURNED at t = {lib.t_overturn:.4f} s; {lib.n_impacts} "
+        f"impacts; max |theta|/alpha = {math.pi / 2 / BLOCK.alpha:.4g} "
+        f"(max |theta| = {math.pi / 2:.4g} rad)"
+    )
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     image = imread(png)
     assert image.ndim == 3 and image.shape[0] > 500 and image.shape[1] > 800
@@ -195,5 +228,6 @@ def test_example_motion_is_the_shipped_el_centro_record():
     assert m["pga_g"] == pytest.approx(0.31882, rel=1e-12)
     rec = read_record(example_record_path())
     lib = simulate(BLOCK, rec.acc, rec.dt)
-    assert out["response"] == json.loads(json.dumps(
-        {**lib.summary(), "overturn_angle_rad": lib.overturn_angle}))
+    assert out["response"] == json.loads(
+        json.dumps({**lib.summary(), "overturn_angle_rad": lib.overturn_angle})
+    )

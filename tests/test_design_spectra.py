@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from rocking.dynamics.body import G
-from rocking.motions.design import ASCE7, EC8, design_pga, parse_spectrum
 from rocking.assessment.energy import available_sv
+from rocking.dynamics.body import G
 from rocking.errors import InputError
+from rocking.motions.design import ASCE7, EC8, design_pga, parse_spectrum
 from rocking.motions.targets import RG160, TabulatedSpectrum
 
 # Values below are exact arithmetic on the code formulas; 1e-12 only absorbs float rounding.
@@ -20,7 +20,7 @@ def test_asce7_every_branch_by_hand():
     # ASCE 7-16 §11.4.6 with S_DS = 1.0 g, S_D1 = 0.6 g, T_L = 8 s:
     # T0 = 0.2·0.6/1.0 = 0.12 s, Ts = 0.6/1.0 = 0.6 s.
     s = ASCE7(SDS=1.0, SD1=0.6, TL=8.0)
-    assert s.T0 == pytest.approx(0.12, rel=TIGHT) and s.Ts == pytest.approx(0.6, rel=TIGHT)
+    assert pytest.approx(0.12, rel=TIGHT) == s.T0 and s.Ts == pytest.approx(0.6, rel=TIGHT)
     hand = {
         0.012: 1.0 * (0.4 + 0.6 * 0.1),  # Eq. 11.4-5, T/T0 = 0.1 -> 0.46
         0.06: 1.0 * (0.4 + 0.6 * 0.5),  # Eq. 11.4-5, T/T0 = 0.5 -> 0.70
@@ -94,16 +94,14 @@ def test_scaled_spectra_scale_every_ordinate():
 def test_available_sv_of_asce7_is_its_velocity_plateau():
     # In 0.04–0.6 Hz (T = 1.67–25 s) with Ts = 0.6 s < 1.67 s ≤ T_L = 8 s the PSV is
     # S_D1·g/(2π) from 1.67 s to T_L and falls beyond: 0.6·9.80665/(2π) = 0.93647 m/s.
-    assert available_sv(ASCE7(1.0, 0.6, 8.0)) == pytest.approx(0.6 * G / (2 * math.pi),
-                                                               rel=1e-9)
+    assert available_sv(ASCE7(1.0, 0.6, 8.0)) == pytest.approx(0.6 * G / (2 * math.pi), rel=1e-9)
 
 
 def test_parse_spectrum_kinds():
     assert parse_spectrum("rg160:0.3") == RG160(0.05, 0.3)
     assert parse_spectrum("rg160:pga=0.4,damping=0.02") == RG160(0.02, 0.4)
     assert parse_spectrum("asce7:SDS=1.0,SD1=0.6,TL=8") == ASCE7(1.0, 0.6, 8.0)
-    assert parse_spectrum("ec8:type=2,ground=C,ag=0.15,importance=1.2") == \
-        EC8(0.15, "C", 2, 1.2)
+    assert parse_spectrum("ec8:type=2,ground=C,ag=0.15,importance=1.2") == EC8(0.15, "C", 2, 1.2)
 
 
 def test_parse_spectrum_reads_a_csv(tmp_path):
@@ -115,15 +113,18 @@ def test_parse_spectrum_reads_a_csv(tmp_path):
     assert design_pga(s) == pytest.approx(0.5)  # flat above the highest frequency (50 Hz)
 
 
-@pytest.mark.parametrize("text, words", [
-    ("asce7:SDS=1", "missing SD1, TL"),
-    ("asce7:SDS=1,SD1=2,TL=1", "TL"),
-    ("ec8:ag=x", "ag must be a number"),
-    ("ec8:ground=F,ag=0.2", "ground must be one of"),
-    ("ec8:type=3,ag=0.2", "type must be 1 or 2"),
-    ("rg160:pga=0.3,zeta=0.05", "unknown key 'zeta'"),
-    ("nosuchfile.csv", "neither a known kind"),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("asce7:SDS=1", "missing SD1, TL"),
+        ("asce7:SDS=1,SD1=2,TL=1", "TL"),
+        ("ec8:ag=x", "ag must be a number"),
+        ("ec8:ground=F,ag=0.2", "ground must be one of"),
+        ("ec8:type=3,ag=0.2", "type must be 1 or 2"),
+        ("rg160:pga=0.3,zeta=0.05", "unknown key 'zeta'"),
+        ("nosuchfile.csv", "neither a known kind"),
+    ],
+)
 def test_parse_spectrum_errors_name_the_problem(text, words):
     with pytest.raises(InputError, match=words):
         parse_spectrum(text)

@@ -13,6 +13,7 @@ e multiplies the kinetic energy at θ = 0 by e².
 
 from __future__ import annotations
 
+import itertools
 import math
 import multiprocessing
 import os
@@ -24,15 +25,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, signal
 
-from rocking import G, Block, InputError, housner_sv, simulate
+from rocking import Block, G, InputError, housner_sv, simulate
 from rocking.dynamics.reference import simulate_reference
 from rocking.motions.response import response_spectrum
 
 
 def _energy_level(block: Block, theta: np.ndarray, omega: np.ndarray) -> np.ndarray:
     """Left side of (E) divided by p², valid on either side (mirror symmetry)."""
-    p2 = block.p ** 2
-    return 0.5 * omega ** 2 / p2 + np.cos(block.alpha - np.abs(theta))
+    p2 = block.p**2
+    return 0.5 * omega**2 / p2 + np.cos(block.alpha - np.abs(theta))
 
 
 def test_free_rocking_conserves_energy_with_e_equal_one():
@@ -57,13 +58,18 @@ def test_release_from_tilt_impact_time_and_speed():
     # time of the first impact: quadrature of (E) (independent of the solver)
     t_exact, _ = integrate.quad(
         lambda th: 1.0 / math.sqrt(2 * p * p * (math.cos(alpha - theta0) - math.cos(alpha - th))),
-        0.0, theta0, limit=200)
+        0.0,
+        theta0,
+        limit=200,
+    )
     k = int(np.argmax(r.theta < 0.0))  # first sample after the impact
     # θ is linear in t across the impact to O(θ''·dt²/θ'); interpolate the crossing between the
     # last sample before it (still on the first side, θ' = −ω_impact) and the impact
     th_before, om_before = r.theta[k - 1], r.omega[k - 1]
     t_cross = r.t[k - 1] + th_before / -om_before
-    assert t_cross == pytest.approx(t_exact, abs=1e-6)  # [s] interpolation error ≈ θ''·dt²/θ' ≪ 1e-6
+    assert t_cross == pytest.approx(
+        t_exact, abs=1e-6
+    )  # [s] interpolation error ≈ θ''·dt²/θ' ≪ 1e-6
     # impact speed from (E); the sample just before the impact is dt-close to it
     w_impact = math.sqrt(2 * p * p * (math.cos(alpha - theta0) - math.cos(alpha)))
     assert abs(om_before) == pytest.approx(w_impact, rel=1e-3)  # [-] θ' changes by ≤ θ''·dt
@@ -80,8 +86,8 @@ def test_restitution_energy_ratio_between_half_cycles():
     sides = np.sign(r.theta)
     # peaks of |θ| between consecutive sign changes (half-cycles)
     changes = np.nonzero(np.diff(sides) != 0)[0]
-    peaks = [np.max(np.abs(r.theta[a + 1:b + 1])) for a, b in zip(changes[:-1], changes[1:])]
-    peaks = np.array([0.9 * alpha] + peaks[:4])
+    peaks = [np.max(np.abs(r.theta[a + 1 : b + 1])) for a, b in itertools.pairwise(changes)]
+    peaks = np.array([0.9 * alpha, *peaks[:4]])
     energy = np.cos(alpha - peaks) - math.cos(alpha)
     # sampled peaks miss the true turning point by ≤ ½·θ''·(dt/2)² ≈ 1e-9 rad: 1e-5 relative is safe
     np.testing.assert_allclose(energy[1:] / energy[:-1], e * e, rtol=1e-5)
@@ -103,16 +109,16 @@ def test_no_motion_below_uplift_threshold_and_uplift_above():
     assert np.all(below.theta == 0.0) and below.n_impacts == 0
     # just above the threshold, a constant a_g = −u·g tips the block to θ > 0 (u = 1.01·tan α).
     # Taylor series of Eq. (1) at θ = θ' = 0: θ'' = θ''0 = p²·(u·cos α − sin α), θ''' = 0,
-    # θ'''' = p²·θ''0·(cos α + u·sin α), so θ(t) = θ''0·t²/2·(1 + p²·(cos α + u·sin α)·t²/12) + O(t⁶)
+    # θ'''' = p²·θ''0·(cos α + u·sin α), so θ(t) = θ''0·t²/2·(1 + p²·(cos α + u·sin α)·t²/12)
+    # + O(t⁶)
     u = 1.01 * math.tan(block.alpha)
     r = simulate(block, np.full(41, -u * G), dt)
-    ca, sa, p2 = math.cos(block.alpha), math.sin(block.alpha), block.p ** 2
+    ca, sa, p2 = math.cos(block.alpha), math.sin(block.alpha), block.p**2
     acc0 = p2 * (u * ca - sa)
     t = r.t[-1]
     expected = 0.5 * acc0 * t * t * (1 + p2 * (ca + u * sa) * t * t / 12)
     # the O(t⁶) remainder is ≈ (p²t²)²/360 ≈ 1e-5 relative at t = 0.1 s; RK4 error is far smaller
     assert r.theta[-1] == pytest.approx(expected, rel=1e-4)
-
 
 
 @pytest.mark.parametrize("gamma", [2.0, 3.0, 4.0, 5.5])
@@ -133,9 +139,14 @@ def test_ulps_above_the_uplift_threshold_give_no_stall(gamma):
         r = simulate(block, ag, dt)
         assert r.n_impacts <= 1 and r.max_abs_theta < 1e-12 and not r.overturned
 
+
 @settings(max_examples=40, deadline=None)
-@given(R=st.floats(0.3, 5.0), gamma=st.floats(1.5, 8.0), scale=st.floats(0.1, 3.0),
-       seed=st.integers(0, 2 ** 32 - 1))
+@given(
+    R=st.floats(0.3, 5.0),
+    gamma=st.floats(1.5, 8.0),
+    scale=st.floats(0.1, 3.0),
+    seed=st.integers(0, 2**32 - 1),
+)
 def test_mirror_symmetry_is_exact(R, gamma, scale, seed):
     # Eq. (1) is odd in (θ, a_g): the response to −a_g must be exactly −θ (reference.md §2)
     block = Block(R, gamma)
@@ -148,7 +159,7 @@ def test_mirror_symmetry_is_exact(R, gamma, scale, seed):
 
 
 @settings(max_examples=25, deadline=None)
-@given(R=st.floats(0.3, 5.0), gamma=st.floats(1.5, 8.0), seed=st.integers(0, 2 ** 32 - 1))
+@given(R=st.floats(0.3, 5.0), gamma=st.floats(1.5, 8.0), seed=st.integers(0, 2**32 - 1))
 def test_energy_never_grows_without_forcing(R, gamma, seed):
     # With e < 1 and a_g = 0 every impact dissipates energy and nothing supplies it, so the level
     # of (E) must not increase (up to RK4 round-off, 1e-10 relative).
@@ -169,13 +180,15 @@ def test_overturning_is_located_and_reported():
     after = r.t > r.t_overturn
     assert np.all(np.isnan(r.theta[after])) and not np.any(np.isnan(r.theta[~after]))
     assert r.max_abs_theta == pytest.approx(math.pi / 2)
-    r_alpha = simulate(block, np.zeros(2000), 1 / 400, theta0=0.9 * block.alpha,
-                       overturn_angle="alpha", omega0=1.0)
+    r_alpha = simulate(
+        block, np.zeros(2000), 1 / 400, theta0=0.9 * block.alpha, overturn_angle="alpha", omega0=1.0
+    )
     assert r_alpha.overturned and r_alpha.t_overturn < r.t_overturn
 
 
-@pytest.mark.parametrize("R, gamma, e, u_after", [
-    (1.0, 4.0, 0.8, 0.3), (2.0, 3.0, 0.925, -0.5), (0.5, 6.0, 0.9, 0.0)])
+@pytest.mark.parametrize(
+    "R, gamma, e, u_after", [(1.0, 4.0, 0.8, 0.3), (2.0, 3.0, 0.925, -0.5), (0.5, 6.0, 0.9, 0.0)]
+)
 def test_decaying_rocking_comes_to_rest_when_the_reference_does(R, gamma, e, u_after):
     """A pulse sets the block rocking, then a constant ground acceleration below g·tan α (on one
     side or none) lets it decay into a chatter that ends at rest: the chatter our solver sums in
@@ -200,21 +213,26 @@ def test_decaying_rocking_comes_to_rest_when_the_reference_does(R, gamma, e, u_a
     assert ours.max_abs_theta == pytest.approx(ref.max_abs_theta, rel=1e-6)
 
 
-@pytest.mark.parametrize("kwargs, word", [
-    (dict(ag=[0.0, float("nan"), 1.0], dt=0.01), "ag"),
-    (dict(ag=[0.0, 1.0], dt=0.0), "dt"),
-    (dict(ag=[0.0, 1.0], dt=-1.0), "dt"),
-    (dict(ag=[0.0, 1.0], dt=0.01, e=1.5), "e"),
-    (dict(ag=[0.0, 1.0], dt=0.01, e=0.0), "e"),
-    (dict(ag=[], dt=0.01), "ag"),
-])
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        (dict(ag=[0.0, float("nan"), 1.0], dt=0.01), "ag"),
+        (dict(ag=[0.0, 1.0], dt=0.0), "dt"),
+        (dict(ag=[0.0, 1.0], dt=-1.0), "dt"),
+        (dict(ag=[0.0, 1.0], dt=0.01, e=1.5), "e"),
+        (dict(ag=[0.0, 1.0], dt=0.01, e=0.0), "e"),
+        (dict(ag=[], dt=0.01), "ag"),
+    ],
+)
 def test_bad_input_names_the_parameter(kwargs, word):
     with pytest.raises(InputError, match=rf"\b{word}\b"):
         simulate(Block(1.0, 3.0), **kwargs)
 
 
-@pytest.mark.parametrize("R, gamma, word", [(-1.0, 3.0, "R"), (1.0, 0.0, "gamma"),
-                                            (float("inf"), 3.0, "R"), (1.0, float("nan"), "gamma")])
+@pytest.mark.parametrize(
+    "R, gamma, word",
+    [(-1.0, 3.0, "R"), (1.0, 0.0, "gamma"), (float("inf"), 3.0, "R"), (1.0, float("nan"), "gamma")],
+)
 def test_bad_block_names_the_parameter(R, gamma, word):
     with pytest.raises(ValueError, match=rf"\b{word}\b"):
         Block(R, gamma)
@@ -223,8 +241,8 @@ def test_bad_block_names_the_parameter(R, gamma, word):
 # ---------------------------------------------------------------- independent reference solver
 
 N_CASES = 500
-DT = 1 / 100          # coarse step (4× the paper's) makes the comparison harder, and it is faster
-DURATION = 4.0        # [s]
+DT = 1 / 100  # coarse step (4× the paper's) makes the comparison harder, and it is faster
+DURATION = 4.0  # [s]
 
 
 def _case(i: int):

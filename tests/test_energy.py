@@ -6,13 +6,21 @@ import math
 import numpy as np
 import pytest
 
-from rocking.dynamics.body import FOOT, G, Block, housner_sv, paper_bodies
-from rocking.assessment.energy import (OVERTURN, SAFE, assess, available_sv, band_frequencies,
-                                       energy_balance, forms_grid, grid_table)
+from rocking.assessment.energy import (
+    OVERTURN,
+    SAFE,
+    assess,
+    available_sv,
+    band_frequencies,
+    energy_balance,
+    forms_grid,
+    grid_table,
+)
+from rocking.dynamics.body import FOOT, Block, G, housner_sv, paper_bodies
 from rocking.errors import InputError
 from rocking.motions.ensemble import Ensemble
-from rocking.motions.targets import RG160, TabulatedSpectrum
 from rocking.motions.response import response_spectrum
+from rocking.motions.targets import RG160, TabulatedSpectrum
 from rocking.studies.paper import paper_values
 
 #: The paper's Table 1 (required S_v [cm/s], Eq. 11) as transcribed in the package data: rows
@@ -30,11 +38,12 @@ def _flat_psv_spectrum(psv_m_s: float) -> TabulatedSpectrum:
 
 def _harmonic_ensemble(amplitudes, f0=0.5, duration=80.0, dt=0.01) -> Ensemble:
     """Sinusoids a(t) = A·sin(2π·f0·t) [m/s²], one member per amplitude."""
-    t = np.arange(int(round(duration / dt)) + 1) * dt
+    t = np.arange(round(duration / dt) + 1) * dt
     return Ensemble(np.outer(amplitudes, np.sin(2.0 * math.pi * f0 * t)), dt)
 
 
 # ----------------------------------------------------------------------------- available S_v
+
 
 def test_flat_spectrum_gives_its_value():
     # PSV interpolation is exact for a straight line on log-log axes: only rounding remains.
@@ -78,8 +87,7 @@ def test_harmonic_ensemble_steady_state_psv():
     ens = _harmonic_ensemble([1.0, 3.0])
     zeta, w0 = 0.05, 2.0 * math.pi * 0.5
     expected = 2.0 / (2.0 * zeta * w0)
-    assert available_sv(ens, band_hz=(0.48, 0.52), n_freqs=100) == pytest.approx(expected,
-                                                                                   rel=1e-3)
+    assert available_sv(ens, band_hz=(0.48, 0.52), n_freqs=100) == pytest.approx(expected, rel=1e-3)
 
 
 def test_scaling_to_agx_equals_scaling_the_motions():
@@ -102,19 +110,23 @@ def test_response_spectrum_source_uses_its_own_frequencies_in_the_band():
         available_sv(rs, band_hz=(0.2, 0.4))
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"band_hz": (0.6, 0.04)}, "below the upper"),
-    ({"band_hz": (0.0, 0.6)}, "lower edge"),
-    ({"band_hz": "x"}, "two frequencies"),
-    ({"agx": 0.5}, "agx scales an ensemble"),
-    ({"n_freqs": 1}, "n_freqs"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"band_hz": (0.6, 0.04)}, "below the upper"),
+        ({"band_hz": (0.0, 0.6)}, "lower edge"),
+        ({"band_hz": "x"}, "two frequencies"),
+        ({"agx": 0.5}, "agx scales an ensemble"),
+        ({"n_freqs": 1}, "n_freqs"),
+    ],
+)
 def test_bad_arguments(kwargs, match):
     with pytest.raises(InputError, match=match):
         available_sv(_flat_psv_spectrum(1.0), **kwargs)
 
 
 # ----------------------------------------------------------------------------- Tables 1-3
+
 
 def test_energy_balance_tables_against_independent_computations():
     ens = _harmonic_ensemble([1.0, 3.0], duration=20.0, dt=0.02)
@@ -123,8 +135,9 @@ def test_energy_balance_tables_against_independent_computations():
     ds = energy_balance(blocks, ens, agx50, n_freqs=30)
     # S_v1 of each body equals the band maximum of the ensemble scaled to its A_gx50.
     for i in (0, 2):
-        assert ds["sv1"].values[i] == pytest.approx(available_sv(ens.scaled(agx50[i]),
-                                                                 n_freqs=30), rel=1e-12)
+        assert ds["sv1"].values[i] == pytest.approx(
+            available_sv(ens.scaled(agx50[i]), n_freqs=30), rel=1e-12
+        )
     assert np.isnan(ds["sv1"].values[1]) and np.isnan(ds["ratio"].values[1])
     assert ds["sv_required"].values == pytest.approx([housner_sv(b) for b in blocks], rel=1e-15)
     # Table 3 is Table 2 over Table 1.
@@ -145,7 +158,7 @@ def test_energy_balance_accepts_an_agx50_dataset_and_checks_its_length():
     ds = energy_balance(blocks, ens, a, n_freqs=10)
     assert ds["agx50"].values.tolist() == [0.3, 0.5]
     with pytest.raises(InputError, match="3 bodies"):
-        energy_balance(blocks + [Block(1.0, 2.0)], ens, a)
+        energy_balance([*blocks, Block(1.0, 2.0)], ens, a)
     with pytest.raises(InputError, match=r"agx50\[1\]"):
         energy_balance(blocks, ens, [0.3, -1.0])
 
@@ -172,6 +185,7 @@ def test_grid_table_reproduces_paper_table_1_layout():
 
 # ----------------------------------------------------------------------------- worked examples
 
+
 def test_paper_worked_examples_on_the_first_floor():
     # Paper Section 8, last paragraph: first floor of the T_n = 2.0 s frame at A_gx = 0.6 gives
     # a maximum S_v of 114.30 cm/s below 0.6 Hz. R = 1.22 m (4 ft), γ = 2 needs 205.11 cm/s:
@@ -184,8 +198,9 @@ def test_paper_worked_examples_on_the_first_floor():
     np.testing.assert_allclose(100 * ds["sv_available"].values, [114.30, 114.30], rtol=1e-12)
     assert ds["verdict"].values.tolist() == [SAFE, OVERTURN]
     # margin = required / available − 1 [-]
-    np.testing.assert_allclose(ds["margin"].values,
-                               ds["sv_required"].values / 1.1430 - 1.0, rtol=1e-12)
+    np.testing.assert_allclose(
+        ds["margin"].values, ds["sv_required"].values / 1.1430 - 1.0, rtol=1e-12
+    )
     assert ds["margin"].values[0] == pytest.approx(205.12 / 114.30 - 1, abs=1e-4)
     assert ds["body"].values.tolist() == ["gamma 2", "gamma 4"]
 
@@ -197,6 +212,7 @@ def test_assess_rejects_mismatched_names():
 
 # ----------------------------------------------------------------------------- figures
 
+
 def test_sv_agx_figure_fits_the_points_and_draws_housner_line():
     from rocking.plots.fragility import plot_sv_agx
 
@@ -205,15 +221,15 @@ def test_sv_agx_figure_fits_the_points_and_draws_housner_line():
     bodies = [Block(r, 3.0) for r in (0.5, 1.0, 2.0, 3.0)]
     ens = _harmonic_ensemble([1.0], duration=10.0, dt=0.02)
     ds = energy_balance(bodies, ens, agx50, n_freqs=10)
-    ds["sv_required"] = ("body", (10.0 + 150.0 * np.nan_to_num(agx50)) / 100.0,
-                         {"units": "m s-1"})
+    ds["sv_required"] = ("body", (10.0 + 150.0 * np.nan_to_num(agx50)) / 100.0, {"units": "m s-1"})
     ax = plot_sv_agx(ds).axes[0]
     labels = [line.get_label() for line in ax.get_lines()]
     assert labels[0] == "3 bodies"
     assert "150.0·A_gx + 10.0" in labels[1] and "R² = 1.000" in labels[1]
     housner = ax.get_lines()[2].get_ydata()
     assert housner[1] / ax.get_lines()[2].get_xdata()[1] == pytest.approx(
-        100 * ds.attrs["sv1_per_g"], rel=1e-12)
+        100 * ds.attrs["sv1_per_g"], rel=1e-12
+    )
     assert "[cm/s]" in ax.get_ylabel() and "[g]" in ax.get_xlabel()
 
 
@@ -223,7 +239,7 @@ def test_sv1_spectrum_figure_marks_the_band_maximum():
     spec = TabulatedSpectrum([0.05, 0.3, 2.0], [0.01, 0.2, 0.3])
     f = np.geomspace(0.02, 20.0, 300)
     fig = plot_sv1_spectrum(f, spec.psv(f), sv_required=1.0)
-    marker = next(l for l in fig.axes[0].get_lines() if l.get_label().startswith("S_v1"))
+    marker = next(ln for ln in fig.axes[0].get_lines() if ln.get_label().startswith("S_v1"))
     # The marker is the largest sampled value inside 0.04–0.6 Hz, within the grid's resolution
     # of the exact maximum at the 0.3 Hz knot (PSV varies by < 2 % between grid points).
     assert marker.get_ydata()[0] == pytest.approx(100 * available_sv(spec), rel=0.02)

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rocking.motions.envelopes import Boxcar, Compound, Trapezoidal, make_envelope
 from rocking.errors import InputError
+from rocking.motions.envelopes import Boxcar, Compound, Trapezoidal, make_envelope
 
 ENVELOPES = [
     Boxcar(20.0),
@@ -45,8 +45,11 @@ def test_zero_outside_the_motion_and_between_zero_and_one(env):
 def test_compound_shape_jennings_housner_tsai():
     # I = (t/t1)² rising, 1 on [t1, t2], exp(−c(t − t2)) after: continuous at t1 and t2.
     env = Compound(20.0, t1=2.0, t2=12.0, c=0.25)
-    np.testing.assert_allclose(env([0.0, 1.0, 2.0, 7.0, 12.0, 16.0]),
-                               [0.0, 0.25, 1.0, 1.0, 1.0, math.exp(-1.0)], rtol=1e-15)
+    np.testing.assert_allclose(
+        env([0.0, 1.0, 2.0, 7.0, 12.0, 16.0]),
+        [0.0, 0.25, 1.0, 1.0, 1.0, math.exp(-1.0)],
+        rtol=1e-15,
+    )
     eps = 1e-9
     assert env(2.0 - eps) == pytest.approx(1.0, abs=1e-8)
     assert env(12.0 + eps) == pytest.approx(1.0, abs=1e-8)
@@ -54,8 +57,11 @@ def test_compound_shape_jennings_housner_tsai():
 
 def test_trapezoid_shape():
     env = Trapezoidal(20.0, rise=2.0, decay=6.0)
-    np.testing.assert_allclose(env([0.0, 1.0, 2.0, 10.0, 14.0, 17.0, 20.0]),
-                               [0.0, 0.5, 1.0, 1.0, 1.0, 0.5, 0.0], atol=1e-15)
+    np.testing.assert_allclose(
+        env([0.0, 1.0, 2.0, 10.0, 14.0, 17.0, 20.0]),
+        [0.0, 0.5, 1.0, 1.0, 1.0, 0.5, 0.0],
+        atol=1e-15,
+    )
 
 
 def test_duration_rule_gives_the_common_20_s_compound_default():
@@ -75,12 +81,16 @@ def test_duration_rule_gives_the_common_20_s_compound_default():
 def test_equivalent_durations_of_the_rule_scale_with_duration():
     # With shapes proportional to T, T_e/T is a constant: 1 (boxcar), 0.8 (trapezoid),
     # 0.1/3 + 0.5 + (1 − e⁻²)/5 (compound).
-    expected = {"boxcar": 1.0, "trapezoidal": 0.8,
-                "compound": 0.1 / 3 + 0.5 + (1 - math.exp(-2.0)) / 5}
+    expected = {
+        "boxcar": 1.0,
+        "trapezoidal": 0.8,
+        "compound": 0.1 / 3 + 0.5 + (1 - math.exp(-2.0)) / 5,
+    }
     for name, ratio in expected.items():
         for T in (10.0, 20.0, 30.0):
-            assert make_envelope(name, T).equivalent_duration() == pytest.approx(ratio * T,
-                                                                                 rel=1e-12)
+            assert make_envelope(name, T).equivalent_duration() == pytest.approx(
+                ratio * T, rel=1e-12
+            )
 
 
 def test_explicit_parameters_override_the_rule():
@@ -89,16 +99,19 @@ def test_explicit_parameters_override_the_rule():
     assert make_envelope("trapezoidal", 20.0, rise=1.0).decay == pytest.approx(6.0)
 
 
-@pytest.mark.parametrize("call, words", [
-    (lambda: make_envelope("gaussian", 20.0), "envelope"),
-    (lambda: make_envelope("compound", 20.0, rise=1.0), "rise"),
-    (lambda: make_envelope("boxcar", 20.0, t1=1.0), "t1"),
-    (lambda: make_envelope("compound", -1.0), "duration"),
-    (lambda: Compound(20.0, t1=5.0, t2=4.0, c=0.2), "t1"),
-    (lambda: Compound(20.0, t1=1.0, t2=21.0, c=0.2), "t2"),
-    (lambda: Compound(20.0, t1=1.0, t2=2.0, c=-0.2), "c"),
-    (lambda: Trapezoidal(10.0, rise=6.0, decay=5.0), "decay"),
-])
+@pytest.mark.parametrize(
+    "call, words",
+    [
+        (lambda: make_envelope("gaussian", 20.0), "envelope"),
+        (lambda: make_envelope("compound", 20.0, rise=1.0), "rise"),
+        (lambda: make_envelope("boxcar", 20.0, t1=1.0), "t1"),
+        (lambda: make_envelope("compound", -1.0), "duration"),
+        (lambda: Compound(20.0, t1=5.0, t2=4.0, c=0.2), "t1"),
+        (lambda: Compound(20.0, t1=1.0, t2=21.0, c=0.2), "t2"),
+        (lambda: Compound(20.0, t1=1.0, t2=2.0, c=-0.2), "c"),
+        (lambda: Trapezoidal(10.0, rise=6.0, decay=5.0), "decay"),
+    ],
+)
 def test_bad_parameters_are_named(call, words):
     with pytest.raises(InputError, match=words):
         call()

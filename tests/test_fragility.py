@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from rocking.core.progress import Reporter
 from rocking.dynamics.body import Block
 from rocking.dynamics.simulate import simulate
 from rocking.errors import InputError
-from rocking.core.progress import Reporter
-from rocking.montecarlo.statistics import LognormalFit, fit_lognormal, wilson_interval
 from rocking.montecarlo.probability import agx_50, overturning_probability
+from rocking.montecarlo.statistics import LognormalFit, fit_lognormal, wilson_interval
 from rocking.motions.ensemble import Ensemble
 from rocking.motions.synthesis import generate
 
@@ -55,8 +55,12 @@ def test_wilson_interval_published_values():
     # Newcombe, R. G. (1998), Two-sided confidence intervals for the single proportion:
     # comparison of seven methods, Stat. Med. 17, 857-872, Table II, method 3 (Wilson score
     # interval without continuity correction), printed to 4 decimals (hence abs=5e-5).
-    cases = {(81, 263): (0.2553, 0.3662), (15, 148): (0.0624, 0.1605),
-             (0, 20): (0.0, 0.1611), (1, 29): (0.0061, 0.1718)}
+    cases = {
+        (81, 263): (0.2553, 0.3662),
+        (15, 148): (0.0624, 0.1605),
+        (0, 20): (0.0, 0.1611),
+        (1, 29): (0.0061, 0.1718),
+    }
     k, n = np.array(list(cases)).T
     low, high = wilson_interval(k, n, 0.95)
     expected = np.array(list(cases.values()))
@@ -89,8 +93,12 @@ def test_agx50_is_an_upward_crossing_of_one_half(ensemble):
 
 def test_agx50_not_reached_is_nan_and_cases_stack(ensemble):
     big, small = Block(3.0, 2.0), Block(0.5, 4.0)
-    ds = agx_50([big, small], {"all": ensemble, "half": ensemble.subset(range(4))},
-                resolution=0.05, agx_max=0.5)
+    ds = agx_50(
+        [big, small],
+        {"all": ensemble, "half": ensemble.subset(range(4))},
+        resolution=0.05,
+        agx_max=0.5,
+    )
     assert ds["agx50"].dims == ("case", "body")
     assert list(ds["case"].values) == ["all", "half"]
     # a 3 m block with gamma 2 needs far more than 0.5 g (paper Table 2: A_gx(50 %) > 1 g for
@@ -192,8 +200,9 @@ def test_killed_run_resumes_to_the_same_result(tmp_path):
     out = tmp_path / "run"
     # The run's backend (above) stops after its first chunk is written; the kill follows that
     # event, not a guess of how long the run takes.
-    proc = subprocess.Popen([sys.executable, "-c", KILL_SCRIPT, str(ens_path), str(out),
-                             json.dumps([sizes, agx])])
+    proc = subprocess.Popen(
+        [sys.executable, "-c", KILL_SCRIPT, str(ens_path), str(out), json.dumps([sizes, agx])]
+    )
     try:
         deadline = time.monotonic() + 120
         while not list(out.glob("chunk-*.npz")):
@@ -220,16 +229,20 @@ def _curves_dataset(blocks, n=40):
     """A probability dataset shaped like overturning_probability's: lognormal curves with the
     median A_gx growing with R and falling with γ, Wilson intervals of n motions."""
     agx = np.round(np.arange(1, 16) * 0.1, 12)
-    median = np.array([[0.4 * b.R / b.gamma ** 0.5] for b in blocks])
+    median = np.array([[0.4 * b.R / b.gamma**0.5] for b in blocks])
     count = np.round(n * LognormalFit(1.0, 0.3).probability(agx[None, :] / median)).astype(int)
     lo, hi = wilson_interval(count, n)
     dims = ("body", "agx")
-    return xr.Dataset({"probability": (dims, count / n), "ci_low": (dims, lo),
-                       "ci_high": (dims, hi)},
-                      coords={"body": [b.label for b in blocks], "agx": agx,
-                              "R": ("body", [b.R for b in blocks]),
-                              "gamma": ("body", [b.gamma for b in blocks])},
-                      attrs={"confidence": 0.95})
+    return xr.Dataset(
+        {"probability": (dims, count / n), "ci_low": (dims, lo), "ci_high": (dims, hi)},
+        coords={
+            "body": [b.label for b in blocks],
+            "agx": agx,
+            "R": ("body", [b.R for b in blocks]),
+            "gamma": ("body", [b.gamma for b in blocks]),
+        },
+        attrs={"confidence": 0.95},
+    )
 
 
 def _marked_lines(ax):
@@ -244,10 +257,11 @@ def test_many_bodies_are_drawn_one_panel_per_size():
 
     blocks = paper_bodies()
     ds = _curves_dataset(blocks)
-    fits = {b.label: LognormalFit(0.4 * b.R / b.gamma ** 0.5, 0.3) for b in blocks}
+    fits = {b.label: LognormalFit(0.4 * b.R / b.gamma**0.5, 0.3) for b in blocks}
     fig = plot_fragility(ds, fits=fits, title="72 bodies")
-    assert [ax.get_title() for ax in fig.axes] == [f"R = {Block(f * 0.3048, 2).R:.2f} m"
-                                                    for f in PAPER_R_FT]
+    assert [ax.get_title() for ax in fig.axes] == [
+        f"R = {Block(f * 0.3048, 2).R:.2f} m" for f in PAPER_R_FT
+    ]
     colours = None
     for ax, r_ft in zip(fig.axes, PAPER_R_FT):
         lines = _marked_lines(ax)
@@ -269,8 +283,7 @@ def test_few_bodies_share_one_axis_and_many_gammas_get_a_colour_bar():
     few = [Block(1.0, g) for g in (3.0, 4.0, 5.0)]
     fig = plot_fragility(_curves_dataset(few))
     assert len(fig.axes) == 1 and len(_marked_lines(fig.axes[0])) == 3
-    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == \
-        [b.label for b in few]
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == [b.label for b in few]
     # 2 sizes x 14 slenderness values: two panels and a colour bar instead of 14 legend entries
     many = [Block(r, 2.0 + 0.25 * k) for r in (1.0, 2.0) for k in range(MAX_LEGEND + 2)]
     fig = plot_fragility(_curves_dataset(many))

@@ -11,10 +11,10 @@ from scipy import signal
 
 from rocking.cli import main
 from rocking.errors import InputError
-from rocking.structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
 from rocking.motions.ensemble import Ensemble
-from rocking.motions.synthesis import generate
 from rocking.motions.response import response_spectrum
+from rocking.motions.synthesis import generate
+from rocking.structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
 
 G = 9.80665
 
@@ -23,8 +23,9 @@ def _motion(seed, n_t=3000, dt=0.01, pga=0.3 * G):
     """A realistic-looking ground acceleration [m/s²]: band-limited (0.2–15 Hz) Gaussian noise
     under a compound envelope (rise 2 s, decay from 0.6 of the duration), peak ``pga``."""
     rng = np.random.default_rng(seed)
-    noise = signal.sosfilt(signal.butter(4, [0.2, 15.0], "bandpass", fs=1 / dt, output="sos"),
-                           rng.standard_normal(n_t))
+    noise = signal.sosfilt(
+        signal.butter(4, [0.2, 15.0], "bandpass", fs=1 / dt, output="sos"), rng.standard_normal(n_t)
+    )
     t = np.arange(n_t) * dt
     env = np.minimum((t / 2.0) ** 2, 1.0) * np.exp(-np.maximum(t - 0.6 * t[-1], 0.0) / 3.0)
     a = noise * env
@@ -47,6 +48,7 @@ def _state_space_floor_acc(frame, ag, dt):
 
 # ---- frames and modes ---------------------------------------------------------------------------
 
+
 def test_paper_units():
     # reference.md §1: 444.82 kN/g is a weight (100 kip) -> mass 444.82e3/9.80665 kg;
     # 55.23 kN/cm = 5.523e6 N/m.
@@ -56,8 +58,9 @@ def test_paper_units():
     assert frame.omegas == pytest.approx(ShearFrame.preset("paper-2.0").omegas, rel=1e-14)
 
 
-@pytest.mark.parametrize("name, t1", [("paper-2.0", 2.0), ("paper-1.5", 1.5), ("paper-1.0", 1.0),
-                                      ("paper-0.5", 0.5)])
+@pytest.mark.parametrize(
+    "name, t1", [("paper-2.0", 2.0), ("paper-1.5", 1.5), ("paper-1.0", 1.0), ("paper-0.5", 0.5)]
+)
 def test_preset_fundamental_periods(name, t1):
     # Paper Section 7 names the frames by T_n; its data give 2.0005 s and 0.4986 s (rounded
     # in the paper, hence 1 %); the 1.5 s and 1.0 s frames are built to be exact.
@@ -80,32 +83,38 @@ def test_uniform_frame_eigenvalues_closed_form(n):
     assert frame.frequencies_hz == pytest.approx(exact / (2 * math.pi), rel=1e-12)
 
 
-@pytest.mark.parametrize("frame", [ShearFrame.preset("paper-2.0"),
-                                   ShearFrame([3e4, 5e4, 4e4, 1e4], [4e6, 9e6, 3e6, 2e6], 0.02)])
+@pytest.mark.parametrize(
+    "frame",
+    [ShearFrame.preset("paper-2.0"), ShearFrame([3e4, 5e4, 4e4, 1e4], [4e6, 9e6, 3e6, 2e6], 0.02)],
+)
 def test_mode_invariants(frame):
     # Mass normalisation, the generalised eigenproblem itself, and Σ_r φ_ir Γ_r = 1 on every
     # floor (the modes expand a unit rigid-body displacement); round-off tolerances.
     phi, gamma, w = frame.mode_shapes, frame.participation_factors, frame.omegas
     m, k = frame.mass_matrix, frame.stiffness_matrix
     assert phi.T @ m @ phi == pytest.approx(np.eye(frame.n_stories), abs=1e-12)
-    assert k @ phi == pytest.approx(m @ phi * w ** 2, rel=1e-10, abs=1e-10 * np.abs(k @ phi).max())
+    assert k @ phi == pytest.approx(m @ phi * w**2, rel=1e-10, abs=1e-10 * np.abs(k @ phi).max())
     assert phi @ gamma == pytest.approx(np.ones(frame.n_stories), rel=1e-12)
     assert np.all(np.diff(frame.periods) < 0) and np.all(phi[-1] > 0)
     # classical damping: Φᵀ C Φ = diag(2ζω)
     assert phi.T @ frame.damping_matrix @ phi == pytest.approx(
-        np.diag(2 * frame.damping * w), abs=1e-10 * w.max())
+        np.diag(2 * frame.damping * w), abs=1e-10 * w.max()
+    )
 
 
-@pytest.mark.parametrize("kwargs, fragment", [
-    (dict(masses=[1e4, 1e4, -1.0], stiffnesses=[1e6] * 3), "masses[2]"),
-    (dict(masses=[1e4, 1e4], stiffnesses=[1e6, math.nan]), "stiffnesses[1]"),
-    (dict(masses=[1e4, 1e4], stiffnesses=[1e6, 0.0]), "stiffnesses[1]"),
-    (dict(masses=[1e4, 1e4], stiffnesses=[1e6]), "masses has 2 entries but stiffnesses has 1"),
-    (dict(masses=[], stiffnesses=[]), "at least one story"),
-    (dict(masses=[1e4], stiffnesses=[1e6], damping=1.0), "damping"),
-    (dict(masses=[1e4], stiffnesses=[1e6], damping=-0.01), "damping"),
-    (dict(masses=5.0, stiffnesses=[1e6]), "masses must be a list"),
-])
+@pytest.mark.parametrize(
+    "kwargs, fragment",
+    [
+        (dict(masses=[1e4, 1e4, -1.0], stiffnesses=[1e6] * 3), "masses[2]"),
+        (dict(masses=[1e4, 1e4], stiffnesses=[1e6, math.nan]), "stiffnesses[1]"),
+        (dict(masses=[1e4, 1e4], stiffnesses=[1e6, 0.0]), "stiffnesses[1]"),
+        (dict(masses=[1e4, 1e4], stiffnesses=[1e6]), "masses has 2 entries but stiffnesses has 1"),
+        (dict(masses=[], stiffnesses=[]), "at least one story"),
+        (dict(masses=[1e4], stiffnesses=[1e6], damping=1.0), "damping"),
+        (dict(masses=[1e4], stiffnesses=[1e6], damping=-0.01), "damping"),
+        (dict(masses=5.0, stiffnesses=[1e6]), "masses must be a list"),
+    ],
+)
 def test_invalid_frames(kwargs, fragment):
     with pytest.raises(InputError, match=None) as err:
         ShearFrame(**kwargs)
@@ -122,14 +131,21 @@ def test_invalid_uniform_and_preset():
 
 def test_frame_from_toml(tmp_path):
     si = tmp_path / "two.toml"
-    si.write_text('name = "two"\nmasses_kg = [2e4, 1e4]\nstiffnesses_N_per_m = [5e6, 3e6]\n'
-                  'damping = 0.03\n')
+    si.write_text(
+        'name = "two"\nmasses_kg = [2e4, 1e4]\nstiffnesses_N_per_m = [5e6, 3e6]\ndamping = 0.03\n'
+    )
     frame = ShearFrame.from_toml(si)
-    assert (frame.name, frame.masses, frame.stiffnesses, frame.damping) == \
-        ("two", (2e4, 1e4), (5e6, 3e6), 0.03)
+    assert (frame.name, frame.masses, frame.stiffnesses, frame.damping) == (
+        "two",
+        (2e4, 1e4),
+        (5e6, 3e6),
+        0.03,
+    )
     paper = tmp_path / "paper.toml"
-    paper.write_text("weights_kN_per_g = [87.59, 87.59, 87.59, 87.59, 87.59]\n"
-                     "stiffness_kN_per_cm = [175.11, 175.11, 175.11, 175.11, 175.11]\n")
+    paper.write_text(
+        "weights_kN_per_g = [87.59, 87.59, 87.59, 87.59, 87.59]\n"
+        "stiffness_kN_per_cm = [175.11, 175.11, 175.11, 175.11, 175.11]\n"
+    )
     frame = ShearFrame.from_toml(paper)
     assert frame.name == "paper" and frame.damping == 0.05
     assert frame.omegas == pytest.approx(ShearFrame.preset("paper-0.5").omegas, rel=1e-14)
@@ -151,8 +167,11 @@ def test_frame_from_toml(tmp_path):
 
 # ---- floor accelerations ------------------------------------------------------------------------
 
-@pytest.mark.parametrize("frame", [ShearFrame.preset("paper-0.5"),
-                                   ShearFrame([3e4, 5e4, 4e4], [4e6, 9e6, 3e6], 0.02, "odd")])
+
+@pytest.mark.parametrize(
+    "frame",
+    [ShearFrame.preset("paper-0.5"), ShearFrame([3e4, 5e4, 4e4], [4e6, 9e6, 3e6], 0.02, "odd")],
+)
 def test_floor_accelerations_match_state_space(frame):
     # Independent solver: lsim on the coupled 2n-state model (no modal decomposition), exact for
     # linearly interpolated input like our recurrence, so only round-off separates the two
@@ -192,7 +211,7 @@ def test_one_story_resonance_amplification():
     last = t >= 70 / f
     basis = np.column_stack([np.sin(w * t[last]), np.cos(w * t[last])])
     amp = np.hypot(*np.linalg.lstsq(basis, acc[last], rcond=None)[0])
-    assert amp == pytest.approx(math.sqrt(1 + 4 * zeta ** 2) / (2 * zeta), rel=5e-4)
+    assert amp == pytest.approx(math.sqrt(1 + 4 * zeta**2) / (2 * zeta), rel=5e-4)
 
 
 def test_floor_accelerations_bad_input():
@@ -206,6 +225,7 @@ def test_floor_accelerations_bad_input():
 
 
 # ---- floor ensembles ----------------------------------------------------------------------------
+
 
 @pytest.fixture(scope="module")
 def ground():
@@ -232,8 +252,10 @@ def test_floor_ensembles_behave_like_ground_ensembles(ground, tmp_path):
     assert loaded.meta["location"] == "floor 5 of paper-1.0"
     assert ShearFrame.from_meta(loaded.meta) == frame
     freqs = np.array([0.5, 1.0, 5.0])
-    assert np.array_equal(response_spectrum(loaded.acc, loaded.dt, freqs).psv,
-                          response_spectrum(top.acc, top.dt, freqs).psv)
+    assert np.array_equal(
+        response_spectrum(loaded.acc, loaded.dt, freqs).psv,
+        response_spectrum(top.acc, top.dt, freqs).psv,
+    )
 
 
 def test_floor_ensemble_bad_input(ground):
@@ -249,6 +271,7 @@ def test_floor_ensemble_bad_input(ground):
 
 
 # ---- command line -------------------------------------------------------------------------------
+
 
 def test_cli_frame_show(tmp_path):
     runner = CliRunner()
@@ -272,8 +295,22 @@ def test_cli_frame_spectra(ground, tmp_path):
     # above 30 Hz (the floors filter it out and come within ~1 %).
     path = ground.save(tmp_path / "ground.nc")
     csv, png = tmp_path / "s.csv", tmp_path / "s.png"
-    res = CliRunner().invoke(main, ["frame", "spectra", "paper-0.5", "--motions", str(path),
-                                    "--agx", "0.6", "--csv", str(csv), "--out", str(png)])
+    res = CliRunner().invoke(
+        main,
+        [
+            "frame",
+            "spectra",
+            "paper-0.5",
+            "--motions",
+            str(path),
+            "--agx",
+            "0.6",
+            "--csv",
+            str(csv),
+            "--out",
+            str(png),
+        ],
+    )
     assert res.exit_code == 0, res.output
     table = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert table.shape[1] == 7 and np.all(table[:, 1:] > 0)

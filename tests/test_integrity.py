@@ -13,20 +13,21 @@ import stat
 import subprocess
 import sys
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
 
-from rocking.montecarlo import store
 from rocking.core.files import atomic_write
+from rocking.core.runs import RunFolder
 from rocking.dynamics.body import Block
 from rocking.errors import BackendError, InputError
+from rocking.montecarlo import store
 from rocking.montecarlo.engine import level_agx, level_key
 from rocking.montecarlo.probability import overturning_probability
 from rocking.motions.synthesis import generate
-from rocking.core.runs import RunFolder
 
 BLOCKS = [Block(0.6, 3.0), Block(1.22, 4.0)]
 AGX = [0.3, 0.6, 0.9]
@@ -36,8 +37,9 @@ SCIENCE = ("probability", "count", "n", "ci_low", "ci_high")
 @pytest.fixture(scope="module")
 def motions():
     """Two ensembles of the same size and sampling that overturn the blocks differently."""
-    return generate(8, duration=6.0, dt=1 / 200, seed=9), generate(8, duration=6.0, dt=1 / 200,
-                                                                   seed=10)
+    return generate(8, duration=6.0, dt=1 / 200, seed=9), generate(
+        8, duration=6.0, dt=1 / 200, seed=10
+    )
 
 
 def _science(ds):
@@ -75,8 +77,9 @@ def test_chunks_of_another_version_are_computed_again(motions, tmp_path, monkeyp
     same = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
     assert same.attrs["chunks_loaded"] == first.attrs["chunks_computed"]
     # an upgrade changes the kernel source: the old chunks must not be mixed with new results
-    monkeypatch.setattr(store, "code_version",
-                        lambda: {"version": "9.9", "kernel_sha256": "0" * 64})
+    monkeypatch.setattr(
+        store, "code_version", lambda: {"version": "9.9", "kernel_sha256": "0" * 64}
+    )
     upgraded = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
     assert upgraded.attrs["chunks_loaded"] == 0
     assert upgraded.attrs["chunks_computed"] == first.attrs["chunks_computed"]
@@ -95,17 +98,22 @@ with ChunkStore(sys.argv[1], {"run": "first"}):
 def test_a_folder_in_use_by_another_run_is_refused(tmp_path):
     # The defect: two runs into one folder at the same instant both succeeded. The claim is an
     # OS lock held by the first process; the second stops at once, whatever its parameters.
-    proc = subprocess.Popen([sys.executable, "-c", HOLD_SCRIPT, str(tmp_path)],
-                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", HOLD_SCRIPT, str(tmp_path)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
     try:
         assert proc.stdout.readline().strip() == "claimed"  # an observable event, not a sleep
         for params in ({"run": "first"}, {"run": "second"}):
-            with pytest.raises(InputError, match="in use"):
-                with store.ChunkStore(tmp_path, params):
-                    pass
-        with pytest.raises(InputError, match="in use"):
-            with RunFolder(tmp_path, command="test", params={}):
+            with pytest.raises(InputError, match="in use"), store.ChunkStore(tmp_path, params):
                 pass
+        with (
+            pytest.raises(InputError, match="in use"),
+            RunFolder(tmp_path, command="test", params={}),
+        ):
+            pass
     finally:
         proc.stdin.write("\n")
         proc.stdin.close()
@@ -150,9 +158,12 @@ def test_losing_every_dask_worker_is_a_clear_error_and_the_folder_resumes(motion
     agx = np.round(np.arange(0.1, 8.0, 0.05), 12)
     backend = DaskBackend(n_workers=2)
     done = threading.Event()
-    watcher = threading.Thread(target=_close_cluster_when_first_chunk_is_written,
-                               args=(backend, tmp_path, done), daemon=True)
-    backend.client  # start the cluster before watching
+    watcher = threading.Thread(
+        target=_close_cluster_when_first_chunk_is_written,
+        args=(backend, tmp_path, done),
+        daemon=True,
+    )
+    assert backend.workers == 2  # (connects: the cluster starts before the watching)
     watcher.start()
     try:
         with pytest.raises(BackendError, match="Dask"):
@@ -165,8 +176,9 @@ def test_losing_every_dask_worker_is_a_clear_error_and_the_folder_resumes(motion
     assert saved > 0
     resumed = overturning_probability(BLOCKS, a, agx, out=tmp_path, chunk_size=8)
     assert resumed.attrs["chunks_loaded"] == saved
-    xr.testing.assert_identical(_science(resumed), _science(overturning_probability(BLOCKS, a,
-                                                                                    agx)))
+    xr.testing.assert_identical(
+        _science(resumed), _science(overturning_probability(BLOCKS, a, agx))
+    )
 
 
 def test_files_follow_the_umask(tmp_path):
@@ -189,10 +201,9 @@ def test_run_folder_records_status_and_removes_the_previous_runs_outputs(tmp_pat
     assert info["status"] == "completed" and info["outputs"] == ["tables/a.csv"]
     (tmp_path / "notes.txt").write_text("the user's own file")
     # the defect: an interrupted rerun left the previous run's tables looking complete
-    with pytest.raises(KeyboardInterrupt):
-        with RunFolder(tmp_path, command="test", params={"x": 2}):
-            assert not (tmp_path / "tables" / "a.csv").exists()
-            raise KeyboardInterrupt
+    with pytest.raises(KeyboardInterrupt), RunFolder(tmp_path, command="test", params={"x": 2}):
+        assert not (tmp_path / "tables" / "a.csv").exists()
+        raise KeyboardInterrupt
     info = json.loads((tmp_path / "run.json").read_text())
     assert info["status"] == "failed" and info["outputs"] == []
     assert (tmp_path / "notes.txt").exists()  # never a file the run did not write
@@ -218,7 +229,7 @@ def test_cli_tells_a_bug_from_a_users_mistake(monkeypatch, tmp_path):
     assert bug.exit_code == 70
     assert "internal error" in bug.output and "a bug, not a problem with your input" in bug.output
     saved = bug.output.split("traceback is in ")[1].split("; please")[0]
-    assert "KeyError" in open(saved).read()
+    assert "KeyError" in Path(saved).read_text()
 
 
 def test_motions_above_the_nyquist_frequency_are_refused():
@@ -236,8 +247,10 @@ def test_generate_checks_its_output_file_before_the_work(tmp_path):
     from rocking.cli import main
 
     start = time.perf_counter()
-    result = CliRunner().invoke(main, ["motions", "generate", "--n", "100000", "--out",
-                                       str(tmp_path / "missing" / "ens.nc")])
+    result = CliRunner().invoke(
+        main,
+        ["motions", "generate", "--n", "100000", "--out", str(tmp_path / "missing" / "ens.nc")],
+    )
     assert result.exit_code == 1 and "--out" in result.output and "does not exist" in result.output
     assert time.perf_counter() - start < 10.0
 
@@ -246,17 +259,21 @@ def test_show_config_refuses_invalid_values():
     # The defect: --show-config printed a configuration that the run would then refuse.
     from rocking.cli import main
 
-    result = CliRunner().invoke(main, ["reproduce", "all", "--show-config", "--set",
-                                       'sec7.frames=["paper-3.0"]'])
+    result = CliRunner().invoke(
+        main, ["reproduce", "all", "--show-config", "--set", 'sec7.frames=["paper-3.0"]']
+    )
     assert result.exit_code == 1
     assert "sec7.frames: unknown frame preset 'paper-3.0'" in result.output
 
 
-@pytest.mark.parametrize("make, message", [
-    (lambda: Block(1e308, 4.0), r"R = 1e\+308 m is outside the range"),
-    (lambda: Block(1.0, 1e-9), r"gamma = 1e-09 is outside the range"),
-    (lambda: Block.from_dimensions(2000.0, 1.0), r"R = 1000 m is outside|gamma = 2000"),
-])
+@pytest.mark.parametrize(
+    "make, message",
+    [
+        (lambda: Block(1e308, 4.0), r"R = 1e\+308 m is outside the range"),
+        (lambda: Block(1.0, 1e-9), r"gamma = 1e-09 is outside the range"),
+        (lambda: Block.from_dimensions(2000.0, 1.0), r"R = 1000 m is outside|gamma = 2000"),
+    ],
+)
 def test_nonsense_bodies_are_refused(make, message):
     # The defect: R = 1e308 m was accepted and reported "safe" (Eq. 11 overflowed to inf);
     # gamma = 1e-9 was accepted.
@@ -266,8 +283,8 @@ def test_nonsense_bodies_are_refused(make, message):
 
 def test_nonsense_tables_and_specifications_are_refused(tmp_path):
     from rocking.assessment.bodies import read_bodies
-    from rocking.motions.design import parse_spectrum
     from rocking.assessment.screen import screen
+    from rocking.motions.design import parse_spectrum
 
     # a spectrum specification that gives a key twice: which one would be used?
     with pytest.raises(InputError, match="SDS is given twice"):
@@ -291,11 +308,25 @@ def test_fragility_and_agx50_folders_record_their_run(motions, tmp_path):
     a.save(path)
     bodies = tmp_path / "b.csv"
     bodies.write_text("R,gamma\n0.6,3\n1.22,4\n")
-    for command, extra, table in (("fragility", ["--agx", "0.3:0.9:0.3"], "probabilities.csv"),
-                                  ("agx50", ["--resolution", "0.1"], "agx50.csv")):
+    for command, extra, table in (
+        ("fragility", ["--agx", "0.3:0.9:0.3"], "probabilities.csv"),
+        ("agx50", ["--resolution", "0.1"], "agx50.csv"),
+    ):
         out = tmp_path / command
-        result = CliRunner().invoke(main, [command, "--bodies", str(bodies), "--motions",
-                                           str(path), "--out", str(out), "--quiet", *extra])
+        result = CliRunner().invoke(
+            main,
+            [
+                command,
+                "--bodies",
+                str(bodies),
+                "--motions",
+                str(path),
+                "--out",
+                str(out),
+                "--quiet",
+                *extra,
+            ],
+        )
         assert result.exit_code == 0, result.output
         info = json.loads((out / "run.json").read_text())
         assert info["status"] == "completed" and info["command"] == command
@@ -306,12 +337,26 @@ def test_fragility_and_agx50_folders_record_their_run(motions, tmp_path):
 def test_an_interrupted_screen_rerun_leaves_no_old_tables(tmp_path, monkeypatch):
     # The defect: an interrupted rerun of `screen` left the previous run's tables beside it,
     # looking complete.
-    from rocking.cli import main
     import rocking.assessment.screen
+    from rocking.cli import main
 
-    args = ["screen", "example", "--spectrum", "asce7:SDS=1.0,SD1=0.6,TL=8", "--frame",
-            "paper-2.0", "--n", "4", "--duration", "4", "--resolution", "0.2", "--out",
-            str(tmp_path), "--quiet"]
+    args = [
+        "screen",
+        "example",
+        "--spectrum",
+        "asce7:SDS=1.0,SD1=0.6,TL=8",
+        "--frame",
+        "paper-2.0",
+        "--n",
+        "4",
+        "--duration",
+        "4",
+        "--resolution",
+        "0.2",
+        "--out",
+        str(tmp_path),
+        "--quiet",
+    ]
     assert CliRunner().invoke(main, args).exit_code == 0
     assert (tmp_path / "tables" / "screen.csv").is_file()
 
@@ -330,16 +375,19 @@ def test_compiled_kernels_are_cached_in_the_user_cache_folder(tmp_path):
     # (here ROCKING_CACHE_DIR), never next to the sources. Numba fixes a function's cache
     # folder when it is decorated; every kernel of the package is asked where it is.
     env = {**os.environ, "ROCKING_CACHE_DIR": str(tmp_path)}
-    code = ("import importlib, pkgutil, rocking\n"
-            "from numba.core.registry import CPUDispatcher\n"
-            "for m in pkgutil.walk_packages(rocking.__path__, 'rocking.'):\n"
-            "    if m.name.endswith('__main__'):\n"
-            "        continue\n"
-            "    mod = importlib.import_module(m.name)\n"
-            "    for obj in vars(mod).values():\n"
-            "        if isinstance(obj, CPUDispatcher) and obj.__module__ == mod.__name__:\n"
-            "            print(obj._cache._cache_path)\n")
-    out = subprocess.run([sys.executable, "-c", code], env=env, check=True, text=True,
-                         capture_output=True).stdout.split()
+    code = (
+        "import importlib, pkgutil, rocking\n"
+        "from numba.core.registry import CPUDispatcher\n"
+        "for m in pkgutil.walk_packages(rocking.__path__, 'rocking.'):\n"
+        "    if m.name.endswith('__main__'):\n"
+        "        continue\n"
+        "    mod = importlib.import_module(m.name)\n"
+        "    for obj in vars(mod).values():\n"
+        "        if isinstance(obj, CPUDispatcher) and obj.__module__ == mod.__name__:\n"
+        "            print(obj._cache._cache_path)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, check=True, text=True, capture_output=True
+    ).stdout.split()
     assert len(out) >= 10  # the kernels of dynamics, batch, spectra, frames, motions
     assert all(path.startswith(str(tmp_path / "numba")) for path in out), out

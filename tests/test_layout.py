@@ -28,7 +28,7 @@ def _modules():
         parts = path.relative_to(ROOT).with_suffix("").parts
         if parts[-1] == "__init__":
             parts = parts[:-1]
-        yield path, ("rocking",) + parts
+        yield path, ("rocking", *parts)
 
 
 def _imports(path: Path, module: tuple[str, ...]):
@@ -38,7 +38,7 @@ def _imports(path: Path, module: tuple[str, ...]):
         if isinstance(node, ast.ImportFrom):
             if node.level:
                 base = module if is_pkg else module[:-1]
-                base = base[:len(base) - (node.level - 1)]
+                base = base[: len(base) - (node.level - 1)]
                 target = base + (tuple(node.module.split(".")) if node.module else ())
             else:
                 target = tuple(node.module.split("."))
@@ -62,8 +62,10 @@ def test_no_private_name_crosses_a_subpackage():
             private = [p for p in target[1:] if p.startswith("_") and p != "__init__"]
             private += [n for n in names if n.startswith("_") and n != "__version__"]
             if private:
-                bad.append(f"{path.relative_to(ROOT)}:{line} imports {', '.join(private)} "
-                           f"from {'.'.join(target)}")
+                bad.append(
+                    f"{path.relative_to(ROOT)}:{line} imports {', '.join(private)} "
+                    f"from {'.'.join(target)}"
+                )
     assert not bad, "\n".join(bad)
 
 
@@ -79,6 +81,8 @@ def test_layers_import_downwards():
                 continue
             there = layer.get(target[1])
             if there is not None and there > here:
-                bad.append(f"{path.relative_to(ROOT)}:{line} ({LAYERS[here]}) imports "
-                           f"{'.'.join(target)} ({LAYERS[there]})")
+                bad.append(
+                    f"{path.relative_to(ROOT)}:{line} ({LAYERS[here]}) imports "
+                    f"{'.'.join(target)} ({LAYERS[there]})"
+                )
     assert not bad, "\n".join(bad)

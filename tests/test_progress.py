@@ -9,8 +9,8 @@ import time
 import numba
 from click.testing import CliRunner
 
-from rocking.core import progress
 from rocking.cli import main
+from rocking.core import progress
 from rocking.core.progress import COMPILING, Reporter
 
 
@@ -70,10 +70,21 @@ def test_the_first_compilation_is_announced_once():
 
 def test_reproduce_off_a_terminal_writes_lines_per_section_not_a_bar_per_call(tmp_path):
     # the defect: `reproduce` printed ~20 lines of "P(overturn): 0sim", one bar per call
-    result = CliRunner().invoke(main, ["reproduce", "6", "--set", "sec6.n=8", "--set",
-                                       "sec6.durations=[10.0, 20.0]", "--set",
-                                       "sec6.fig10_durations=[20.0]", "--out",
-                                       str(tmp_path)])
+    result = CliRunner().invoke(
+        main,
+        [
+            "reproduce",
+            "6",
+            "--set",
+            "sec6.n=8",
+            "--set",
+            "sec6.durations=[10.0, 20.0]",
+            "--set",
+            "sec6.fig10_durations=[20.0]",
+            "--out",
+            str(tmp_path),
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert "P(overturn)" not in result.output and "\r" not in result.output
     assert "section 6: duration and intensity function" in result.output

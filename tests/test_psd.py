@@ -11,13 +11,20 @@ from scipy import signal
 from scipy.integrate import quad
 
 from rocking.dynamics.body import G
-from rocking.motions.envelopes import make_envelope
 from rocking.errors import InputError
-from rocking.motions.synthesis import generate, spectral_fit
-from rocking.motions.psd import (DAVENPORT_CONSTANT, PAPER_CONSTANT, PowerSpectrum, log_frequencies,
-                                 peak_factor, power_spectrum, transfer)
-from rocking.motions.targets import RG160, rg160
+from rocking.motions.envelopes import make_envelope
+from rocking.motions.psd import (
+    DAVENPORT_CONSTANT,
+    PAPER_CONSTANT,
+    PowerSpectrum,
+    log_frequencies,
+    peak_factor,
+    power_spectrum,
+    transfer,
+)
 from rocking.motions.response import response_spectrum
+from rocking.motions.synthesis import generate, spectral_fit
+from rocking.motions.targets import RG160, rg160
 
 # --------------------------------------------------------------------------- Eq. (6)
 
@@ -26,7 +33,10 @@ def _expected_peak(n_cycles: float) -> float:
     """E[max X]/σ of a stationary Gaussian process over n_cycles zero up-crossings, with
     up-crossings of high levels as a Poisson process: P(max < y) = exp(−N·exp(−y²/2)), y ≥ 0
     (Davenport 1964, whose formula is the asymptotic expansion of this integral)."""
-    integrand = lambda y: -math.expm1(-n_cycles * math.exp(-0.5 * y * y))  # 1 − P(max < y)
+
+    def integrand(y):  # 1 − P(max < y)
+        return -math.expm1(-n_cycles * math.exp(-0.5 * y * y))
+
     value, _ = quad(integrand, 0.0, 20.0, points=[math.sqrt(2 * math.log(n_cycles))])
     return value
 
@@ -139,8 +149,9 @@ def test_one_sided_convention_reproduces_the_target_and_the_printed_one_does_not
     # [0.85, 1.10], where the printed one (× √2 ≥ 1.2) cannot.
     ens = generate(200)
     printed = generate(3, convention="as-printed")
-    np.testing.assert_allclose(printed.meta["amplitudes"],
-                               math.sqrt(2) * np.array(ens.meta["amplitudes"]), rtol=1e-12)
+    np.testing.assert_allclose(
+        printed.meta["amplitudes"], math.sqrt(2) * np.array(ens.meta["amplitudes"]), rtol=1e-12
+    )
     mid = spectral_fit(ens, band=(1.0, 10.0))
     ratio = mid.ratio.mean()
     assert 0.85 < ratio < 1.10

@@ -55,8 +55,14 @@ def test_readme_table_lists_runnable_commands():
 
 def _run(command: str, folder: Path) -> None:
     args = shlex.split(command)[1:]
-    proc = subprocess.run([*_entry_point(), *args], cwd=folder, capture_output=True, text=True,
-                          timeout=600, stdin=subprocess.DEVNULL)
+    proc = subprocess.run(
+        [*_entry_point(), *args],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        stdin=subprocess.DEVNULL,
+    )
     assert proc.returncode == 0, f"{command}\n{proc.stdout}\n{proc.stderr}"
     for name in _outputs(args):
         path = folder / name
@@ -83,8 +89,12 @@ def test_readme_commands_run_as_printed(tmp_path):
         done = []
         for i, command in enumerate(commands):
             args = shlex.split(command)
-            needs = [done[j] for j in range(i) for out in written[j]
-                     if any(a == out or a.startswith(f"{out}:") for a in args)]
+            needs = [
+                done[j]
+                for j in range(i)
+                for out in written[j]
+                if any(a == out or a.startswith(f"{out}:") for a in args)
+            ]
             done.append(pool.submit(_run_after, needs, command, tmp_path))
         for future in done:
             future.result()

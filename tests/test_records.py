@@ -22,10 +22,13 @@ def _values_after_header(path: Path, header_lines: int) -> np.ndarray:
     return np.array(" ".join(text).split(), dtype=float)
 
 
-@pytest.mark.parametrize("path,npts,dt", [
-    (EL_CENTRO, 1559, 0.02),  # src/rocking/data/records/README.md
-    (CHINO_HILLS, 16396, 0.005),  # tests/data/README.md
-])
+@pytest.mark.parametrize(
+    "path,npts,dt",
+    [
+        (EL_CENTRO, 1559, 0.02),  # src/rocking/data/records/README.md
+        (CHINO_HILLS, 16396, 0.005),  # tests/data/README.md
+    ],
+)
 def test_real_records(path, npts, dt):
     name = path.name
     rec = read_record(path)
@@ -46,26 +49,40 @@ def test_el_centro_pga():
 VALUES = [-0.2098335e-03, -0.2108988e-03, -0.2119629e-03, 0.15, -0.25, 0.0031, 0.5]
 
 
-def _at2(count_line: str, units_line: str = "ACCELERATION TIME SERIES IN UNITS OF G",
-         per_line: int = 3, newline: str = "\n", trailing: str = "") -> str:
-    head = ["PEER NGA STRONG MOTION DATABASE RECORD",
-            "Helena Montana-01, 10/31/1935, Carroll College, 180", units_line, count_line]
-    rows = [" ".join(f"{v: .7E}" for v in VALUES[i:i + per_line]) + trailing
-            for i in range(0, len(VALUES), per_line)]  # last line short (7 = 3 + 3 + 1)
+def _at2(
+    count_line: str,
+    units_line: str = "ACCELERATION TIME SERIES IN UNITS OF G",
+    per_line: int = 3,
+    newline: str = "\n",
+    trailing: str = "",
+) -> str:
+    head = [
+        "PEER NGA STRONG MOTION DATABASE RECORD",
+        "Helena Montana-01, 10/31/1935, Carroll College, 180",
+        units_line,
+        count_line,
+    ]
+    rows = [
+        " ".join(f"{v: .7E}" for v in VALUES[i : i + per_line]) + trailing
+        for i in range(0, len(VALUES), per_line)
+    ]  # last line short (7 = 3 + 3 + 1)
     return newline.join(head + rows) + newline
 
 
-@pytest.mark.parametrize("text", [
-    _at2("NPTS=      7, DT=   .0100 SEC,"),  # trailing comma, no leading zero
-    _at2("NPTS=      7, DT=   .0100 SEC"),  # no trailing comma
-    _at2("NPTS=  7, DT=   0.0100 SEC      ", trailing="   "),  # trailing spaces
-    _at2("NPTS=7,DT=0.01SEC"),  # no spaces at all
-    _at2("NPTS=      7, DT=   .0100 SEC,", newline="\r\n"),  # CRLF
-    _at2("7 0.01000 NPTS, DT"),  # older NGA header line
-    _at2("NPTS=      7, DT=   .0100 SEC,", per_line=5),
-    _at2("NPTS=      7, DT=   .0100 SEC,", units_line="The units are (g)"),
-    _at2("NPTS=      7, DT=   .0100 SEC,", units_line="free text, no units"),  # g assumed
-])
+@pytest.mark.parametrize(
+    "text",
+    [
+        _at2("NPTS=      7, DT=   .0100 SEC,"),  # trailing comma, no leading zero
+        _at2("NPTS=      7, DT=   .0100 SEC"),  # no trailing comma
+        _at2("NPTS=  7, DT=   0.0100 SEC      ", trailing="   "),  # trailing spaces
+        _at2("NPTS=7,DT=0.01SEC"),  # no spaces at all
+        _at2("NPTS=      7, DT=   .0100 SEC,", newline="\r\n"),  # CRLF
+        _at2("7 0.01000 NPTS, DT"),  # older NGA header line
+        _at2("NPTS=      7, DT=   .0100 SEC,", per_line=5),
+        _at2("NPTS=      7, DT=   .0100 SEC,", units_line="The units are (g)"),
+        _at2("NPTS=      7, DT=   .0100 SEC,", units_line="free text, no units"),  # g assumed
+    ],
+)
 def test_at2_header_variants(tmp_path, text):
     path = tmp_path / "rec.AT2"
     path.write_bytes(text.encode())
@@ -74,38 +91,49 @@ def test_at2_header_variants(tmp_path, text):
     np.testing.assert_allclose(rec.acc, np.array(VALUES) * G, rtol=1e-15)
 
 
-@pytest.mark.parametrize("units_line,factor", [
-    ("ACCELERATION TIME SERIES IN UNITS OF CM/S/S", 0.01),
-    ("acceleration in cm/sec2", 0.01),
-    ("Units: gal", 0.01),
-    ("ACCELERATION TIME SERIES IN UNITS OF M/S/S", 1.0),
-    ("acceleration [m/s^2]", 1.0),
-])
+@pytest.mark.parametrize(
+    "units_line,factor",
+    [
+        ("ACCELERATION TIME SERIES IN UNITS OF CM/S/S", 0.01),
+        ("acceleration in cm/sec2", 0.01),
+        ("Units: gal", 0.01),
+        ("ACCELERATION TIME SERIES IN UNITS OF M/S/S", 1.0),
+        ("acceleration [m/s^2]", 1.0),
+    ],
+)
 def test_at2_stated_units(tmp_path, units_line, factor):
     path = tmp_path / "rec.at2"
     path.write_text(_at2("NPTS= 7, DT= .01 SEC", units_line=units_line))
     np.testing.assert_allclose(read_record(path).acc, np.array(VALUES) * factor, rtol=1e-15)
     # units= overrides what the file says
-    np.testing.assert_allclose(read_record(path, units="g").acc, np.array(VALUES) * G,
-                               rtol=1e-15)
+    np.testing.assert_allclose(read_record(path, units="g").acc, np.array(VALUES) * G, rtol=1e-15)
 
 
-@pytest.mark.parametrize("text,match", [
-    (_at2("NPTS=      8, DT=   .0100 SEC,"), r"NPTS = 8 values, the file holds 7"),
-    (_at2("NPTS=      6, DT=   .0100 SEC,"), r"NPTS = 6 values, the file holds 7"),
-    (_at2("NPTS=      7, DT=   0.0 SEC,"), r"line 4: DT must be > 0"),
-    (_at2("NPTS=      7, DT=   -.01 SEC,"), r"line 4: DT must be > 0"),
-    (_at2("NPTS=      7.5, DT=   .01 SEC,"), r"line 4: NPTS is not a whole number"),
-    (_at2("NPTS=      7, DT=   .0100 SEC,").replace("1.5000000E-01", "1.5O00000E-01"),
-     r"line 6: not a finite number: '1.5O00000E-01'"),
-    (_at2("NPTS=      7, DT=   .0100 SEC,").replace("1.5000000E-01", "nan"),
-     r"line 6: not a finite number: 'nan'"),
-    (_at2("no count line here"), r"no 'NPTS=..., DT=...' line"),
-    (_at2("NPTS= 7, DT= .01 SEC", units_line="VELOCITY TIME SERIES IN UNITS OF CM/S"),
-     r"velocity or displacement"),
-    ("", r"empty file"),
-    ("  \n\n", r"empty file"),
-])
+@pytest.mark.parametrize(
+    "text,match",
+    [
+        (_at2("NPTS=      8, DT=   .0100 SEC,"), r"NPTS = 8 values, the file holds 7"),
+        (_at2("NPTS=      6, DT=   .0100 SEC,"), r"NPTS = 6 values, the file holds 7"),
+        (_at2("NPTS=      7, DT=   0.0 SEC,"), r"line 4: DT must be > 0"),
+        (_at2("NPTS=      7, DT=   -.01 SEC,"), r"line 4: DT must be > 0"),
+        (_at2("NPTS=      7.5, DT=   .01 SEC,"), r"line 4: NPTS is not a whole number"),
+        (
+            _at2("NPTS=      7, DT=   .0100 SEC,").replace("1.5000000E-01", "1.5O00000E-01"),
+            r"line 6: not a finite number: '1.5O00000E-01'",
+        ),
+        (
+            _at2("NPTS=      7, DT=   .0100 SEC,").replace("1.5000000E-01", "nan"),
+            r"line 6: not a finite number: 'nan'",
+        ),
+        (_at2("no count line here"), r"no 'NPTS=..., DT=...' line"),
+        (
+            _at2("NPTS= 7, DT= .01 SEC", units_line="VELOCITY TIME SERIES IN UNITS OF CM/S"),
+            r"velocity or displacement",
+        ),
+        ("", r"empty file"),
+        ("  \n\n", r"empty file"),
+    ],
+)
 def test_at2_errors(tmp_path, text, match):
     path = tmp_path / "bad.AT2"
     path.write_text(text)
@@ -120,8 +148,9 @@ def test_one_column_text(tmp_path):
     rec = read_record(path, dt=0.01)
     np.testing.assert_allclose(rec.acc, np.array([0.1, -0.2, 0.3, 0.0]) * G, rtol=1e-15)
     assert rec.dt == 0.01 and rec.pga == pytest.approx(0.3)
-    np.testing.assert_allclose(read_record(path, dt=0.01, units="cm/s2").acc,
-                               [0.001, -0.002, 0.003, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(
+        read_record(path, dt=0.01, units="cm/s2").acc, [0.001, -0.002, 0.003, 0.0], rtol=1e-15
+    )
     with pytest.raises(InputError, match="one-column file needs the time step dt"):
         read_record(path)
     with pytest.raises(InputError, match="dt"):
@@ -130,8 +159,9 @@ def test_one_column_text(tmp_path):
 
 def test_two_column_text(tmp_path):
     path = tmp_path / "two.csv"
-    path.write_text("# exported\ntime [s], acc [m/s2]\n0.000, 0.0\n0.005, 1.5\n0.010, -2.0\n"
-                    "0.015, 0.5\n")
+    path.write_text(
+        "# exported\ntime [s], acc [m/s2]\n0.000, 0.0\n0.005, 1.5\n0.010, -2.0\n0.015, 0.5\n"
+    )
     rec = read_record(path)
     assert rec.dt == pytest.approx(0.005, rel=1e-12)
     np.testing.assert_allclose(rec.acc, [0.0, 1.5, -2.0, 0.5], rtol=1e-15)  # header: m/s2
@@ -144,16 +174,19 @@ def test_two_column_text(tmp_path):
         read_record(plain, dt=0.01)
 
 
-@pytest.mark.parametrize("text,match", [
-    ("0.0 0.1\n0.01 0.2\n0.03 0.3\n0.04 0.1\n", r"line 3: unequal time spacing"),
-    ("0.0 0.1\n0.01 0.2\n0.02\n", r"line 3: expected 2 value\(s\)"),
-    ("0.0 0.1 1\n0.01 0.2 2\n", r"line 1: expected 1 column .* or 2 .* got 3"),
-    ("t,a\n0.0,0.1\n0.01,x\n", r"line 3: not a finite number: 'x'"),
-    ("t,a\n0.0,0.1\n", r"at least 2 rows"),
-    ("0.0 0.1\n0.0 0.2\n", r"times must increase"),
-    ("# only a comment\n", r"no data"),
-    ("", r"empty file"),
-])
+@pytest.mark.parametrize(
+    "text,match",
+    [
+        ("0.0 0.1\n0.01 0.2\n0.03 0.3\n0.04 0.1\n", r"line 3: unequal time spacing"),
+        ("0.0 0.1\n0.01 0.2\n0.02\n", r"line 3: expected 2 value\(s\)"),
+        ("0.0 0.1 1\n0.01 0.2 2\n", r"line 1: expected 1 column .* or 2 .* got 3"),
+        ("t,a\n0.0,0.1\n0.01,x\n", r"line 3: not a finite number: 'x'"),
+        ("t,a\n0.0,0.1\n", r"at least 2 rows"),
+        ("0.0 0.1\n0.0 0.2\n", r"times must increase"),
+        ("# only a comment\n", r"no data"),
+        ("", r"empty file"),
+    ],
+)
 def test_text_errors(tmp_path, text, match):
     path = tmp_path / "bad.txt"
     path.write_text(text)

@@ -11,9 +11,9 @@ import pytest
 from matplotlib.figure import Figure
 
 import rocking
+from rocking.core.runs import provenance
 from rocking.dynamics.body import FOOT, Block
 from rocking.errors import InputError
-from rocking.core.runs import provenance
 from rocking.report import Report, markdown_to_html, remove_report, slug
 
 
@@ -28,8 +28,9 @@ def test_report_writes_markdown_html_png_and_csv(tmp_path):
     rep.heading("Section 4")
     rep.text("We find **3** overturned & `x < 1`.\n\n- first\n- second *item*")
     rep.figure(_figure(), "fig-3", "Fig. 3: θ(t) [quick fidelity: n=1]")
-    df = pd.DataFrame({"ours": [1.0, np.nan], "paper": [2.0, 3.0]},
-                      index=pd.Index([1.22, 1.52], name="R [m]"))
+    df = pd.DataFrame(
+        {"ours": [1.0, np.nan], "paper": [2.0, 3.0]}, index=pd.Index([1.22, 1.52], name="R [m]")
+    )
     rep.table(df, "Table 1 beside the paper", name="table-1", floatfmt=".2f")
     md_path, html_path = rep.write()
 
@@ -58,19 +59,30 @@ def test_text_columns_are_left_aligned_and_numbers_right_aligned(tmp_path):
     # Alignment follows each column's dtype (every cell used to be right-aligned); the index
     # (row labels, here numbers) is shown with "g", not with the values' floatfmt.
     rep = Report("Study", tmp_path)
-    df = pd.DataFrame({"body": ["a", "b"], "n": [3, 40], "P": [0.5, 0.25],
-                       "at risk": [True, False], "verdict": ["safe", "overturn>50%"]},
-                      index=pd.Index([1.22, 3.05], name="R [m]"))
+    df = pd.DataFrame(
+        {
+            "body": ["a", "b"],
+            "n": [3, 40],
+            "P": [0.5, 0.25],
+            "at risk": [True, False],
+            "verdict": ["safe", "overturn>50%"],
+        },
+        index=pd.Index([1.22, 3.05], name="R [m]"),
+    )
     rep.table(df, "mixed", name="mixed", floatfmt=".3f")
     md_path, html_path = rep.write()
     md = md_path.read_text()
     assert "| R [m] | body | n | P | at risk | verdict |\n|---:|:---|---:|---:|:---|:---|" in md
     assert "| 3.05 | b | 40 | 0.250 | False | overturn>50% |" in md
     page = html_path.read_text()
-    assert ('<th>R [m]</th><th class="text">body</th><th>n</th><th>P</th>'
-            '<th class="text">at risk</th><th class="text">verdict</th>') in page
-    assert ('<td>1.22</td><td class="text">a</td><td>3</td><td>0.500</td>'
-            '<td class="text">True</td><td class="text">safe</td>') in page
+    assert (
+        '<th>R [m]</th><th class="text">body</th><th>n</th><th>P</th>'
+        '<th class="text">at risk</th><th class="text">verdict</th>'
+    ) in page
+    assert (
+        '<td>1.22</td><td class="text">a</td><td>3</td><td>0.500</td>'
+        '<td class="text">True</td><td class="text">safe</td>'
+    ) in page
     assert "td.text { text-align: left; }" in page
 
 
@@ -80,9 +92,14 @@ def test_csv_tables_carry_no_float_noise(tmp_path):
     # reach the CSV as written here; 12 significant digits drop the noise and keep real values
     # (1/3, a Wilson bound) to a relative 5e-12, far below any sampling error.
     rep = Report("Study", tmp_path)
-    df = pd.DataFrame({"Agx50 [g]": [0.23000000000046314, 0.1 + 0.2],
-                       "R [m]": [6 * 0.3048, 0.5], "P": [1 / 3, 0.9568342712073097],
-                       "count": [7, 200]})
+    df = pd.DataFrame(
+        {
+            "Agx50 [g]": [0.23000000000046314, 0.1 + 0.2],
+            "R [m]": [6 * 0.3048, 0.5],
+            "P": [1 / 3, 0.9568342712073097],
+            "count": [7, 200],
+        }
+    )
     path = rep.table(df, "noisy", name="noisy")
     lines = path.read_text().splitlines()
     assert lines[1].startswith("0.23,1.8288,0.333333333333,") and lines[1].endswith(",7")
@@ -146,8 +163,13 @@ def test_markdown_renders_lists_and_links():
 
 
 def test_provenance_records_versions_and_parameters(tmp_path):
-    path = provenance(tmp_path, seeds={"ground": np.int64(7)}, agx=np.array([0.3, 0.6]),
-                      wall_time_s={"4": 1.25}, backend="local")
+    path = provenance(
+        tmp_path,
+        seeds={"ground": np.int64(7)},
+        agx=np.array([0.3, 0.6]),
+        wall_time_s={"4": 1.25},
+        backend="local",
+    )
     run = json.loads(path.read_text())
     assert run["version"] == rocking.__version__
     assert run["seeds"] == {"ground": 7} and run["agx"] == [0.3, 0.6]

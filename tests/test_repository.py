@@ -12,8 +12,10 @@ ROOT = Path(__file__).resolve().parent.parent
 #: An absolute path into one of a machine's top-level folders (work, home, Users, tmp, ...), a
 #: Windows user folder, or a relative path out of the repository to the sibling folder "shared".
 #: Written as patterns (and the examples below in pieces) so that this file does not match itself.
-_OUTSIDE = re.compile(r"(?<![\w.~-])/(work|home|Users|root|tmp|mnt|opt|srv|scratch|shared|data)/"
-                      r"|\.\./shared|\b[A-Za-z]:\\(Users|work|data)\b")
+_OUTSIDE = re.compile(
+    r"(?<![\w.~-])/(work|home|Users|root|tmp|mnt|opt|srv|scratch|shared|data)/"
+    r"|\.\./shared|\b[A-Za-z]:\\(Users|work|data)\b"
+)
 
 
 def _text_files(folder: Path):
@@ -25,22 +27,34 @@ def _text_files(folder: Path):
 
 
 def test_no_file_names_a_path_outside_the_repository():
-    found = [f"{path.relative_to(ROOT)}:{text.count(chr(10), 0, m.start()) + 1}: {m.group(0)}"
-             for folder in (ROOT / "src", ROOT / "tests")
-             for path, text in _text_files(folder)
-             for m in _OUTSIDE.finditer(text)]
+    found = [
+        f"{path.relative_to(ROOT)}:{text.count(chr(10), 0, m.start()) + 1}: {m.group(0)}"
+        for folder in (ROOT / "src", ROOT / "tests")
+        for path, text in _text_files(folder)
+        for m in _OUTSIDE.finditer(text)
+    ]
     assert not found, "paths outside the repository:\n" + "\n".join(found)
 
 
 def test_outside_pattern_catches_what_it_must():
     # The guard above must be able to fail: each of these would break a fresh clone.
     s, b = "/", chr(92)  # the separators, so that these lines do not match the guard
-    for bad in (f'RECORDS = "{s}work{s}shared{s}records"', f"open('{s}home{s}me{s}x.csv')",
-                f'Path("..{s}shared{s}records")', f'"C:{b}Users{b}me{b}x.AT2"',
-                f"{s}tmp{s}run{s}out.nc"):
+    for bad in (
+        f'RECORDS = "{s}work{s}shared{s}records"',
+        f"open('{s}home{s}me{s}x.csv')",
+        f'Path("..{s}shared{s}records")',
+        f'"C:{b}Users{b}me{b}x.AT2"',
+        f"{s}tmp{s}run{s}out.nc",
+    ):
         assert _OUTSIDE.search(bad), bad
-    for fine in ("src/rocking/data/records/x.AT2", "tests/data/x.AT2", "https://x.org/data/x",
-                 "m/s/s", "cm/s", "1/400 s"):
+    for fine in (
+        "src/rocking/data/records/x.AT2",
+        "tests/data/x.AT2",
+        "https://x.org/data/x",
+        "m/s/s",
+        "cm/s",
+        "1/400 s",
+    ):
         assert not _OUTSIDE.search(fine), fine
 
 
@@ -49,7 +63,8 @@ def test_package_data_globs_cover_every_data_file():
     # src/rocking/data (the example record, inventory, spectrum, bodies, the paper's values)
     # must be matched by one of its globs, or `pip install .` would leave it behind.
     globs = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"][
-        "package-data"]["rocking"]
+        "package-data"
+    ]["rocking"]
     package = ROOT / "src" / "rocking"
     shipped = {p for pattern in globs for p in package.glob(pattern) if p.is_file()}
     data = {p for p in (package / "data").rglob("*") if p.is_file()}

@@ -13,14 +13,14 @@ import pandas as pd
 import pytest
 from click.testing import CliRunner
 
-from rocking.dynamics.body import FOOT, G
-from rocking.cli import main
-from rocking.motions.design import ASCE7
 from rocking.assessment.energy import available_sv
-from rocking.structures.frames import ShearFrame
+from rocking.assessment.screen import eq11_vs_monte_carlo, screen
+from rocking.cli import main
+from rocking.dynamics.body import FOOT, G
+from rocking.motions.design import ASCE7
 from rocking.motions.synthesis import generate
 from rocking.plots.screen import plot_screen
-from rocking.assessment.screen import eq11_vs_monte_carlo, screen
+from rocking.structures.frames import ShearFrame
 
 # S_D1 = 0.9 g: available S_v on the ground = S_D1·g/(2π) = 1.40471 m/s (the PSV plateau from
 # T_s = 0.6 s to T_L = 8 s covers the band 0.04–0.6 Hz up to 8 s); ZPA 0.4·S_DS = 0.6 g.
@@ -47,8 +47,9 @@ def result(motions, tmp_path_factory):
     path = tmp_path_factory.mktemp("inv") / "inv.csv"
     path.write_text(INVENTORY)
     with pytest.warns(UserWarning, match="squat"):  # μ = 0.6 < B/H = 1: may slide
-        return screen(path, SPECTRUM, frame="paper-2.0", ensemble=motions, resolution=0.05,
-                      agx_max=3.0)
+        return screen(
+            path, SPECTRUM, frame="paper-2.0", ensemble=motions, resolution=0.05, agx_max=3.0
+        )
 
 
 def test_ground_verdicts_match_the_papers_worked_examples(result):
@@ -84,8 +85,15 @@ def test_floor_agx50_is_in_ground_terms_and_paper_mode_rescales(result, motions,
     path = tmp_path / "inv.csv"
     path.write_text(INVENTORY)
     with pytest.warns(UserWarning, match="squat"):
-        paper = screen(path, SPECTRUM, frame="paper-2.0", ensemble=motions, resolution=0.05,
-                       agx_max=3.0, floor_motions="paper")
+        paper = screen(
+            path,
+            SPECTRUM,
+            frame="paper-2.0",
+            ensemble=motions,
+            resolution=0.05,
+            agx_max=3.0,
+            floor_motions="paper",
+        )
     frame = ShearFrame.preset("paper-2.0")
     floor4 = frame.floor_ensemble(motions.scaled(0.6), 4)
     r = floor4.agx / 0.6
@@ -97,8 +105,10 @@ def test_floor_agx50_is_in_ground_terms_and_paper_mode_rescales(result, motions,
     assert ground_a50 == pytest.approx(paper_a50 / r, abs=0.05 * max(1.0, 1.0 / r) + 1e-9)
     # ground items do not depend on the floor convention
     for key in ("probability", "agx50", "sv_available"):
-        np.testing.assert_array_equal(result[key].sel(item=["stocky", "slender"]).values,
-                                      paper[key].sel(item=["stocky", "slender"]).values)
+        np.testing.assert_array_equal(
+            result[key].sel(item=["stocky", "slender"]).values,
+            paper[key].sel(item=["stocky", "slender"]).values,
+        )
     # paper mode: available S_v from the rescaled floor motions
     expected = available_sv(floor4.scaled(0.6), n_freqs=800)
     assert paper["sv_available"].sel(item="upstairs") == pytest.approx(expected, rel=5e-3)
@@ -142,12 +152,19 @@ def test_eq11_and_monte_carlo_agreement_says_which_way():
     # Eq. (11) is a 50 % estimate: "safe" agrees with P < 0.5, "overturn>50%" with P >= 0.5.
     # Cases (verdict, P, Wilson interval): the screening of the example inventory has rows like
     # the second ("overturn>50%" beside P = 0.05) and the last one is unsure (interval spans 0.5).
-    got = eq11_vs_monte_carlo(["safe", "overturn>50%", "safe", "overturn>50%", "safe"],
-                              [0.02, 0.05, 0.8, 0.9, 0.45],
-                              [0.0, 0.01, 0.65, 0.8, 0.3], [0.1, 0.17, 0.9, 0.96, 0.6])
-    assert list(got) == ["agree", "disagree: Eq. (11) overturn, simulated P < 50 %",
-                         "disagree: Eq. (11) safe, simulated P ≥ 50 %", "agree",
-                         "agree; Wilson interval spans 50 %"]
+    got = eq11_vs_monte_carlo(
+        ["safe", "overturn>50%", "safe", "overturn>50%", "safe"],
+        [0.02, 0.05, 0.8, 0.9, 0.45],
+        [0.0, 0.01, 0.65, 0.8, 0.3],
+        [0.1, 0.17, 0.9, 0.96, 0.6],
+    )
+    assert list(got) == [
+        "agree",
+        "disagree: Eq. (11) overturn, simulated P < 50 %",
+        "disagree: Eq. (11) safe, simulated P ≥ 50 %",
+        "agree",
+        "agree; Wilson interval spans 50 %",
+    ]
 
 
 def write_inventory(tmp_path, text=INVENTORY):
@@ -162,13 +179,28 @@ def run(args):
 
 def test_cli_writes_table_figure_and_report(tmp_path):
     out = tmp_path / "out"
-    res = run([str(write_inventory(tmp_path)), "--spectrum", "asce7:SDS=1.5,SD1=0.9,TL=8",
-               "--frame", "paper-2.0", "--out", str(out), "--n", "8", "--duration", "5",
-               "--resolution", "0.05", "--agx-max", "3"])
+    res = run(
+        [
+            str(write_inventory(tmp_path)),
+            "--spectrum",
+            "asce7:SDS=1.5,SD1=0.9,TL=8",
+            "--frame",
+            "paper-2.0",
+            "--out",
+            str(out),
+            "--n",
+            "8",
+            "--duration",
+            "5",
+            "--resolution",
+            "0.05",
+            "--agx-max",
+            "3",
+        ]
+    )
     assert res.exit_code == 0, res.output
     assert "may slide" in res.output  # the warning reaches the user
-    for name in ("report.html", "report.md", "run.json", "tables/screen.csv",
-                 "figures/sv-agx.png"):
+    for name in ("report.html", "report.md", "run.json", "tables/screen.csv", "figures/sv-agx.png"):
         assert (out / name).is_file(), name
     rows = (out / "tables" / "screen.csv").read_text().splitlines()
     assert len(rows) == 1 + 5 and rows[0].startswith("item,location")
@@ -177,9 +209,25 @@ def test_cli_writes_table_figure_and_report(tmp_path):
 
 def test_cli_report_says_where_eq11_and_monte_carlo_disagree(tmp_path):
     out = tmp_path / "out"
-    res = run([str(write_inventory(tmp_path)), "--spectrum", "asce7:SDS=1.5,SD1=0.9,TL=8",
-               "--frame", "paper-2.0", "--out", str(out), "--n", "8", "--duration", "5",
-               "--resolution", "0.05", "--agx-max", "3"])
+    res = run(
+        [
+            str(write_inventory(tmp_path)),
+            "--spectrum",
+            "asce7:SDS=1.5,SD1=0.9,TL=8",
+            "--frame",
+            "paper-2.0",
+            "--out",
+            str(out),
+            "--n",
+            "8",
+            "--duration",
+            "5",
+            "--resolution",
+            "0.05",
+            "--agx-max",
+            "3",
+        ]
+    )
     assert res.exit_code == 0, res.output
     table = pd.read_csv(out / "tables" / "screen.csv")
     said = table["Eq. (11) vs Monte Carlo"]
@@ -200,8 +248,9 @@ def test_cli_bad_rows_give_one_error_and_no_report(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / "report.html").write_text("an older run")  # must not survive as this run's result
-    bad = write_inventory(tmp_path, "name,height,width,location\na,2,0.5,ground\n"
-                                    "b,two,0.5,ground\nc,2,0.5,floor 9\n")
+    bad = write_inventory(
+        tmp_path, "name,height,width,location\na,2,0.5,ground\nb,two,0.5,ground\nc,2,0.5,floor 9\n"
+    )
     res = run([str(bad), "--spectrum", "rg160:0.3", "--frame", "paper-2.0", "--out", str(out)])
     assert res.exit_code != 0
     assert "Traceback" not in res.output
@@ -210,6 +259,13 @@ def test_cli_bad_rows_give_one_error_and_no_report(tmp_path):
 
 
 def test_cli_bad_spectrum(tmp_path):
-    res = run([str(write_inventory(tmp_path)), "--spectrum", "ec8:ground=Z,ag=0.2",
-               "--out", str(tmp_path / "out")])
+    res = run(
+        [
+            str(write_inventory(tmp_path)),
+            "--spectrum",
+            "ec8:ground=Z,ag=0.2",
+            "--out",
+            str(tmp_path / "out"),
+        ]
+    )
     assert res.exit_code != 0 and "ground must be one of" in res.output

@@ -13,20 +13,25 @@ import pytest
 from click.testing import CliRunner
 from scipy import signal
 
-from rocking.dynamics.body import G
 from rocking.cli import main
+from rocking.dynamics.body import G
 from rocking.errors import InputError
-from rocking.plots.spectra import plot_mean_vs_target, plot_spectra
 from rocking.motions.ensemble import Ensemble
 from rocking.motions.records import example_record_path
-from rocking.motions.targets import RG160, TabulatedSpectrum, rg160
 from rocking.motions.response import response_spectrum
+from rocking.motions.targets import RG160, TabulatedSpectrum, rg160
+from rocking.plots.spectra import plot_mean_vs_target, plot_spectra
 
 EL_CENTRO = str(example_record_path())  # shipped with the package
 
 # US AEC Regulatory Guide 1.60 (1973), Table 1 (as in reference.md §3): damping, B, C, D.
-RG160_TABLE = [(0.005, 4.96, 5.95, 3.20), (0.02, 3.54, 4.25, 2.50), (0.05, 2.61, 3.13, 2.05),
-               (0.07, 2.27, 2.72, 1.88), (0.10, 1.90, 2.28, 1.70)]
+RG160_TABLE = [
+    (0.005, 4.96, 5.95, 3.20),
+    (0.02, 3.54, 4.25, 2.50),
+    (0.05, 2.61, 3.13, 2.05),
+    (0.07, 2.27, 2.72, 1.88),
+    (0.10, 1.90, 2.28, 1.70),
+]
 PGD_PER_G = 36 * 0.0254  # 36 in of peak ground displacement per g [m] (RG 1.60)
 
 
@@ -62,8 +67,10 @@ def test_rg160_straight_on_log_log_axes_between_control_points(zeta):
         mid = math.sqrt(f1 * f2)
         assert spec.psa(mid) == pytest.approx(math.sqrt(spec.psa(f1) * spec.psa(f2)), rel=1e-12)
     # The break points are real: slopes differ on the two sides of C and of B.
-    slope = [math.log(spec.psa(hi) / spec.psa(lo)) / math.log(hi / lo)
-             for lo, hi in [(0.25, 2.5), (2.5, 9.0), (9.0, 33.0)]]
+    slope = [
+        math.log(spec.psa(hi) / spec.psa(lo)) / math.log(hi / lo)
+        for lo, hi in [(0.25, 2.5), (2.5, 9.0), (9.0, 33.0)]
+    ]
     assert slope[0] > slope[1] and slope[2] < 0.0
 
 
@@ -82,8 +89,9 @@ def test_rg160_damping_interpolation_rule():
     assert rg160(9.0, damping=0.03) == pytest.approx(b3, rel=1e-12)
     # More damping, less response, at every frequency below 33 Hz (above it PSA = ZPA).
     f = np.geomspace(0.05, 32, 60)
-    assert np.all(np.diff([rg160(f, damping=z) for z in (0.005, 0.01, 0.03, 0.06, 0.1)],
-                          axis=0) < 0)
+    assert np.all(
+        np.diff([rg160(f, damping=z) for z in (0.005, 0.01, 0.03, 0.06, 0.1)], axis=0) < 0
+    )
 
 
 def test_rg160_scaling_and_shape():
@@ -95,8 +103,16 @@ def test_rg160_scaling_and_shape():
     assert RG160().psv(2.5) == pytest.approx(3.13 * G / (2 * math.pi * 2.5), rel=1e-12)
 
 
-@pytest.mark.parametrize("kw", [dict(damping=0.004), dict(damping=0.11), dict(damping=math.nan),
-                                dict(pga=0.0), dict(pga=-1.0)])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(damping=0.004),
+        dict(damping=0.11),
+        dict(damping=math.nan),
+        dict(pga=0.0),
+        dict(pga=-1.0),
+    ],
+)
 def test_rg160_bad_parameters(kw):
     with pytest.raises(InputError, match=next(iter(kw))):
         RG160(**kw)
@@ -140,17 +156,20 @@ def test_tabulated_from_csv_frequency_and_period(tmp_path):
     assert a.psa(math.sqrt(20.0)) == pytest.approx(math.sqrt(0.8 * 0.5), rel=1e-12)
 
 
-@pytest.mark.parametrize("text,match", [
-    ("freq,psa\n1,0.5\n2,abc\n", r"line 3: not a number: 'abc'"),
-    ("freq,psa\n1,0.5\n-2,0.3\n", r"line 3: frequency must be a finite number > 0"),
-    ("freq,psa\n1,0.5\n2,0\n", r"line 3: PSA must be a finite number > 0"),
-    ("freq,psa\n1,0.5\n2,0.6\n1.0,0.7\n", r"line 4: frequency 1 Hz repeats that of .*line 2"),
-    ("T (s),psa\n1,0.5\n0.5,0.6\n1,0.7\n", r"line 4: period 1 s repeats that of .*line 2"),
-    ("freq,psa\n1,0.5\n", r"at least 2 rows, got 1"),
-    ("damping,psa\n1,0.5\n2,0.6\n", r"line 1: first column header 'damping'"),
-    ("freq,psa\n1,0.5\n2\n", r"line 3: need 2 values, got 1"),
-    ("", r"empty spectrum file"),
-])
+@pytest.mark.parametrize(
+    "text,match",
+    [
+        ("freq,psa\n1,0.5\n2,abc\n", r"line 3: not a number: 'abc'"),
+        ("freq,psa\n1,0.5\n-2,0.3\n", r"line 3: frequency must be a finite number > 0"),
+        ("freq,psa\n1,0.5\n2,0\n", r"line 3: PSA must be a finite number > 0"),
+        ("freq,psa\n1,0.5\n2,0.6\n1.0,0.7\n", r"line 4: frequency 1 Hz repeats that of .*line 2"),
+        ("T (s),psa\n1,0.5\n0.5,0.6\n1,0.7\n", r"line 4: period 1 s repeats that of .*line 2"),
+        ("freq,psa\n1,0.5\n", r"at least 2 rows, got 1"),
+        ("damping,psa\n1,0.5\n2,0.6\n", r"line 1: first column header 'damping'"),
+        ("freq,psa\n1,0.5\n2\n", r"line 3: need 2 values, got 1"),
+        ("", r"empty spectrum file"),
+    ],
+)
 def test_tabulated_csv_errors_name_file_and_line(tmp_path, text, match):
     path = tmp_path / "bad.csv"
     path.write_text(text)
@@ -159,12 +178,18 @@ def test_tabulated_csv_errors_name_file_and_line(tmp_path, text, match):
     assert "bad.csv" in str(err.value)
 
 
-@pytest.mark.parametrize("text,match", [
-    ("freq,psv\n1,50\n2,60\n", r"line 1: column 'psv': state the unit of PSV, cm/s or m/s"),
-    ("freq,psa [m/s2]\n1,5\n2,6\n", r"line 1: column 'psa \[m/s2\]': PSA must be in g"),
-    ("freq,sd_cm\n1,5\n2,6\n", r"line 1: need a column of PSA \[g\] or PSV"),
-    ("freq,psv [m/s]\n1,0.5\n2,0\n", r"line 3: PSV must be a finite number > 0 \[psv \[m/s\]\]"),
-])
+@pytest.mark.parametrize(
+    "text,match",
+    [
+        ("freq,psv\n1,50\n2,60\n", r"line 1: column 'psv': state the unit of PSV, cm/s or m/s"),
+        ("freq,psa [m/s2]\n1,5\n2,6\n", r"line 1: column 'psa \[m/s2\]': PSA must be in g"),
+        ("freq,sd_cm\n1,5\n2,6\n", r"line 1: need a column of PSA \[g\] or PSV"),
+        (
+            "freq,psv [m/s]\n1,0.5\n2,0\n",
+            r"line 3: PSV must be a finite number > 0 \[psv \[m/s\]\]",
+        ),
+    ],
+)
 def test_tabulated_csv_column_errors(tmp_path, text, match):
     path = tmp_path / "bad.csv"
     path.write_text(text)
@@ -178,14 +203,17 @@ def test_tabulated_csv_psv_in_m_s_and_cm_s_and_column_order(tmp_path):
     f = [0.2, 1.0, 5.0]
     psa = [0.1, 0.6, 0.4]
     psv = [a * G / (2 * math.pi * x) for x, a in zip(f, psa)]  # [m/s]
-    files = {"a.csv": "freq_hz,psa_g\n" + "".join(f"{x!r},{y!r}\n" for x, y in zip(f, psa)),
-             "b.csv": "T (s),PSV (m/s)\n" + "".join(f"{1 / x!r},{y!r}\n" for x, y in zip(f, psv)),
-             "c.csv": "notes,Frequency [Hz],psv [cm/s]\n"
-                      + "".join(f"x,{x!r},{100 * y!r}\n" for x, y in zip(f, psv))}
+    files = {
+        "a.csv": "freq_hz,psa_g\n" + "".join(f"{x!r},{y!r}\n" for x, y in zip(f, psa)),
+        "b.csv": "T (s),PSV (m/s)\n" + "".join(f"{1 / x!r},{y!r}\n" for x, y in zip(f, psv)),
+        "c.csv": "notes,Frequency [Hz],psv [cm/s]\n"
+        + "".join(f"x,{x!r},{100 * y!r}\n" for x, y in zip(f, psv)),
+    }
     for name, text in files.items():
         (tmp_path / name).write_text(text)
-        np.testing.assert_allclose(TabulatedSpectrum.from_csv(tmp_path / name).psa(f), psa,
-                                   rtol=1e-13)
+        np.testing.assert_allclose(
+            TabulatedSpectrum.from_csv(tmp_path / name).psa(f), psa, rtol=1e-13
+        )
 
 
 # --------------------------------------------------------------------------- response spectra
@@ -229,7 +257,7 @@ def test_harmonic_at_resonance(zeta):
     # width 2·dt). The record (150 cycles at 2 %, fewer at more damping) leaves a transient
     # of exp(−2πζ·n_cycles) ≤ 1e-8.
     f, amp, per_cycle = 2.0, 0.2 * G, 100
-    cycles = int(math.ceil(18.5 / (2 * math.pi * zeta)))
+    cycles = math.ceil(18.5 / (2 * math.pi * zeta))
     dt = 1.0 / (per_cycle * f)
     t = np.arange(cycles * per_cycle + 1) * dt
     sp = response_spectrum(amp * np.sin(2 * math.pi * f * t), dt, [f], zeta)
@@ -249,7 +277,7 @@ def _lsim_peak(acc, dt, f, zeta, steps_per_period=400):
     _, y, _ = signal.lsim(sdof, np.interp(fine_t, np.arange(a.size) * dt, a), fine_t)
     y = np.abs(y)
     i = int(np.argmax(y))
-    y0, y1, y2 = y[i - 1:i + 2]
+    y0, y1, y2 = y[i - 1 : i + 2]
     return y1 - 0.125 * (y0 - y2) ** 2 / (y0 - 2 * y1 + y2)
 
 
@@ -311,17 +339,20 @@ def test_shapes_linearity_and_thread_independence(random_motion):
     np.testing.assert_array_equal(serial.sd, sp.sd)
 
 
-@pytest.mark.parametrize("args,kw,match", [
-    ((np.ones(10), 0.0, [1.0]), {}, "dt"),
-    ((np.ones(10), -0.01, [1.0]), {}, "dt"),
-    ((np.array([0.0, np.nan, 1.0]), 0.01, [1.0]), {}, r"acc contains a non-finite value .* 1"),
-    ((np.ones(10), 0.01, [1.0, 0.0]), {}, "freqs_hz must be > 0"),
-    ((np.ones(10), 0.01, [1.0, -2.0]), {}, "freqs_hz must be > 0"),
-    ((np.ones(10), 0.01, [1.0]), dict(damping=1.0), "damping"),
-    ((np.ones(10), 0.01, [1.0]), dict(steps_per_period=0), "steps_per_period"),
-    ((np.ones((2, 2, 5)), 0.01, [1.0]), {}, "acc must have 1 or 2 dimension"),
-    ((np.ones(1), 0.01, [1.0]), {}, "at least 2 sample"),
-])
+@pytest.mark.parametrize(
+    "args,kw,match",
+    [
+        ((np.ones(10), 0.0, [1.0]), {}, "dt"),
+        ((np.ones(10), -0.01, [1.0]), {}, "dt"),
+        ((np.array([0.0, np.nan, 1.0]), 0.01, [1.0]), {}, r"acc contains a non-finite value .* 1"),
+        ((np.ones(10), 0.01, [1.0, 0.0]), {}, "freqs_hz must be > 0"),
+        ((np.ones(10), 0.01, [1.0, -2.0]), {}, "freqs_hz must be > 0"),
+        ((np.ones(10), 0.01, [1.0]), dict(damping=1.0), "damping"),
+        ((np.ones(10), 0.01, [1.0]), dict(steps_per_period=0), "steps_per_period"),
+        ((np.ones((2, 2, 5)), 0.01, [1.0]), {}, "acc must have 1 or 2 dimension"),
+        ((np.ones(1), 0.01, [1.0]), {}, "at least 2 sample"),
+    ],
+)
 def test_response_spectrum_bad_input(args, kw, match):
     with pytest.raises(InputError, match=match):
         response_spectrum(*args, **kw)
@@ -346,8 +377,9 @@ def test_plots_have_log_axes_and_units():
 
 def test_cli_spectrum(tmp_path):
     out_csv, out_png = tmp_path / "s.csv", tmp_path / "s.png"
-    result = CliRunner().invoke(main, ["spectrum", EL_CENTRO, "--n", "20",
-                                       "--csv", str(out_csv), "--plot", str(out_png)])
+    result = CliRunner().invoke(
+        main, ["spectrum", EL_CENTRO, "--n", "20", "--csv", str(out_csv), "--plot", str(out_png)]
+    )
     assert result.exit_code == 0, result.output
     assert "ElCentro1940_NS" in result.output and "PSA [g]" in result.output
     # Default fmax: 50 Hz, lowered to the record's Nyquist frequency 1/(2·0.02 s) = 25 Hz.
@@ -355,15 +387,16 @@ def test_cli_spectrum(tmp_path):
     with open(out_csv, newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == 20
-    f, psa, psv, sd = (np.array([float(r[k]) for r in rows])
-                       for k in ("freq_hz", "psa_g", "psv_cm_s", "sd_cm"))
+    f, psa, psv, sd = (
+        np.array([float(r[k]) for r in rows]) for k in ("freq_hz", "psa_g", "psv_cm_s", "sd_cm")
+    )
     assert f[0] == pytest.approx(0.1) and f[-1] == pytest.approx(25.0)
     # Units of the columns: PSV = ω·SD and PSA = ω²·SD (definitions), SD in cm, PSV in cm/s,
     # PSA in g; 6 significant digits in the file, so each value is rounded by up to 5e-6 (the
     # frequency too).
     omega = 2 * np.pi * f
     np.testing.assert_allclose(psv, omega * sd, rtol=1.6e-5)
-    np.testing.assert_allclose(psa, omega ** 2 * sd / 100 / G, rtol=2.1e-5)
+    np.testing.assert_allclose(psa, omega**2 * sd / 100 / G, rtol=2.1e-5)
     # Near the Nyquist frequency the oscillator is stiff: PSA approaches the PGA, 0.31882 g
     # (the largest |value| in the file), from above by the damping term (see the rigid-oscillator
     # test: 2ζ·ȧ/ω, a few % at 25 Hz for this record).
@@ -423,12 +456,16 @@ def test_spectrum_csv_of_several_records_is_read_one_record_at_a_time(tmp_path):
     # rocking spectrum --csv writes record,freq_hz,psa_g,psv_cm_s,sd_cm, one record after the
     # other: the reader takes PSA [g] against frequency of the record it is asked for.
     path = tmp_path / "two.csv"
-    result = CliRunner().invoke(main, ["spectrum", "example", CHINO_HILLS, "--n", "30",
-                                       "--csv", str(path)])
+    result = CliRunner().invoke(
+        main, ["spectrum", "example", CHINO_HILLS, "--n", "30", "--csv", str(path)]
+    )
     assert result.exit_code == 0, result.output
     cols = _csv_columns(path)
-    with pytest.raises(InputError, match=r"holds 2 spectra \('ElCentro1940_NS', "
-                                         r"'RSN8883_14383980_13849360'\): choose one"):
+    with pytest.raises(
+        InputError,
+        match=r"holds 2 spectra \('ElCentro1940_NS', "
+        r"'RSN8883_14383980_13849360'\): choose one",
+    ):
         TabulatedSpectrum.from_csv(path)
     with pytest.raises(InputError, match=r"no single spectrum named 'Kobe'; the file holds"):
         TabulatedSpectrum.from_csv(path, select="Kobe")
@@ -439,24 +476,30 @@ def test_spectrum_csv_of_several_records_is_read_one_record_at_a_time(tmp_path):
         assert table.name == f"two:{record}"
         np.testing.assert_array_equal(table.freqs_hz, f)
         # at the knots the log-log interpolation returns the values (exp(log(x)) to round-off)
-        np.testing.assert_allclose(table.psa(f), np.array(cols["psa_g"], float)[mine],
-                                   rtol=1e-14)
+        np.testing.assert_allclose(table.psa(f), np.array(cols["psa_g"], float)[mine], rtol=1e-14)
 
 
 def test_floor_spectra_csv_gives_psa_from_psv_of_the_chosen_floor(tmp_path):
     # rocking frame spectra --csv writes freq_hz and PSV [cm/s] of the ground and each floor.
     # PSA = ω·PSV/g (definition), so the table's PSV at its own frequencies is the file's.
     path = tmp_path / "floors.csv"
-    result = CliRunner().invoke(main, ["frame", "spectra", "paper-0.5", "--n", "2", "--csv",
-                                       str(path)])
+    result = CliRunner().invoke(
+        main, ["frame", "spectra", "paper-0.5", "--n", "2", "--csv", str(path)]
+    )
     assert result.exit_code == 0, result.output
     cols = _csv_columns(path)
     f = np.array(cols["freq_hz"], float)
-    with pytest.raises(InputError, match=r"holds 6 spectra \('ground', 'floor 1', 'floor 2', "
-                                         r"'floor 3', 'floor 4', 'floor 5'\)"):
+    with pytest.raises(
+        InputError,
+        match=r"holds 6 spectra \('ground', 'floor 1', 'floor 2', "
+        r"'floor 3', 'floor 4', 'floor 5'\)",
+    ):
         TabulatedSpectrum.from_csv(path)
-    for name, column in (("floor 1", "psv_floor_1_cm_s"), ("FLOOR_5", "psv_floor_5_cm_s"),
-                         ("ground", "psv_ground_cm_s")):
+    for name, column in (
+        ("floor 1", "psv_floor_1_cm_s"),
+        ("FLOOR_5", "psv_floor_5_cm_s"),
+        ("ground", "psv_ground_cm_s"),
+    ):
         table = TabulatedSpectrum.from_csv(path, select=name)
         psv_cm_s = np.array(cols[column], float)
         np.testing.assert_allclose(100 * table.psv(f), psv_cm_s, rtol=1e-12)
@@ -466,8 +509,12 @@ def test_floor_spectra_csv_gives_psa_from_psv_of_the_chosen_floor(tmp_path):
 def test_assess_and_screen_take_the_spectra_our_commands_write(tmp_path):
     floors, records = tmp_path / "floors.csv", tmp_path / "rec.csv"
     runner = CliRunner()
-    assert runner.invoke(main, ["frame", "spectra", "paper-0.5", "--n", "2", "--csv",
-                                str(floors)]).exit_code == 0
+    assert (
+        runner.invoke(
+            main, ["frame", "spectra", "paper-0.5", "--n", "2", "--csv", str(floors)]
+        ).exit_code
+        == 0
+    )
     assert runner.invoke(main, ["spectrum", "example", "--csv", str(records)]).exit_code == 0
     cols = _csv_columns(floors)
     f = np.array(cols["freq_hz"], float)
@@ -483,15 +530,28 @@ def test_assess_and_screen_take_the_spectra_our_commands_write(tmp_path):
         (str(records), np.array(rec["psv_cm_s"], float)[(rf >= 0.04) & (rf <= 0.6)], 2e-5),
     )
     for spec, psv_cm_s, rtol in cases:
-        result = runner.invoke(main, ["assess", "--bodies", "example", "--spectrum", spec,
-                                      "--json"])
+        result = runner.invoke(
+            main, ["assess", "--bodies", "example", "--spectrum", spec, "--json"]
+        )
         assert result.exit_code == 0, result.output
         available = json.loads(result.stdout)["sv_available_cm_s"]  # progress goes to stderr
         assert available == pytest.approx(psv_cm_s.max(), rel=rtol)
     result = runner.invoke(main, ["assess", "--bodies", "example", "--spectrum", str(floors)])
     assert result.exit_code == 1 and "choose one, e.g." in result.output
-    result = runner.invoke(main, ["screen", "example", "--spectrum", f"{floors}:ground",
-                                  "--frame", "paper-0.5", "--n", "4", "--out",
-                                  str(tmp_path / "screen")])
+    result = runner.invoke(
+        main,
+        [
+            "screen",
+            "example",
+            "--spectrum",
+            f"{floors}:ground",
+            "--frame",
+            "paper-0.5",
+            "--n",
+            "4",
+            "--out",
+            str(tmp_path / "screen"),
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert (tmp_path / "screen" / "report.html").is_file()

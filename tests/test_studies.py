@@ -11,8 +11,8 @@ import xarray as xr
 from click.testing import CliRunner
 
 import rocking
-from rocking.dynamics.body import Block, housner_sv
 from rocking.cli import main
+from rocking.dynamics.body import Block, housner_sv
 from rocking.errors import InputError
 from rocking.montecarlo.statistics import wilson_interval
 from rocking.studies import conclusions as C
@@ -43,15 +43,18 @@ def test_config_file_and_set_override_the_preset(tmp_path):
     assert PRESETS["quick"]["sec8"]["n"] == 40  # the preset itself is not modified
 
 
-@pytest.mark.parametrize("text, message", [
-    ("[sec9]\nn = 1\n", r"unknown section \[sec9\]"),
-    ("[sec8]\nmotions = 1\n", r"unknown key 'motions' in \[sec8\]"),
-    ("[sec8]\nn = 1.5\n", r"\[sec8\] n must be an integer"),
-    ("[sec6]\nagx = []\n", r"\[sec6\] agx must be a non-empty list of a numbers"),
-    ("[sec8]\nbodies = [[1.0]]\n", r"list of \[R, gamma\] pairs"),
-    ("sec8 = 3\n", r"must be a \[section\] table"),
-    ("[sec8\n", "not valid TOML"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("[sec9]\nn = 1\n", r"unknown section \[sec9\]"),
+        ("[sec8]\nmotions = 1\n", r"unknown key 'motions' in \[sec8\]"),
+        ("[sec8]\nn = 1.5\n", r"\[sec8\] n must be an integer"),
+        ("[sec6]\nagx = []\n", r"\[sec6\] agx must be a non-empty list of a numbers"),
+        ("[sec8]\nbodies = [[1.0]]\n", r"list of \[R, gamma\] pairs"),
+        ("sec8 = 3\n", r"must be a \[section\] table"),
+        ("[sec8\n", "not valid TOML"),
+    ],
+)
 def test_config_errors_name_file_section_and_key(tmp_path, text, message):
     path = tmp_path / "bad.toml"
     path.write_text(text)
@@ -61,12 +64,11 @@ def test_config_errors_name_file_section_and_key(tmp_path, text, message):
 
 
 def test_show_config_round_trips(tmp_path):
-    cfg = load_config("paper", sets=['common.envelope_params={t1 = 2.0, c = 0.25}'])
+    cfg = load_config("paper", sets=["common.envelope_params={t1 = 2.0, c = 0.25}"])
     path = tmp_path / "shown.toml"
     path.write_text(to_toml(cfg))
     assert load_config("paper", path) == cfg
-    result = CliRunner().invoke(main, ["reproduce", "all", "--show-config", "--set",
-                                       "sec8.n=7"])
+    result = CliRunner().invoke(main, ["reproduce", "all", "--show-config", "--set", "sec8.n=7"])
     assert result.exit_code == 0 and "[sec8]\nseed = 8\nn = 7\n" in result.output
 
 
@@ -99,17 +101,32 @@ def _prob(count, n, dims, coords):
     """A probability dataset as rocking.montecarlo.probability returns it, from counts."""
     count = np.asarray(count)
     lo, hi = wilson_interval(count, np.full(count.shape, n))
-    return xr.Dataset({"probability": (dims, count / n), "ci_low": (dims, lo),
-                       "ci_high": (dims, hi), "n": (dims, np.full(count.shape, n))},
-                      coords=coords)
+    return xr.Dataset(
+        {
+            "probability": (dims, count / n),
+            "ci_low": (dims, lo),
+            "ci_high": (dims, hi),
+            "n": (dims, np.full(count.shape, n)),
+        },
+        coords=coords,
+    )
 
 
 def _floors(ground, floor, t1=0.5):
     """Section 7 result: one frame, ground and two floors, one body, three A_gx."""
     counts = np.array([ground, floor, floor])[None, :, None, None] * np.ones((1, 1, 1, 3), int)
-    return _prob(counts, 100, ("frame", "location", "body", "agx"),
-                 {"frame": ["stiff"], "location": ["ground", "floor 1", "floor 2"],
-                  "body": ["b"], "agx": [0.3, 0.5, 0.8], "T1": ("frame", [t1])})
+    return _prob(
+        counts,
+        100,
+        ("frame", "location", "body", "agx"),
+        {
+            "frame": ["stiff"],
+            "location": ["ground", "floor 1", "floor 2"],
+            "body": ["b"],
+            "agx": [0.3, 0.5, 0.8],
+            "T1": ("frame", [t1]),
+        },
+    )
 
 
 def test_conclusion_8_follows_the_data():
@@ -127,9 +144,17 @@ def test_conclusion_7_needs_both_directions():
 def _durations(counts, envelopes=("boxcar",)):
     """Section 6 result from counts per duration 10, 20, 25, 30 s (out of 100)."""
     c = np.array(counts)[None, :, None, None] * np.ones((len(envelopes), 1, 1, 2), int)
-    return _prob(c, 100, ("envelope", "duration", "body", "agx"),
-                 {"envelope": list(envelopes), "duration": [10.0, 20.0, 25.0, 30.0],
-                  "body": ["b"], "agx": [0.5, 1.0]})
+    return _prob(
+        c,
+        100,
+        ("envelope", "duration", "body", "agx"),
+        {
+            "envelope": list(envelopes),
+            "duration": [10.0, 20.0, 25.0, 30.0],
+            "body": ["b"],
+            "agx": [0.5, 1.0],
+        },
+    )
 
 
 def test_conclusions_4_and_5_on_durations():
@@ -162,11 +187,14 @@ def _balance(ground_ratio, floor_ratio):
     sv = np.array([housner_sv(b) for b in blocks])
     agx50 = sv / 2.0  # any positive values: A_gx50 [g] proportional to S_v
     ratio = np.array([np.full(4, ground_ratio), np.full(4, floor_ratio)])
-    return xr.Dataset({"ratio": (("location", "body"), ratio),
-                       "sv_required": (("location", "body"), np.array([sv, sv])),
-                       "agx50": (("location", "body"), np.array([agx50, agx50]))},
-                      coords={"location": ["ground", "floor 1"],
-                              "body": [b.label for b in blocks]})
+    return xr.Dataset(
+        {
+            "ratio": (("location", "body"), ratio),
+            "sv_required": (("location", "body"), np.array([sv, sv])),
+            "agx50": (("location", "body"), np.array([agx50, agx50])),
+        },
+        coords={"location": ["ground", "floor 1"], "body": [b.label for b in blocks]},
+    )
 
 
 def test_conclusion_9_on_ratios():
@@ -178,9 +206,13 @@ def test_conclusion_9_on_ratios():
 def test_conclusion_1_counts_changed_outcomes():
     flags = np.zeros((2, 1, 10), bool)
     flags[0, 0, :3] = True  # uncorrected overturns 3 motions, corrected none
-    check = xr.Dataset({"overturned": (("correction", "body", "motion"), flags),
-                        "peak": (("correction", "body", "motion"), np.ones((2, 1, 10)))},
-                       coords={"correction": ["uncorrected", "corrected"]})
+    check = xr.Dataset(
+        {
+            "overturned": (("correction", "body", "motion"), flags),
+            "peak": (("correction", "body", "motion"), np.ones((2, 1, 10))),
+        },
+        coords={"correction": ["uncorrected", "corrected"]},
+    )
     assert C.conclusion_1(check).verdict == C.REPRODUCED
     assert "3/10" in C.conclusion_1(check).evidence
     check["overturned"][:] = False
@@ -193,10 +225,17 @@ def test_known_disagreements_find_the_frame_that_matches_the_paper():
     locations = ["ground", "floor 1", "floor 2", "floor 3", "floor 4", "floor 5"]
     level = {"stiff": [1.0, 1.143, 1.2, 1.5, 1.6, 1.4], "soft": [1.0, 2.6, 2.5, 2.4, 2.3, 2.2]}
     freqs = np.geomspace(0.04, 30.0, 20)
-    psv = xr.DataArray(np.array([[np.full(20, v) for v in level[f]] for f in level]),
-                       dims=("frame", "location", "freq"),
-                       coords={"frame": list(level), "location": locations, "freq": freqs,
-                               "T1": ("frame", [1.0, 2.0])}, attrs={"agx": 0.6})
+    psv = xr.DataArray(
+        np.array([[np.full(20, v) for v in level[f]] for f in level]),
+        dims=("frame", "location", "freq"),
+        coords={
+            "frame": list(level),
+            "location": locations,
+            "freq": freqs,
+            "T1": ("frame", [1.0, 2.0]),
+        },
+        attrs={"agx": 0.6},
+    )
 
     class R7:
         pass
@@ -213,9 +252,11 @@ def test_reversals_of_a_sweep():
     # 0.8 (the paper's Fig. 6 situation), motion 3 peaks lower at 0.8 (by 50 %).
     ov = np.array([[False, False, False], [False, True, False], [False, False, False]])
     pk = np.array([[0.1, 0.2, 0.5], [0.2, 9.0, 0.4], [0.3, 0.3, 0.25]])
-    sweep = xr.Dataset({"overturned": (("value", "motion"), ov),
-                        "peak": (("value", "motion"), pk)},
-                       coords={"value": [0.4, 0.6, 0.8]}, attrs={"direction": +1})
+    sweep = xr.Dataset(
+        {"overturned": (("value", "motion"), ov), "peak": (("value", "motion"), pk)},
+        coords={"value": [0.4, 0.6, 0.8]},
+        attrs={"direction": +1},
+    )
     assert reversals(sweep) == {"outcome": 1, "peak": 2, "n": 3}
 
 
@@ -226,8 +267,9 @@ def test_reversals_of_a_sweep():
 def quick_run(tmp_path_factory):
     # The quick fidelity itself, as CI must run it (issue 7): about 15 s on 2 cores.
     out = tmp_path_factory.mktemp("reproduce") / "out"
-    result = CliRunner().invoke(main, ["reproduce", "all", "--fidelity", "quick", "--out",
-                                       str(out), "--quiet"])
+    result = CliRunner().invoke(
+        main, ["reproduce", "all", "--fidelity", "quick", "--out", str(out), "--quiet"]
+    )
     return result, out
 
 
@@ -237,13 +279,26 @@ def test_reproduce_all_quick(quick_run):
     md = (out / "report.md").read_text()
     page = (out / "report.html").read_text()
     for k in range(1, 10):  # all nine conclusions, each with a verdict
-        assert any(f"**{k}. {v}.**" in md for v in
-                   (C.REPRODUCED, C.PARTLY, C.NOT_REPRODUCED, C.NOT_EVALUATED)), k
+        assert any(
+            f"**{k}. {v}.**" in md
+            for v in (C.REPRODUCED, C.PARTLY, C.NOT_REPRODUCED, C.NOT_EVALUATED)
+        ), k
     # key numbers: Table 1 misprint by Eq. (11), the paper's floor S_v, the fidelity note
     for text in ("324.33", "316.71", "114.30", "quick fidelity"):
         assert text in md
-    for fig in ("fig3", "fig4", "fig5", "fig8", "fig9a", "fig11-paper-0.5", "fig12-paper-2.0",
-                "fig13", "fig14", "fig15", "fig16"):
+    for fig in (
+        "fig3",
+        "fig4",
+        "fig5",
+        "fig8",
+        "fig9a",
+        "fig11-paper-0.5",
+        "fig12-paper-2.0",
+        "fig13",
+        "fig14",
+        "fig15",
+        "fig16",
+    ):
         assert (out / "figures" / f"{fig}.png").exists(), fig
     assert page.count("data:image/png;base64,") == len(list((out / "figures").iterdir()))
     run = json.loads((out / "run.json").read_text())
@@ -254,7 +309,7 @@ def test_reproduce_all_quick(quick_run):
 
 def test_reproduce_report_writes_gamma_as_gamma(quick_run):
     # Body names, table headers and legends used to write γ as "g" ("R=1.22m g=4").
-    result, out = quick_run
+    _result, out = quick_run
     md = (out / "report.md").read_text()
     assert "R=1.22 m, γ=4" in md
     assert not re.search(r"\bg=", md)
@@ -273,8 +328,9 @@ SMALL_SETS = ["sec4.n_check=3", "sec6.n=6", "sec7.n=5", "sec8.n=12"]
 def _titles(fig) -> list[str]:
     """Every title of a figure (its suptitle and each panel's three titles), whitespace
     normalised."""
-    texts = [fig.get_suptitle()] + [ax.get_title(loc) for ax in fig.axes
-                                     for loc in ("left", "center", "right")]
+    texts = [fig.get_suptitle()] + [
+        ax.get_title(loc) for ax in fig.axes for loc in ("left", "center", "right")
+    ]
     return [" ".join(t.split()) for t in texts if t.strip()]
 
 
@@ -314,8 +370,12 @@ def test_report_quotes_the_ensemble_sizes_of_the_run(small_run):
     # keeps the preset's 25); the Table 3 note used to say "n = 200" whatever the run.
     out, _ = small_run
     md = (out / "report.md").read_text()
-    quoted = {int(n) for match in re.findall(r"(\d+) motions\b|\bn ?= ?(\d+)|motions=(\d+)", md)
-              for n in match if n}
+    quoted = {
+        int(n)
+        for match in re.findall(r"(\d+) motions\b|\bn ?= ?(\d+)|motions=(\d+)", md)
+        for n in match
+        if n
+    }
     assert quoted == {3, 25, 6, 5, 12}
     assert "with the 12 motions of this run" in md
 
@@ -327,7 +387,8 @@ def test_worked_examples_say_where_eq11_and_the_simulation_disagree(small_run):
     table = pd.read_csv(out / "tables" / "worked-examples.csv")
     said = table["Eq. (11) vs Monte Carlo"]
     same_side = (table["verdict by Eq. (11), ours"] == "safe") == (
-        table["P(overturn) simulated"] < 0.5)
+        table["P(overturn) simulated"] < 0.5
+    )
     assert (said.str.startswith("agree") == same_side).all()
     md = (out / "report.md").read_text()
     assert "Why Eq. (11) and the Monte Carlo probability can disagree" in md
@@ -336,20 +397,24 @@ def test_worked_examples_say_where_eq11_and_the_simulation_disagree(small_run):
 def test_reproduce_bad_input_is_one_line(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[sec8]\nn = -\n")
-    result = CliRunner().invoke(main, ["reproduce", "8", "--out", str(tmp_path / "o"),
-                                       "--config", str(bad)])
+    result = CliRunner().invoke(
+        main, ["reproduce", "8", "--out", str(tmp_path / "o"), "--config", str(bad)]
+    )
     assert result.exit_code == 1
     assert result.output.startswith("Error: config") and "Traceback" not in result.output
     result = CliRunner().invoke(main, ["reproduce", "9", "--out", str(tmp_path / "o")])
     assert result.exit_code == 2  # click's usage error for an unknown SECTION
 
 
-@pytest.mark.parametrize("setting, message", [
-    ('sec7.frames=["paper-3.0"]', "sec7.frames: unknown frame preset 'paper-3.0'"),
-    ("sec6.bodies=[[1.0, -2]]", "sec6.bodies: gamma must be"),
-    ("common.envelope_params={t2 = 50.0}", "common.envelope_params: t2 must lie in"),
-    ("sec5.motions=[1, 30]", "sec5: motion numbers must lie in 1..n = 25"),
-])
+@pytest.mark.parametrize(
+    "setting, message",
+    [
+        ('sec7.frames=["paper-3.0"]', "sec7.frames: unknown frame preset 'paper-3.0'"),
+        ("sec6.bodies=[[1.0, -2]]", "sec6.bodies: gamma must be"),
+        ("common.envelope_params={t2 = 50.0}", "common.envelope_params: t2 must lie in"),
+        ("sec5.motions=[1, 30]", "sec5: motion numbers must lie in 1..n = 25"),
+    ],
+)
 def test_bad_values_stop_the_run_before_it_writes(tmp_path, setting, message):
     out = tmp_path / "out"
     result = CliRunner().invoke(main, ["reproduce", "4", "--out", str(out), "--set", setting])
@@ -401,8 +466,9 @@ def test_sigterm_marks_the_run_failed(tmp_path):
     import time
 
     out = tmp_path / "out"
-    proc = subprocess.Popen([sys.executable, "-c", SIGTERM_SCRIPT, "reproduce", "6", "--quiet",
-                             "--out", str(out)])
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SIGTERM_SCRIPT, "reproduce", "6", "--quiet", "--out", str(out)]
+    )
     try:
         deadline = time.monotonic() + 120
         while not list(out.rglob("chunk-*.npz")):

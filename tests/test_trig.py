@@ -1,6 +1,7 @@
 """Accuracy of the fast trigonometry of the RK4 kernel (issue 6) against libm.
 
-The kernel evaluates sin θ and cos θ once per step by polynomials (rocking.dynamics.equation._sincos) and
+The kernel evaluates sin θ and cos θ once per step by polynomials
+(rocking.dynamics.equation._sincos) and
 the stage angles θ + δ by the angle-sum identities with Taylor polynomials of δ
 (rocking.dynamics.equation._rot).  References: NumPy's sin/cos (the C library's, within 1 ulp of the
 exact value), and for the rotation the same expression in x87 extended precision (64-bit
@@ -15,8 +16,15 @@ import numba
 import numpy as np
 import pytest
 
-from rocking.dynamics.equation import (ROTATION_DMAX, SINCOS_TINY, SINCOS_XMAX, _rk4_fast,
-                                       _rk4_stages, _rot, _sincos)
+from rocking.dynamics.equation import (
+    ROTATION_DMAX,
+    SINCOS_TINY,
+    SINCOS_XMAX,
+    _rk4_fast,
+    _rk4_stages,
+    _rot,
+    _sincos,
+)
 
 ULP1 = np.spacing(1.0)  # 2.2e-16
 
@@ -40,7 +48,7 @@ def _rot_array(P, Q, d):
 
 def test_polynomial_sin_cos_match_libm_over_the_rocking_range():
     # every step starts at |θ| < overturn angle ≤ π/2 < SINCOS_XMAX
-    assert SINCOS_XMAX > math.pi / 2
+    assert math.pi / 2 < SINCOS_XMAX
     x = np.linspace(0.0, SINCOS_XMAX, 1_000_001)
     x = np.concatenate([x, -x])
     s, c = _sincos_array(x)
@@ -54,8 +62,12 @@ def test_polynomial_sin_cos_match_libm_over_the_rocking_range():
     # small angles: sin x = x and cos x = 1 to the last bit where the series says so
     # (x²/6 and x²/2 below half an ulp for |x| < SINCOS_TINY), as _sincos_any assumes when it
     # skips the polynomials there
-    tiny = np.concatenate([[np.nextafter(SINCOS_TINY, 0.0), 1e-9, 1e-12, 5e-324, 0.0],
-                           np.geomspace(1e-300, SINCOS_TINY, 20001)[:-1]])
+    tiny = np.concatenate(
+        [
+            [np.nextafter(SINCOS_TINY, 0.0), 1e-9, 1e-12, 5e-324, 0.0],
+            np.geomspace(1e-300, SINCOS_TINY, 20001)[:-1],
+        ]
+    )
     tiny = np.concatenate([tiny, -tiny])
     st, ct = _sincos_array(tiny)
     np.testing.assert_array_equal(st, tiny)

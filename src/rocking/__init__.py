@@ -14,32 +14,62 @@ from typing import TYPE_CHECKING
 
 #: Public name → module of this package that defines it.
 _EXPORTS = {
-    "DaskBackend": "montecarlo.backends", "LocalBackend": "montecarlo.backends",
-    "get_backend": "montecarlo.backends", "overturn_batch": "dynamics.batch",
-    "overturn_cases": "dynamics.batch", "NamedBody": "assessment.bodies",
-    "read_bodies": "assessment.bodies", "read_bodies_table": "assessment.bodies",
-    "FOOT": "dynamics.body", "G": "dynamics.body", "Block": "dynamics.body",
-    "housner_sv": "dynamics.body", "paper_bodies": "dynamics.body", "ASCE7": "motions.design",
-    "EC8": "motions.design", "design_pga": "motions.design", "parse_spectrum": "motions.design",
-    "RockingResponse": "dynamics.simulate", "simulate": "dynamics.simulate",
-    "assess": "assessment.energy", "available_sv": "assessment.energy",
-    "energy_balance": "assessment.energy", "InputError": "errors", "RockingError": "errors",
-    "LognormalFit": "montecarlo.statistics", "agx_50": "montecarlo.probability",
-    "fit_lognormal": "montecarlo.statistics", "overturning_probability": "montecarlo.probability",
-    "wilson_interval": "montecarlo.statistics", "PRESETS": "structures.frames",
-    "ShearFrame": "structures.frames", "kN_per_cm_to_N_per_m": "structures.frames",
-    "kN_per_g_to_kg": "structures.frames", "Inventory": "assessment.inventory",
-    "Item": "assessment.inventory", "SlidingWarning": "assessment.inventory",
-    "read_inventory": "assessment.inventory", "Ensemble": "motions.ensemble",
-    "baseline_correct": "motions.baseline", "generate": "motions.synthesis",
-    "limit_peaks": "motions.synthesis", "spectral_fit": "motions.synthesis",
-    "Record": "motions.records", "read_record": "motions.records",
-    "read_records": "motions.records", "Report": "report",
+    "DaskBackend": "montecarlo.backends",
+    "LocalBackend": "montecarlo.backends",
+    "get_backend": "montecarlo.backends",
+    "overturn_batch": "dynamics.batch",
+    "overturn_cases": "dynamics.batch",
+    "NamedBody": "assessment.bodies",
+    "read_bodies": "assessment.bodies",
+    "read_bodies_table": "assessment.bodies",
+    "FOOT": "dynamics.body",
+    "G": "dynamics.body",
+    "Block": "dynamics.body",
+    "housner_sv": "dynamics.body",
+    "paper_bodies": "dynamics.body",
+    "ASCE7": "motions.design",
+    "EC8": "motions.design",
+    "design_pga": "motions.design",
+    "parse_spectrum": "motions.design",
+    "RockingResponse": "dynamics.simulate",
+    "simulate": "dynamics.simulate",
+    "assess": "assessment.energy",
+    "available_sv": "assessment.energy",
+    "energy_balance": "assessment.energy",
+    "InputError": "errors",
+    "RockingError": "errors",
+    "LognormalFit": "montecarlo.statistics",
+    "agx_50": "montecarlo.probability",
+    "fit_lognormal": "montecarlo.statistics",
+    "overturning_probability": "montecarlo.probability",
+    "wilson_interval": "montecarlo.statistics",
+    "PRESETS": "structures.frames",
+    "ShearFrame": "structures.frames",
+    "kN_per_cm_to_N_per_m": "structures.frames",
+    "kN_per_g_to_kg": "structures.frames",
+    "Inventory": "assessment.inventory",
+    "Item": "assessment.inventory",
+    "SlidingWarning": "assessment.inventory",
+    "read_inventory": "assessment.inventory",
+    "Ensemble": "motions.ensemble",
+    "baseline_correct": "motions.baseline",
+    "generate": "motions.synthesis",
+    "limit_peaks": "motions.synthesis",
+    "spectral_fit": "motions.synthesis",
+    "Record": "motions.records",
+    "read_record": "motions.records",
+    "read_records": "motions.records",
+    "Report": "report",
     "provenance": "core.runs",
-    "results_table": "assessment.screen", "screen": "assessment.screen",
-    "RG160": "motions.targets", "ResponseSpectrum": "motions.response",
-    "TabulatedSpectrum": "motions.targets", "TargetSpectrum": "motions.targets",
-    "response_spectrum": "motions.response", "rg160": "motions.targets", "reproduce": "studies",
+    "results_table": "assessment.screen",
+    "screen": "assessment.screen",
+    "RG160": "motions.targets",
+    "ResponseSpectrum": "motions.response",
+    "TabulatedSpectrum": "motions.targets",
+    "TargetSpectrum": "motions.targets",
+    "response_spectrum": "motions.response",
+    "rg160": "motions.targets",
+    "reproduce": "studies",
 }
 
 __all__ = list(_EXPORTS)
@@ -70,8 +100,9 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .assessment.energy import assess, available_sv, energy_balance
     from .assessment.inventory import Inventory, Item, SlidingWarning, read_inventory
     from .assessment.screen import results_table, screen
+    from .core.runs import provenance
     from .dynamics.batch import overturn_batch, overturn_cases
-    from .dynamics.body import FOOT, G, Block, housner_sv, paper_bodies
+    from .dynamics.body import FOOT, Block, G, housner_sv, paper_bodies
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
@@ -84,7 +115,6 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit
     from .motions.targets import RG160, TabulatedSpectrum, TargetSpectrum, rg160
-    from .core.runs import provenance
     from .report import Report
     from .structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
     from .studies import reproduce

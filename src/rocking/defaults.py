@@ -46,4 +46,5 @@ SPECTRUM_SYNTAX = (
     "or a CSV file of frequency [Hz] or period [s] and PSA [g] or PSV [cm/s or m/s] (e.g. a "
     "floor response spectrum, or the output of 'rocking spectrum --csv' or 'rocking frame "
     "spectra --csv'), FILE:NAME choosing one spectrum of a file that holds several (a record, "
-    "a floor)")
+    "a floor)"
+)

@@ -16,14 +16,9 @@ Text is Markdown, rendered to HTML by Python-Markdown; figures and tables are re
 from __future__ import annotations
 
 import base64
-import datetime as _dt
 import html
 import io
-import json
-import os
-import platform
 import re
-import sys
 import unicodedata
 from dataclasses import dataclass
 from pathlib import Path
@@ -92,8 +87,9 @@ class Report:
         if isinstance(level, bool) or level not in range(1, 7):
             raise InputError(f"heading level must be an integer 1-6, got {level!r}")
         text = " ".join(str(text).split())
-        self._blocks.append(_Block(f"{'#' * level} {text}",
-                                   f"<h{level}>{_inline(text)}</h{level}>"))
+        self._blocks.append(
+            _Block(f"{'#' * level} {text}", f"<h{level}>{_inline(text)}</h{level}>")
+        )
 
     def text(self, markdown: str) -> None:
         """Add Markdown text (paragraphs, ``-`` lists, bold, italic, code, links)."""
@@ -112,14 +108,18 @@ class Report:
         self.files.append(f"figures/{name}.png")
         b64 = base64.b64encode(png).decode("ascii")
         cap = " ".join(str(caption).split())
-        self._blocks.append(_Block(
-            f"![{_md_alt(cap)}](figures/{name}.png)\n\n*{cap}*",
-            f'<figure><img alt="{html.escape(cap)}" src="data:image/png;base64,{b64}">'
-            f"<figcaption>{_inline(cap)}</figcaption></figure>"))
+        self._blocks.append(
+            _Block(
+                f"![{_md_alt(cap)}](figures/{name}.png)\n\n*{cap}*",
+                f'<figure><img alt="{html.escape(cap)}" src="data:image/png;base64,{b64}">'
+                f"<figcaption>{_inline(cap)}</figcaption></figure>",
+            )
+        )
         return path
 
-    def table(self, dataframe, caption: str, name: str | None = None, *,
-              floatfmt: str = ".4g") -> Path:
+    def table(
+        self, dataframe, caption: str, name: str | None = None, *, floatfmt: str = ".4g"
+    ) -> Path:
         """Add a table (a ``pandas.DataFrame``; its index is shown when it is named or not a
         plain range); also written as ``tables/<name>.csv`` (floats to 12 significant digits,
         :data:`CSV_FLOAT_FORMAT`).
@@ -131,8 +131,11 @@ class Report:
         self._n_tables += 1
         name = self._claim(name or f"table-{self._n_tables}")
         df = dataframe
-        show_index = df.index.name is not None or any(df.index.names[1:]) or not (
-            df.index.dtype.kind in "iu" and np.array_equal(df.index, np.arange(len(df))))
+        show_index = (
+            df.index.name is not None
+            or any(df.index.names[1:])
+            or not (df.index.dtype.kind in "iu" and np.array_equal(df.index, np.arange(len(df))))
+        )
         n_index = df.index.nlevels if show_index else 0
         if show_index:
             df = df.reset_index()
@@ -143,27 +146,37 @@ class Report:
         header = [str(c) for c in df.columns]
         numeric = [dtype.kind in "iufc" for dtype in df.dtypes]
         formats = ["g"] * n_index + [floatfmt] * (len(header) - n_index)
-        rows = [[_cell(v, f) for v, f in zip(row, formats)]
-                for row in df.itertuples(index=False)]
+        rows = [[_cell(v, f) for v, f in zip(row, formats)] for row in df.itertuples(index=False)]
         cap = " ".join(str(caption).split())
-        md = [f"*{cap}*", "", "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |",
-              "|" + "|".join("---:" if num else ":---" for num in numeric) + "|"]
+        md = [
+            f"*{cap}*",
+            "",
+            "| " + " | ".join(h.replace("|", "\\|") for h in header) + " |",
+            "|" + "|".join("---:" if num else ":---" for num in numeric) + "|",
+        ]
         md += ["| " + " | ".join(c.replace("|", "\\|") for c in row) + " |" for row in rows]
         cls = ["" if num else ' class="text"' for num in numeric]
-        body = "".join("<tr>" + "".join(f"<td{k}>{html.escape(c)}</td>" for k, c in zip(cls, row))
-                       + "</tr>" for row in rows)
+        body = "".join(
+            "<tr>" + "".join(f"<td{k}>{html.escape(c)}</td>" for k, c in zip(cls, row)) + "</tr>"
+            for row in rows
+        )
         head = "".join(f"<th{k}>{html.escape(h)}</th>" for k, h in zip(cls, header))
-        self._blocks.append(_Block(
-            "\n".join(md) + f"\n\n(CSV: `tables/{name}.csv`)",
-            f"<table><caption>{_inline(cap)}</caption><thead><tr>{head}</tr></thead>"
-            f"<tbody>{body}</tbody></table>"))
+        self._blocks.append(
+            _Block(
+                "\n".join(md) + f"\n\n(CSV: `tables/{name}.csv`)",
+                f"<table><caption>{_inline(cap)}</caption><thead><tr>{head}</tr></thead>"
+                f"<tbody>{body}</tbody></table>",
+            )
+        )
         return path
 
     def _claim(self, name) -> str:
         name = str(name)
         if not _NAME.match(name):
-            raise InputError(f"figure/table name {name!r} must be letters, digits, '_', '-' or "
-                             "'.', starting with a letter or digit (it becomes a file name)")
+            raise InputError(
+                f"figure/table name {name!r} must be letters, digits, '_', '-' or "
+                "'.', starting with a letter or digit (it becomes a file name)"
+            )
         if name in self._names:
             raise InputError(f"figure/table name {name!r} is used twice in this report")
         self._names.add(name)
@@ -178,9 +191,11 @@ class Report:
         """The report as one self-contained HTML page (figures embedded)."""
         title = html.escape(self.title)
         body = "\n".join(b.html for b in self._blocks)
-        return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
-                f"<title>{title}</title><style>{_CSS}</style></head>\n<body>\n<h1>{title}</h1>\n"
-                f"{body}\n</body></html>\n")
+        return (
+            f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+            f"<title>{title}</title><style>{_CSS}</style></head>\n<body>\n<h1>{title}</h1>\n"
+            f"{body}\n</body></html>\n"
+        )
 
     def write(self) -> tuple[Path, Path]:
         """Write ``report.md`` and ``report.html`` atomically; return their paths.

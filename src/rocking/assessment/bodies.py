@@ -70,15 +70,18 @@ def read_bodies_table(path) -> list[NamedBody]:
     path = Path(path)
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
-            lines = [(n, [c.strip() for c in cells])
-                     for n, cells in enumerate(csv.reader(fh), start=1)]
+            lines = [
+                (n, [c.strip() for c in cells]) for n, cells in enumerate(csv.reader(fh), start=1)
+            ]
     except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read the bodies file "
-                         f"({getattr(exc, 'strerror', None) or exc})") from None
+        raise InputError(
+            f"{path}: cannot read the bodies file ({getattr(exc, 'strerror', None) or exc})"
+        ) from None
     lines = [(n, cells) for n, cells in lines if any(cells) and not cells[0].startswith("#")]
     if not lines:
-        raise InputError(f"{path}: empty bodies file (need a header row R,gamma or H,B and "
-                         "one row per body)")
+        raise InputError(
+            f"{path}: empty bodies file (need a header row R,gamma or H,B and one row per body)"
+        )
     columns = _columns(path, *lines[0])
     if len(lines) == 1:
         raise InputError(f"{path}: no bodies below the header (line {lines[0][0]})")
@@ -86,12 +89,16 @@ def read_bodies_table(path) -> list[NamedBody]:
     for row, (lineno, cells) in enumerate(lines[1:], start=1):
         where = f"{path}: row {row} (line {lineno})"
         if len(cells) != len(columns):
-            raise InputError(f"{where}: {len(cells)} value(s) for {len(columns)} columns "
-                             f"({', '.join(columns)})")
+            raise InputError(
+                f"{where}: {len(cells)} value(s) for {len(columns)} columns ({', '.join(columns)})"
+            )
         values = dict(zip(columns, cells))
         size = {k: _number(where, k, v) for k, v in values.items() if k != "name"}
-        block = Block(size["R"], size["gamma"]) if "R" in size else \
-            Block.from_dimensions(size["H"], size["B"])
+        block = (
+            Block(size["R"], size["gamma"])
+            if "R" in size
+            else Block.from_dimensions(size["H"], size["B"])
+        )
         name = values.get("name") or block.label
         if name in seen:
             raise InputError(f"{where}: name {name!r} repeats that of row {seen[name]}")
@@ -106,8 +113,10 @@ def _columns(path: Path, lineno: int, header: list[str]) -> list[str]:
     for cell in header:
         key = re.sub(r"\s*[\[(].*[\])]\s*$", "", cell).strip().lower()
         if key not in _ALIASES:
-            raise InputError(f"{path}: line {lineno}: unknown column {cell!r} (expected R and "
-                             "gamma, or H and B, and optionally name)")
+            raise InputError(
+                f"{path}: line {lineno}: unknown column {cell!r} (expected R and "
+                "gamma, or H and B, and optionally name)"
+            )
         if _ALIASES[key] in columns:
             raise InputError(f"{path}: line {lineno}: column {cell!r} appears twice")
         columns.append(_ALIASES[key])
@@ -115,11 +124,15 @@ def _columns(path: Path, lineno: int, header: list[str]) -> list[str]:
     has_hb = {"H", "B"} <= set(columns)
     sizes = [c for c in columns if c != "name"]
     if len(sizes) > 2:
-        raise InputError(f"{path}: line {lineno}: give R and gamma, or H and B, not a mix "
-                         f"(got {', '.join(header)})")
+        raise InputError(
+            f"{path}: line {lineno}: give R and gamma, or H and B, not a mix "
+            f"(got {', '.join(header)})"
+        )
     if not (has_rg or has_hb):
-        raise InputError(f"{path}: line {lineno}: missing column: need R and gamma, or H and B "
-                         f"(got {', '.join(header)})")
+        raise InputError(
+            f"{path}: line {lineno}: missing column: need R and gamma, or H and B "
+            f"(got {', '.join(header)})"
+        )
     return columns
 
 

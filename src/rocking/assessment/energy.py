@@ -1,6 +1,7 @@
 """Housner's energy-balance check (paper Section 8): required against available pseudo-velocity.
 
-* Required S_v (Eq. 11, :func:`rocking.dynamics.body.housner_sv`): the pseudo-velocity that overturns a
+* Required S_v (Eq. 11, :func:`rocking.dynamics.body.housner_sv`): the pseudo-velocity that
+overturns a
   body with about 50 % probability.
 * Available S_v (:func:`available_sv`): the largest value of a 5 %-damped pseudo-velocity spectrum
   (the mean spectrum of an ensemble) in a low-frequency band, 0.04–0.6 Hz in the paper, because a
@@ -24,13 +25,13 @@ import pandas as pd
 import xarray as xr
 
 from ..core.checks import in_range, positive
+from ..defaults import BAND_HZ
 from ..dynamics.batch import block_list
 from ..dynamics.body import G, housner_sv
-from ..defaults import BAND_HZ
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
-from ..motions.targets import RG160, TabulatedSpectrum, TargetSpectrum
 from ..motions.response import ResponseSpectrum, response_spectrum
+from ..motions.targets import RG160, TabulatedSpectrum, TargetSpectrum
 
 #: Default number of log-spaced oscillator frequencies in the band [-].
 N_FREQS = 200
@@ -72,19 +73,28 @@ def mean_psv(ensemble: Ensemble, freqs_hz, damping: float = 0.05) -> np.ndarray:
     return response_spectrum(ensemble.acc, ensemble.dt, freqs_hz, damping).mean().psv
 
 
-def available_sv(source, *, band_hz=BAND_HZ, damping: float = 0.05, agx: float | None = None,
-                 n_freqs: int = N_FREQS) -> float:
+def available_sv(
+    source,
+    *,
+    band_hz=BAND_HZ,
+    damping: float = 0.05,
+    agx: float | None = None,
+    n_freqs: int = N_FREQS,
+) -> float:
     """Largest pseudo-velocity of a spectrum inside a frequency band [m/s] (paper Section 8).
 
     Parameters
     ----------
     source : Ensemble, ResponseSpectrum or TargetSpectrum
-        * :class:`~rocking.motions.ensemble.Ensemble`: the maximum over ``n_freqs`` log-spaced frequencies
+        * :class:`~rocking.motions.ensemble.Ensemble`: the maximum over ``n_freqs`` log-spaced
+        frequencies
           of the band of the ensemble-mean PSV (``damping``), after scaling the ensemble to
           mean PGA ``agx`` if given. With ``agx`` = a body's A_gx at 50 % this is S_v1.
-        * :class:`~rocking.motions.response.ResponseSpectrum`: the maximum of its (mean) PSV at its own
+        * :class:`~rocking.motions.response.ResponseSpectrum`: the maximum of its (mean) PSV at its
+        own
           frequencies inside the band; its damping must equal ``damping``.
-        * :class:`~rocking.motions.targets.TargetSpectrum`: the maximum of its PSV on the log-spaced grid
+        * :class:`~rocking.motions.targets.TargetSpectrum`: the maximum of its PSV on the log-spaced
+        grid
           plus its table frequencies inside the band (PSV is monotonic between the knots of a
           log-log-linear table, so the maximum of a tabulated or RG 1.60 spectrum is exact).
     band_hz : (float, float)
@@ -104,35 +114,48 @@ def available_sv(source, *, band_hz=BAND_HZ, damping: float = 0.05, agx: float |
     lo, hi = _band(band_hz)
     damping = in_range("damping", damping, 0.0, 1.0, hi_open=True, unit="-")
     if agx is not None and not isinstance(source, Ensemble):
-        raise InputError("agx scales an ensemble; it cannot be given with a "
-                         f"{type(source).__name__}")
+        raise InputError(
+            f"agx scales an ensemble; it cannot be given with a {type(source).__name__}"
+        )
     if isinstance(source, Ensemble):
         freqs = band_frequencies((lo, hi), n_freqs)
         sv = float(mean_psv(source, freqs, damping).max())
         return sv if agx is None else sv * positive("agx", agx, "g") / _agx_of(source)
     if isinstance(source, ResponseSpectrum):
         if not math.isclose(source.damping, damping, rel_tol=1e-9):
-            raise InputError(f"the response spectrum has damping {source.damping:g}, but "
-                             f"damping={damping:g} was asked")
+            raise InputError(
+                f"the response spectrum has damping {source.damping:g}, but "
+                f"damping={damping:g} was asked"
+            )
         inside = (source.freqs_hz >= lo) & (source.freqs_hz <= hi)
         if not inside.any():
-            raise InputError(f"the response spectrum has no frequency in the band "
-                             f"{lo:g}–{hi:g} Hz")
+            raise InputError(f"the response spectrum has no frequency in the band {lo:g}–{hi:g} Hz")
         return float(source.mean().psv[inside].max())
     if isinstance(source, TargetSpectrum):
         if not math.isclose(source.damping, damping, rel_tol=1e-9):
-            raise InputError(f"the spectrum {source.name!r} is for damping {source.damping:g}, "
-                             f"but damping={damping:g} was asked")
+            raise InputError(
+                f"the spectrum {source.name!r} is for damping {source.damping:g}, "
+                f"but damping={damping:g} was asked"
+            )
         knots = _knots(source)
-        freqs = np.union1d(band_frequencies((lo, hi), n_freqs),
-                           knots[(knots > lo) & (knots < hi)])
+        freqs = np.union1d(band_frequencies((lo, hi), n_freqs), knots[(knots > lo) & (knots < hi)])
         return float(source.psv(freqs).max())
-    raise InputError("source must be an Ensemble, a ResponseSpectrum or a TargetSpectrum, got "
-                     f"{type(source).__name__}")
+    raise InputError(
+        "source must be an Ensemble, a ResponseSpectrum or a TargetSpectrum, got "
+        f"{type(source).__name__}"
+    )
 
 
-def energy_balance(blocks, ensemble: Ensemble, agx50, *, band_hz=BAND_HZ, damping: float = 0.05,
-                   n_freqs: int = N_FREQS, g: float = G) -> xr.Dataset:
+def energy_balance(
+    blocks,
+    ensemble: Ensemble,
+    agx50,
+    *,
+    band_hz=BAND_HZ,
+    damping: float = 0.05,
+    n_freqs: int = N_FREQS,
+    g: float = G,
+) -> xr.Dataset:
     """Required S_v (Eq. 11) against the available S_v1 at each body's A_gx of 50 % (Tables 1–3).
 
     The response spectra scale linearly with the motions, so the mean PSV of ``ensemble`` is
@@ -146,7 +169,8 @@ def energy_balance(blocks, ensemble: Ensemble, agx50, *, band_hz=BAND_HZ, dampin
         The motions the A_gx50 were found with (ground or floor), at any scale [m/s²].
     agx50 : array_like, xarray.DataArray or xarray.Dataset
         A_gx at 50 % overturning probability of each body [g], in the order of ``blocks``
-        (NaN where not reached): an array, or the result of :func:`rocking.montecarlo.probability.agx_50`
+        (NaN where not reached): an array, or the result of
+        :func:`rocking.montecarlo.probability.agx_50`
         (its ``agx50`` variable).
     band_hz : (float, float)
         Band of the available S_v [Hz].
@@ -171,20 +195,35 @@ def energy_balance(blocks, ensemble: Ensemble, agx50, *, band_hz=BAND_HZ, dampin
     sv1_per_g = float(mean_psv(ensemble, freqs, damping).max()) / _agx_of(ensemble)
     sv_req = np.array([housner_sv(b, g) for b in blocks])  # Eq. (11)
     sv1 = sv1_per_g * a50
-    ds = _body_dataset(blocks, {
-        "sv_required": (sv_req, _SV_UNITS, "required pseudo-velocity, Eq. (11)"),
-        "agx50": (a50, "g", "A_gx at 50 % overturning probability"),
-        "sv1": (sv1, _SV_UNITS, "max of the mean PSV in the band at A_gx50 (S_v1)"),
-        "ratio": (sv1 / sv_req, "1", "S_v1 / S_v"),
-    })
-    ds.attrs.update(band_hz=list(freqs[[0, -1]]), damping=damping, sv1_per_g=sv1_per_g,
-                    ensemble_location=str(ensemble.meta.get("location", "")),
-                    n_motions=ensemble.n)
+    ds = _body_dataset(
+        blocks,
+        {
+            "sv_required": (sv_req, _SV_UNITS, "required pseudo-velocity, Eq. (11)"),
+            "agx50": (a50, "g", "A_gx at 50 % overturning probability"),
+            "sv1": (sv1, _SV_UNITS, "max of the mean PSV in the band at A_gx50 (S_v1)"),
+            "ratio": (sv1 / sv_req, "1", "S_v1 / S_v"),
+        },
+    )
+    ds.attrs.update(
+        band_hz=list(freqs[[0, -1]]),
+        damping=damping,
+        sv1_per_g=sv1_per_g,
+        ensemble_location=str(ensemble.meta.get("location", "")),
+        n_motions=ensemble.n,
+    )
     return ds
 
 
-def assess(blocks, source, *, band_hz=BAND_HZ, damping: float = 0.05, names=None,
-           agx: float | None = None, g: float = G) -> xr.Dataset:
+def assess(
+    blocks,
+    source,
+    *,
+    band_hz=BAND_HZ,
+    damping: float = 0.05,
+    names=None,
+    agx: float | None = None,
+    g: float = G,
+) -> xr.Dataset:
     """Screen bodies against a ground or floor spectrum with Eq. (11) (paper Section 8 examples).
 
     A body whose required S_v exceeds the available S_v of the spectrum is expected to be safe
@@ -226,13 +265,20 @@ def assess(blocks, source, *, band_hz=BAND_HZ, damping: float = 0.05, names=None
     available = available_sv(source, band_hz=band_hz, damping=damping, agx=agx)
     sv_req = np.array([housner_sv(b, g) for b in blocks])  # Eq. (11)
     margin = sv_req / available - 1.0
-    ds = _body_dataset(blocks, {
-        "sv_required": (sv_req, _SV_UNITS, "required pseudo-velocity, Eq. (11)"),
-        "sv_available": (np.full(len(blocks), available), _SV_UNITS,
-                         "max of the PSV in the band"),
-        "margin": (margin, "1", "sv_required / sv_available - 1 (> 0: safe)"),
-        "verdict": (np.where(margin > 0.0, SAFE, OVERTURN), "", "Housner's screening verdict"),
-    }, labels=names)
+    ds = _body_dataset(
+        blocks,
+        {
+            "sv_required": (sv_req, _SV_UNITS, "required pseudo-velocity, Eq. (11)"),
+            "sv_available": (
+                np.full(len(blocks), available),
+                _SV_UNITS,
+                "max of the PSV in the band",
+            ),
+            "margin": (margin, "1", "sv_required / sv_available - 1 (> 0: safe)"),
+            "verdict": (np.where(margin > 0.0, SAFE, OVERTURN), "", "Housner's screening verdict"),
+        },
+        labels=names,
+    )
     lo, hi = _band(band_hz)
     ds.attrs.update(band_hz=[lo, hi], damping=damping)
     return ds
@@ -268,8 +314,9 @@ def grid_table(ds: xr.Dataset, name: str) -> pd.DataFrame:
     unit = ds[name].attrs.get("units", "")
     if unit == _SV_UNITS:
         values, unit = 100.0 * values, "cm/s"
-    table = pd.DataFrame({"R": _round(ds["R"].values), "gamma": _round(ds["gamma"].values),
-                          "value": values}).pivot(index="R", columns="gamma", values="value")
+    table = pd.DataFrame(
+        {"R": _round(ds["R"].values), "gamma": _round(ds["gamma"].values), "value": values}
+    ).pivot(index="R", columns="gamma", values="value")
     table.index.name = "R [m]"
     table.columns.name = "gamma [-]"
     table.attrs["units"] = unit
@@ -322,11 +369,15 @@ def _agx50_values(agx50, n: int) -> np.ndarray:
 
 
 def _body_dataset(blocks, variables: dict, labels=None) -> xr.Dataset:
-    coords = {"body": [b.label for b in blocks] if labels is None else list(labels),
-              "R": ("body", [b.R for b in blocks], {"units": "m"}),
-              "gamma": ("body", [b.gamma for b in blocks], {"units": "1"})}
-    data = {k: ("body", v, {"units": u, "long_name": ln} if u else {"long_name": ln})
-            for k, (v, u, ln) in variables.items()}
+    coords = {
+        "body": [b.label for b in blocks] if labels is None else list(labels),
+        "R": ("body", [b.R for b in blocks], {"units": "m"}),
+        "gamma": ("body", [b.gamma for b in blocks], {"units": "1"}),
+    }
+    data = {
+        k: ("body", v, {"units": u, "long_name": ln} if u else {"long_name": ln})
+        for k, (v, u, ln) in variables.items()
+    }
     return xr.Dataset(data, coords=coords)
 
 

@@ -15,7 +15,8 @@ columns, e.g. notes, are ignored)::
 Columns: ``name``; ``height`` and ``width`` [m], or ``R`` [m] and ``gamma`` [-]; ``location``:
 ``ground`` or ``floor N`` (N = 1 … number of stories; ``floor 0`` is the ground); ``frame``
 (optional): a preset (``paper-2.0`` …), a frame defined in a TOML inventory, or a frame TOML file
-(relative to the inventory; see :meth:`rocking.structures.frames.ShearFrame.from_toml`); empty: the default
+(relative to the inventory; see :meth:`rocking.structures.frames.ShearFrame.from_toml`); empty: the
+default
 frame. ``e`` (optional): a number in (0, 1] or ``housner`` (1 − 1.5·sin²α); empty: 0.925, the
 paper's value. ``mu`` (optional): friction coefficient > 0.
 
@@ -40,15 +41,19 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..core.checks import positive, read_toml
-from ..dynamics.body import Block, resolve_e
 from ..defaults import DEFAULT_E
+from ..dynamics.body import Block, resolve_e
 from ..errors import InputError
 from ..structures.frames import PRESETS, ShearFrame
 
-
 _FIELDS = ("name", "height", "width", "r", "gamma", "location", "frame", "e", "mu")
-_ALIASES = {"h": "height", "b": "width", "slenderness": "gamma", "friction": "mu",
-            "restitution": "e"}
+_ALIASES = {
+    "h": "height",
+    "b": "width",
+    "slenderness": "gamma",
+    "friction": "mu",
+    "restitution": "e",
+}
 _LOCATION = re.compile(r"\s*(?:(ground)|floor\s*(\d+))\s*", re.IGNORECASE)
 
 
@@ -88,7 +93,7 @@ class Item:
 
     @property
     def location(self) -> str:
-        """"ground" or "floor N of FRAME" (as a floor ensemble's ``meta["location"]``)."""
+        """ "ground" or "floor N of FRAME" (as a floor ensemble's ``meta["location"]``)."""
         return "ground" if self.floor == 0 else f"floor {self.floor} of {self.frame.name}"
 
     @property
@@ -135,8 +140,9 @@ class _Frames:
                 self.files[name] = ShearFrame.from_toml(path)
             return self.files[name]
         known = [*self.defined, *PRESETS]
-        raise InputError(f"unknown frame {name!r} (known: {', '.join(known)}, or a frame "
-                         "TOML file)")
+        raise InputError(
+            f"unknown frame {name!r} (known: {', '.join(known)}, or a frame TOML file)"
+        )
 
 
 def read_inventory(path, *, frame=None) -> Inventory:
@@ -193,11 +199,16 @@ def read_inventory(path, *, frame=None) -> Inventory:
     _check_frame_names(items, path)
     inventory = Inventory(tuple(items), path)
     if inventory.sliding:
-        listed = "; ".join(f"{it.name} (mu {it.mu:g} <= B/H {1 / it.block.gamma:.3g})"
-                           for it in inventory.sliding)
-        warnings.warn(f"{path}: {len(inventory.sliding)} item(s) may slide rather than rock "
-                      f"(friction coefficient mu <= B/H), outside the rocking model's validity: "
-                      f"{listed}", SlidingWarning, stacklevel=2)
+        listed = "; ".join(
+            f"{it.name} (mu {it.mu:g} <= B/H {1 / it.block.gamma:.3g})" for it in inventory.sliding
+        )
+        warnings.warn(
+            f"{path}: {len(inventory.sliding)} item(s) may slide rather than rock "
+            f"(friction coefficient mu <= B/H), outside the rocking model's validity: "
+            f"{listed}",
+            SlidingWarning,
+            stacklevel=2,
+        )
     return inventory
 
 
@@ -212,8 +223,10 @@ def _check_frame_names(items: list[Item], path: Path) -> None:
     by_name: dict[str, ShearFrame] = {}
     for it in items:
         if it.frame is not None and by_name.setdefault(it.frame.name, it.frame) != it.frame:
-            raise InputError(f"{path}: two different frames are named {it.frame.name!r}; give "
-                             "them distinct names")
+            raise InputError(
+                f"{path}: two different frames are named {it.frame.name!r}; give "
+                "them distinct names"
+            )
 
 
 def _key(header: str) -> str:
@@ -235,13 +248,14 @@ def _csv_rows(path: Path) -> list[tuple[str, dict]]:
     head_row, head = lines[0]
     keys = [_key(h) for h in head]
     if "name" not in keys or "location" not in keys:
-        raise InputError(f"{path}: row {head_row}: the header must name the columns name, "
-                         f"height, width (or R, gamma) and location; got {','.join(head)!r}")
+        raise InputError(
+            f"{path}: row {head_row}: the header must name the columns name, "
+            f"height, width (or R, gamma) and location; got {','.join(head)!r}"
+        )
     rows = []
     for n, cells in lines[1:]:
-        if len(cells) > len(keys) and any(cells[len(keys):]):
-            rows.append((f"row {n}", {"_error": f"{len(cells)} values for {len(keys)} "
-                                                f"columns"}))
+        if len(cells) > len(keys) and any(cells[len(keys) :]):
+            rows.append((f"row {n}", {"_error": f"{len(cells)} values for {len(keys)} columns"}))
             continue
         rows.append((f"row {n}", {k: v for k, v in zip(keys, cells) if k in _FIELDS and v}))
     return rows
@@ -251,22 +265,27 @@ def _toml_rows(path: Path) -> tuple[list[tuple[str, dict]], dict, str | None]:
     data = read_toml(path)
     unknown = set(data) - {"items", "frames", "frame"}
     if unknown:
-        raise InputError(f"{path}: unknown key(s) {', '.join(sorted(unknown))}; expected "
-                         "[[items]], [frames.NAME] and frame")
+        raise InputError(
+            f"{path}: unknown key(s) {', '.join(sorted(unknown))}; expected "
+            "[[items]], [frames.NAME] and frame"
+        )
     items = data.get("items")
     if not isinstance(items, list) or not all(isinstance(it, dict) for it in items):
         raise InputError(f"{path}: give the items as [[items]] tables")
     tables = data.get("frames", {})
     if not isinstance(tables, dict) or not all(isinstance(t, dict) for t in tables.values()):
         raise InputError(f"{path}: give frames as [frames.NAME] tables")
-    defined = {name: ShearFrame.from_mapping(table, name, f"{path}: [frames.{name}]")
-               for name, table in tables.items()}
+    defined = {
+        name: ShearFrame.from_mapping(table, name, f"{path}: [frames.{name}]")
+        for name, table in tables.items()
+    }
     default = data.get("frame")
     if default is not None and not isinstance(default, str):
         raise InputError(f"{path}: frame must be the name of a frame, got {default!r}")
-    rows = [(f"item {i}", {_key(k): v for k, v in it.items()})
-            for i, it in enumerate(items, start=1)]
-    for where, fields in rows:
+    rows = [
+        (f"item {i}", {_key(k): v for k, v in it.items()}) for i, it in enumerate(items, start=1)
+    ]
+    for _where, fields in rows:
         extra = set(fields) - set(_FIELDS)
         if extra:
             fields["_error"] = f"unknown key(s) {', '.join(sorted(extra))}"
@@ -304,12 +323,16 @@ def _block(fields: dict) -> Block:
     if dims and shape:
         raise InputError("give height and width, or R and gamma, not both")
     if len(dims) == 2:
-        return Block.from_dimensions(positive("height", fields["height"], "m"),
-                                     positive("width", fields["width"], "m"))
+        return Block.from_dimensions(
+            positive("height", fields["height"], "m"), positive("width", fields["width"], "m")
+        )
     if len(shape) == 2:
         return Block(positive("R", fields["r"], "m"), positive("gamma", fields["gamma"], "-"))
-    missing = [k for k in ("height", "width") if k not in fields] if dims or not shape \
+    missing = (
+        [k for k in ("height", "width") if k not in fields]
+        if dims or not shape
         else [k.replace("r", "R") for k in ("r", "gamma") if k not in fields]
+    )
     raise InputError(f"missing {' and '.join(missing)}")
 
 
@@ -326,11 +349,11 @@ def _location(fields: dict, frames: _Frames, default: ShearFrame | None):
     if floor == 0:
         return 0, None
     if frame is None:
-        raise InputError(f"location {text!r} needs a frame: fill the frame column or give a "
-                         "default frame")
+        raise InputError(
+            f"location {text!r} needs a frame: fill the frame column or give a default frame"
+        )
     if floor > frame.n_stories:
-        raise InputError(f"unknown floor {floor}: {frame.name} has floors 1 to "
-                         f"{frame.n_stories}")
+        raise InputError(f"unknown floor {floor}: {frame.name} has floors 1 to {frame.n_stories}")
     return floor, frame
 
 

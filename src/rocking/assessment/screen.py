@@ -31,15 +31,15 @@ import os
 import numpy as np
 import xarray as xr
 
-from ..motions.design import design_pga, parse_spectrum
-from .energy import BAND_HZ, SAFE, assess, band_frequencies
 from ..errors import InputError
 from ..montecarlo.probability import agx_50, overturning_probability
-from .inventory import Inventory, Item, read_inventory
+from ..motions.design import design_pga, parse_spectrum
 from ..motions.ensemble import Ensemble
-from ..motions.synthesis import generate
 from ..motions.response import ResponseSpectrum, response_spectrum
+from ..motions.synthesis import generate
 from ..motions.targets import TargetSpectrum
+from .energy import BAND_HZ, SAFE, assess, band_frequencies
+from .inventory import Inventory, Item, read_inventory
 
 #: Oscillator frequencies of the floor spectra in the band of the available S_v [-]: 100
 #: log-spaced frequencies in 0.04–0.6 Hz find the band maximum of the mean PSV of the floors of
@@ -50,11 +50,24 @@ N_BAND_FREQS = 100
 FLOOR_MOTIONS = ("building", "paper")
 
 
-def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
-           duration: float = 20.0, dt: float = 1 / 400, ensemble: Ensemble | None = None,
-           band_hz=BAND_HZ, resolution: float = 0.01, agx_max: float = 5.0,
-           confidence: float = 0.95, floor_motions: str = "building", backend=None,
-           progress=None) -> xr.Dataset:
+def screen(
+    inventory,
+    spectrum,
+    *,
+    frame=None,
+    n: int = 200,
+    seed: int = 0,
+    duration: float = 20.0,
+    dt: float = 1 / 400,
+    ensemble: Ensemble | None = None,
+    band_hz=BAND_HZ,
+    resolution: float = 0.01,
+    agx_max: float = 5.0,
+    confidence: float = 0.95,
+    floor_motions: str = "building",
+    backend=None,
+    progress=None,
+) -> xr.Dataset:
     """Screen every item of an inventory against a design spectrum.
 
     Parameters
@@ -89,7 +102,8 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
         ("building", default), or rescaled to the ground's A_gx (the paper's Section 7
         convention); see the module docstring.
     backend : optional
-        Backend of the Monte Carlo runs (:func:`rocking.montecarlo.backends.get_backend`); default local.
+        Backend of the Monte Carlo runs (:func:`rocking.montecarlo.backends.get_backend`); default
+        local.
     progress : optional
         Passed on to :func:`rocking.montecarlo.probability.overturning_probability` and ``agx_50``.
 
@@ -102,28 +116,36 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
         [-], ``e`` [-], ``mu`` [-] (NaN: not given), ``may_slide`` (μ ≤ B/H), ``sv_required``
         and ``sv_available`` [m/s], ``margin`` [-] (> 0: safe by Eq. 11), ``verdict``,
         ``probability``, ``ci_low``, ``ci_high`` [-], ``overturned`` and ``n_motions`` (counts),
-        ``agx50`` [g] (ground A_gx; with ``floor_motions="paper"`` the floor's own), ``at_risk`` (probability ≥ 0.5 or margin ≤ 0). Attributes:
+        ``agx50`` [g] (ground A_gx; with ``floor_motions="paper"`` the floor's own), ``at_risk``
+        (probability ≥ 0.5 or margin ≤ 0). Attributes:
         ``spectrum``, ``design_agx`` [g], the settings and the ensemble's generation
         parameters.
     """
     if floor_motions not in FLOOR_MOTIONS:
-        raise InputError(f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got "
-                         f"{floor_motions!r}")
+        raise InputError(
+            f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got {floor_motions!r}"
+        )
     if isinstance(inventory, (list, tuple)):
         if not inventory:
             raise InputError("inventory is empty: there is no item to screen")
         if not all(isinstance(it, Item) for it in inventory):
-            raise InputError("inventory must be an Inventory, a list of rocking.Item or the path "
-                             "of an inventory file")
+            raise InputError(
+                "inventory must be an Inventory, a list of rocking.Item or the path "
+                "of an inventory file"
+            )
         inventory = Inventory(tuple(inventory))
     if not isinstance(inventory, Inventory):
         if not isinstance(inventory, (str, os.PathLike)):
-            raise InputError(f"inventory must be an Inventory, a list of rocking.Item or the path "
-                             f"of an inventory file, got {type(inventory).__name__}")
+            raise InputError(
+                f"inventory must be an Inventory, a list of rocking.Item or the path "
+                f"of an inventory file, got {type(inventory).__name__}"
+            )
         inventory = read_inventory(inventory, frame=frame)
     elif frame is not None:
-        raise InputError("frame is the default frame of an inventory file; the Inventory given "
-                         "is already resolved")
+        raise InputError(
+            "frame is the default frame of an inventory file; the Inventory given "
+            "is already resolved"
+        )
     if not isinstance(spectrum, TargetSpectrum):
         spectrum = parse_spectrum(spectrum)
     agx = design_pga(spectrum)
@@ -132,29 +154,58 @@ def screen(inventory, spectrum, *, frame=None, n: int = 200, seed: int = 0,
     elif ensemble.meta.get("location") != "ground":
         raise InputError(f"ensemble must be ground motions, got {ensemble.meta.get('location')}")
     ground = ensemble.scaled(agx)
-    parts = [_screen_location(items, source, motions, ratio, band_hz=band_hz,
-                              resolution=resolution, agx_max=agx_max, confidence=confidence,
-                              backend=backend, progress=progress)
-             for items, source, motions, ratio in _locations(inventory, spectrum, ground,
-                                                             band_hz, floor_motions)]
+    parts = [
+        _screen_location(
+            items,
+            source,
+            motions,
+            ratio,
+            band_hz=band_hz,
+            resolution=resolution,
+            agx_max=agx_max,
+            confidence=confidence,
+            backend=backend,
+            progress=progress,
+        )
+        for items, source, motions, ratio in _locations(
+            inventory, spectrum, ground, band_hz, floor_motions
+        )
+    ]
     ds = xr.concat(parts, dim="item")
     at_risk = (ds["probability"] >= 0.5) | (ds["margin"] <= 0.0)
-    ds["at_risk"] = at_risk.assign_attrs(long_name="P(overturn) >= 50 % at the design A_gx, "
-                                                   "or Eq. (11) margin <= 0")
-    order = np.lexsort((ds["margin"].values, np.nan_to_num(ds["agx50"].values, nan=np.inf),
-                       -ds["probability"].values))
+    ds["at_risk"] = at_risk.assign_attrs(
+        long_name="P(overturn) >= 50 % at the design A_gx, or Eq. (11) margin <= 0"
+    )
+    order = np.lexsort(
+        (
+            ds["margin"].values,
+            np.nan_to_num(ds["agx50"].values, nan=np.inf),
+            -ds["probability"].values,
+        )
+    )
     ds = ds.isel(item=order)
     ds.attrs.update(
-        spectrum=spectrum.name, design_agx=agx, band_hz=[float(b) for b in band_hz],
-        damping=spectrum.damping, confidence=confidence, resolution=resolution,
-        agx_max=agx_max, floor_motions=floor_motions, n_motions=ensemble.n, duration=ensemble.duration, dt=ensemble.dt,
-        seed=ensemble.meta.get("seed", ""), ensemble_kind=ensemble.meta.get("kind", ""),
-        inventory=str(inventory.path or ""))
+        spectrum=spectrum.name,
+        design_agx=agx,
+        band_hz=[float(b) for b in band_hz],
+        damping=spectrum.damping,
+        confidence=confidence,
+        resolution=resolution,
+        agx_max=agx_max,
+        floor_motions=floor_motions,
+        n_motions=ensemble.n,
+        duration=ensemble.duration,
+        dt=ensemble.dt,
+        seed=ensemble.meta.get("seed", ""),
+        ensemble_kind=ensemble.meta.get("kind", ""),
+        inventory=str(inventory.path or ""),
+    )
     return ds
 
 
-def _locations(inventory: Inventory, spectrum: TargetSpectrum, ground: Ensemble, band_hz,
-               floor_motions: str):
+def _locations(
+    inventory: Inventory, spectrum: TargetSpectrum, ground: Ensemble, band_hz, floor_motions: str
+):
     """(items, source of the available S_v, motions at the design level, ratio) per location.
 
     ``ratio`` is the motions' mean PGA over the ground's A_gx [-] (1 on the ground and for
@@ -172,18 +223,36 @@ def _locations(inventory: Inventory, spectrum: TargetSpectrum, ground: Ensemble,
     for frame in dict.fromkeys(frame for frame, _ in groups):
         floors = frame.floor_ensembles(ground)
         keys = [key for key in groups if key[0] == frame]
-        motions = [floors[floor].scaled(ground.agx) if floor_motions == "paper" else floors[floor]
-                   for _, floor in keys]
-        rs = response_spectrum(np.concatenate([m.acc for m in motions]), ground.dt, freqs,
-                               spectrum.damping)
+        motions = [
+            floors[floor].scaled(ground.agx) if floor_motions == "paper" else floors[floor]
+            for _, floor in keys
+        ]
+        rs = response_spectrum(
+            np.concatenate([m.acc for m in motions]), ground.dt, freqs, spectrum.damping
+        )
         for i, (key, m) in enumerate(zip(keys, motions)):
             rows = slice(i * ground.n, (i + 1) * ground.n)
-            yield groups[key], ResponseSpectrum(freqs, rs.damping, rs.sd[rows], rs.psv[rows],
-                                                rs.psa[rows]), m, m.agx / ground.agx
+            yield (
+                groups[key],
+                ResponseSpectrum(freqs, rs.damping, rs.sd[rows], rs.psv[rows], rs.psa[rows]),
+                m,
+                m.agx / ground.agx,
+            )
 
 
-def _screen_location(items, source, motions: Ensemble, ratio: float, *, band_hz,
-                     resolution, agx_max, confidence, backend, progress) -> xr.Dataset:
+def _screen_location(
+    items,
+    source,
+    motions: Ensemble,
+    ratio: float,
+    *,
+    band_hz,
+    resolution,
+    agx_max,
+    confidence,
+    backend,
+    progress,
+) -> xr.Dataset:
     """The screening dataset (dimension ``item``) of the items at one location: Eq. (11)
     against ``source`` (TargetSpectrum or ResponseSpectrum), Monte Carlo with ``motions``, which
     are at the design level: their mean PGA is ``ratio`` × the design A_gx [g]. The
@@ -192,13 +261,31 @@ def _screen_location(items, source, motions: Ensemble, ratio: float, *, band_hz,
     A_gx."""
     blocks = [it.block for it in items]
     names = [it.name for it in items]
-    energy = assess(blocks, source, band_hz=band_hz, damping=source.damping,
-                    names=names)  # Eq. (11)
+    energy = assess(
+        blocks, source, band_hz=band_hz, damping=source.damping, names=names
+    )  # Eq. (11)
     e = _restitution(items)
-    mc = overturning_probability(blocks, motions, [motions.agx], e=e, backend=backend,
-                                 progress=progress, confidence=confidence).isel(agx=0)
-    a50 = agx_50(blocks, motions, resolution=resolution * ratio, agx_max=agx_max * ratio, e=e,
-                 backend=backend, progress=progress)["agx50"].values / ratio
+    mc = overturning_probability(
+        blocks,
+        motions,
+        [motions.agx],
+        e=e,
+        backend=backend,
+        progress=progress,
+        confidence=confidence,
+    ).isel(agx=0)
+    a50 = (
+        agx_50(
+            blocks,
+            motions,
+            resolution=resolution * ratio,
+            agx_max=agx_max * ratio,
+            e=e,
+            backend=backend,
+            progress=progress,
+        )["agx50"].values
+        / ratio
+    )
     mu = np.array([math.nan if it.mu is None else it.mu for it in items])
     variables = {
         "location": ([it.location for it in items], "", "ground or floor N of FRAME"),
@@ -212,8 +299,11 @@ def _screen_location(items, source, motions: Ensemble, ratio: float, *, band_hz,
         "mu": (mu, "1", "friction coefficient (NaN: not given)"),
         "may_slide": ([it.may_slide for it in items], "", "mu <= B/H: may slide, not rock"),
         "sv_required": (energy["sv_required"].values, "m s-1", "required S_v, Eq. (11)"),
-        "sv_available": (energy["sv_available"].values, "m s-1",
-                         "max PSV at the location in the band"),
+        "sv_available": (
+            energy["sv_available"].values,
+            "m s-1",
+            "max PSV at the location in the band",
+        ),
         "margin": (energy["margin"].values, "1", "sv_required / sv_available - 1 (> 0: safe)"),
         "verdict": (energy["verdict"].values, "", "Eq. (11) verdict"),
         "probability": (mc["probability"].values, "1", "overturning probability at design A_gx"),
@@ -223,9 +313,13 @@ def _screen_location(items, source, motions: Ensemble, ratio: float, *, band_hz,
         "n_motions": (mc["n"].values, "", "motions"),
         "agx50": (a50, "g", "ground A_gx at 50 % overturning probability"),
     }
-    return xr.Dataset({k: ("item", np.asarray(v), {"units": u, "long_name": ln} if u
-                           else {"long_name": ln}) for k, (v, u, ln) in variables.items()},
-                      coords={"item": names})
+    return xr.Dataset(
+        {
+            k: ("item", np.asarray(v), {"units": u, "long_name": ln} if u else {"long_name": ln})
+            for k, (v, u, ln) in variables.items()
+        },
+        coords={"item": names},
+    )
 
 
 def _restitution(items):
@@ -261,11 +355,19 @@ def eq11_vs_monte_carlo(verdict, probability, ci_low, ci_high) -> np.ndarray:
     eq11_overturn = np.asarray(verdict) != SAFE
     mc_overturn = np.asarray(probability, dtype=float) >= 0.5
     unsure = (np.asarray(ci_low, dtype=float) <= 0.5) & (np.asarray(ci_high, dtype=float) >= 0.5)
-    text = np.where(eq11_overturn == mc_overturn, AGREE,
-                    np.where(eq11_overturn, "disagree: Eq. (11) overturn, simulated P < 50 %",
-                             "disagree: Eq. (11) safe, simulated P ≥ 50 %"))
-    return np.array([t + ("; Wilson interval spans 50 %" if u else "")
-                     for t, u in zip(text, unsure)], dtype=object)
+    text = np.where(
+        eq11_overturn == mc_overturn,
+        AGREE,
+        np.where(
+            eq11_overturn,
+            "disagree: Eq. (11) overturn, simulated P < 50 %",
+            "disagree: Eq. (11) safe, simulated P ≥ 50 %",
+        ),
+    )
+    return np.array(
+        [t + ("; Wilson interval spans 50 %" if u else "") for t, u in zip(text, unsure)],
+        dtype=object,
+    )
 
 
 def eq11_vs_monte_carlo_note(band_hz=BAND_HZ) -> str:
@@ -283,7 +385,8 @@ def eq11_vs_monte_carlo_note(band_hz=BAND_HZ) -> str:
         "maximum of their mean PSV, taken at a resonance, can overstate what the body meets "
         "across the band. The Wilson "
         "interval says how sure the simulation is: when it spans 50 %, more motions are needed "
-        "to tell on which side of 50 % the body lies.")
+        "to tell on which side of 50 % the body lies."
+    )
 
 
 def results_table(ds: xr.Dataset):
@@ -292,30 +395,35 @@ def results_table(ds: xr.Dataset):
     files and reports."""
     import pandas as pd
 
-    return pd.DataFrame({
-        "item": ds["item"].values,
-        "location": ds["location"].values,
-        # H and B are recomputed from R and γ: round off the float noise for display
-        "H [m]": np.round(ds["height"].values, 9),
-        "B [m]": np.round(ds["width"].values, 9),
-        "R [m]": ds["R"].values,
-        "gamma [-]": ds["gamma"].values,
-        "e [-]": ds["e"].values,
-        "mu [-]": ds["mu"].values,
-        "may slide": ds["may_slide"].values,
-        "at risk": ds["at_risk"].values,
-        "Sv required [cm/s]": 100.0 * ds["sv_required"].values,
-        "Sv available [cm/s]": 100.0 * ds["sv_available"].values,
-        "margin [-]": ds["margin"].values,
-        "Eq. (11) verdict": ds["verdict"].values,
-        "P(overturn) [-]": ds["probability"].values,
-        "CI low [-]": ds["ci_low"].values,
-        "CI high [-]": ds["ci_high"].values,
-        "Eq. (11) vs Monte Carlo": eq11_vs_monte_carlo(ds["verdict"].values,
-                                                       ds["probability"].values,
-                                                       ds["ci_low"].values, ds["ci_high"].values),
-        "Agx50 [g]": ds["agx50"].values,
-    })
+    return pd.DataFrame(
+        {
+            "item": ds["item"].values,
+            "location": ds["location"].values,
+            # H and B are recomputed from R and γ: round off the float noise for display
+            "H [m]": np.round(ds["height"].values, 9),
+            "B [m]": np.round(ds["width"].values, 9),
+            "R [m]": ds["R"].values,
+            "gamma [-]": ds["gamma"].values,
+            "e [-]": ds["e"].values,
+            "mu [-]": ds["mu"].values,
+            "may slide": ds["may_slide"].values,
+            "at risk": ds["at_risk"].values,
+            "Sv required [cm/s]": 100.0 * ds["sv_required"].values,
+            "Sv available [cm/s]": 100.0 * ds["sv_available"].values,
+            "margin [-]": ds["margin"].values,
+            "Eq. (11) verdict": ds["verdict"].values,
+            "P(overturn) [-]": ds["probability"].values,
+            "CI low [-]": ds["ci_low"].values,
+            "CI high [-]": ds["ci_high"].values,
+            "Eq. (11) vs Monte Carlo": eq11_vs_monte_carlo(
+                ds["verdict"].values,
+                ds["probability"].values,
+                ds["ci_low"].values,
+                ds["ci_high"].values,
+            ),
+            "Agx50 [g]": ds["agx50"].values,
+        }
+    )
 
 
-__all__ = ["screen", "results_table", "eq11_vs_monte_carlo", "eq11_vs_monte_carlo_note"]
+__all__ = ["eq11_vs_monte_carlo", "eq11_vs_monte_carlo_note", "results_table", "screen"]

@@ -35,9 +35,16 @@ def _one_line(exc: BaseException) -> str:
 #: Command name → module of this package that defines it (tests/test_cli.py checks that this
 #: matches the modules' COMMANDS).
 COMMAND_MODULES = {
-    "agx50": "fragility", "assess": "fragility", "fragility": "fragility", "frame": "frame",
-    "motions": "motions", "reproduce": "reproduce", "screen": "screen", "simulate": "simulate",
-    "spectrum": "spectrum", "table1": "body",
+    "agx50": "fragility",
+    "assess": "fragility",
+    "fragility": "fragility",
+    "frame": "frame",
+    "motions": "motions",
+    "reproduce": "reproduce",
+    "screen": "screen",
+    "simulate": "simulate",
+    "spectrum": "spectrum",
+    "table1": "body",
 }
 
 
@@ -81,9 +88,11 @@ class _Bug(click.ClickException):
         from .. import __version__
 
         where = _save_traceback(exc)
-        super().__init__(f"internal error in rocking {__version__} (a bug, not a problem with "
-                         f"your input): {type(exc).__name__}: {_one_line(exc)}. The traceback "
-                         f"is in {where}; please report it.")
+        super().__init__(
+            f"internal error in rocking {__version__} (a bug, not a problem with "
+            f"your input): {type(exc).__name__}: {_one_line(exc)}. The traceback "
+            f"is in {where}; please report it."
+        )
 
 
 def _save_traceback(exc: Exception) -> str:

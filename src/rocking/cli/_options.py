@@ -47,9 +47,11 @@ def parse_range(text: str, option: str = "--agx", unit: str = "g"):
     if start <= 0.0:
         raise InputError(f"{option} {text}: values must be > 0 [{unit}], got start {start:g}")
     if stop < start:
-        raise InputError(f"{option} {text} is an empty range: stop ({stop:g} {unit}) is below "
-                         f"start ({start:g} {unit})")
-    n = int(math.floor((stop - start) / step + 1e-9)) + 1
+        raise InputError(
+            f"{option} {text} is an empty range: stop ({stop:g} {unit}) is below "
+            f"start ({start:g} {unit})"
+        )
+    n = math.floor((stop - start) / step + 1e-9) + 1
     values = start + step * np.arange(n, dtype=np.float64)
     return np.array([float(f"{v:.12g}") for v in values.tolist()])
 
@@ -96,8 +98,10 @@ def frame_and_floor(frame_name: str | None, floor: int | None):
 
     frame = ShearFrame.preset(frame_name)
     if not 0 <= floor <= frame.n_stories:
-        raise InputError(f"--floor must be from 0 (ground) to {frame.n_stories} (roof of "
-                         f"{frame.name}), got {floor}")
+        raise InputError(
+            f"--floor must be from 0 (ground) to {frame.n_stories} (roof of "
+            f"{frame.name}), got {floor}"
+        )
     return frame, floor
 
 
@@ -127,31 +131,54 @@ def reporter(quiet: bool = False):
 # --------------------------------------------------------------------------- options
 
 bodies_option = click.option(
-    "--bodies", "bodies_spec", required=True, metavar="FILE|paper|example",
+    "--bodies",
+    "bodies_spec",
+    required=True,
+    metavar="FILE|paper|example",
     help="Bodies CSV with columns R [m] and gamma [-], or H [m] and B [m], and optionally name; "
-         "'paper' for the paper's 72 bodies (R = 4-11 ft, gamma = 2-6); 'example' for the "
-         "shipped example file (the paper's two Section 8 blocks and five pieces of "
-         "equipment).")
+    "'paper' for the paper's 72 bodies (R = 4-11 ft, gamma = 2-6); 'example' for the "
+    "shipped example file (the paper's two Section 8 blocks and five pieces of "
+    "equipment).",
+)
 quiet_option = click.option("--quiet", is_flag=True, help="No progress bars or messages.")
 scheduler_option = click.option(
-    "--scheduler", default=None, metavar="ADDRESS",
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
     help="'local' (default: all cores here), 'dask-local' (a local Dask cluster) or a Dask "
-         "scheduler address tcp://HOST:PORT.")
+    "scheduler address tcp://HOST:PORT.",
+)
 e_option = click.option(
-    "--e", "e_text", default=f"{DEFAULT_E:g}", show_default=True, metavar="E|housner",
-    help="Coefficient of restitution [-] in (0, 1], or 'housner' (1 - 1.5 sin^2 alpha per body).")
+    "--e",
+    "e_text",
+    default=f"{DEFAULT_E:g}",
+    show_default=True,
+    metavar="E|housner",
+    help="Coefficient of restitution [-] in (0, 1], or 'housner' (1 - 1.5 sin^2 alpha per body).",
+)
 frame_option = click.option(
-    "--frame", "frame_name", default=None, metavar="PRESET",
-    help=f"Shear-frame preset: {', '.join(FRAME_PRESETS)}.")
+    "--frame",
+    "frame_name",
+    default=None,
+    metavar="PRESET",
+    help=f"Shear-frame preset: {', '.join(FRAME_PRESETS)}.",
+)
 band_option = click.option(
-    "--band", "band_text", default=BAND_TEXT, show_default=True, metavar="LOW:HIGH",
-    help="Frequency band [Hz] of the available S_v (max of the mean 5 %-damped PSV).")
+    "--band",
+    "band_text",
+    default=BAND_TEXT,
+    show_default=True,
+    metavar="LOW:HIGH",
+    help="Frequency band [Hz] of the available S_v (max of the mean 5 %-damped PSV).",
+)
 
 
 def options(*opts):
     """Apply click options in the order given (first listed first in --help)."""
+
     def apply(func):
         for option in reversed(opts):
             func = option(func)
         return func
+
     return apply

@@ -23,9 +23,11 @@ def table1(g: float = G):
     from ..dynamics.body import PAPER_GAMMAS, PAPER_R_FT, housner_sv, paper_bodies
 
     sv = np.array([100.0 * housner_sv(b, g) for b in paper_bodies()])
-    return pd.DataFrame(sv.reshape(len(PAPER_R_FT), len(PAPER_GAMMAS)),
-                        index=pd.Index(PAPER_R_FT, name="R [ft]"),
-                        columns=pd.Index(PAPER_GAMMAS, name="gamma [-]"))
+    return pd.DataFrame(
+        sv.reshape(len(PAPER_R_FT), len(PAPER_GAMMAS)),
+        index=pd.Index(PAPER_R_FT, name="R [ft]"),
+        columns=pd.Index(PAPER_GAMMAS, name="gamma [-]"),
+    )
 
 
 def printed_table1():
@@ -35,17 +37,28 @@ def printed_table1():
     from ..studies.paper import paper_values
 
     t = paper_values()["tables"]
-    return pd.DataFrame(t["table1_sv_required"], index=pd.Index(t["R_ft"], name="R [ft]"),
-                        columns=pd.Index(t["gamma"], name="gamma [-]"))
+    return pd.DataFrame(
+        t["table1_sv_required"],
+        index=pd.Index(t["R_ft"], name="R [ft]"),
+        columns=pd.Index(t["gamma"], name="gamma [-]"),
+    )
 
 
 @click.command("table1")
 @click.option("--g", "g", type=float, default=G, show_default=True, help="Gravity [m/s^2].")
-@click.option("--compare/--no-compare", default=True, show_default=True,
-              help=f"Mark (*) and list the cells that differ from the paper's printed value by "
-                   f"more than {TOLERANCE_CM_S} cm/s, with both numbers.")
-@click.option("--csv", "csv_path", type=click.Path(dir_okay=False, writable=True),
-              help="Save the grid (R [ft], R [m], then one column per gamma; cm/s) to a CSV file.")
+@click.option(
+    "--compare/--no-compare",
+    default=True,
+    show_default=True,
+    help=f"Mark (*) and list the cells that differ from the paper's printed value by "
+    f"more than {TOLERANCE_CM_S} cm/s, with both numbers.",
+)
+@click.option(
+    "--csv",
+    "csv_path",
+    type=click.Path(dir_okay=False, writable=True),
+    help="Save the grid (R [ft], R [m], then one column per gamma; cm/s) to a CSV file.",
+)
 def table1_cmd(g, compare, csv_path):
     """Print the paper's Table 1: required S_v [cm/s] by Eq. (11) for R = 4-11 ft, gamma = 2-6.
 
@@ -62,8 +75,9 @@ def table1_cmd(g, compare, csv_path):
     paper = printed_table1()
     diff = ours - paper
     off = (diff.abs() > TOLERANCE_CM_S).to_numpy() if compare else np.zeros(ours.shape, bool)
-    click.echo(f"Table 1: required S_v [cm/s] to overturn with 50 % probability, Eq. (11), "
-               f"g = {g:g} m/s^2")
+    click.echo(
+        f"Table 1: required S_v [cm/s] to overturn with 50 % probability, Eq. (11), g = {g:g} m/s^2"
+    )
     click.echo(f"{'':15}gamma [-]")
     click.echo(f"{'R [ft]':>6} {'R [m]':>7} " + "".join(f"{x:>9.1f}" for x in ours.columns))
     for i, r_ft in enumerate(ours.index):
@@ -72,13 +86,14 @@ def table1_cmd(g, compare, csv_path):
     if compare:
         click.echo(f"* differs from the paper's printed value by more than {TOLERANCE_CM_S} cm/s:")
         for i, j in zip(*np.nonzero(off)):
-            click.echo(f"  R = {ours.index[i]} ft ({ours.index[i] * FOOT:.4f} m), "
-                       f"gamma = {ours.columns[j]:.1f}: Eq. (11) {ours.iat[i, j]:.2f} cm/s, "
-                       f"paper {paper.iat[i, j]:.2f} cm/s (difference {diff.iat[i, j]:+.2f})")
+            click.echo(
+                f"  R = {ours.index[i]} ft ({ours.index[i] * FOOT:.4f} m), "
+                f"gamma = {ours.columns[j]:.1f}: Eq. (11) {ours.iat[i, j]:.2f} cm/s, "
+                f"paper {paper.iat[i, j]:.2f} cm/s (difference {diff.iat[i, j]:+.2f})"
+            )
         agree = np.abs(diff.to_numpy()[~off])
         largest = f" (largest difference {agree.max():.3f} cm/s)" if agree.size else ""
-        click.echo(f"{agree.size} of {off.size} cells agree within {TOLERANCE_CM_S} cm/s"
-                   f"{largest}.")
+        click.echo(f"{agree.size} of {off.size} cells agree within {TOLERANCE_CM_S} cm/s{largest}.")
     if csv_path:
         out = ours.copy()
         out.insert(0, "R [m]", ours.index * FOOT)

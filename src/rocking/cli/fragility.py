@@ -3,7 +3,8 @@ bodies under an ensemble (paper Sections 6–8) and Housner's energy-balance scr
 
 Every input (bodies file, frame preset, floor, A_gx range, restitution, band) is checked before
 any work starts; a bad one ends the command with a one-line message.  The output folders are
-:class:`rocking.core.runs.RunFolder`: claimed by one run, with ``run.json`` and its status, every file
+:class:`rocking.core.runs.RunFolder`: claimed by one run, with ``run.json`` and its status, every
+file
 written atomically; the Monte Carlo chunks in ``chunks/`` let the same command resume.
 """
 
@@ -15,14 +16,30 @@ from pathlib import Path
 
 import click
 
-from ._options import (BAND_TEXT, band_option, bodies_option, e_option, frame_and_floor,
-                       frame_option, load_bodies, options, parse_band, parse_e, parse_range,
-                       quiet_option, reporter, scheduler_option)
+from ._options import (
+    BAND_TEXT,
+    band_option,
+    bodies_option,
+    e_option,
+    frame_and_floor,
+    frame_option,
+    load_bodies,
+    options,
+    parse_band,
+    parse_e,
+    parse_range,
+    quiet_option,
+    reporter,
+    scheduler_option,
+)
 
 #: Files written by ``rocking agx50`` for the paper's Tables 1–3 (when the bodies form a grid),
 #: with the paper's decimals.
-_TABLES = {"sv_required": ("table1_sv_required_cm_s.csv", "%.2f"),
-           "sv1": ("table2_sv1_cm_s.csv", "%.2f"), "ratio": ("table3_ratio.csv", "%.3f")}
+_TABLES = {
+    "sv_required": ("table1_sv_required_cm_s.csv", "%.2f"),
+    "sv1": ("table2_sv1_cm_s.csv", "%.2f"),
+    "ratio": ("table3_ratio.csv", "%.3f"),
+}
 
 
 # --------------------------------------------------------------------------- helpers
@@ -55,15 +72,25 @@ def _names(ds, bodies: list):
 
 def _describe(ensemble) -> dict:
     """netCDF attributes saying what the motions were."""
-    return {"location": str(ensemble.meta.get("location", "")), "n_motions": ensemble.n,
-            "dt_s": ensemble.dt, "duration_s": ensemble.duration}
+    return {
+        "location": str(ensemble.meta.get("location", "")),
+        "n_motions": ensemble.n,
+        "dt_s": ensemble.dt,
+        "duration_s": ensemble.duration,
+    }
 
 
 def _run_params(bodies, motions_path, ensemble, e, **more) -> dict:
     """What run.json records about the inputs of a fragility or agx50 run."""
-    return {"bodies": [[b.name, b.block.R, b.block.gamma] for b in bodies],
-            "motions": str(motions_path), "location": ensemble.meta.get("location", "ground"),
-            "n_motions": ensemble.n, "dt_s": ensemble.dt, "e": e, **more}
+    return {
+        "bodies": [[b.name, b.block.R, b.block.gamma] for b in bodies],
+        "motions": str(motions_path),
+        "location": ensemble.meta.get("location", "ground"),
+        "n_motions": ensemble.n,
+        "dt_s": ensemble.dt,
+        "e": e,
+        **more,
+    }
 
 
 def _fit(agx, one_body):
@@ -80,19 +107,36 @@ def _fit(agx, one_body):
 
 
 _motions_option = click.option(
-    "--motions", "motions_path", required=True, type=click.Path(dir_okay=False),
-    help="Ground-motion ensemble, netCDF from 'rocking motions generate' (accelerations "
-         "[m/s^2]).")
+    "--motions",
+    "motions_path",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="Ground-motion ensemble, netCDF from 'rocking motions generate' (accelerations [m/s^2]).",
+)
 _floor_option = click.option(
-    "--floor", type=int, default=None,
+    "--floor",
+    type=int,
+    default=None,
     help="Put the bodies on this floor of --frame (0 = ground); the floor motions are scaled to "
-         "the same A_gx as the ground (paper Sec. 7).")
+    "the same A_gx as the ground (paper Sec. 7).",
+)
 _out_option = click.option(
-    "--out", required=True, type=click.Path(file_okay=False),
+    "--out",
+    required=True,
+    type=click.Path(file_okay=False),
     help="Output folder (created); finished chunks are kept in it, so the same command resumes "
-         "an interrupted run.")
-_run_options = options(bodies_option, _motions_option, _floor_option, frame_option, _out_option,
-                       scheduler_option, e_option, quiet_option)
+    "an interrupted run.",
+)
+_run_options = options(
+    bodies_option,
+    _motions_option,
+    _floor_option,
+    frame_option,
+    _out_option,
+    scheduler_option,
+    e_option,
+    quiet_option,
+)
 
 
 # --------------------------------------------------------------------------- commands
@@ -100,11 +144,17 @@ _run_options = options(bodies_option, _motions_option, _floor_option, frame_opti
 
 @click.command("fragility")
 @_run_options
-@click.option("--agx", "agx_text", default="0.1:1.5:0.05", show_default=True,
-              metavar="START:STOP:STEP",
-              help="A_gx levels [g] (ensemble mean PGA) as start:stop:step, stop included.")
-def fragility_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_text, quiet,
-                  agx_text):
+@click.option(
+    "--agx",
+    "agx_text",
+    default="0.1:1.5:0.05",
+    show_default=True,
+    metavar="START:STOP:STEP",
+    help="A_gx levels [g] (ensemble mean PGA) as start:stop:step, stop included.",
+)
+def fragility_cmd(
+    bodies_spec, motions_path, floor, frame_name, out, scheduler, e_text, quiet, agx_text
+):
     """Overturning probability of each body against A_gx (paper Figs. 9-11, 13).
 
     Writes to --out: probabilities.csv (one row per body and A_gx, with the count of overturned
@@ -113,40 +163,64 @@ def fragility_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, 
     run.json (parameters and status).
     """
     agx = parse_range(agx_text)
-    bodies, ensemble, e, backend = _prepare(bodies_spec, motions_path, floor, frame_name,
-                                            e_text, scheduler)
+    bodies, ensemble, e, backend = _prepare(
+        bodies_spec, motions_path, floor, frame_name, e_text, scheduler
+    )
     import pandas as pd
 
+    from ..core.runs import RunFolder
     from ..montecarlo.probability import overturning_probability
     from ..plots.fragility import plot_fragility
-    from ..core.runs import RunFolder
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
     params = _run_params(bodies, motions_path, ensemble, e, agx_g=agx.tolist())
     with RunFolder(out, command="fragility", params=params) as run, progress:
-        progress.write(f"fragility: {len(blocks)} bodies x {agx.size} A_gx levels x "
-                       f"{ensemble.n} motions ({ensemble.meta.get('location', 'ground')})")
+        progress.write(
+            f"fragility: {len(blocks)} bodies x {agx.size} A_gx levels x "
+            f"{ensemble.n} motions ({ensemble.meta.get('location', 'ground')})"
+        )
         with backend:
-            ds = overturning_probability(blocks, ensemble, agx, e=e, backend=backend,
-                                         out=run.path / "chunks" / "fragility",
-                                         progress=progress)
+            ds = overturning_probability(
+                blocks,
+                ensemble,
+                agx,
+                e=e,
+                backend=backend,
+                out=run.path / "chunks" / "fragility",
+                progress=progress,
+            )
         ds = _names(ds, bodies)
         fits = {name: _fit(agx, ds.sel(body=name)) for name in ds["body"].values}
-        ds["lognormal_median"] = ("body", [fits[k].median for k in ds["body"].values],
-                                  {"units": "g", "long_name": "lognormal fit: median A_gx"})
-        ds["lognormal_beta"] = ("body", [fits[k].beta for k in ds["body"].values],
-                                {"units": "1", "long_name": "lognormal fit: dispersion"})
+        ds["lognormal_median"] = (
+            "body",
+            [fits[k].median for k in ds["body"].values],
+            {"units": "g", "long_name": "lognormal fit: median A_gx"},
+        )
+        ds["lognormal_beta"] = (
+            "body",
+            [fits[k].beta for k in ds["body"].values],
+            {"units": "1", "long_name": "lognormal fit: dispersion"},
+        )
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
-        tidy = (ds[["probability", "count", "n", "ci_low", "ci_high"]].to_dataframe()
-                .reset_index()[["body", "R", "gamma", "agx", "probability", "count", "n",
-                                "ci_low", "ci_high"]])
+        tidy = (
+            ds[["probability", "count", "n", "ci_low", "ci_high"]]
+            .to_dataframe()
+            .reset_index()[
+                ["body", "R", "gamma", "agx", "probability", "count", "n", "ci_low", "ci_high"]
+            ]
+        )
         run.write_csv("probabilities.csv", tidy)  # 12 significant digits: no float noise
         run.write_netcdf("probabilities.nc", ds)
-        fit_table = pd.DataFrame({"body": ds["body"].values, "R": ds["R"].values,
-                                  "gamma": ds["gamma"].values,
-                                  "median_g": ds["lognormal_median"].values,
-                                  "beta": ds["lognormal_beta"].values})
+        fit_table = pd.DataFrame(
+            {
+                "body": ds["body"].values,
+                "R": ds["R"].values,
+                "gamma": ds["gamma"].values,
+                "median_g": ds["lognormal_median"].values,
+                "beta": ds["lognormal_beta"].values,
+            }
+        )
         run.write_csv("lognormal.csv", fit_table, float_format="%.6g")
         title = f"{ensemble.n} motions, {ensemble.meta.get('location', 'ground')}, e = {e}"
         run.write_figure("fragility.png", plot_fragility(ds, fits=fits, title=title))
@@ -156,13 +230,34 @@ def fragility_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, 
 
 @click.command("agx50")
 @_run_options
-@click.option("--resolution", type=click.FloatRange(1e-6), default=0.01,
-              show_default=True, help="Resolution of A_gx at 50 % probability [g], >= 1e-6.")
-@click.option("--agx-max", type=click.FloatRange(0.0, min_open=True), default=5.0,
-              show_default=True, help="Largest A_gx searched [g]; beyond it A_gx50 is NaN.")
+@click.option(
+    "--resolution",
+    type=click.FloatRange(1e-6),
+    default=0.01,
+    show_default=True,
+    help="Resolution of A_gx at 50 % probability [g], >= 1e-6.",
+)
+@click.option(
+    "--agx-max",
+    type=click.FloatRange(0.0, min_open=True),
+    default=5.0,
+    show_default=True,
+    help="Largest A_gx searched [g]; beyond it A_gx50 is NaN.",
+)
 @band_option
-def agx50_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_text, quiet,
-              resolution, agx_max, band_text):
+def agx50_cmd(
+    bodies_spec,
+    motions_path,
+    floor,
+    frame_name,
+    out,
+    scheduler,
+    e_text,
+    quiet,
+    resolution,
+    agx_max,
+    band_text,
+):
     """A_gx of 50 % overturning probability per body and Housner's energy balance (Section 8).
 
     Writes to --out: agx50.csv and agx50.nc (A_gx50 [g], required S_v of Eq. 11 and S_v1 [cm/s]
@@ -171,35 +266,61 @@ def agx50_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_te
     (required S_v against A_gx50 with a least-squares line, paper Figs. 15-16) and run.json.
     """
     band = parse_band(band_text)
-    bodies, ensemble, e, backend = _prepare(bodies_spec, motions_path, floor, frame_name,
-                                            e_text, scheduler)
+    bodies, ensemble, e, backend = _prepare(
+        bodies_spec, motions_path, floor, frame_name, e_text, scheduler
+    )
     import numpy as np
     import pandas as pd
 
     from ..assessment.energy import energy_balance, forms_grid, grid_table
+    from ..core.runs import RunFolder
     from ..montecarlo.probability import agx_50
     from ..plots.fragility import plot_sv_agx
-    from ..core.runs import RunFolder
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
-    params = _run_params(bodies, motions_path, ensemble, e, resolution_g=resolution,
-                         agx_max_g=agx_max, band_hz=list(band))
+    params = _run_params(
+        bodies,
+        motions_path,
+        ensemble,
+        e,
+        resolution_g=resolution,
+        agx_max_g=agx_max,
+        band_hz=list(band),
+    )
     with RunFolder(out, command="agx50", params=params) as run, progress:
-        progress.write(f"agx50: {len(blocks)} bodies x {ensemble.n} motions "
-                       f"({ensemble.meta.get('location', 'ground')}), A_gx to {resolution:g} g")
+        progress.write(
+            f"agx50: {len(blocks)} bodies x {ensemble.n} motions "
+            f"({ensemble.meta.get('location', 'ground')}), A_gx to {resolution:g} g"
+        )
         with backend:
-            a50 = agx_50(blocks, ensemble, resolution=resolution, agx_max=agx_max, e=e,
-                         backend=backend, out=run.path / "chunks" / "agx50", progress=progress)
+            a50 = agx_50(
+                blocks,
+                ensemble,
+                resolution=resolution,
+                agx_max=agx_max,
+                e=e,
+                backend=backend,
+                out=run.path / "chunks" / "agx50",
+                progress=progress,
+            )
         energy = _names(energy_balance(blocks, ensemble, a50, band_hz=band), bodies)
         ds = _names(a50, bodies).merge(energy, compat="override")
-        ds.attrs.update({**energy.attrs, **_describe(ensemble)}, e=str(e),
-                        motions=str(motions_path))
+        ds.attrs.update(
+            {**energy.attrs, **_describe(ensemble)}, e=str(e), motions=str(motions_path)
+        )
         run.write_netcdf("agx50.nc", ds)
-        table = pd.DataFrame({"body": ds["body"].values, "R": ds["R"].values,
-                              "gamma": ds["gamma"].values, "agx50_g": ds["agx50"].values,
-                              "sv_required_cm_s": 100.0 * ds["sv_required"].values,
-                              "sv1_cm_s": 100.0 * ds["sv1"].values, "ratio": ds["ratio"].values})
+        table = pd.DataFrame(
+            {
+                "body": ds["body"].values,
+                "R": ds["R"].values,
+                "gamma": ds["gamma"].values,
+                "agx50_g": ds["agx50"].values,
+                "sv_required_cm_s": 100.0 * ds["sv_required"].values,
+                "sv1_cm_s": 100.0 * ds["sv1"].values,
+                "ratio": ds["ratio"].values,
+            }
+        )
         run.write_csv("agx50.csv", table, float_format="%.6g")
         if forms_grid(energy):
             for var, (name, fmt) in _TABLES.items():
@@ -207,38 +328,65 @@ def agx50_cmd(bodies_spec, motions_path, floor, frame_name, out, scheduler, e_te
                 # float_format would also cut R and gamma: write them as text (R to 0.1 mm)
                 grid = grid.rename(index=lambda r: f"{r:.4f}", columns=lambda g: f"{g:g}")
                 # the header says what the rows and the columns are
-                run.write_csv(name, grid, float_format=fmt, index=True,
-                              index_label="R [m] \\ gamma [-]")
+                run.write_csv(
+                    name, grid, float_format=fmt, index=True, index_label="R [m] \\ gamma [-]"
+                )
         title = f"{ensemble.n} motions, {ensemble.meta.get('location', 'ground')}, e = {e}"
         run.write_figure("sv_agx.png", plot_sv_agx(energy, title=title))
         found = np.isfinite(energy["ratio"].values)
-        summary = (f"; mean S_v1/S_v {np.mean(energy['ratio'].values[found]):.3f}"
-                   if found.any() else "")
-    click.echo(f"{len(blocks)} bodies, {ensemble.n} motions "
-               f"({ensemble.meta.get('location', 'ground')}): A_gx50 found below {agx_max:g} g "
-               f"for {int(found.sum())}{summary}")
+        summary = (
+            f"; mean S_v1/S_v {np.mean(energy['ratio'].values[found]):.3f}" if found.any() else ""
+        )
+    click.echo(
+        f"{len(blocks)} bodies, {ensemble.n} motions "
+        f"({ensemble.meta.get('location', 'ground')}): A_gx50 found below {agx_max:g} g "
+        f"for {int(found.sum())}{summary}"
+    )
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
 
 
 @click.command("assess")
 @bodies_option
-@click.option("--spectrum", "spectrum_path", required=True, type=click.Path(dir_okay=False),
-              help="Spectrum at the bodies' location: a CSV table (frequency [Hz] or period "
-                   "[s]; PSA [g] or PSV [cm/s or m/s]), e.g. from 'rocking spectrum --csv' or "
-                   "'rocking frame spectra --csv', FILE:NAME choosing one record or floor of a "
-                   "file that holds several (FILE.csv:floor_1); a saved ensemble (.nc), whose "
-                   "mean PSV is used; or a design spectrum as for 'rocking screen' (e.g. "
-                   "asce7:SDS=1.0,SD1=0.6,TL=8).")
-@click.option("--band", "band_text", default=BAND_TEXT, show_default=True,
-              metavar="LOW:HIGH",
-              help="Frequency band [Hz] in which the available S_v is the largest PSV.")
-@click.option("--damping", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True),
-              default=0.05, show_default=True, help="Damping ratio of the spectrum [-].")
-@click.option("--agx", type=click.FloatRange(0.0, min_open=True), default=None,
-              help="Scale an ensemble (.nc) to this A_gx [g] (mean PGA) first.")
-@click.option("--floor", type=int, default=None,
-              help="With an ensemble: use the motions of this floor of --frame (0 = ground).")
+@click.option(
+    "--spectrum",
+    "spectrum_path",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="Spectrum at the bodies' location: a CSV table (frequency [Hz] or period "
+    "[s]; PSA [g] or PSV [cm/s or m/s]), e.g. from 'rocking spectrum --csv' or "
+    "'rocking frame spectra --csv', FILE:NAME choosing one record or floor of a "
+    "file that holds several (FILE.csv:floor_1); a saved ensemble (.nc), whose "
+    "mean PSV is used; or a design spectrum as for 'rocking screen' (e.g. "
+    "asce7:SDS=1.0,SD1=0.6,TL=8).",
+)
+@click.option(
+    "--band",
+    "band_text",
+    default=BAND_TEXT,
+    show_default=True,
+    metavar="LOW:HIGH",
+    help="Frequency band [Hz] in which the available S_v is the largest PSV.",
+)
+@click.option(
+    "--damping",
+    type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True),
+    default=0.05,
+    show_default=True,
+    help="Damping ratio of the spectrum [-].",
+)
+@click.option(
+    "--agx",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    help="Scale an ensemble (.nc) to this A_gx [g] (mean PGA) first.",
+)
+@click.option(
+    "--floor",
+    type=int,
+    default=None,
+    help="With an ensemble: use the motions of this floor of --frame (0 = ground).",
+)
 @frame_option
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
 def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame_name, as_json):
@@ -258,8 +406,8 @@ def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame
         raise InputError("--agx, --floor and --frame apply to an ensemble (.nc) spectrum only")
     import numpy as np
 
-    from ..motions.design import parse_spectrum
     from ..assessment.energy import assess
+    from ..motions.design import parse_spectrum
     from ..motions.ensemble import Ensemble
 
     with reporter():
@@ -267,30 +415,63 @@ def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame
             source = _location(Ensemble.load(spectrum_path), frame, floor)
         else:
             source = parse_spectrum(spectrum_path, damping=damping)
-        ds = assess([b.block for b in bodies], source, band_hz=band, damping=damping, agx=agx,
-                    names=[b.name for b in bodies])
+        ds = assess(
+            [b.block for b in bodies],
+            source,
+            band_hz=band,
+            damping=damping,
+            agx=agx,
+            names=[b.name for b in bodies],
+        )
     order = np.argsort(ds["margin"].values, kind="stable")
     ds = ds.isel(body=order)
     available = 100.0 * float(ds["sv_available"].values[0])
     if as_json:
-        rows = [{"name": str(n), "R_m": float(r), "gamma": float(g),
-                 "sv_required_cm_s": 100.0 * float(req), "sv_available_cm_s": available,
-                 "margin": float(m), "verdict": str(v)}
-                for n, r, g, req, m, v in zip(ds["body"].values, ds["R"].values,
-                                              ds["gamma"].values, ds["sv_required"].values,
-                                              ds["margin"].values, ds["verdict"].values)]
-        click.echo(json.dumps({"spectrum": str(spectrum_path), "band_hz": list(band),
-                               "damping": damping, "sv_available_cm_s": available,
-                               "bodies": rows}, indent=2))
+        rows = [
+            {
+                "name": str(n),
+                "R_m": float(r),
+                "gamma": float(g),
+                "sv_required_cm_s": 100.0 * float(req),
+                "sv_available_cm_s": available,
+                "margin": float(m),
+                "verdict": str(v),
+            }
+            for n, r, g, req, m, v in zip(
+                ds["body"].values,
+                ds["R"].values,
+                ds["gamma"].values,
+                ds["sv_required"].values,
+                ds["margin"].values,
+                ds["verdict"].values,
+            )
+        ]
+        click.echo(
+            json.dumps(
+                {
+                    "spectrum": str(spectrum_path),
+                    "band_hz": list(band),
+                    "damping": damping,
+                    "sv_available_cm_s": available,
+                    "bodies": rows,
+                },
+                indent=2,
+            )
+        )
         return
-    click.echo(f"available S_v = {available:.2f} cm/s (max PSV, {100 * damping:g} % damping, "
-               f"{band[0]:g}-{band[1]:g} Hz, {spectrum_path})")
+    click.echo(
+        f"available S_v = {available:.2f} cm/s (max PSV, {100 * damping:g} % damping, "
+        f"{band[0]:g}-{band[1]:g} Hz, {spectrum_path})"
+    )
     width = max(4, *(len(str(n)) for n in ds["body"].values))
-    click.echo(f"{'name':<{width}}  {'required S_v [cm/s]':>19}  {'available [cm/s]':>16}  "
-               f"{'margin [-]':>10}  verdict")
-    for n, req, m, v in zip(ds["body"].values, ds["sv_required"].values, ds["margin"].values,
-                            ds["verdict"].values):
-        click.echo(f"{str(n):<{width}}  {100.0 * req:19.2f}  {available:16.2f}  {m:+10.3f}  {v}")
+    click.echo(
+        f"{'name':<{width}}  {'required S_v [cm/s]':>19}  {'available [cm/s]':>16}  "
+        f"{'margin [-]':>10}  verdict"
+    )
+    for n, req, m, v in zip(
+        ds["body"].values, ds["sv_required"].values, ds["margin"].values, ds["verdict"].values
+    ):
+        click.echo(f"{n!s:<{width}}  {100.0 * req:19.2f}  {available:16.2f}  {m:+10.3f}  {v}")
 
 
 COMMANDS = [fragility_cmd, agx50_cmd, assess_cmd]

@@ -7,22 +7,49 @@ import click
 from ..defaults import DT, ENVELOPE_NAMES, FIT_BAND
 from ._options import quiet_option, reporter, writable_file
 
-
 _damping_option = click.option(
-    "--damping", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True), default=0.05,
-    show_default=True, help="Damping ratio of the target spectrum [-].")
+    "--damping",
+    type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True),
+    default=0.05,
+    show_default=True,
+    help="Damping ratio of the target spectrum [-].",
+)
 _target_option = click.option(
-    "--target", "target_path", type=click.Path(exists=True, dir_okay=False),
-    help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default RG 1.60 at 1 g.")
+    "--target",
+    "target_path",
+    type=click.Path(exists=True, dir_okay=False),
+    help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default RG 1.60 at 1 g.",
+)
 _ENSEMBLE_OPTIONS = (
-    click.option("--n", "n", type=click.IntRange(1), default=200, show_default=True,
-                 help="Number of motions."),
-    click.option("--duration", type=click.FloatRange(0.0, min_open=True), default=20.0,
-                 show_default=True, help="Total duration T [s]."),
-    click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=DT,
-                 show_default=True, help="Time step [s]."),
-    click.option("--envelope", type=click.Choice(ENVELOPE_NAMES), default="compound",
-                 show_default=True, help="Intensity function (shape scaled with the duration)."),
+    click.option(
+        "--n",
+        "n",
+        type=click.IntRange(1),
+        default=200,
+        show_default=True,
+        help="Number of motions.",
+    ),
+    click.option(
+        "--duration",
+        type=click.FloatRange(0.0, min_open=True),
+        default=20.0,
+        show_default=True,
+        help="Total duration T [s].",
+    ),
+    click.option(
+        "--dt",
+        type=click.FloatRange(0.0, min_open=True),
+        default=DT,
+        show_default=True,
+        help="Time step [s].",
+    ),
+    click.option(
+        "--envelope",
+        type=click.Choice(ENVELOPE_NAMES),
+        default="compound",
+        show_default=True,
+        help="Intensity function (shape scaled with the duration).",
+    ),
 )
 
 
@@ -40,21 +67,55 @@ def motions():
 
 @motions.command("generate")
 @_ensemble_options
-@click.option("--seed", type=click.IntRange(0), default=0, show_default=True,
-              help="Root seed; member k is the same motion for any --n.")
-@click.option("--baseline/--no-baseline", default=True, show_default=True,
-              help="Quadratic baseline correction.")
-@click.option("--iterations", type=click.IntRange(0), default=0, show_default=True,
-              help="PSD iterations of the iterative correction (0: the paper's method alone).")
-@click.option("--peak-limit/--no-peak-limit", default=True, show_default=True,
-              help="With --iterations: re-phase motions so their PGA stays near the ZPA.")
+@click.option(
+    "--seed",
+    type=click.IntRange(0),
+    default=0,
+    show_default=True,
+    help="Root seed; member k is the same motion for any --n.",
+)
+@click.option(
+    "--baseline/--no-baseline",
+    default=True,
+    show_default=True,
+    help="Quadratic baseline correction.",
+)
+@click.option(
+    "--iterations",
+    type=click.IntRange(0),
+    default=0,
+    show_default=True,
+    help="PSD iterations of the iterative correction (0: the paper's method alone).",
+)
+@click.option(
+    "--peak-limit/--no-peak-limit",
+    default=True,
+    show_default=True,
+    help="With --iterations: re-phase motions so their PGA stays near the ZPA.",
+)
 @_target_option
 @_damping_option
-@click.option("--out", type=click.Path(dir_okay=False), required=True,
-              help="Output netCDF file, e.g. ens.nc (written when the motions are complete).")
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    required=True,
+    help="Output netCDF file, e.g. ens.nc (written when the motions are complete).",
+)
 @quiet_option
-def generate_cmd(n, duration, dt, envelope, seed, baseline, iterations, peak_limit, target_path,
-                 damping, out, quiet):
+def generate_cmd(
+    n,
+    duration,
+    dt,
+    envelope,
+    seed,
+    baseline,
+    iterations,
+    peak_limit,
+    target_path,
+    damping,
+    out,
+    quiet,
+):
     """Simulate an ensemble and save it as netCDF."""
     writable_file(out, "--out")  # before the work, not after
     from ..motions.synthesis import generate
@@ -63,13 +124,24 @@ def generate_cmd(n, duration, dt, envelope, seed, baseline, iterations, peak_lim
     target = rg160 if target_path is None else TabulatedSpectrum.from_csv(target_path, damping)
     progress = reporter(quiet)
     with progress, progress.stage(f"generating {n} motions", unit="motions") as stage:
-        ens = generate(n, duration=duration, dt=dt, envelope=envelope, seed=seed,
-                       baseline=baseline, iterations=iterations, peak_limit=peak_limit,
-                       target=target, damping=damping)
+        ens = generate(
+            n,
+            duration=duration,
+            dt=dt,
+            envelope=envelope,
+            seed=seed,
+            baseline=baseline,
+            iterations=iterations,
+            peak_limit=peak_limit,
+            target=target,
+            damping=damping,
+        )
         stage.update(ens.n)
         ens.save(out)
-    click.echo(f"wrote {out}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s "
-               f"({envelope}, seed {seed}), A_gx = {ens.agx:.4g} g")
+    click.echo(
+        f"wrote {out}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s "
+        f"({envelope}, seed {seed}), A_gx = {ens.agx:.4g} g"
+    )
 
 
 def _with_and_without_baseline(ens):
@@ -83,16 +155,33 @@ def _with_and_without_baseline(ens):
 
 @motions.command("show")
 @click.argument("ensemble", type=click.Path(exists=True, dir_okay=False))
-@click.option("--agx", type=click.FloatRange(0.0, min_open=True), default=None,
-              help="Scale the ensemble to this mean PGA A_gx [g] first.")
-@click.option("--samples", type=click.IntRange(1), default=3, show_default=True,
-              help="Members drawn with and without baseline correction.")
-@click.option("--target", "target_path", type=click.Path(exists=True, dir_okay=False),
-              help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default the "
-                   "stored target of a simulated ensemble, else RG 1.60 at the ensemble's A_gx.")
+@click.option(
+    "--agx",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    help="Scale the ensemble to this mean PGA A_gx [g] first.",
+)
+@click.option(
+    "--samples",
+    type=click.IntRange(1),
+    default=3,
+    show_default=True,
+    help="Members drawn with and without baseline correction.",
+)
+@click.option(
+    "--target",
+    "target_path",
+    type=click.Path(exists=True, dir_okay=False),
+    help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default the "
+    "stored target of a simulated ensemble, else RG 1.60 at the ensemble's A_gx.",
+)
 @_damping_option
-@click.option("--out", type=click.Path(file_okay=False, writable=True), required=True,
-              help="Output folder for the figures.")
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, writable=True),
+    required=True,
+    help="Output folder for the figures.",
+)
 def show(ensemble, agx, samples, target_path, damping, out):
     """Plot an ensemble and print how its mean PSA fits the target.
 
@@ -102,13 +191,13 @@ def show(ensemble, agx, samples, target_path, damping, out):
     """
     import numpy as np
 
-    from ..motions.envelopes import make_envelope
+    from ..core.runs import RunFolder
     from ..motions.ensemble import Ensemble
+    from ..motions.envelopes import make_envelope
     from ..motions.synthesis import spectral_fit
+    from ..motions.targets import RG160, TabulatedSpectrum
     from ..plots.motions import plot_baseline_comparison, plot_envelopes
     from ..plots.spectra import plot_mean_vs_target
-    from ..core.runs import RunFolder
-    from ..motions.targets import RG160, TabulatedSpectrum
 
     ens = Ensemble.load(ensemble)
     if agx is not None:
@@ -117,54 +206,85 @@ def show(ensemble, agx, samples, target_path, damping, out):
         target = TabulatedSpectrum.from_csv(target_path, damping=damping)
     else:
         target = ens.target_spectrum() if ens.simulated else RG160(damping, pga=ens.agx)
-    params = {"ensemble": str(ensemble), "agx_g": agx, "samples": samples,
-              "target": target.name, "damping": damping}
+    params = {
+        "ensemble": str(ensemble),
+        "agx_g": agx,
+        "samples": samples,
+        "target": target.name,
+        "damping": damping,
+    }
     progress = reporter()
-    with RunFolder(out, command="motions show", params=params) as run, progress:
-        with progress.stage("response spectra and figures", unit="figures") as stage:
-            fit = spectral_fit(ens, target)
-            sample = ens.subset(range(min(samples, ens.n)))
-            raw, corrected = _with_and_without_baseline(sample)
-            figures = {
-                "baseline.png": plot_baseline_comparison(
-                    ens.dt, raw, corrected, sample.labels, title="Baseline correction"),
-                "spectrum.png": plot_mean_vs_target(
-                    fit.freqs_hz, fit.psa_g, target,
-                    title=f"{ens.n} motions, A_gx = {ens.agx:.3g} g, "
-                          f"{100 * fit.damping:g} % damping"),
-            }
-            if ens.simulated:
-                env = make_envelope(ens.meta["envelope"], ens.meta["duration"],
-                                    **ens.meta["envelope_params"])
-                figures["envelope.png"] = plot_envelopes([env], title="Intensity function")
-            for name, fig in figures.items():
-                run.write_figure(name, fig)
-                stage.update()
+    with (
+        RunFolder(out, command="motions show", params=params) as run,
+        progress,
+        progress.stage("response spectra and figures", unit="figures") as stage,
+    ):
+        fit = spectral_fit(ens, target)
+        sample = ens.subset(range(min(samples, ens.n)))
+        raw, corrected = _with_and_without_baseline(sample)
+        figures = {
+            "baseline.png": plot_baseline_comparison(
+                ens.dt, raw, corrected, sample.labels, title="Baseline correction"
+            ),
+            "spectrum.png": plot_mean_vs_target(
+                fit.freqs_hz,
+                fit.psa_g,
+                target,
+                title=f"{ens.n} motions, A_gx = {ens.agx:.3g} g, {100 * fit.damping:g} % damping",
+            ),
+        }
+        if ens.simulated:
+            env = make_envelope(
+                ens.meta["envelope"], ens.meta["duration"], **ens.meta["envelope_params"]
+            )
+            figures["envelope.png"] = plot_envelopes([env], title="Intensity function")
+        for name, fig in figures.items():
+            run.write_figure(name, fig)
+            stage.update()
     worst = int(np.argmax(np.abs(fit.ratio - 1.0)))
-    click.echo(f"{ensemble}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s, "
-               f"{ens.meta.get('kind', 'motions')} at {ens.meta['location']}, "
-               f"A_gx = {ens.agx:.4g} g")
-    click.echo(f"mean PSA against {target.name} over {FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz "
-               f"({fit.freqs_hz.size} frequencies): max deviation {100 * fit.max_deviation:.1f} % "
-               f"(at {fit.freqs_hz[worst]:.3g} Hz), mean deviation "
-               f"{100 * fit.mean_deviation:.1f} %")
+    click.echo(
+        f"{ensemble}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s, "
+        f"{ens.meta.get('kind', 'motions')} at {ens.meta['location']}, "
+        f"A_gx = {ens.agx:.4g} g"
+    )
+    click.echo(
+        f"mean PSA against {target.name} over {FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz "
+        f"({fit.freqs_hz.size} frequencies): max deviation {100 * fit.max_deviation:.1f} % "
+        f"(at {fit.freqs_hz[worst]:.3g} Hz), mean deviation "
+        f"{100 * fit.mean_deviation:.1f} %"
+    )
     click.echo(f"wrote {', '.join(str(run.path / name) for name in figures)}")
 
 
 @motions.command("fit")
 @_ensemble_options
 @click.option("--seed", type=click.IntRange(0), default=0, show_default=True, help="Root seed.")
-@click.option("--iterations", type=click.IntRange(1), default=2, show_default=True,
-              help="PSD iterations of the iterative correction.")
-@click.option("--per-decade", type=click.IntRange(1), default=100, show_default=True,
-              help="Frequencies per decade at which the fit is checked.")
+@click.option(
+    "--iterations",
+    type=click.IntRange(1),
+    default=2,
+    show_default=True,
+    help="PSD iterations of the iterative correction.",
+)
+@click.option(
+    "--per-decade",
+    type=click.IntRange(1),
+    default=100,
+    show_default=True,
+    help="Frequencies per decade at which the fit is checked.",
+)
 @_target_option
 @_damping_option
-@click.option("--out", type=click.Path(file_okay=False, writable=True), required=True,
-              help="Output folder for fit.png and fit.csv.")
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, writable=True),
+    required=True,
+    help="Output folder for fit.png and fit.csv.",
+)
 @quiet_option
-def fit_cmd(n, duration, dt, envelope, seed, iterations, per_decade, target_path, damping, out,
-            quiet):
+def fit_cmd(
+    n, duration, dt, envelope, seed, iterations, per_decade, target_path, damping, out, quiet
+):
     """Mean PSA against the target: the paper's method alone and with the iterative correction.
 
     Simulates the same members both ways and checks the ensemble-mean PSA over
@@ -174,44 +294,64 @@ def fit_cmd(n, duration, dt, envelope, seed, iterations, per_decade, target_path
     import numpy as np
     import pandas as pd
 
-    from ..motions.synthesis import generate, spectral_fit
-    from ..plots.motions import plot_fit_ratios
     from ..core.runs import RunFolder
+    from ..motions.synthesis import generate, spectral_fit
     from ..motions.targets import RG160, TabulatedSpectrum
+    from ..plots.motions import plot_fit_ratios
 
-    target = (RG160(damping) if target_path is None
-              else TabulatedSpectrum.from_csv(target_path, damping))
+    target = (
+        RG160(damping) if target_path is None else TabulatedSpectrum.from_csv(target_path, damping)
+    )
     settings = dict(duration=duration, dt=dt, envelope=envelope, seed=seed, target=target)
-    labels = {0: "paper's method alone",
-              iterations: f"with iterative correction ({iterations} iterations)"}
-    params = {"n": n, **settings, "target": target.name, "iterations": iterations,
-              "per_decade": per_decade, "damping": damping}
+    labels = {
+        0: "paper's method alone",
+        iterations: f"with iterative correction ({iterations} iterations)",
+    }
+    params = {
+        "n": n,
+        **settings,
+        "target": target.name,
+        "iterations": iterations,
+        "per_decade": per_decade,
+        "damping": damping,
+    }
     progress = reporter(quiet)
     methods, fits = {}, {}
     with RunFolder(out, command="motions fit", params=params) as run, progress:
-        with progress.stage(f"motions fit: {n} motions, two ways", total=2 * n,
-                            unit="motions") as stage:
+        with progress.stage(
+            f"motions fit: {n} motions, two ways", total=2 * n, unit="motions"
+        ) as stage:
             for its, label in labels.items():
                 methods[label] = generate(n, iterations=its, **settings)
                 fits[label] = spectral_fit(methods[label], target, per_decade=per_decade)
                 stage.update(n)
         freqs = next(iter(fits.values())).freqs_hz
-        fig = plot_fit_ratios(freqs, {k: f.ratio for k, f in fits.items()}, band=FIT_BAND,
-                              title=f"{n} motions, {envelope} {duration:g} s, against "
-                                    f"{target.name}")
+        fig = plot_fit_ratios(
+            freqs,
+            {k: f.ratio for k, f in fits.items()},
+            band=FIT_BAND,
+            title=f"{n} motions, {envelope} {duration:g} s, against {target.name}",
+        )
         run.write_figure("fit.png", fig)
         paper, corrected = fits.values()
-        table = pd.DataFrame({"freq_hz": freqs, "target_psa_g": paper.target_g,
-                              "mean_psa_paper_g": paper.mean_g,
-                              "mean_psa_corrected_g": corrected.mean_g})
+        table = pd.DataFrame(
+            {
+                "freq_hz": freqs,
+                "target_psa_g": paper.target_g,
+                "mean_psa_paper_g": paper.mean_g,
+                "mean_psa_corrected_g": corrected.mean_g,
+            }
+        )
         run.write_csv("fit.csv", table, float_format="%.6g")
     for label, fit in fits.items():
         ens = methods[label]
         worst = int(np.argmax(np.abs(fit.ratio - 1.0)))
-        click.echo(f"{label}: mean PSA / target {fit.ratio.min():.3f}–{fit.ratio.max():.3f} over "
-                   f"{FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz ({freqs.size} frequencies), max "
-                   f"deviation {100 * fit.max_deviation:.1f} % at {freqs[worst]:.3g} Hz; "
-                   f"A_gx = {ens.agx:.3f} g (std {ens.pga.std():.3f} g)")
+        click.echo(
+            f"{label}: mean PSA / target {fit.ratio.min():.3f}–{fit.ratio.max():.3f} over "
+            f"{FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz ({freqs.size} frequencies), max "
+            f"deviation {100 * fit.max_deviation:.1f} % at {freqs[worst]:.3g} Hz; "
+            f"A_gx = {ens.agx:.3f} g (std {ens.pga.std():.3f} g)"
+        )
     click.echo(f"wrote {run.path / 'fit.png'}, {run.path / 'fit.csv'}")
 
 

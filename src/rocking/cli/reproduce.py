@@ -10,29 +10,50 @@ from ._options import quiet_option, reporter
 
 @click.command("reproduce")
 @click.argument("section", type=click.Choice([*STUDY_SECTIONS, "all"]), metavar="SECTION|all")
-@click.option("--fidelity", type=click.Choice(["quick", "paper"]), default="quick",
-              show_default=True,
-              help="quick: small ensembles (about a minute for all sections on 2 cores); paper: "
-                   "the paper's sizes (200/500 motions, 72 bodies, dt = 1/400 s).")
-@click.option("--out", "out_dir",
-              type=click.Path(file_okay=False, writable=True),
-              help="Output folder for report.md, report.html, run.json, figures/, tables/ and "
-                   "chunks/ (finished work: a rerun with the same parameters resumes).")
-@click.option("--scheduler", default=None, metavar="ADDRESS",
-              help="'local' (default), 'dask-local' or a Dask scheduler address "
-                   "(tcp://host:8786).")
-@click.option("--config", "config_path", type=click.Path(exists=True, dir_okay=False),
-              help="TOML file overriding parameters of the fidelity preset ([common], [sec4] "
-                   "... [sec8] tables; keys in `python -m pydoc rocking.studies.config`).")
-@click.option("--set", "sets", multiple=True, metavar="SECTION.KEY=VALUE",
-              help="Override one parameter (VALUE in TOML syntax), e.g. --set sec8.n=100 "
-                   "--set 'sec7.frames=[\"paper-0.5\"]'. Repeatable; wins over --config.")
-@click.option("--show-config", is_flag=True,
-              help="Print the parameters (preset + --config + --set) as TOML and exit: a "
-                   "starting point for a --config file.")
+@click.option(
+    "--fidelity",
+    type=click.Choice(["quick", "paper"]),
+    default="quick",
+    show_default=True,
+    help="quick: small ensembles (about a minute for all sections on 2 cores); paper: "
+    "the paper's sizes (200/500 motions, 72 bodies, dt = 1/400 s).",
+)
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False, writable=True),
+    help="Output folder for report.md, report.html, run.json, figures/, tables/ and "
+    "chunks/ (finished work: a rerun with the same parameters resumes).",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="'local' (default), 'dask-local' or a Dask scheduler address (tcp://host:8786).",
+)
+@click.option(
+    "--config",
+    "config_path",
+    type=click.Path(exists=True, dir_okay=False),
+    help="TOML file overriding parameters of the fidelity preset ([common], [sec4] "
+    "... [sec8] tables; keys in `python -m pydoc rocking.studies.config`).",
+)
+@click.option(
+    "--set",
+    "sets",
+    multiple=True,
+    metavar="SECTION.KEY=VALUE",
+    help="Override one parameter (VALUE in TOML syntax), e.g. --set sec8.n=100 "
+    "--set 'sec7.frames=[\"paper-0.5\"]'. Repeatable; wins over --config.",
+)
+@click.option(
+    "--show-config",
+    is_flag=True,
+    help="Print the parameters (preset + --config + --set) as TOML and exit: a "
+    "starting point for a --config file.",
+)
 @quiet_option
-def reproduce_command(section, fidelity, out_dir, scheduler, config_path, sets, show_config,
-                      quiet):
+def reproduce_command(section, fidelity, out_dir, scheduler, config_path, sets, show_config, quiet):
     """Reproduce SECTION (4-8) of the paper, or all of them, into a report in --out.
 
     \b
@@ -56,13 +77,23 @@ def reproduce_command(section, fidelity, out_dir, scheduler, config_path, sets, 
         raise click.UsageError("Missing option '--out'.")
     sections = list(STUDY_SECTIONS) if section == "all" else [section]
     progress = reporter(quiet)
-    progress.write(f"reproducing section{'s' if len(sections) > 1 else ''} "
-                   f"{', '.join(sections)} at {fidelity} fidelity into {out_dir}")
+    progress.write(
+        f"reproducing section{'s' if len(sections) > 1 else ''} "
+        f"{', '.join(sections)} at {fidelity} fidelity into {out_dir}"
+    )
     from ..studies import reproduce
 
     echo = (lambda _msg: None) if quiet else click.echo
-    reproduce(sections, fidelity=fidelity, out_dir=out_dir, scheduler=scheduler,
-              config=config_path, sets=sets, progress=progress, echo=echo)
+    reproduce(
+        sections,
+        fidelity=fidelity,
+        out_dir=out_dir,
+        scheduler=scheduler,
+        config=config_path,
+        sets=sets,
+        progress=progress,
+        echo=echo,
+    )
 
 
 COMMANDS = [reproduce_command]

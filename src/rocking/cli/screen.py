@@ -19,35 +19,91 @@ EXAMPLE_SPECTRUM = files("rocking") / "data" / "example_spectrum.csv"
 
 @click.command("screen")
 @click.argument("inventory", metavar="INVENTORY")
-@click.option("--spectrum", "spectrum_text", required=True, metavar="SPEC",
-              help=f"Design spectrum at the ground: {SPECTRUM_SYNTAX}; or 'example' (the "
-                   "shipped site spectrum).")
-@click.option("--frame", default=None, metavar="FRAME",
-              help="Default frame of 'floor N' items without one: a preset (paper-2.0, "
-                   "paper-1.5, paper-1.0, paper-0.5) or a frame TOML file.")
-@click.option("--out", "out_dir", required=True,
-              type=click.Path(file_okay=False, writable=True), help="Output folder.")
-@click.option("--n", "n_motions", type=click.IntRange(min=1), default=200, show_default=True,
-              help="Number of spectrum-compatible motions.")
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True,
-              help="Seed of the motions.")
-@click.option("--duration", type=click.FloatRange(0.0, min_open=True), default=20.0,
-              show_default=True, help="Duration of the motions [s].")
-@click.option("--resolution", type=click.FloatRange(0.0, min_open=True), default=0.01,
-              show_default=True, help="Resolution of the A_gx50 search [g].")
-@click.option("--agx-max", type=click.FloatRange(0.0, min_open=True), default=5.0,
-              show_default=True, help="Upper end of the A_gx50 search [g].")
-@click.option("--floor-motions", type=click.Choice(["building", "paper"]), default="building",
-              show_default=True,
-              help="Floor motions: the frame's response to the design-level ground motions "
-                   "('building'), or rescaled to the ground's A_gx as in the paper's Section 7 "
-                   "('paper').")
-@click.option("--scheduler", default=None, metavar="SCHED",
-              help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
-                   "address tcp://HOST:PORT.")
+@click.option(
+    "--spectrum",
+    "spectrum_text",
+    required=True,
+    metavar="SPEC",
+    help=f"Design spectrum at the ground: {SPECTRUM_SYNTAX}; or 'example' (the "
+    "shipped site spectrum).",
+)
+@click.option(
+    "--frame",
+    default=None,
+    metavar="FRAME",
+    help="Default frame of 'floor N' items without one: a preset (paper-2.0, "
+    "paper-1.5, paper-1.0, paper-0.5) or a frame TOML file.",
+)
+@click.option(
+    "--out",
+    "out_dir",
+    required=True,
+    type=click.Path(file_okay=False, writable=True),
+    help="Output folder.",
+)
+@click.option(
+    "--n",
+    "n_motions",
+    type=click.IntRange(min=1),
+    default=200,
+    show_default=True,
+    help="Number of spectrum-compatible motions.",
+)
+@click.option(
+    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the motions."
+)
+@click.option(
+    "--duration",
+    type=click.FloatRange(0.0, min_open=True),
+    default=20.0,
+    show_default=True,
+    help="Duration of the motions [s].",
+)
+@click.option(
+    "--resolution",
+    type=click.FloatRange(0.0, min_open=True),
+    default=0.01,
+    show_default=True,
+    help="Resolution of the A_gx50 search [g].",
+)
+@click.option(
+    "--agx-max",
+    type=click.FloatRange(0.0, min_open=True),
+    default=5.0,
+    show_default=True,
+    help="Upper end of the A_gx50 search [g].",
+)
+@click.option(
+    "--floor-motions",
+    type=click.Choice(["building", "paper"]),
+    default="building",
+    show_default=True,
+    help="Floor motions: the frame's response to the design-level ground motions "
+    "('building'), or rescaled to the ground's A_gx as in the paper's Section 7 "
+    "('paper').",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="SCHED",
+    help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
+    "address tcp://HOST:PORT.",
+)
 @quiet_option
-def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, duration,
-                   resolution, agx_max, floor_motions, scheduler, quiet):
+def screen_command(
+    inventory,
+    spectrum_text,
+    frame,
+    out_dir,
+    n_motions,
+    seed,
+    duration,
+    resolution,
+    agx_max,
+    floor_motions,
+    scheduler,
+    quiet,
+):
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
 
     For each item: Housner's energy balance (paper Eq. 11) against the available S_v at its
@@ -66,24 +122,30 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
     \b
         rocking screen example --spectrum asce7:SDS=1.0,SD1=0.6,TL=8 --frame paper-2.0 --out out
     """
+    from ..assessment.inventory import read_inventory
+    from ..assessment.screen import results_table, screen
+    from ..core.runs import RunFolder
     from ..montecarlo.backends import get_backend
     from ..motions.design import design_pga, parse_spectrum
-    from ..structures.frames import ShearFrame
-    from ..assessment.inventory import read_inventory
     from ..plots.screen import plot_screen
     from ..report import Report, remove_report
-    from ..core.runs import RunFolder
-    from ..assessment.screen import results_table, screen
+    from ..structures.frames import ShearFrame
 
     started = time.perf_counter()
     out = Path(out_dir)
     remove_report(out)  # a failed run must not leave an older report looking like its result
-    inv_path = Path(EXAMPLE_INVENTORY) if inventory == "example" and not Path(
-        inventory).exists() else Path(inventory)
+    inv_path = (
+        Path(EXAMPLE_INVENTORY)
+        if inventory == "example" and not Path(inventory).exists()
+        else Path(inventory)
+    )
     if not inv_path.is_file():
         raise click.BadParameter(f"no such file: {inventory}", param_hint="INVENTORY")
-    spectrum = parse_spectrum(EXAMPLE_SPECTRUM if spectrum_text == "example"
-                              and not Path(spectrum_text).exists() else spectrum_text)
+    spectrum = parse_spectrum(
+        EXAMPLE_SPECTRUM
+        if spectrum_text == "example" and not Path(spectrum_text).exists()
+        else spectrum_text
+    )
     default_frame = ShearFrame.from_toml(frame) if frame and Path(frame).is_file() else frame
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -92,54 +154,83 @@ def screen_command(inventory, spectrum_text, frame, out_dir, n_motions, seed, du
     for note in notes:
         click.echo(f"warning: {note}", err=True)
     backend = get_backend(scheduler)
-    params = {"inventory": str(inv_path), "spectrum": spectrum.name,
-              "spectrum_spec": spectrum_text, "design_agx": design_pga(spectrum), "frame": frame,
-              "n_motions": n_motions, "seed": seed, "duration": duration,
-              "resolution": resolution, "agx_max": agx_max, "floor_motions": floor_motions,
-              "scheduler": scheduler or "local"}
+    params = {
+        "inventory": str(inv_path),
+        "spectrum": spectrum.name,
+        "spectrum_spec": spectrum_text,
+        "design_agx": design_pga(spectrum),
+        "frame": frame,
+        "n_motions": n_motions,
+        "seed": seed,
+        "duration": duration,
+        "resolution": resolution,
+        "agx_max": agx_max,
+        "floor_motions": floor_motions,
+        "scheduler": scheduler or "local",
+    }
     progress = reporter(quiet)
     with RunFolder(out, command="screen", params=params) as run, progress:
-        progress.write(f"screening {len(inv)} items against {spectrum.name} at the design "
-                       f"A_gx = {design_pga(spectrum):.3g} g with {n_motions} motions")
+        progress.write(
+            f"screening {len(inv)} items against {spectrum.name} at the design "
+            f"A_gx = {design_pga(spectrum):.3g} g with {n_motions} motions"
+        )
         with backend, progress.stage(f"screening {len(inv)} items", unit="sim"):
-            ds = screen(inv, spectrum, n=n_motions, seed=seed, duration=duration,
-                        resolution=resolution, agx_max=agx_max, floor_motions=floor_motions,
-                        backend=backend, progress=progress)
+            ds = screen(
+                inv,
+                spectrum,
+                n=n_motions,
+                seed=seed,
+                duration=duration,
+                resolution=resolution,
+                agx_max=agx_max,
+                floor_motions=floor_motions,
+                backend=backend,
+                progress=progress,
+            )
         table = results_table(ds)
         report = Report(f"Screening of {inv_path.name}", out)
         report.text(_summary(ds, table, inv_path, notes))
-        report.figure(plot_screen(ds), "sv-agx",
-                      "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of "
-                      "Eq. (11) against the A_gx of 50 % overturning probability; dashed: design "
-                      "A_gx; dotted: available S_v at each location.")
+        report.figure(
+            plot_screen(ds),
+            "sv-agx",
+            "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of "
+            "Eq. (11) against the A_gx of 50 % overturning probability; dashed: design "
+            "A_gx; dotted: available S_v at each location.",
+        )
         report.table(table, "Items, most at risk first.", name="screen")
         report.write()
         for name in report.files:
             run.file(name)
         run.update(at_risk=int(ds["at_risk"].sum()))
     wall = time.perf_counter() - started
-    click.echo(f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk; wrote "
-               f"{out / 'report.html'} ({wall:.1f} s)")
+    click.echo(
+        f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk; wrote "
+        f"{out / 'report.html'} ({wall:.1f} s)"
+    )
 
 
 _FLOORS = {
     "building": "floor motions: the frame's response to these ground motions (A_gx50 of every "
-                "item is the ground A_gx).",
+    "item is the ground A_gx).",
     "paper": "floor motions rescaled to the same A_gx as the ground (paper Section 7; A_gx50 of "
-             "a floor item is the floor's A_gx).",
+    "a floor item is the floor's A_gx).",
 }
 
 
 def _summary(ds, table, inv_path: Path, notes: list[str]) -> str:
-    """Markdown paragraph(s) above the figure (``table``: :func:`rocking.assessment.screen.results_table`
+    """Markdown paragraph(s) above the figure (``table``:
+    :func:`rocking.assessment.screen.results_table`
     of ``ds``)."""
     from ..assessment.screen import AGREE, eq11_vs_monte_carlo_note
 
     a = ds.attrs
     n_fail_eq11 = int((ds["margin"].values <= 0.0).sum())
     n_fail_mc = int((ds["probability"].values >= 0.5).sum())
-    differ = [str(item) for item, c in zip(table["item"], table["Eq. (11) vs Monte Carlo"])
-              if not c.startswith(AGREE)]
+    differ = [
+        str(item)
+        for item, c in zip(table["item"], table["Eq. (11) vs Monte Carlo"])
+        if not c.startswith(AGREE)
+    ]
     text = (
         f"Inventory `{inv_path}`: {ds.sizes['item']} items. Design spectrum: {a['spectrum']}; "
         f"design A_gx = {a['design_agx']:.3g} g (its zero-period acceleration). "
@@ -152,7 +243,8 @@ def _summary(ds, table, inv_path: Path, notes: list[str]) -> str:
         f"A_gx ({100 * a['confidence']:g} % Wilson intervals in the table).\n"
         f"- The two disagree for {len(differ)} item(s){': ' if differ else ''}"
         f"{', '.join(differ)} (column 'Eq. (11) vs Monte Carlo' says which way).\n\n"
-        + eq11_vs_monte_carlo_note(a["band_hz"]))
+        + eq11_vs_monte_carlo_note(a["band_hz"])
+    )
     if notes:
         text += "\n\n" + "\n".join(f"- **Warning:** {note}" for note in notes)
     return text

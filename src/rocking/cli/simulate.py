@@ -29,20 +29,22 @@ def load_motion(spec: str, dt: float | None):
     FILE|example|simulated.
 
     ``example`` is the shipped El Centro 1940 NS record
-    (:func:`rocking.motions.records.example_record_path`), ``simulated`` the built-in simulated motion
+    (:func:`rocking.motions.records.example_record_path`), ``simulated`` the built-in simulated
+    motion
     (:data:`SIMULATED_SPEC`). ``dt`` [s] is the step of a one-column file (checked against the
     file's own step otherwise), or the step of the simulated motion (1/400 s if None).
     """
-    from ..motions.synthesis import generate
     from ..motions.records import EXAMPLE, read_record, record_path
+    from ..motions.synthesis import generate
 
     if spec == SIMULATED and not Path(spec).exists():
         ens = generate(1, dt=1 / 400 if dt is None else dt, **SIMULATED_SPEC)
         return ens.acc[0], ens.dt, _SIMULATED_NAME
     path = record_path(spec)
     if not path.is_file():
-        raise InputError(f"--motion {spec}: no such file (give a record file, '{EXAMPLE}' or "
-                         f"'{SIMULATED}')")
+        raise InputError(
+            f"--motion {spec}: no such file (give a record file, '{EXAMPLE}' or '{SIMULATED}')"
+        )
     rec = read_record(path, dt=dt)
     return rec.acc, rec.dt, str(path) if path == Path(spec) else f"{spec} ({path.name})"
 
@@ -66,13 +68,20 @@ def run_summary(block, response, ag, dt: float, name: str, factor: float) -> dic
 
     return {
         "block": {
-            "R_m": block.R, "gamma": block.gamma, "H_m": block.H, "B_m": block.B,
-            "alpha_rad": block.alpha, "p_rad_s": block.p,
+            "R_m": block.R,
+            "gamma": block.gamma,
+            "H_m": block.H,
+            "B_m": block.B,
+            "alpha_rad": block.alpha,
+            "p_rad_s": block.p,
             "uplift_acceleration_g": block.uplift_acceleration / G,
         },
         "motion": {
-            "source": name, "n_samples": int(ag.size), "dt_s": dt,
-            "duration_s": (ag.size - 1) * dt, "pga_g": float(np.abs(ag).max()) / G,
+            "source": name,
+            "n_samples": int(ag.size),
+            "dt_s": dt,
+            "duration_s": (ag.size - 1) * dt,
+            "pga_g": float(np.abs(ag).max()) / G,
             "scale_factor": factor,
         },
         "response": {**response.summary(), "overturn_angle_rad": response.overturn_angle},
@@ -102,24 +111,52 @@ def _text(s: dict) -> list[str]:
 @click.command("simulate")
 @click.option("--R", "R", type=float, required=True, help="Size R = half the diagonal [m].")
 @click.option("--gamma", type=float, required=True, help="Slenderness H/B [-].")
-@click.option("--motion", required=True, metavar="FILE|example|simulated",
-              help="Ground acceleration: a two-column text file (t [s], a [g]), a one-column file "
-                   "with --dt, a PEER .AT2 record; 'example' for the shipped record El Centro "
-                   "1940 NS (PGA 0.319 g, 0.02 s); or 'simulated' for a built-in simulated motion "
-                   "(RG 1.60 at 1 g, 20 s, compound envelope, seed 0).")
-@click.option("--scale-g", "scale_g", type=float, default=None,
-              help="Scale the motion by one factor so that its peak |a| is this many g "
-                   "(default: the motion as it is).")
-@click.option("--e", "e_text", default="0.925", show_default=True, metavar="E|housner",
-              help="Coefficient of restitution in (0, 1], or 'housner' for 1 - 1.5 sin^2(alpha).")
-@click.option("--dt", type=float, default=None,
-              help="Time step [s]: needed for one-column files, checked against other files' "
-                   "own step; for 'simulated' the step of the generated motion (default 1/400).")
-@click.option("--overturn-angle", "overturn", type=click.Choice(sorted(_OVERTURN)),
-              default="pi2", show_default=True,
-              help="Overturned when |theta| reaches pi/2 (the paper) or alpha.")
-@click.option("--plot", "plot_path", type=click.Path(dir_okay=False, writable=True),
-              help="Save a figure of theta/alpha and the motion against time (e.g. out.png).")
+@click.option(
+    "--motion",
+    required=True,
+    metavar="FILE|example|simulated",
+    help="Ground acceleration: a two-column text file (t [s], a [g]), a one-column file "
+    "with --dt, a PEER .AT2 record; 'example' for the shipped record El Centro "
+    "1940 NS (PGA 0.319 g, 0.02 s); or 'simulated' for a built-in simulated motion "
+    "(RG 1.60 at 1 g, 20 s, compound envelope, seed 0).",
+)
+@click.option(
+    "--scale-g",
+    "scale_g",
+    type=float,
+    default=None,
+    help="Scale the motion by one factor so that its peak |a| is this many g "
+    "(default: the motion as it is).",
+)
+@click.option(
+    "--e",
+    "e_text",
+    default="0.925",
+    show_default=True,
+    metavar="E|housner",
+    help="Coefficient of restitution in (0, 1], or 'housner' for 1 - 1.5 sin^2(alpha).",
+)
+@click.option(
+    "--dt",
+    type=float,
+    default=None,
+    help="Time step [s]: needed for one-column files, checked against other files' "
+    "own step; for 'simulated' the step of the generated motion (default 1/400).",
+)
+@click.option(
+    "--overturn-angle",
+    "overturn",
+    type=click.Choice(sorted(_OVERTURN)),
+    default="pi2",
+    show_default=True,
+    help="Overturned when |theta| reaches pi/2 (the paper) or alpha.",
+)
+@click.option(
+    "--plot",
+    "plot_path",
+    type=click.Path(dir_okay=False, writable=True),
+    help="Save a figure of theta/alpha and the motion against time (e.g. out.png).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 def simulate_cmd(R, gamma, motion, scale_g, e_text, dt, overturn, plot_path, as_json):
     """Rock one block (R, gamma) under one ground motion; print what happened.

@@ -8,7 +8,8 @@ from ..defaults import G
 from ..errors import InputError
 from ._options import reporter, writable_file
 
-#: Units of ``--units`` (those of :data:`rocking.motions.records.UNITS`; tests/test_cli.py checks it).
+#: Units of ``--units`` (those of :data:`rocking.motions.records.UNITS`; tests/test_cli.py
+#: checks it).
 UNIT_NAMES = ("cm/s2", "g", "m/s2")
 
 #: Highest frequency [Hz] of the spectra unless a record's Nyquist frequency is lower.
@@ -26,24 +27,60 @@ def _table_rows(freqs):
 
 @click.command("spectrum")
 @click.argument("files", nargs=-1, required=True, metavar="RECORD...")
-@click.option("--damping", type=click.FloatRange(0.0, 1.0, max_open=True), default=0.05,
-              show_default=True, help="Damping ratio [-].")
-@click.option("--fmin", type=click.FloatRange(0.0, min_open=True), default=0.1,
-              show_default=True, help="Lowest frequency [Hz].")
-@click.option("--fmax", type=click.FloatRange(0.0, min_open=True), default=None,
-              help="Highest frequency [Hz], at most the Nyquist frequency 1/(2 dt) of every "
-                   "record  [default: 50 Hz or the lowest Nyquist frequency of the records, "
-                   "whichever is lower]")
-@click.option("--n", "n_freq", type=click.IntRange(2), default=100, show_default=True,
-              help="Number of frequencies, log-spaced from fmin to fmax.")
-@click.option("--units", type=click.Choice(UNIT_NAMES), default=None,
-              help="Units of the values in the files (default: as the file states, else g).")
-@click.option("--dt", type=click.FloatRange(0.0, min_open=True), default=None,
-              help="Time step [s] of one-column text files.")
-@click.option("--plot", "plot_path", type=click.Path(dir_okay=False, writable=True),
-              help="Save a figure of PSA against frequency (e.g. out.png).")
-@click.option("--csv", "csv_path", type=click.Path(dir_okay=False, writable=True),
-              help="Save every spectrum to a CSV file.")
+@click.option(
+    "--damping",
+    type=click.FloatRange(0.0, 1.0, max_open=True),
+    default=0.05,
+    show_default=True,
+    help="Damping ratio [-].",
+)
+@click.option(
+    "--fmin",
+    type=click.FloatRange(0.0, min_open=True),
+    default=0.1,
+    show_default=True,
+    help="Lowest frequency [Hz].",
+)
+@click.option(
+    "--fmax",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    help="Highest frequency [Hz], at most the Nyquist frequency 1/(2 dt) of every "
+    "record  [default: 50 Hz or the lowest Nyquist frequency of the records, "
+    "whichever is lower]",
+)
+@click.option(
+    "--n",
+    "n_freq",
+    type=click.IntRange(2),
+    default=100,
+    show_default=True,
+    help="Number of frequencies, log-spaced from fmin to fmax.",
+)
+@click.option(
+    "--units",
+    type=click.Choice(UNIT_NAMES),
+    default=None,
+    help="Units of the values in the files (default: as the file states, else g).",
+)
+@click.option(
+    "--dt",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    help="Time step [s] of one-column text files.",
+)
+@click.option(
+    "--plot",
+    "plot_path",
+    type=click.Path(dir_okay=False, writable=True),
+    help="Save a figure of PSA against frequency (e.g. out.png).",
+)
+@click.option(
+    "--csv",
+    "csv_path",
+    type=click.Path(dir_okay=False, writable=True),
+    help="Save every spectrum to a CSV file.",
+)
 def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path):
     """Response spectra of ground-acceleration records (PEER .AT2 or text; folders allowed;
     'example' is the shipped record El Centro 1940 NS).
@@ -68,42 +105,67 @@ def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path)
     if fmax is None:
         fmax = min(_DEFAULT_FMAX, nyquist)
         if not fmin < fmax:
-            raise InputError(f"--fmin ({fmin:g} Hz) must be below the Nyquist frequency "
-                             f"{fmax:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)")
+            raise InputError(
+                f"--fmin ({fmin:g} Hz) must be below the Nyquist frequency "
+                f"{fmax:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)"
+            )
         if fmax < _DEFAULT_FMAX:
-            click.echo(f"fmax = {fmax:g} Hz: the Nyquist frequency 1/(2 dt) of {coarsest.name} "
-                       f"(dt = {coarsest.dt:g} s)")
+            click.echo(
+                f"fmax = {fmax:g} Hz: the Nyquist frequency 1/(2 dt) of {coarsest.name} "
+                f"(dt = {coarsest.dt:g} s)"
+            )
     elif fmax > nyquist * (1.0 + 1e-9):
-        raise InputError(f"--fmax {fmax:g} Hz is above the Nyquist frequency 1/(2 dt) = "
-                         f"{nyquist:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)")
+        raise InputError(
+            f"--fmax {fmax:g} Hz is above the Nyquist frequency 1/(2 dt) = "
+            f"{nyquist:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)"
+        )
     freqs = np.geomspace(fmin, fmax, n_freq)
     with reporter():
         spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
     rows = _table_rows(freqs)
     for rec, sp in zip(records, spectra):
-        click.echo(f"{rec.name}: {rec.acc.size} samples at {rec.dt:g} s, PGA {rec.pga:.4g} g, "
-                   f"{100 * damping:g} % damping")
+        click.echo(
+            f"{rec.name}: {rec.acc.size} samples at {rec.dt:g} s, PGA {rec.pga:.4g} g, "
+            f"{100 * damping:g} % damping"
+        )
         click.echo(f"{'f [Hz]':>9} {'PSA [g]':>10} {'PSV [cm/s]':>11} {'SD [cm]':>10}")
         for i in rows:
-            click.echo(f"{freqs[i]:9.3g} {sp.psa[i] / G:10.4g} {100 * sp.psv[i]:11.4g} "
-                       f"{100 * sp.sd[i]:10.4g}")
+            click.echo(
+                f"{freqs[i]:9.3g} {sp.psa[i] / G:10.4g} {100 * sp.psv[i]:11.4g} "
+                f"{100 * sp.sd[i]:10.4g}"
+            )
     if csv_path:
         import pandas as pd
 
         from ..core.files import atomic_write
 
-        table = pd.concat([pd.DataFrame({"record": rec.name, "freq_hz": freqs,
-                                         "psa_g": sp.psa / G, "psv_cm_s": 100 * sp.psv,
-                                         "sd_cm": 100 * sp.sd})
-                           for rec, sp in zip(records, spectra)])
+        table = pd.concat(
+            [
+                pd.DataFrame(
+                    {
+                        "record": rec.name,
+                        "freq_hz": freqs,
+                        "psa_g": sp.psa / G,
+                        "psv_cm_s": 100 * sp.psv,
+                        "sd_cm": 100 * sp.sd,
+                    }
+                )
+                for rec, sp in zip(records, spectra)
+            ]
+        )
         atomic_write(csv_path, table.to_csv(index=False, float_format="%.6g"))
         click.echo(f"wrote {csv_path}")
     if plot_path:
         from ..core.files import save_figure
         from ..plots.spectra import plot_spectra  # matplotlib only when a figure is asked for
 
-        fig = plot_spectra(freqs, [sp.psa / G for sp in spectra], [r.name for r in records],
-                           damping=damping, title="Response spectra")
+        fig = plot_spectra(
+            freqs,
+            [sp.psa / G for sp in spectra],
+            [r.name for r in records],
+            damping=damping,
+            title="Response spectra",
+        )
         save_figure(fig, plot_path)
         click.echo(f"wrote {plot_path}")
 

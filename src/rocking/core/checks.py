@@ -22,8 +22,9 @@ def positive(name: str, value, unit: str = "") -> float:
     return x
 
 
-def in_range(name: str, value, lo: float, hi: float, *, lo_open=False, hi_open=False,
-             unit: str = "") -> float:
+def in_range(
+    name: str, value, lo: float, hi: float, *, lo_open=False, hi_open=False, unit: str = ""
+) -> float:
     """Return ``value`` as a float, or raise if it lies outside [lo, hi] (open ends as given)."""
     try:
         x = float(value)
@@ -37,15 +38,18 @@ def in_range(name: str, value, lo: float, hi: float, *, lo_open=False, hi_open=F
     return x
 
 
-def finite_array(name: str, values, *, ndim: tuple[int, ...] = (1,), min_len: int = 1) -> np.ndarray:
+def finite_array(
+    name: str, values, *, ndim: tuple[int, ...] = (1,), min_len: int = 1
+) -> np.ndarray:
     """Return ``values`` as a C-contiguous float64 array, or raise on NaN/inf/empty/wrong shape."""
     try:
         a = np.ascontiguousarray(values, dtype=np.float64)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be an array of numbers") from None
     if a.ndim not in ndim:
-        raise InputError(f"{name} must have {' or '.join(map(str, ndim))} dimension(s), "
-                         f"got shape {a.shape}")
+        raise InputError(
+            f"{name} must have {' or '.join(map(str, ndim))} dimension(s), got shape {a.shape}"
+        )
     if a.shape[-1] < min_len:
         raise InputError(f"{name} must have at least {min_len} sample(s), got {a.shape[-1]}")
     bad = ~np.isfinite(a)
@@ -69,8 +73,9 @@ def restitution(value, name: str = "e"):
         try:
             value = float(value)
         except ValueError:
-            raise InputError(f"{name} must be a number in (0, 1] or 'housner', "
-                             f"got {value!r}") from None
+            raise InputError(
+                f"{name} must be a number in (0, 1] or 'housner', got {value!r}"
+            ) from None
     try:
         return in_range(name, value, 0.0, 1.0, lo_open=True, unit="-")
     except InputError:
@@ -103,8 +108,9 @@ def require_memory(nbytes: float, what: str) -> None:
 
     available = psutil.virtual_memory().available
     if nbytes > available:
-        raise InputError(f"{what} would need about {_bytes(nbytes)} of memory; "
-                         f"{_bytes(available)} are available")
+        raise InputError(
+            f"{what} would need about {_bytes(nbytes)} of memory; {_bytes(available)} are available"
+        )
 
 
 def _bytes(n: float) -> str:

@@ -37,8 +37,9 @@ LINE_INTERVAL = 5.0
 DELAY = 2.0
 COMPILING = "compiling the numerical kernels (first run only; later runs load them from the cache)"
 
-_FORMAT_KNOWN = "{desc}: {percentage:3.0f}% ({n_fmt}/{total_fmt} {unit}, {elapsed} elapsed, " \
-                "{remaining} left)"
+_FORMAT_KNOWN = (
+    "{desc}: {percentage:3.0f}% ({n_fmt}/{total_fmt} {unit}, {elapsed} elapsed, {remaining} left)"
+)
 _FORMAT_OPEN = "{desc}: {n_fmt} {unit} ({elapsed} elapsed)"
 
 
@@ -86,7 +87,7 @@ def _listener_class():
 class Stage:
     """One open stage of a :class:`Reporter`: count work with :meth:`update`."""
 
-    def __init__(self, bar, parent: "Stage | None", lines: bool = False):
+    def __init__(self, bar, parent: Stage | None, lines: bool = False):
         self._bar = bar
         self._parent = parent
         self._lines = lines  # bar drawn as lines (off a terminal)
@@ -136,8 +137,15 @@ class Reporter:
         False shows nothing at all (a reporter that is quiet).
     """
 
-    def __init__(self, stream=None, *, tty: bool | None = None, interval: float = LINE_INTERVAL,
-                 delay: float = DELAY, enabled: bool = True):
+    def __init__(
+        self,
+        stream=None,
+        *,
+        tty: bool | None = None,
+        interval: float = LINE_INTERVAL,
+        delay: float = DELAY,
+        enabled: bool = True,
+    ):
         self._stream = stream
         self._tty = tty
         self.interval = float(interval)
@@ -168,7 +176,7 @@ class Reporter:
             self.stream.write(text + "\n")
             self.stream.flush()
 
-    def __enter__(self) -> "Reporter":
+    def __enter__(self) -> Reporter:
         """Activate: from now until :meth:`__exit__`, say once when Numba starts compiling."""
         if self.enabled:
             if not self._listeners:
@@ -192,7 +200,8 @@ class Reporter:
 
     @contextmanager
     def stage(self, desc: str, total: int | None = None, unit: str = "sim"):
-        """Open a stage named ``desc`` of ``total`` units (None: unknown); yields a :class:`Stage`."""
+        """Open a stage named ``desc`` of ``total`` units (None: unknown); yields a
+        :class:`Stage`."""
         if not self.enabled:
             yield Stage(None, None)
             return
@@ -207,18 +216,36 @@ class Reporter:
         from tqdm.auto import tqdm
 
         if self.tty:
-            bar = tqdm(total=total, desc=desc, unit=unit, delay=self.delay,
-                       file=self.stream, smoothing=0.1, dynamic_ncols=True)
+            bar = tqdm(
+                total=total,
+                desc=desc,
+                unit=unit,
+                delay=self.delay,
+                file=self.stream,
+                smoothing=0.1,
+                dynamic_ncols=True,
+            )
             every = 1.0
         else:  # lines come from the heartbeat only, every `interval` seconds
-            bar = tqdm(total=total, desc=desc, unit=unit, delay=self.delay,
-                       file=_Lines(self.stream), mininterval=math.inf, smoothing=0.1,
-                       bar_format=_FORMAT_OPEN if total is None else _FORMAT_KNOWN)
+            bar = tqdm(
+                total=total,
+                desc=desc,
+                unit=unit,
+                delay=self.delay,
+                file=_Lines(self.stream),
+                mininterval=math.inf,
+                smoothing=0.1,
+                bar_format=_FORMAT_OPEN if total is None else _FORMAT_KNOWN,
+            )
             every = self.interval
         stage = Stage(bar, None, lines=not self.tty)
         stop = threading.Event()
-        beat = threading.Thread(target=_heartbeat, args=(bar, stop, self.delay, every),
-                                daemon=True, name="rocking-progress")
+        beat = threading.Thread(
+            target=_heartbeat,
+            args=(bar, stop, self.delay, every),
+            daemon=True,
+            name="rocking-progress",
+        )
         self._open.append(stage)
         beat.start()
         try:
@@ -266,5 +293,6 @@ def resolve(progress) -> Reporter:
         return Reporter() if progress else QUIET
     from ..errors import InputError
 
-    raise InputError(f"progress must be True, False, None or a rocking.core.progress.Reporter, "
-                     f"got {progress!r}")
+    raise InputError(
+        f"progress must be True, False, None or a rocking.core.progress.Reporter, got {progress!r}"
+    )

@@ -27,9 +27,9 @@ import sys
 import time
 from pathlib import Path
 
-from .files import atomic_write, save_figure
 from ..defaults import CSV_FLOAT_FORMAT
 from ..errors import InputError
+from .files import atomic_write, save_figure
 
 LOCK = ".rocking.lock"
 RUN_JSON = "run.json"
@@ -60,7 +60,7 @@ class RunFolder:
         self._start = 0.0
 
     # ---- claim and status ----------------------------------------------------------------------
-    def __enter__(self) -> "RunFolder":
+    def __enter__(self) -> RunFolder:
         import filelock
 
         if self.path.exists() and not self.path.is_dir():
@@ -73,8 +73,10 @@ class RunFolder:
         try:
             lock.acquire()
         except filelock.Timeout:
-            raise InputError(f"out: {self.path} is in use by another rocking run (see its "
-                             f"{RUN_JSON}); wait for it to end or choose another folder") from None
+            raise InputError(
+                f"out: {self.path} is in use by another rocking run (see its "
+                f"{RUN_JSON}); wait for it to end or choose another folder"
+            ) from None
         except OSError as exc:
             raise InputError(f"out: cannot write in {self.path} ({exc.strerror})") from None
         self._lock = lock
@@ -92,8 +94,11 @@ class RunFolder:
             if exc_type is None:
                 self._write_status(COMPLETED)
             else:
-                what = "interrupted" if issubclass(exc_type, (KeyboardInterrupt, SystemExit)) \
+                what = (
+                    "interrupted"
+                    if issubclass(exc_type, (KeyboardInterrupt, SystemExit))
                     else f"{exc_type.__name__}: {exc}"
+                )
                 self._write_status(FAILED, error=what)
         finally:
             self._lock.release()
@@ -114,8 +119,15 @@ class RunFolder:
 
     def _write_status(self, status: str, **extra) -> None:
         wall = round(time.perf_counter() - self._start, 3) if self._start else 0.0
-        record = {"status": status, "command": self.command, **self.params,
-                  "outputs": self.outputs, "wall_time_s": wall, **self.info, **extra}
+        record = {
+            "status": status,
+            "command": self.command,
+            **self.params,
+            "outputs": self.outputs,
+            "wall_time_s": wall,
+            **self.info,
+            **extra,
+        }
         provenance(self.path, **record)
 
     def update(self, **info) -> None:
@@ -190,8 +202,8 @@ def provenance(out_dir, **params) -> Path:
     record = {
         "package": "rocking",
         "version": __version__,
-        "written_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "command_line": [Path(sys.argv[0]).name] + sys.argv[1:],
+        "written_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        "command_line": [Path(sys.argv[0]).name, *sys.argv[1:]],
         "python": platform.python_version(),
         "numpy": np.__version__,
         "numba": numba.__version__,

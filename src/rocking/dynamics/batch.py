@@ -7,11 +7,13 @@ overturned and its largest |θ|/α.
 
 How it is fast (issue 6).  A *lane machine* integrates ``_LANES`` cases side by side, one sample
 interval per round.  Each round first computes the RK4 step of every lane in one loop that the
-compiler turns into SIMD code (:func:`rocking.dynamics.equation._plain_step`: branch-free, polynomial
+compiler turns into SIMD code (:func:`rocking.dynamics.equation._plain_step`: branch-free,
+polynomial
 trigonometry); the lanes whose interval holds nothing else (no impact, no possible touch of θ = 0,
 no overturning; about 98.5 % of rocking intervals) keep that step, and the loop returns the
 others as bit masks.  Those — and lanes at rest — are handled one by one by
-:func:`rocking.dynamics.impacts._advance_events`, exactly as :func:`~rocking.dynamics.simulate` handles
+:func:`rocking.dynamics.impacts._advance_events`, exactly as :func:`~rocking.dynamics.simulate`
+handles
 them, except that after an impact from which the block swings clear of θ = 0 the rest of the
 interval goes back to the SIMD loop.  Cases of the same
 motion sit side by side (they read the same samples).  A lane whose case ends takes the next case
@@ -42,12 +44,12 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ..core.compile import highest_bit, kernel, parallel_kernel, prange
 from ..core.checks import finite_array, positive
-from .body import G, Block, resolve_e, resolve_overturn_angle
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events
-from .equation import _plain_step, _uplifts
+from ..core.compile import highest_bit, kernel, parallel_kernel, prange
 from ..errors import InputError
+from .body import Block, G, resolve_e, resolve_overturn_angle
+from .equation import _plain_step, _uplifts
+from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -96,9 +98,19 @@ def _lane_steps(W, acc1, nxt, base, n, dt, g, n_t):
         u1 = W[_SC * L + j] * acc1[j] / g  # as simulate(block, scale * acc, dt)
         theta = W[_TH * L + j]
         omega = W[_OM * L + j]
-        th1, om1, valid, plain = _plain_step(theta, omega, W[_SG * L + j], u0, (u1 - u0) / dt,
-                                             W[_TAU * L + j], W[_H * L + j], W[_P2 * L + j],
-                                             W[_SA * L + j], W[_CA * L + j], W[_OV * L + j])
+        th1, om1, valid, plain = _plain_step(
+            theta,
+            omega,
+            W[_SG * L + j],
+            u0,
+            (u1 - u0) / dt,
+            W[_TAU * L + j],
+            W[_H * L + j],
+            W[_P2 * L + j],
+            W[_SA * L + j],
+            W[_CA * L + j],
+            W[_OV * L + j],
+        )
         plain = plain & (W[_RK * L + j] != 0.0)
         pk = W[_PK * L + j]
         a1 = abs(th1)
@@ -129,8 +141,9 @@ def _gather_acc(acc1, nxt, n, flat):
 
 
 @kernel
-def _start_case(W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, th_ov, body,
-                motion, scale):
+def _start_case(
+    W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, th_ov, body, motion, scale
+):
     """Put case i in lane j at the first interval in which its block may lift; False (lane left
     as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
     peak 0)."""
@@ -142,8 +155,7 @@ def _start_case(W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, 
     if not _uplifts(abs(sc * amax[m]) / g, sa[b], ca[b]):
         return False  # no need to look at the samples
     flat = acc.reshape(-1)
-    k, u0 = _rest_until_uplift(flat, m * n_t, 0, n_t, sc * flat[m * n_t] / g, sc, g, sa[b],
-                               ca[b])
+    k, u0 = _rest_until_uplift(flat, m * n_t, 0, n_t, sc * flat[m * n_t] / g, sc, g, sa[b], ca[b])
     if k >= n_t - 1:
         return False
     base[j] = m * n_t
@@ -168,8 +180,27 @@ def _start_case(W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, 
 
 
 @kernel
-def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, motion, scale,
-                  order, overturned, peak, c0, c1):
+def _lane_machine(
+    acc,
+    amax,
+    dt,
+    g,
+    p2,
+    sa,
+    ca,
+    tan_a,
+    e,
+    th_ov,
+    alpha,
+    body,
+    motion,
+    scale,
+    order,
+    overturned,
+    peak,
+    c0,
+    c1,
+):
     """Integrate cases order[c0] … order[c1 − 1] (see the module docstring); writes their
     results."""
     L = _LANES
@@ -186,8 +217,25 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
     while live < L and nxt < c1:
         i = order[nxt]
         nxt += 1
-        if _start_case(W, live, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, th_ov,
-                       body, motion, scale):
+        if _start_case(
+            W,
+            live,
+            i,
+            base,
+            nxt_sample,
+            state,
+            acc,
+            amax,
+            dt,
+            g,
+            p2,
+            sa,
+            ca,
+            th_ov,
+            body,
+            motion,
+            scale,
+        ):
             case[live] = i
             live += 1
         else:
@@ -214,11 +262,27 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
             if not done:
                 u1 = W[_U1 * L + j]
                 th, om, sg, st, _ni, _te, tau, tst, fs, deferred = _advance_events(
-                    W[_TH * L + j], W[_OM * L + j], W[_SG * L + j], state[j], W[_U0 * L + j],
-                    u1, dt, W[_P2 * L + j], W[_SA * L + j], W[_CA * L + j], tan_a[b], e[b],
-                    W[_OV * L + j], W[_TAU * L + j], W[_TST * L + j], W[_FS * L + j],
-                    W[_TH1 * L + j], W[_OM1 * L + j],
-                    (state[j] == _ROCKING) & (W[_VAL * L + j] != 0.0), True)
+                    W[_TH * L + j],
+                    W[_OM * L + j],
+                    W[_SG * L + j],
+                    state[j],
+                    W[_U0 * L + j],
+                    u1,
+                    dt,
+                    W[_P2 * L + j],
+                    W[_SA * L + j],
+                    W[_CA * L + j],
+                    tan_a[b],
+                    e[b],
+                    W[_OV * L + j],
+                    W[_TAU * L + j],
+                    W[_TST * L + j],
+                    W[_FS * L + j],
+                    W[_TH1 * L + j],
+                    W[_OM1 * L + j],
+                    (state[j] == _ROCKING) & (W[_VAL * L + j] != 0.0),
+                    True,
+                )
                 if deferred:  # the rest of the interval, from tau, in the next SIMD round
                     W[_TH * L + j] = th
                     W[_OM * L + j] = om
@@ -242,8 +306,17 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                     if abs(th) > W[_PK * L + j]:
                         W[_PK * L + j] = abs(th)
                     if st == _REST:
-                        k, u1 = _rest_until_uplift(flat, base[j], k, n_t, u1, W[_SC * L + j], g,
-                                                   W[_SA * L + j], W[_CA * L + j])
+                        k, u1 = _rest_until_uplift(
+                            flat,
+                            base[j],
+                            k,
+                            n_t,
+                            u1,
+                            W[_SC * L + j],
+                            g,
+                            W[_SA * L + j],
+                            W[_CA * L + j],
+                        )
                     W[_TH * L + j] = th
                     W[_OM * L + j] = om
                     W[_SG * L + j] = sg
@@ -259,8 +332,25 @@ def _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, mo
                 while nxt < c1 and case[j] < 0:
                     i = order[nxt]
                     nxt += 1
-                    if _start_case(W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa,
-                                   ca, th_ov, body, motion, scale):
+                    if _start_case(
+                        W,
+                        j,
+                        i,
+                        base,
+                        nxt_sample,
+                        state,
+                        acc,
+                        amax,
+                        dt,
+                        g,
+                        p2,
+                        sa,
+                        ca,
+                        th_ov,
+                        body,
+                        motion,
+                        scale,
+                    ):
                         case[j] = i
                     else:
                         overturned[i] = False
@@ -292,8 +382,26 @@ def _rest_until_uplift(flat, base, k, n_t, u, sc, g, sa, ca):
 
 
 @parallel_kernel
-def _cases_kernel(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha,
-                  body, motion, scale, order, group, overturned, peak):
+def _cases_kernel(
+    acc,
+    amax,
+    dt,
+    g,
+    p2,
+    sa,
+    ca,
+    tan_a,
+    e,
+    th_ov,
+    alpha,
+    body,
+    motion,
+    scale,
+    order,
+    group,
+    overturned,
+    peak,
+):
     """Integrate the cases i = (body[i], motion[i], scale[i]) from rest, in the order ``order``
     (a permutation of the cases), ``group`` consecutive ones per lane machine.
 
@@ -303,8 +411,27 @@ def _cases_kernel(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha,
     """
     n = body.shape[0]
     for q in prange((n + group - 1) // group):
-        _lane_machine(acc, amax, dt, g, p2, sa, ca, tan_a, e, th_ov, alpha, body, motion, scale,
-                      order, overturned, peak, q * group, min(n, (q + 1) * group))
+        _lane_machine(
+            acc,
+            amax,
+            dt,
+            g,
+            p2,
+            sa,
+            ca,
+            tan_a,
+            e,
+            th_ov,
+            alpha,
+            body,
+            motion,
+            scale,
+            order,
+            overturned,
+            peak,
+            q * group,
+            min(n, (q + 1) * group),
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -337,7 +464,7 @@ class BlockTable:
     g: float
 
     @classmethod
-    def from_blocks(cls, blocks, *, e=0.925, overturn_angle=math.pi / 2, g=G) -> "BlockTable":
+    def from_blocks(cls, blocks, *, e=0.925, overturn_angle=math.pi / 2, g=G) -> BlockTable:
         """Constants of ``blocks`` (a sequence of :class:`~rocking.Block`).
 
         ``e`` and ``overturn_angle`` are one value for all blocks (number, ``"housner"`` /
@@ -349,11 +476,16 @@ class BlockTable:
         ov_vals = _per_block("overturn_angle", overturn_angle, blocks, resolve_overturn_angle)
         alpha = np.array([b.alpha for b in blocks])
         # the same expressions as simulate(), so both integrate bit for bit the same equation
-        return cls(p2=np.array([3.0 * g / (4.0 * b.R) for b in blocks]),
-                   sin_a=np.array([math.sin(a) for a in alpha]),
-                   cos_a=np.array([math.cos(a) for a in alpha]),
-                   tan_a=np.array([math.tan(a) for a in alpha]),
-                   e=e_vals, theta_ov=ov_vals, alpha=alpha, g=g)
+        return cls(
+            p2=np.array([3.0 * g / (4.0 * b.R) for b in blocks]),
+            sin_a=np.array([math.sin(a) for a in alpha]),
+            cos_a=np.array([math.cos(a) for a in alpha]),
+            tan_a=np.array([math.tan(a) for a in alpha]),
+            e=e_vals,
+            theta_ov=ov_vals,
+            alpha=alpha,
+            g=g,
+        )
 
     def __len__(self) -> int:
         return self.p2.size
@@ -387,8 +519,15 @@ def motion_peaks(acc: np.ndarray) -> np.ndarray:
     return np.abs(acc).max(axis=1)
 
 
-def run_cases(table: BlockTable, acc: np.ndarray, amax: np.ndarray, dt: float,
-              body: np.ndarray, motion: np.ndarray, scale: np.ndarray):
+def run_cases(
+    table: BlockTable,
+    acc: np.ndarray,
+    amax: np.ndarray,
+    dt: float,
+    body: np.ndarray,
+    motion: np.ndarray,
+    scale: np.ndarray,
+):
     """Unchecked kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
     ``amax`` is :func:`motion_peaks` of ``acc``.  Returns (overturned bool, peak float), shape
@@ -406,9 +545,26 @@ def run_cases(table: BlockTable, acc: np.ndarray, amax: np.ndarray, dt: float,
     ng = max(1, -(-body.size // group))
     order = np.concatenate([order[q::ng] for q in range(ng)])
     with numba.parallel_chunksize(1):
-        _cases_kernel(acc, amax, dt, table.g, table.p2, table.sin_a, table.cos_a, table.tan_a,
-                      table.e, table.theta_ov, table.alpha, body, motion, scale, order, group,
-                      overturned, peak)
+        _cases_kernel(
+            acc,
+            amax,
+            dt,
+            table.g,
+            table.p2,
+            table.sin_a,
+            table.cos_a,
+            table.tan_a,
+            table.e,
+            table.theta_ov,
+            table.alpha,
+            body,
+            motion,
+            scale,
+            order,
+            group,
+            overturned,
+            peak,
+        )
     return overturned, peak
 
 
@@ -417,8 +573,18 @@ def _acc2d(acc) -> np.ndarray:
     return np.ascontiguousarray(a.reshape(1, -1) if a.ndim == 1 else a)
 
 
-def overturn_cases(blocks, acc, dt: float, body_index, motion_index, scales, *, e=0.925,
-                   overturn_angle=math.pi / 2, g: float = G):
+def overturn_cases(
+    blocks,
+    acc,
+    dt: float,
+    body_index,
+    motion_index,
+    scales,
+    *,
+    e=0.925,
+    overturn_angle=math.pi / 2,
+    g: float = G,
+):
     """Overturning of an explicit list of cases (block, motion, scale), each from rest.
 
     Parameters
@@ -453,8 +619,10 @@ def overturn_cases(blocks, acc, dt: float, body_index, motion_index, scales, *, 
     motion = _index("motion_index", motion_index, acc.shape[0])
     scale = finite_array("scales", scales, ndim=(1,), min_len=0)
     if not body.size == motion.size == scale.size:
-        raise InputError(f"body_index, motion_index and scales must have the same length, got "
-                         f"{body.size}, {motion.size} and {scale.size}")
+        raise InputError(
+            f"body_index, motion_index and scales must have the same length, got "
+            f"{body.size}, {motion.size} and {scale.size}"
+        )
     return run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale)
 
 
@@ -462,13 +630,14 @@ def _index(name: str, values, n: int) -> np.ndarray:
     idx = np.asarray(values)
     if idx.ndim != 1 or (idx.size and idx.dtype.kind not in "iu"):
         raise InputError(f"{name} must be a 1-D array of integers")
-    if idx.size and not (0 <= idx.min() and idx.max() < n):
+    if idx.size and not (idx.min() >= 0 and idx.max() < n):
         raise InputError(f"{name} must lie in [0, {n}), got values from {idx.min()} to {idx.max()}")
     return np.ascontiguousarray(idx, dtype=np.int64)
 
 
-def overturn_batch(blocks, acc, dt: float, scales, *, e=0.925, overturn_angle=math.pi / 2,
-                   g: float = G):
+def overturn_batch(
+    blocks, acc, dt: float, scales, *, e=0.925, overturn_angle=math.pi / 2, g: float = G
+):
     """Overturning of every block under every motion at every scale factor, each from rest.
 
     The same answers as :func:`rocking.simulate` ``(block, scale * acc[m], dt, ...)`` case by case,

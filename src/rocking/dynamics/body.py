@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from ..core.checks import HOUSNER, in_range, positive, restitution
 from ..defaults import GAMMA_RANGE, R_RANGE_M, G
 from ..errors import InputError
+
 #: One international foot [m]; the paper's sizes are whole feet printed in metres.
 FOOT = 0.3048
 #: Size parameters of the paper's 72 bodies (Tables 1–3): R = 4…11 ft, printed as 1.22…3.35 m.
@@ -41,16 +42,20 @@ class Block:
     def __post_init__(self):
         R = positive("R", self.R, "m")
         gamma = positive("gamma", self.gamma, "-")
-        for name, value, (lo, hi), unit in (("R", R, R_RANGE_M, " m"),
-                                            ("gamma", gamma, GAMMA_RANGE, "")):
+        for name, value, (lo, hi), unit in (
+            ("R", R, R_RANGE_M, " m"),
+            ("gamma", gamma, GAMMA_RANGE, ""),
+        ):
             if not lo <= value <= hi:
-                raise InputError(f"{name} = {value:g}{unit} is outside the range of bodies the "
-                                 f"model is meant for ({lo:g} to {hi:g}{unit}); check the units")
+                raise InputError(
+                    f"{name} = {value:g}{unit} is outside the range of bodies the "
+                    f"model is meant for ({lo:g} to {hi:g}{unit}); check the units"
+                )
         object.__setattr__(self, "R", R)
         object.__setattr__(self, "gamma", gamma)
 
     @classmethod
-    def from_dimensions(cls, H: float, B: float) -> "Block":
+    def from_dimensions(cls, H: float, B: float) -> Block:
         """Block of height ``H`` [m] and width ``B`` [m] (both finite, > 0)."""
         H = positive("H", H, "m")
         B = positive("B", B, "m")
@@ -113,8 +118,9 @@ def resolve_overturn_angle(overturn_angle, block: Block) -> float:
     if isinstance(overturn_angle, str):
         if overturn_angle.strip().lower() == "alpha":
             return block.alpha
-        raise InputError(f"overturn_angle must be an angle in (0, pi/2] rad or 'alpha', "
-                         f"got {overturn_angle!r}")
+        raise InputError(
+            f"overturn_angle must be an angle in (0, pi/2] rad or 'alpha', got {overturn_angle!r}"
+        )
     return in_range("overturn_angle", overturn_angle, 0.0, math.pi / 2, lo_open=True, unit="rad")
 
 

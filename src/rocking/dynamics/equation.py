@@ -26,18 +26,31 @@ import math
 
 from ..core.compile import fma, kernel
 
-
 #: |x| [rad] up to which :func:`_sincos` is accurate (a step starts at |θ| < overturn angle ≤ π/2).
 SINCOS_XMAX = 1.5717963267948966
 # sin x = x + x·z·R_s(z), cos x = 1 − z/2 + z²·R_c(z), z = x²: near-minimax polynomials R_s, R_c
 # (Chebyshev interpolation of (sin x/x − 1)/z and (cos x − 1 + z/2)/z² on 0 ≤ z ≤ SINCOS_XMAX²,
 # computed with 40-digit arithmetic, rounded to double), highest degree first.
-_RS = (2.731344277439919e-15, -7.643962232442654e-13, 1.6058977059718268e-10,
-       -2.5052107613095433e-08, 2.7557319219132584e-06, -0.0001984126984125486,
-       0.008333333333333316, -0.16666666666666666)
-_RC = (-1.5218134641974516e-16, 4.777873882841319e-14, -1.1470712146057573e-11,
-       2.0876756600920194e-09, -2.75573192215542e-07, 2.4801587301579797e-05,
-       -0.001388888888888888, 0.041666666666666664)
+_RS = (
+    2.731344277439919e-15,
+    -7.643962232442654e-13,
+    1.6058977059718268e-10,
+    -2.5052107613095433e-08,
+    2.7557319219132584e-06,
+    -0.0001984126984125486,
+    0.008333333333333316,
+    -0.16666666666666666,
+)
+_RC = (
+    -1.5218134641974516e-16,
+    4.777873882841319e-14,
+    -1.1470712146057573e-11,
+    2.0876756600920194e-09,
+    -2.75573192215542e-07,
+    2.4801587301579797e-05,
+    -0.001388888888888888,
+    0.041666666666666664,
+)
 #: |x| [rad] below which sin x and cos x round to x and 1.
 SINCOS_TINY = 1e-8
 #: Largest stage offset |δ| [rad] for which the RK4 stages use the rotation formulas of _rot.
@@ -250,6 +263,10 @@ def _plain_step(theta, omega, s, u0, du, tau, h, p2, sa, ca, th_ov):
     th1, om1, dmax = _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca)
     valid = _fast_valid(theta, dmax)
     ua, ub = _u_ends(u0, du, tau, h)
-    plain = (valid & (_signed(s, th1) > 0.0) & _no_touch(theta, omega, s, ua, ub, h, p2, sa)
-             & (abs(th1) < th_ov))
+    plain = (
+        valid
+        & (_signed(s, th1) > 0.0)
+        & _no_touch(theta, omega, s, ua, ub, h, p2, sa)
+        & (abs(th1) < th_ov)
+    )
     return th1, om1, valid, plain

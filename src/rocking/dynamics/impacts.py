@@ -29,9 +29,17 @@ from __future__ import annotations
 import math
 
 from ..core.compile import fma, kernel
-from .equation import (_accel, _angle_terms, _no_touch, _plain_step, _rk4, _rk4_sc,
-                       _sincos_any, _u_ends, _uplifts)
-
+from .equation import (
+    _accel,
+    _angle_terms,
+    _no_touch,
+    _plain_step,
+    _rk4,
+    _rk4_sc,
+    _sincos_any,
+    _u_ends,
+    _uplifts,
+)
 
 #: A bounce shorter than this fraction of the time step ends an impact sequence (block at rest).
 ZENO_TIME_FRACTION = 1e-4
@@ -138,7 +146,8 @@ def _hermite_min(theta, omega, th1, om1, s, h):
     turns round inside the step (θ' changes sign towards θ = 0 and back), else −1."""
     if not (s * omega < 0.0 and s * om1 > 0.0):
         return -1.0
-    # Hermite cubic θ(x) on x = τ/h ∈ [0, 1]; find where its derivative vanishes (the minimum of sθ).
+    # Hermite cubic θ(x) on x = τ/h ∈ [0, 1]; find where its derivative vanishes (the minimum
+    # of sθ).
     a = 2.0 * theta - 2.0 * th1 + h * omega + h * om1
     b = -3.0 * theta + 3.0 * th1 - 2.0 * h * omega - h * om1
     c = h * omega
@@ -223,7 +232,8 @@ def _chatter_impacts(t0, e, dt):
 
 @kernel
 def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
-    """Advance a block over one sample interval [0, dt] of linear ground acceleration u0 → u1 (in g).
+    """Advance a block over one sample interval [0, dt] of linear ground acceleration u0 → u1 (in
+    g).
 
     Returns (theta, omega, s, state, n_impacts, t_event): ``t_event`` is the local time of
     overturning within the interval [s], or −1.
@@ -232,18 +242,59 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
     om1 = 0.0
     valid = False
     if state == _ROCKING:
-        th1, om1, valid, plain = _plain_step(theta, omega, s, u0, (u1 - u0) / dt, 0.0, dt, p2, sa,
-                                             ca, th_ov)
+        th1, om1, valid, plain = _plain_step(
+            theta, omega, s, u0, (u1 - u0) / dt, 0.0, dt, p2, sa, ca, th_ov
+        )
         if plain:
             return th1, om1, s, state, 0, -1.0
-    r = _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov,
-                        0.0, -1.0, 0.0, th1, om1, valid, False)
+    r = _advance_events(
+        theta,
+        omega,
+        s,
+        state,
+        u0,
+        u1,
+        dt,
+        p2,
+        sa,
+        ca,
+        tan_a,
+        e,
+        th_ov,
+        0.0,
+        -1.0,
+        0.0,
+        th1,
+        om1,
+        valid,
+        False,
+    )
     return r[0], r[1], r[2], r[3], r[4], r[5]
 
 
 @kernel
-def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov,
-                    tau, t_start, false_side, th_step, om_step, have_step, defer):
+def _advance_events(
+    theta,
+    omega,
+    s,
+    state,
+    u0,
+    u1,
+    dt,
+    p2,
+    sa,
+    ca,
+    tan_a,
+    e,
+    th_ov,
+    tau,
+    t_start,
+    false_side,
+    th_step,
+    om_step,
+    have_step,
+    defer,
+):
     """:func:`_advance` of the part [tau, dt] of an interval whose next step is not plain (see
     :func:`_plain_step`): impacts, uplift, coming to rest, overturning.
 
@@ -305,11 +356,13 @@ def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th
         if s * th1 < 0.0 or (th1 == 0.0 and s * om1 < 0.0):
             hit = h
         else:
-            lo, hit, th_lo, th_hi = _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h,
-                                                    p2, sa, ca)
+            lo, hit, th_lo, th_hi = _interior_touch(
+                theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca
+            )
         if hit > 0.0:
-            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, lo, hit, th_lo, th_hi, 0.0, -s,
-                                   p2, sa, ca)
+            hz, thz, omz = _locate(
+                theta, omega, s, u0, du, tau, lo, hit, th_lo, th_hi, 0.0, -s, p2, sa, ca
+            )
             tau += hz
             if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
                 # Back at θ = 0 within the Zeno time of starting: |a_g| fell below g·tan α
@@ -329,13 +382,17 @@ def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th
             # Zeno check: how long would the next free flight last?
             ua, ub = _u_ends(u0, du, tau, dt - tau)
             acc0 = -p2 * fma(ua, ca, s * sa)  # θ'' at θ = 0 on the new side
-            if omega == 0.0 or (acc0 * omega < 0.0 and
-                                2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)):
+            if omega == 0.0 or (
+                acc0 * omega < 0.0 and 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)
+            ):
                 omega = 0.0
                 state = _REST
-            elif (e < 1.0 and acc0 * omega < 0.0
-                  and 2.0 * abs(omega) < CHATTER_FRACTION * dt * abs(acc0)
-                  and fma(abs(ua), ca, -sa) < 0.0):
+            elif (
+                e < 1.0
+                and acc0 * omega < 0.0
+                and 2.0 * abs(omega) < CHATTER_FRACTION * dt * abs(acc0)
+                and fma(abs(ua), ca, -sa) < 0.0
+            ):
                 # a chatter that cannot lift off (no uplift at either end, u linear): summed
                 t_end = tau + _chatter_time(omega, acc0, -p2 * fma(ua, ca, -s * sa), e)
                 if t_end < dt and fma(abs(fma(du, t_end, u0)), ca, -sa) < 0.0:
@@ -349,8 +406,9 @@ def _advance_events(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th
             continue
         if abs(th1) >= th_ov:
             target = th_ov if th1 > 0.0 else -th_ov
-            hz, thz, omz = _locate(theta, omega, s, u0, du, tau, 0.0, h, theta, th1, target, s,
-                                   p2, sa, ca)
+            hz, thz, omz = _locate(
+                theta, omega, s, u0, du, tau, 0.0, h, theta, th1, target, s, p2, sa, ca
+            )
             t_event = tau + hz
             theta = thz
             omega = omz

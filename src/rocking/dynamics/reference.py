@@ -1,6 +1,7 @@
 """Independent reference solver for the rocking equation: SciPy ``solve_ivp`` with located events.
 
-It shares nothing with :mod:`rocking.dynamics.equation` and :mod:`rocking.dynamics.impacts` but the physics (Eq. 1 and the impact rule), so the
+It shares nothing with :mod:`rocking.dynamics.equation` and :mod:`rocking.dynamics.impacts` but the
+physics (Eq. 1 and the impact rule), so the
 tests can check the fast fixed-step solver against it.  Adaptive DOP853 with tight tolerances, run
 one sample interval of the ground motion at a time: the ground acceleration is linear between
 samples and has a kink at each, so within an interval the equation is smooth and the integrator
@@ -17,18 +18,26 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .body import G, Block
-from .body import resolve_e, resolve_overturn_angle
-from .simulate import RockingResponse
 from ..core.checks import finite_array, positive
+from .body import Block, G, resolve_e, resolve_overturn_angle
+from .simulate import RockingResponse
 
 #: A bounce whose free flight would last less than this [s] ends the impact sequence (rest).
 REST_FLIGHT_TIME = 1e-7
 
 
-def simulate_reference(block: Block, ag, dt: float, *, e=0.925, overturn_angle=math.pi / 2,
-                       g: float = G, rtol: float = 1e-10, atol: float = 1e-12,
-                       max_step: float | None = None) -> RockingResponse:
+def simulate_reference(
+    block: Block,
+    ag,
+    dt: float,
+    *,
+    e=0.925,
+    overturn_angle=math.pi / 2,
+    g: float = G,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    max_step: float | None = None,
+) -> RockingResponse:
     """Rocking response by ``solve_ivp`` (DOP853) with event location; starts from rest.
 
     Parameters as :func:`rocking.simulate`: ``ag`` [m/s²] sampled at ``dt`` [s], linear between
@@ -66,7 +75,7 @@ def simulate_reference(block: Block, ag, dt: float, *, e=0.925, overturn_angle=m
         if rest:
             # first time from t_cur on at which |u| exceeds tan α (u linear between samples)
             if abs(u_at(j, t_cur)) <= tan_a:
-                idx = np.nonzero(np.abs(u[j + 1:]) > tan_a)[0]
+                idx = np.nonzero(np.abs(u[j + 1 :]) > tan_a)[0]
                 if idx.size == 0:
                     break
                 k = j + 1 + idx[0]
@@ -112,9 +121,17 @@ def simulate_reference(block: Block, ag, dt: float, *, e=0.925, overturn_angle=m
         turn_back.direction = 1.0
 
         def solve(t_stop):
-            return solve_ivp(rhs, (t_cur, t_stop), y, method="DOP853", rtol=rtol, atol=atol,
-                             first_step=min(t_stop - t_cur, cap), max_step=cap,
-                             events=(hit_zero, hit_overturn, turn_back))
+            return solve_ivp(
+                rhs,
+                (t_cur, t_stop),
+                y,
+                method="DOP853",
+                rtol=rtol,
+                atol=atol,
+                first_step=min(t_stop - t_cur, cap),
+                max_step=cap,
+                events=(hit_zero, hit_overturn, turn_back),
+            )
 
         sol = solve(t_next)
         missed = [t for t, yy in zip(sol.t_events[2], sol.y_events[2]) if side * yy[0] < 0.0]
@@ -122,8 +139,10 @@ def simulate_reference(block: Block, ag, dt: float, *, e=0.925, overturn_angle=m
             # the first return to θ = 0 lies before this minimum: integrate up to it again
             sol = solve(missed[0])
             if not (sol.status == 1 and sol.t_events[0].size):
-                raise RuntimeError(f"no return to theta = 0 found before the minimum of side "
-                                   f"theta < 0 at t = {missed[0]:g} s")
+                raise RuntimeError(
+                    f"no return to theta = 0 found before the minimum of side "
+                    f"theta < 0 at t = {missed[0]:g} s"
+                )
         if sol.status == 1 and sol.t_events[1].size:
             overturned = True
             t_ov = float(sol.t_events[1][0])
@@ -151,6 +170,15 @@ def simulate_reference(block: Block, ag, dt: float, *, e=0.925, overturn_angle=m
         peak = th_ov
     else:
         peak = float(np.max(np.abs(theta_out)))
-    return RockingResponse(t=times, theta=theta_out, omega=omega_out, overturned=overturned,
-                           t_overturn=t_ov, n_impacts=n_imp, max_abs_theta=peak, block=block,
-                           e=e_val, overturn_angle=th_ov)
+    return RockingResponse(
+        t=times,
+        theta=theta_out,
+        omega=omega_out,
+        overturned=overturned,
+        t_overturn=t_ov,
+        n_impacts=n_imp,
+        max_abs_theta=peak,
+        block=block,
+        e=e_val,
+        overturn_angle=th_ov,
+    )

@@ -14,7 +14,7 @@ import numpy as np
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import kernel
 from ..errors import InputError
-from .body import G, Block, resolve_e, resolve_overturn_angle
+from .body import Block, G, resolve_e, resolve_overturn_angle
 from .impacts import _OVERTURNED, _REST, _ROCKING, _advance
 
 
@@ -52,7 +52,8 @@ def _simulate_kernel(u, dt, p2, sa, ca, tan_a, e, th_ov, theta0, omega0, theta_o
             omega_out[k + 1] = math.nan
             continue
         theta, omega, s, state, ni, tev = _advance(
-            theta, omega, s, state, u[k], u[k + 1], dt, p2, sa, ca, tan_a, e, th_ov)
+            theta, omega, s, state, u[k], u[k + 1], dt, p2, sa, ca, tan_a, e, th_ov
+        )
         n_imp += ni
         if state == _OVERTURNED:
             overturned = True
@@ -124,8 +125,17 @@ class RockingResponse:
         }
 
 
-def simulate(block: Block, ag, dt: float, *, e=0.925, overturn_angle=math.pi / 2,
-             theta0: float = 0.0, omega0: float = 0.0, g: float = G) -> RockingResponse:
+def simulate(
+    block: Block,
+    ag,
+    dt: float,
+    *,
+    e=0.925,
+    overturn_angle=math.pi / 2,
+    theta0: float = 0.0,
+    omega0: float = 0.0,
+    g: float = G,
+) -> RockingResponse:
     """Rocking response of ``block`` to the ground acceleration history ``ag``.
 
     Parameters
@@ -168,9 +178,28 @@ def simulate(block: Block, ag, dt: float, *, e=0.925, overturn_angle=math.pi / 2
     theta = np.empty_like(ag)
     omega = np.empty_like(ag)
     overturned, t_ov, n_imp, peak = _simulate_kernel(
-        ag / g, dt, 3.0 * g / (4.0 * block.R), math.sin(alpha), math.cos(alpha), math.tan(alpha),
-        e_val, th_ov, theta0, omega0, theta, omega)
+        ag / g,
+        dt,
+        3.0 * g / (4.0 * block.R),
+        math.sin(alpha),
+        math.cos(alpha),
+        math.tan(alpha),
+        e_val,
+        th_ov,
+        theta0,
+        omega0,
+        theta,
+        omega,
+    )
     return RockingResponse(
-        t=np.arange(ag.size) * dt, theta=theta, omega=omega, overturned=bool(overturned),
-        t_overturn=float(t_ov), n_impacts=int(n_imp), max_abs_theta=float(peak), block=block,
-        e=e_val, overturn_angle=th_ov)
+        t=np.arange(ag.size) * dt,
+        theta=theta,
+        omega=omega,
+        overturned=bool(overturned),
+        t_overturn=float(t_ov),
+        n_impacts=int(n_imp),
+        max_abs_theta=float(peak),
+        block=block,
+        e=e_val,
+        overturn_angle=th_ov,
+    )

@@ -1,6 +1,7 @@
 """Where the chunks of a Monte Carlo run are computed (issue 5, part 4).
 
-A backend does two things for the engine of :mod:`rocking.montecarlo.probability` (and says, as ``workers``,
+A backend does two things for the engine of :mod:`rocking.montecarlo.probability` (and says, as
+``workers``,
 how many tasks it runs at the same time):
 
 ``scatter(data)``
@@ -146,8 +147,9 @@ class DaskBackend:
         # NUMBA_NUM_THREADS in distributed.nanny.pre-spawn-environ: Dask also writes those
         # variables into this process's environment, and Numba re-reads it at every compilation,
         # failing ("Cannot set NUMBA_NUM_THREADS to a different value") once its threads run.
-        cluster = LocalCluster(n_workers=self.n_workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":0")
+        cluster = LocalCluster(
+            n_workers=self.n_workers, threads_per_worker=1, processes=True, dashboard_address=":0"
+        )
         return Client(cluster), cluster
 
     @property
@@ -172,8 +174,10 @@ class DaskBackend:
         from distributed import KilledWorker, as_completed
 
         try:
-            futures = [self.client.submit(_call, func, self.threads, handle, task, pure=False)
-                       for task in tasks]
+            futures = [
+                self.client.submit(_call, func, self.threads, handle, task, pure=False)
+                for task in tasks
+            ]
             index = {f.key: i for i, f in enumerate(futures)}
             done = as_completed(futures, with_results=True, raise_errors=False)
             for future, result in done:
@@ -182,8 +186,10 @@ class DaskBackend:
                 if not isinstance(result, BaseException):
                     yield index[future.key], result
                 elif isinstance(result, (KilledWorker, CancelledError)):
-                    raise BackendError(f"the Dask cluster lost the workers of a task "
-                                       f"({type(result).__name__}: {result})")
+                    raise BackendError(
+                        f"the Dask cluster lost the workers of a task "
+                        f"({type(result).__name__}: {result})"
+                    )
                 else:
                     raise result  # the task itself failed: not the cluster's doing
         except OSError as exc:  # the scheduler went away (CommClosedError is an OSError)
@@ -220,5 +226,7 @@ def get_backend(scheduler: str | None = None):
         return DaskBackend()
     if isinstance(scheduler, str) and "://" in scheduler:
         return DaskBackend(scheduler)
-    raise InputError(f"scheduler must be 'local', 'dask-local' or a scheduler address like "
-                     f"'tcp://host:8786', got {scheduler!r}")
+    raise InputError(
+        f"scheduler must be 'local', 'dask-local' or a scheduler address like "
+        f"'tcp://host:8786', got {scheduler!r}"
+    )

@@ -26,7 +26,6 @@ from ..motions.ensemble import Ensemble
 from .backends import LocalBackend
 from .store import ChunkStore, array_digest
 
-
 #: Default simulations (pairs × motions) per chunk.
 CHUNK_SIMULATIONS = 4096
 #: A_gx levels are keyed by integers: A_gx in units of LEVEL_UNIT [g] (never by a float, whose
@@ -57,11 +56,22 @@ class Engine:
     chunks on a backend, optionally kept in a resumable folder.  A context manager: the folder
     is locked and the progress stage open while it is in use."""
 
-    def __init__(self, blocks, cases: list[Ensemble], *, e, overturn_angle, g, backend, out,
-                 progress, chunk_size, desc):
+    def __init__(
+        self,
+        blocks,
+        cases: list[Ensemble],
+        *,
+        e,
+        overturn_angle,
+        g,
+        backend,
+        out,
+        progress,
+        chunk_size,
+        desc,
+    ):
         self.blocks = block_list(blocks)
-        self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle,
-                                            g=g)
+        self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle, g=g)
         self.cases = cases
         self.agx0 = [ens.agx for ens in cases]  # (computed from all samples: once)
         self.backend = LocalBackend() if backend is None else backend
@@ -81,7 +91,7 @@ class Engine:
         self._stage = None
         self._exit = None
 
-    def __enter__(self) -> "Engine":
+    def __enter__(self) -> Engine:
         with ExitStack() as stack:
             if self.store is not None:
                 stack.enter_context(self.store)
@@ -97,18 +107,25 @@ class Engine:
         t = self.table
         return {
             "bodies": [[b.R, b.gamma] for b in self.blocks],
-            "e": t.e.tolist(), "overturn_angle": t.theta_ov.tolist(), "g": t.g,
+            "e": t.e.tolist(),
+            "overturn_angle": t.theta_ov.tolist(),
+            "g": t.g,
             "level_unit_g": LEVEL_UNIT,
-            "motions": [{"dt": ens.dt, "shape": list(ens.acc.shape),
-                         "sha256": array_digest(ens.acc)} for ens in self.cases],
+            "motions": [
+                {"dt": ens.dt, "shape": list(ens.acc.shape), "sha256": array_digest(ens.acc)}
+                for ens in self.cases
+            ],
         }
 
     def _load(self) -> None:
         for _key, a in self.store.load_all():
             try:
                 c = int(a["case"])
-                ok = 0 <= c < len(self.cases) and a["overturned"].shape == (
-                    a["body"].size, self.cases[c].n) and a["level"].shape == a["body"].shape
+                ok = (
+                    0 <= c < len(self.cases)
+                    and a["overturned"].shape == (a["body"].size, self.cases[c].n)
+                    and a["level"].shape == a["body"].shape
+                )
             except KeyError:
                 ok = False
             if not ok:
@@ -119,8 +136,9 @@ class Engine:
 
     def _data(self):
         if self._handle is None:
-            cases = [(np.ascontiguousarray(ens.acc), motion_peaks(ens.acc), ens.dt)
-                     for ens in self.cases]
+            cases = [
+                (np.ascontiguousarray(ens.acc), motion_peaks(ens.acc), ens.dt) for ens in self.cases
+            ]
             self._handle = self.backend.scatter({"table": self.table, "cases": cases})
         return self._handle
 
@@ -137,8 +155,8 @@ class Engine:
             mine = [(b, k) for cc, b, k in missing if cc == c]
             per = max(1, size // self.cases[c].n)
             for i in range(0, len(mine), per):
-                body = np.array([b for b, _ in mine[i:i + per]], dtype=np.int64)
-                level = np.array([k for _, k in mine[i:i + per]], dtype=np.int64)
+                body = np.array([b for b, _ in mine[i : i + per]], dtype=np.int64)
+                level = np.array([k for _, k in mine[i : i + per]], dtype=np.int64)
                 # the factor of Ensemble.scaled: A_gx / A_gx of the ensemble
                 scale = np.array([level_agx(k) / self.agx0[c] for k in level.tolist()])
                 tasks.append((c, body, scale))
@@ -147,8 +165,14 @@ class Engine:
         for i, (overturned, peak) in self.backend.map(run_chunk, self._data(), tasks):
             c, body, _scale = tasks[i]
             if self.store is not None:
-                self.store.save(_chunk_key(c, body, levels[i]), case=np.int64(c), body=body,
-                                level=levels[i], overturned=overturned, peak=peak)
+                self.store.save(
+                    _chunk_key(c, body, levels[i]),
+                    case=np.int64(c),
+                    body=body,
+                    level=levels[i],
+                    overturned=overturned,
+                    peak=peak,
+                )
             for j, (b, k) in enumerate(zip(body.tolist(), levels[i].tolist())):
                 self.results[(c, b, k)] = (overturned[j], peak[j])
             self.chunks_computed += 1
@@ -166,9 +190,11 @@ class Engine:
         """Refuse, before any work, a run whose results for ``pairs`` (body, A_gx) pairs per
         case would not fit in the available memory."""
         per_pair = max(ens.n for ens in self.cases) * 9 + _PAIR_OVERHEAD
-        require_memory(pairs * len(self.cases) * per_pair,
-                       f"{parameter}: {pairs:,} (body, A_gx) pairs x "
-                       f"{max(ens.n for ens in self.cases):,} motions")
+        require_memory(
+            pairs * len(self.cases) * per_pair,
+            f"{parameter}: {pairs:,} (body, A_gx) pairs x "
+            f"{max(ens.n for ens in self.cases):,} motions",
+        )
 
     @property
     def stats(self) -> dict:
@@ -178,7 +204,8 @@ class Engine:
 def run_chunk(data: dict, task: tuple):
     """One chunk of a Monte Carlo run: all motions of one ensemble for each (block, scale) pair.
 
-    Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process, which is why it
+    Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process, which
+    is why it
     lives in this light module.  ``data`` = {"table": BlockTable, "cases": [(acc, amax, dt), …]}
     (one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
     indices (n_pairs,) int64, scale factors (n_pairs,) float64).
@@ -188,7 +215,13 @@ def run_chunk(data: dict, task: tuple):
     c, body, scale = task
     acc, amax, dt = data["cases"][c]
     n_m = acc.shape[0]
-    overturned, peak = run_cases(data["table"], acc, amax, dt, np.repeat(body, n_m),
-                                 np.tile(np.arange(n_m, dtype=np.int64), body.size),
-                                 np.repeat(scale, n_m))
+    overturned, peak = run_cases(
+        data["table"],
+        acc,
+        amax,
+        dt,
+        np.repeat(body, n_m),
+        np.tile(np.arange(n_m, dtype=np.int64), body.size),
+        np.repeat(scale, n_m),
+    )
     return overturned.reshape(body.size, n_m), peak.reshape(body.size, n_m)

@@ -30,8 +30,10 @@ def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
     elif isinstance(ensemble, dict) and ensemble:
         items = [(str(k), v) for k, v in ensemble.items()]
     else:
-        raise InputError("ensemble must be a rocking Ensemble or a non-empty dict label -> "
-                         f"Ensemble, got {type(ensemble).__name__}")
+        raise InputError(
+            "ensemble must be a rocking Ensemble or a non-empty dict label -> "
+            f"Ensemble, got {type(ensemble).__name__}"
+        )
     for label, ens in items:
         where = "ensemble" if label is None else f"ensemble[{label!r}]"
         if not isinstance(ens, Ensemble):
@@ -42,8 +44,9 @@ def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
     return labels, [ens for _, ens in items]
 
 
-def _dataset(blocks, table: BlockTable, labels, data_vars: dict, coords: dict,
-             attrs: dict) -> xr.Dataset:
+def _dataset(
+    blocks, table: BlockTable, labels, data_vars: dict, coords: dict, attrs: dict
+) -> xr.Dataset:
     """Labelled result; ``data_vars`` values have a leading case axis, dropped for one ensemble."""
     lead = () if labels is None else ("case",)
     dvars = {}
@@ -63,10 +66,21 @@ def _dataset(blocks, table: BlockTable, labels, data_vars: dict, coords: dict,
     return xr.Dataset(dvars, coords=all_coords, attrs={"g": table.g, **attrs})
 
 
-def overturning_probability(blocks, ensemble, agx, *, e=0.925, overturn_angle=math.pi / 2,
-                            g: float = G, backend=None, out=None, progress=None,
-                            confidence: float = 0.95, chunk_size: int | None = None,
-                            members: bool = False) -> xr.Dataset:
+def overturning_probability(
+    blocks,
+    ensemble,
+    agx,
+    *,
+    e=0.925,
+    overturn_angle=math.pi / 2,
+    g: float = G,
+    backend=None,
+    out=None,
+    progress=None,
+    confidence: float = 0.95,
+    chunk_size: int | None = None,
+    members: bool = False,
+) -> xr.Dataset:
     """Probability that each body overturns, as a function of the ensemble intensity A_gx.
 
     At each A_gx the ensemble is scaled so that its mean PGA equals A_gx
@@ -90,7 +104,8 @@ def overturning_probability(blocks, ensemble, agx, *, e=0.925, overturn_angle=ma
     backend : LocalBackend or DaskBackend, optional
         Where to compute (default: this process, all cores).
     out : str or Path, optional
-        Folder for finished chunks (:class:`rocking.montecarlo.store.ChunkStore`).  A later call with the
+        Folder for finished chunks (:class:`rocking.montecarlo.store.ChunkStore`).  A later call
+        with the
         same bodies, motions, e, overturning angle and g computes only what the folder lacks
         (after a kill, or for new A_gx levels); a folder of another run is refused.
     progress : bool, optional
@@ -123,16 +138,28 @@ def overturning_probability(blocks, ensemble, agx, *, e=0.925, overturn_angle=ma
     if members and len({ens.n for ens in cases}) > 1:
         raise InputError("members=True needs ensembles with the same number of motions")
     nb = len(block_list(blocks))
-    engine = Engine(blocks, cases, e=e, overturn_angle=overturn_angle, g=g, backend=backend,
-                     out=out, progress=progress, chunk_size=chunk_size, desc="P(overturn)")
+    engine = Engine(
+        blocks,
+        cases,
+        e=e,
+        overturn_angle=overturn_angle,
+        g=g,
+        backend=backend,
+        out=out,
+        progress=progress,
+        chunk_size=chunk_size,
+        desc="P(overturn)",
+    )
     engine.require_memory(nb * agx.size * (2 if members else 1), "agx")
     levels = [level_key(a) for a in agx.tolist()]
     agx = np.array([level_agx(k) for k in levels])
     keys = [[[(c, b, k) for k in levels] for b in range(nb)] for c in range(len(cases))]
     with engine:
         engine.run([k for per_case in keys for per_body in per_case for k in per_body])
-    count = np.array([[[engine.count(*k) for k in per_body] for per_body in per_case]
-                      for per_case in keys], dtype=np.int64)
+    count = np.array(
+        [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
+        dtype=np.int64,
+    )
     n = np.broadcast_to(np.array([ens.n for ens in cases])[:, None, None], count.shape).copy()
     low, high = wilson_interval(count, n, confidence)
     dims = ("body", "agx")
@@ -145,20 +172,40 @@ def overturning_probability(blocks, ensemble, agx, *, e=0.925, overturn_angle=ma
     }
     coords = {"agx": ("agx", agx, {"units": "g", "long_name": "mean PGA of the ensemble"})}
     if members:
-        flags, peaks = (np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys])
-                        for i in (0, 1))
-        data_vars["overturned"] = (dims + ("member",), flags, {})
-        data_vars["peak"] = (dims + ("member",), peaks,
-                             {"units": "1", "long_name": "max |theta| / alpha"})
-        coords["member"] = ("member", list(cases[0].labels) if labels is None
-                            else np.arange(cases[0].n))
-    return _dataset(blocks, engine.table, labels, data_vars, coords,
-                    {"confidence": confidence, **engine.stats})
+        flags, peaks = (
+            np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys])
+            for i in (0, 1)
+        )
+        data_vars["overturned"] = ((*dims, "member"), flags, {})
+        data_vars["peak"] = (
+            (*dims, "member"),
+            peaks,
+            {"units": "1", "long_name": "max |theta| / alpha"},
+        )
+        coords["member"] = (
+            "member",
+            list(cases[0].labels) if labels is None else np.arange(cases[0].n),
+        )
+    return _dataset(
+        blocks, engine.table, labels, data_vars, coords, {"confidence": confidence, **engine.stats}
+    )
 
 
-def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, e=0.925,
-           overturn_angle=math.pi / 2, g: float = G, backend=None, out=None, progress=None,
-           coarse: int = 10, chunk_size: int | None = None) -> xr.Dataset:
+def agx_50(
+    blocks,
+    ensemble,
+    *,
+    resolution: float = 0.01,
+    agx_max: float = 5.0,
+    e=0.925,
+    overturn_angle=math.pi / 2,
+    g: float = G,
+    backend=None,
+    out=None,
+    progress=None,
+    coarse: int = 10,
+    chunk_size: int | None = None,
+) -> xr.Dataset:
     """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
 
     The search runs on the grid A_k = k·resolution (k = 1 … K, K = ⌊agx_max/resolution⌋, values
@@ -202,14 +249,24 @@ def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, 
     labels, cases = _cases(ensemble)
     resolution = in_range("resolution", resolution, 1e-6, math.inf, unit="g")
     agx_max = positive("agx_max", agx_max, "g")
-    K = int(math.floor(agx_max / resolution * (1.0 + 1e-12)))
+    K = math.floor(agx_max / resolution * (1.0 + 1e-12))
     if K < 1:
         raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
     if not (isinstance(coarse, int) and coarse >= 1):
         raise InputError(f"coarse must be an integer >= 1, got {coarse!r}")
     nb = len(block_list(blocks))
-    engine = Engine(blocks, cases, e=e, overturn_angle=overturn_angle, g=g, backend=backend,
-                     out=out, progress=progress, chunk_size=chunk_size, desc="A_gx(50%)")
+    engine = Engine(
+        blocks,
+        cases,
+        e=e,
+        overturn_angle=overturn_angle,
+        g=g,
+        backend=backend,
+        out=out,
+        progress=progress,
+        chunk_size=chunk_size,
+        desc="A_gx(50%)",
+    )
 
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
         return (c, b, level_key(round(k * resolution, 12)))
@@ -219,9 +276,9 @@ def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, 
 
     bodies = [(c, b) for c in range(len(cases)) for b in range(nb)]
     grid = sorted({math.ceil(K * i / coarse) for i in range(1, coarse + 1)})
-    scan = {cb: 0 for cb in bodies}  # bracketing: index in grid of the next coarse level
+    scan = dict.fromkeys(bodies, 0)  # bracketing: index in grid of the next coarse level
     lo, hi = {}, {}  # bisection: P(lo) < 0.5 <= P(hi)
-    step = max(b - a for a, b in zip([0] + grid, grid))
+    step = max(b - a for a, b in zip([0, *grid], grid))
     rounds = len(grid) // 2 + math.ceil(math.log2(step))  # a guess, for the progress display
     engine.require_memory(nb * (len(grid) + math.ceil(math.log2(step)) + 1), "resolution")
     with engine:
@@ -257,8 +314,17 @@ def agx_50(blocks, ensemble, *, resolution: float = 0.01, agx_max: float = 5.0, 
     data_vars = {
         "agx50": (dims, agx50, {"units": "g", "long_name": "A_gx of 50 % overturning probability"}),
         "probability": (dims, p_at, {"units": "1", "long_name": "probability at agx50"}),
-        "probability_below": (dims, p_below,
-                              {"units": "1", "long_name": "probability at agx50 - resolution"}),
+        "probability_below": (
+            dims,
+            p_below,
+            {"units": "1", "long_name": "probability at agx50 - resolution"},
+        ),
     }
-    return _dataset(blocks, engine.table, labels, data_vars, {},
-                    {"resolution": resolution, "agx_max": agx_max, **engine.stats})
+    return _dataset(
+        blocks,
+        engine.table,
+        labels,
+        data_vars,
+        {},
+        {"resolution": resolution, "agx_max": agx_max, **engine.stats},
+    )

@@ -34,8 +34,9 @@ def wilson_interval(count, n, confidence: float = 0.95):
         raise InputError("count and n must be integers")
     if np.any(n < 1) or np.any(count < 0) or np.any(count > n):
         raise InputError("count and n must satisfy 0 <= count <= n and n >= 1")
-    pairs, inverse = np.unique(np.stack([count.ravel(), n.ravel()], axis=1), axis=0,
-                               return_inverse=True)
+    pairs, inverse = np.unique(
+        np.stack([count.ravel(), n.ravel()], axis=1), axis=0, return_inverse=True
+    )
     bounds = np.array([_wilson(int(k), int(m), confidence) for k, m in pairs]).reshape(-1, 2)
     low = bounds[inverse.ravel(), 0].reshape(count.shape)
     high = bounds[inverse.ravel(), 1].reshape(count.shape)
@@ -123,7 +124,11 @@ def fit_lognormal(agx, count, n) -> LognormalFit:
     beta0 = 1.0 / slope if slope > 0.1 else 1.0
     mu0 = -icpt / slope if slope > 0.1 else float(np.average(x, weights=m))
     q0 = [mu0, math.log(min(max(beta0, 1e-3), 10.0))]
-    res = scipy.optimize.minimize(nll, q0, method="Nelder-Mead",
-                                  bounds=[(None, None), (math.log(1e-3), math.log(10.0))],
-                                  options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 10_000})
+    res = scipy.optimize.minimize(
+        nll,
+        q0,
+        method="Nelder-Mead",
+        bounds=[(None, None), (math.log(1e-3), math.log(10.0))],
+        options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 10_000},
+    )
     return LognormalFit(median=float(math.exp(res.x[0])), beta=float(math.exp(res.x[1])))

@@ -37,8 +37,12 @@ MANIFEST = "chunks.json"
 LOCK = ".rocking.lock"
 _FORMAT = "rocking-chunks-2"
 #: Modules whose source decides the numbers a chunk holds.
-KERNEL_MODULES = ("core/compile.py", "dynamics/equation.py", "dynamics/impacts.py",
-                  "dynamics/batch.py")
+KERNEL_MODULES = (
+    "core/compile.py",
+    "dynamics/equation.py",
+    "dynamics/impacts.py",
+    "dynamics/batch.py",
+)
 
 
 def fingerprint(params: dict) -> str:
@@ -88,7 +92,7 @@ class ChunkStore:
         self.fingerprint = fingerprint({"params": params, **code_version()})
         self._lock = None
 
-    def __enter__(self) -> "ChunkStore":
+    def __enter__(self) -> ChunkStore:
         import filelock
 
         try:
@@ -99,8 +103,10 @@ class ChunkStore:
         try:
             lock.acquire()
         except filelock.Timeout:
-            raise InputError(f"out: {self.folder} is in use by another run; wait for it to end "
-                             "or use another folder") from None
+            raise InputError(
+                f"out: {self.folder} is in use by another run; wait for it to end "
+                "or use another folder"
+            ) from None
         self._lock = lock
         try:
             self._check_manifest()
@@ -118,14 +124,19 @@ class ChunkStore:
         if manifest.exists():
             old = self._read_manifest(manifest)
             if old.get("sha256") != digest:
-                differ = sorted(k for k in set(self.params) | set(old.get("params", {}))
-                                if self.params.get(k) != old.get("params", {}).get(k))
+                differ = sorted(
+                    k
+                    for k in set(self.params) | set(old.get("params", {}))
+                    if self.params.get(k) != old.get("params", {}).get(k)
+                )
                 raise InputError(
                     f"out: {self.folder} holds results of a different run (differs in "
-                    f"{', '.join(differ) or 'format'}); use another folder or empty this one")
+                    f"{', '.join(differ) or 'format'}); use another folder or empty this one"
+                )
         else:
-            text = json.dumps({"format": _FORMAT, "sha256": digest, "params": self.params},
-                              indent=1)
+            text = json.dumps(
+                {"format": _FORMAT, "sha256": digest, "params": self.params}, indent=1
+            )
             atomic_write(manifest, text)
 
     @staticmethod
@@ -135,8 +146,10 @@ class ChunkStore:
         except (OSError, ValueError) as exc:
             raise InputError(f"out: cannot read {path} ({exc})") from None
         if not isinstance(data, dict) or data.get("format") != _FORMAT:
-            raise InputError(f"out: {path} is not a chunk manifest of this version of rocking; "
-                             "use another folder or empty this one")
+            raise InputError(
+                f"out: {path} is not a chunk manifest of this version of rocking; "
+                "use another folder or empty this one"
+            )
         return data
 
     def path(self, key: str) -> Path:
@@ -145,8 +158,9 @@ class ChunkStore:
 
     def save(self, key: str, **arrays) -> None:
         """Write chunk ``key`` (arrays by name) atomically, with the store's fingerprint."""
-        atomic_write(self.path(key),
-                     lambda f: np.savez(f, fingerprint=np.array(self.fingerprint), **arrays))
+        atomic_write(
+            self.path(key), lambda f: np.savez(f, fingerprint=np.array(self.fingerprint), **arrays)
+        )
 
     def load_all(self):
         """Yield (key, dict of arrays) for every complete chunk of this run, in key order.
@@ -163,4 +177,4 @@ class ChunkStore:
                 continue
             if str(arrays.pop("fingerprint", "")) != self.fingerprint:
                 continue
-            yield path.name[len("chunk-"):-len(".npz")], arrays
+            yield path.name[len("chunk-") : -len(".npz")], arrays

@@ -1,5 +1,4 @@
-"""Quadratic baseline correction of accelerations (paper Section 4): :func:`baseline_correct`.
-"""
+"""Quadratic baseline correction of accelerations (paper Section 4): :func:`baseline_correct`."""
 
 from __future__ import annotations
 

@@ -5,11 +5,14 @@
 * :class:`EC8` — Eurocode 8, EN 1998-1:2004 §3.2.2.2: horizontal elastic response spectrum,
   Type 1 or Type 2, ground types A–E, importance factor and damping correction η.
 * :func:`parse_spectrum` — ``rg160:0.3``, ``asce7:SDS=1.0,SD1=0.6,TL=8``,
-  ``ec8:type=1,ground=B,ag=0.25`` or a CSV path (:meth:`rocking.motions.targets.TabulatedSpectrum.from_csv`,
+  ``ec8:type=1,ground=B,ag=0.25`` or a CSV path
+  (:meth:`rocking.motions.targets.TabulatedSpectrum.from_csv`,
   e.g. a floor response spectrum computed elsewhere).
 
-All of them are :class:`rocking.motions.targets.TargetSpectrum` objects (PSA [g], PSV [m/s], SD [m] at
-frequencies [Hz]), so they can drive :func:`rocking.motions.synthesis.generate` and the energy balance.
+All of them are :class:`rocking.motions.targets.TargetSpectrum` objects (PSA [g], PSV [m/s], SD [m]
+at
+frequencies [Hz]), so they can drive :func:`rocking.motions.synthesis.generate` and the energy
+balance.
 :func:`design_pga` gives the A_gx [g] at which a spectrum is the design level (its ZPA).
 """
 
@@ -29,10 +32,20 @@ from .targets import RG160, TabulatedSpectrum, TargetSpectrum, _freqs
 #: EN 1998-1:2004 Table 3.2 (Type 1) and Table 3.3 (Type 2), recommended values:
 #: ground type -> (S [-], T_B [s], T_C [s], T_D [s]).
 EC8_PARAMETERS = {
-    1: {"A": (1.0, 0.15, 0.4, 2.0), "B": (1.2, 0.15, 0.5, 2.0), "C": (1.15, 0.20, 0.6, 2.0),
-        "D": (1.35, 0.20, 0.8, 2.0), "E": (1.4, 0.15, 0.5, 2.0)},
-    2: {"A": (1.0, 0.05, 0.25, 1.2), "B": (1.35, 0.05, 0.25, 1.2), "C": (1.5, 0.10, 0.25, 1.2),
-        "D": (1.8, 0.10, 0.30, 1.2), "E": (1.6, 0.05, 0.25, 1.2)},
+    1: {
+        "A": (1.0, 0.15, 0.4, 2.0),
+        "B": (1.2, 0.15, 0.5, 2.0),
+        "C": (1.15, 0.20, 0.6, 2.0),
+        "D": (1.35, 0.20, 0.8, 2.0),
+        "E": (1.4, 0.15, 0.5, 2.0),
+    },
+    2: {
+        "A": (1.0, 0.05, 0.25, 1.2),
+        "B": (1.35, 0.05, 0.25, 1.2),
+        "C": (1.5, 0.10, 0.25, 1.2),
+        "D": (1.8, 0.10, 0.30, 1.2),
+        "E": (1.6, 0.05, 0.25, 1.2),
+    },
 }
 
 
@@ -84,7 +97,7 @@ class ASCE7(TargetSpectrum):
         object.__setattr__(self, "SDS", positive("SDS", self.SDS, "g"))
         object.__setattr__(self, "SD1", positive("SD1", self.SD1, "g"))
         object.__setattr__(self, "TL", positive("TL", self.TL, "s"))
-        if self.TL <= self.Ts:
+        if self.Ts >= self.TL:
             raise InputError(f"TL ({self.TL:g} s) must exceed Ts = SD1/SDS ({self.Ts:g} s)")
 
     @property
@@ -111,10 +124,13 @@ class ASCE7(TargetSpectrum):
         t, shape = _check_periods(periods_s)
         sa = np.select(
             [t < self.T0, t <= self.Ts, t <= self.TL],
-            [self.SDS * (0.4 + 0.6 * t / self.T0),  # Eq. 11.4-5
-             np.full_like(t, self.SDS),  # Eq. 11.4-6 (S_a = S_DS)
-             self.SD1 / t],  # Eq. 11.4-7
-            self.SD1 * self.TL / t**2)  # Eq. 11.4-8
+            [
+                self.SDS * (0.4 + 0.6 * t / self.T0),  # Eq. 11.4-5
+                np.full_like(t, self.SDS),  # Eq. 11.4-6 (S_a = S_DS)
+                self.SD1 / t,
+            ],  # Eq. 11.4-7
+            self.SD1 * self.TL / t**2,
+        )  # Eq. 11.4-8
         return sa.reshape(shape)
 
     def psa(self, freqs_hz) -> np.ndarray:
@@ -122,7 +138,7 @@ class ASCE7(TargetSpectrum):
         t, shape = _periods(freqs_hz)
         return self.sa(t).reshape(shape)
 
-    def scaled(self, factor: float) -> "ASCE7":
+    def scaled(self, factor: float) -> ASCE7:
         """S_DS and S_D1 times ``factor`` [-] (> 0); T_L unchanged (T_0, T_s too)."""
         factor = positive("factor", factor, "-")
         return ASCE7(self.SDS * factor, self.SD1 * factor, self.TL)
@@ -169,8 +185,11 @@ class EC8(TargetSpectrum):
     def __post_init__(self):
         object.__setattr__(self, "ag", positive("ag", self.ag, "g"))
         object.__setattr__(self, "importance", positive("importance", self.importance, "-"))
-        object.__setattr__(self, "damping", in_range("damping", self.damping, 0.0, 1.0,
-                                                     lo_open=True, hi_open=True, unit="-"))
+        object.__setattr__(
+            self,
+            "damping",
+            in_range("damping", self.damping, 0.0, 1.0, lo_open=True, hi_open=True, unit="-"),
+        )
         ground = str(self.ground).strip().upper()
         if ground not in EC8_PARAMETERS[1]:
             raise InputError(f"ground must be one of A, B, C, D, E, got {self.ground!r}")
@@ -182,8 +201,10 @@ class EC8(TargetSpectrum):
     @property
     def name(self) -> str:
         imp = f", γI {self.importance:g}" if self.importance != 1.0 else ""
-        return (f"EC8 Type {self.type}, ground {self.ground} (agR {self.ag:g} g{imp}, "
-                f"{100 * self.damping:g} %)")
+        return (
+            f"EC8 Type {self.type}, ground {self.ground} (agR {self.ag:g} g{imp}, "
+            f"{100 * self.damping:g} %)"
+        )
 
     @property
     def parameters(self) -> tuple[float, float, float, float]:
@@ -212,10 +233,13 @@ class EC8(TargetSpectrum):
         plateau = 2.5 * self.design_ag * s * self.eta
         se = np.select(
             [t <= tb, t <= tc, t <= td],
-            [self.design_ag * s * (1.0 + t / tb * (2.5 * self.eta - 1.0)),  # Eq. 3.2
-             np.full_like(t, plateau),  # Eq. 3.3
-             plateau * tc / t],  # Eq. 3.4
-            plateau * tc * td / t**2)  # Eq. 3.5 (continued beyond 4 s, see class notes)
+            [
+                self.design_ag * s * (1.0 + t / tb * (2.5 * self.eta - 1.0)),  # Eq. 3.2
+                np.full_like(t, plateau),  # Eq. 3.3
+                plateau * tc / t,
+            ],  # Eq. 3.4
+            plateau * tc * td / t**2,
+        )  # Eq. 3.5 (continued beyond 4 s, see class notes)
         return se.reshape(shape)
 
     def psa(self, freqs_hz) -> np.ndarray:
@@ -223,7 +247,7 @@ class EC8(TargetSpectrum):
         t, shape = _periods(freqs_hz)
         return self.sa(t).reshape(shape)
 
-    def scaled(self, factor: float) -> "EC8":
+    def scaled(self, factor: float) -> EC8:
         """The spectrum for a_gR times ``factor`` [-] (> 0)."""
         factor = positive("factor", factor, "-")
         return EC8(self.ag * factor, self.ground, self.type, self.importance, self.damping)
@@ -251,8 +275,17 @@ def design_pga(spectrum: TargetSpectrum) -> float:
 _KINDS = {
     "rg160": (RG160, {"pga": "pga", "damping": "damping"}, "pga"),
     "asce7": (ASCE7, {"sds": "SDS", "sd1": "SD1", "tl": "TL"}, None),
-    "ec8": (EC8, {"ag": "ag", "ground": "ground", "type": "type", "importance": "importance",
-                  "damping": "damping"}, None),
+    "ec8": (
+        EC8,
+        {
+            "ag": "ag",
+            "ground": "ground",
+            "type": "type",
+            "importance": "importance",
+            "damping": "damping",
+        },
+        None,
+    ),
 }
 _TEXT_KEYS = {"ground", "type"}
 
@@ -289,8 +322,10 @@ def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpe
                 raise InputError(f"spectrum {text!r}: expected key=value, got {part!r}")
             name = keys.get(key.strip().lower())
             if name is None:
-                raise InputError(f"spectrum {text!r}: unknown key {key.strip()!r} for {kind}; "
-                                 f"known: {', '.join(keys.values())}")
+                raise InputError(
+                    f"spectrum {text!r}: unknown key {key.strip()!r} for {kind}; "
+                    f"known: {', '.join(keys.values())}"
+                )
             if name in kwargs:
                 raise InputError(f"spectrum {text!r}: {name} is given twice")
             kwargs[name] = value.strip() if name in _TEXT_KEYS else _number(text, name, value)
@@ -298,8 +333,9 @@ def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpe
             return cls(**kwargs)
         except TypeError:
             missing = [k for k in keys.values() if k not in kwargs]
-            raise InputError(f"spectrum {text!r}: missing {', '.join(missing)} "
-                             f"(syntax: {SPECTRUM_SYNTAX})") from None
+            raise InputError(
+                f"spectrum {text!r}: missing {', '.join(missing)} (syntax: {SPECTRUM_SYNTAX})"
+            ) from None
         except InputError as exc:
             raise InputError(f"spectrum {text!r}: {exc}") from None
 
@@ -313,8 +349,10 @@ def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpe
         if located(head).is_file():
             path, select = located(head), name
     if not path.is_file():
-        raise InputError(f"spectrum {text!r} is neither a known kind (rg160:…, asce7:…, ec8:…) "
-                         f"nor an existing CSV file; syntax: {SPECTRUM_SYNTAX}")
+        raise InputError(
+            f"spectrum {text!r} is neither a known kind (rg160:…, asce7:…, ec8:…) "
+            f"nor an existing CSV file; syntax: {SPECTRUM_SYNTAX}"
+        )
     return TabulatedSpectrum.from_csv(path, damping, select=select)
 
 
@@ -322,5 +360,6 @@ def _number(text: str, name: str, value: str) -> float:
     try:
         return float(value)
     except ValueError:
-        raise InputError(f"spectrum {text!r}: {name} must be a number, got {value.strip()!r}") \
-            from None
+        raise InputError(
+            f"spectrum {text!r}: {name} must be a number, got {value.strip()!r}"
+        ) from None

@@ -24,7 +24,6 @@ from ..errors import InputError
 from .records import read_record
 from .targets import StoredTarget
 
-
 #: xarray engine for ensemble files: "scipy" writes netCDF-3 (64-bit offset) with SciPy alone.
 #: netCDF-4 (engine "h5netcdf") would add h5py and HDF5 to the install for no gain here.
 NETCDF_ENGINE = "scipy"
@@ -34,7 +33,7 @@ PER_MEMBER = ("members", "sources", "record_dt")
 
 def _n_samples(duration: float, dt: float) -> int:
     """Samples t = 0, dt, … up to T (a T within 1e-9·dt of a whole step counts as whole)."""
-    return int(math.floor(duration / dt + 1e-9)) + 1
+    return math.floor(duration / dt + 1e-9) + 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,14 +110,14 @@ class Ensemble:
     def __len__(self) -> int:
         return self.n
 
-    def scaled(self, agx: float) -> "Ensemble":
+    def scaled(self, agx: float) -> Ensemble:
         """The ensemble times one factor, so that its mean PGA is ``agx`` [g] (> 0)."""
         agx = positive("agx", agx, "g")
         if self.agx == 0.0:
             raise InputError("cannot scale an ensemble of zero motions to a given agx")
         return self.scaled_by(agx / self.agx)
 
-    def subset(self, indices) -> "Ensemble":
+    def subset(self, indices) -> Ensemble:
         """The members at positions ``indices`` (ints, in the order given)."""
         idx = np.asarray(indices)
         if idx.dtype.kind not in "iu" or idx.ndim != 1:
@@ -128,7 +127,7 @@ class Ensemble:
         meta = {k: ([v[i] for i in idx] if k in PER_MEMBER else v) for k, v in self.meta.items()}
         return Ensemble(self.acc[idx], self.dt, [self.labels[i] for i in idx], meta)
 
-    def regenerate(self, **overrides) -> "Ensemble":
+    def regenerate(self, **overrides) -> Ensemble:
         """Simulate this ensemble again from its metadata (same members, phases and scale).
 
         ``overrides`` replace stored generation parameters of :func:`generate` (e.g.
@@ -137,18 +136,22 @@ class Ensemble:
         from .synthesis import _GENERATION_KEYS, _generate  # (synthesis makes Ensembles)
 
         if not self.simulated:
-            raise InputError("only simulated ground motions can be regenerated (this ensemble "
-                             f"is {self.meta.get('kind', 'of unknown kind')!r} at "
-                             f"{self.meta['location']!r})")
+            raise InputError(
+                "only simulated ground motions can be regenerated (this ensemble "
+                f"is {self.meta.get('kind', 'of unknown kind')!r} at "
+                f"{self.meta['location']!r})"
+            )
         unknown = set(overrides) - set(_GENERATION_KEYS) - {"target"}
         if unknown:
-            raise InputError(f"cannot override {', '.join(sorted(unknown))}: not a parameter "
-                             "of generate()")
+            raise InputError(
+                f"cannot override {', '.join(sorted(unknown))}: not a parameter of generate()"
+            )
         m = self.meta
         # Files written before peak limiting existed were generated without it.
         params = {"peak_limit": False, **{k: m[k] for k in _GENERATION_KEYS if k in m}}
-        params["target"] = StoredTarget(m["target"], tuple(m["freqs_hz"]), tuple(m["target_psa"]),
-                                        m["damping"])
+        params["target"] = StoredTarget(
+            m["target"], tuple(m["freqs_hz"]), tuple(m["target_psa"]), m["damping"]
+        )
         params.update(overrides)
         ens = _generate(m["members"], **params)
         return ens.scaled_by(m["scale"]) if m["scale"] != 1.0 else ens
@@ -161,10 +164,11 @@ class Ensemble:
         m = self.meta
         scale = m["scale"]
         name = m["target"] if scale == 1.0 else f"{m['target']} × {scale:.4g}"
-        return StoredTarget(name, tuple(m["freqs_hz"]), tuple(v * scale for v in m["target_psa"]),
-                             m["damping"])
+        return StoredTarget(
+            name, tuple(m["freqs_hz"]), tuple(v * scale for v in m["target_psa"]), m["damping"]
+        )
 
-    def scaled_by(self, factor: float) -> "Ensemble":
+    def scaled_by(self, factor: float) -> Ensemble:
         """The ensemble with every member multiplied by ``factor`` [-] (> 0)."""
         factor = positive("factor", factor)
         meta = {**self.meta, "scale": self.meta["scale"] * factor}
@@ -182,16 +186,21 @@ class Ensemble:
         path = Path(path)
         attrs = {**_flat_attrs(self.meta), "dt": self.dt, "meta_json": json.dumps(self.meta)}
         ds = xr.Dataset(
-            {"acc": (("member", "time"), self.acc,
-                     {"units": "m s-2", "long_name": "ground acceleration"})},
-            coords={"member": list(self.labels),
-                    "time": ("time", self.t, {"units": "s"})},
-            attrs=attrs)
+            {
+                "acc": (
+                    ("member", "time"),
+                    self.acc,
+                    {"units": "m s-2", "long_name": "ground acceleration"},
+                )
+            },
+            coords={"member": list(self.labels), "time": ("time", self.t, {"units": "s"})},
+            attrs=attrs,
+        )
         atomic_write(path, bytes(ds.to_netcdf(None, engine=NETCDF_ENGINE)))
         return path
 
     @classmethod
-    def load(cls, path) -> "Ensemble":
+    def load(cls, path) -> Ensemble:
         """Read an ensemble written by :meth:`save`."""
         path = Path(path)
         try:
@@ -203,12 +212,13 @@ class Ensemble:
         except KeyError as exc:
             raise InputError(f"{path}: not an ensemble file (missing {exc})") from None
         except (OSError, ValueError, TypeError) as exc:  # TypeError: SciPy's "not netCDF"
-            raise InputError(f"{path}: not a netCDF ensemble file "
-                             f"({' '.join(str(exc).split()[:12])})") from None
+            raise InputError(
+                f"{path}: not a netCDF ensemble file ({' '.join(str(exc).split()[:12])})"
+            ) from None
         return cls(acc, dt, labels, meta)
 
     @classmethod
-    def from_records(cls, records, dt: float | None = None) -> "Ensemble":
+    def from_records(cls, records, dt: float | None = None) -> Ensemble:
         """Ensemble of real records (``rocking.motions.records.Record`` objects or file paths).
 
         Records at another time step than ``dt`` (default: the smallest of the records) are
@@ -232,12 +242,18 @@ class Ensemble:
         for r in recs:
             t_end = (len(r.acc) - 1) * r.dt
             t = np.arange(_n_samples(t_end, step)) * step
-            rows.append(r.acc if r.dt == step else np.interp(t, np.arange(len(r.acc)) * r.dt, r.acc))
+            rows.append(
+                r.acc if r.dt == step else np.interp(t, np.arange(len(r.acc)) * r.dt, r.acc)
+            )
         acc = np.zeros((len(rows), max(len(x) for x in rows)))
         for i, x in enumerate(rows):
-            acc[i, :len(x)] = x
-        meta = {"kind": "recorded", "location": "ground",
-                "sources": [str(r.source) for r in recs], "record_dt": [r.dt for r in recs]}
+            acc[i, : len(x)] = x
+        meta = {
+            "kind": "recorded",
+            "location": "ground",
+            "sources": [str(r.source) for r in recs],
+            "record_dt": [r.dt for r in recs],
+        }
         return cls(acc, step, [r.name for r in recs], meta)
 
 
@@ -250,8 +266,11 @@ def _flat_attrs(meta: dict) -> dict:
             name = f"{key}_{sub}" if sub else key
             if isinstance(v, bool):
                 v = int(v)
-            numeric_list = isinstance(v, list) and v and all(
-                isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+            numeric_list = (
+                isinstance(v, list)
+                and v
+                and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+            )
             if isinstance(v, (str, int, float)) or numeric_list:
                 flat[name] = v
     return flat

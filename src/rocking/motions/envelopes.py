@@ -93,8 +93,9 @@ class Trapezoidal:
         T = positive("duration", self.duration, "s")
         object.__setattr__(self, "duration", T)
         object.__setattr__(self, "rise", in_range("rise", self.rise, 0.0, T, unit="s"))
-        object.__setattr__(self, "decay",
-                           in_range("decay", self.decay, 0.0, T - self.rise, unit="s"))
+        object.__setattr__(
+            self, "decay", in_range("decay", self.decay, 0.0, T - self.rise, unit="s")
+        )
 
     def __call__(self, t) -> np.ndarray:
         """Intensity I(t) [-] at times ``t`` [s]."""
@@ -207,6 +208,8 @@ def make_envelope(name: str, duration: float, **params) -> Envelope:
     unknown = set(params) - set(defaults)
     if unknown:
         allowed = ", ".join(defaults) or "none"
-        raise InputError(f"unknown parameter(s) {', '.join(sorted(unknown))} for the {key} "
-                         f"envelope (allowed: {allowed})")
+        raise InputError(
+            f"unknown parameter(s) {', '.join(sorted(unknown))} for the {key} "
+            f"envelope (allowed: {allowed})"
+        )
     return ENVELOPES[key](T, **{**defaults, **params})

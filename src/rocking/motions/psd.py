@@ -89,8 +89,14 @@ class PowerSpectrum:
     convention: str
 
     @classmethod
-    def from_amplitudes(cls, freqs_hz, amplitudes, equivalent_duration: float,
-                        damping: float, convention: str = "one-sided") -> "PowerSpectrum":
+    def from_amplitudes(
+        cls,
+        freqs_hz,
+        amplitudes,
+        equivalent_duration: float,
+        damping: float,
+        convention: str = "one-sided",
+    ) -> PowerSpectrum:
         """Spectrum whose component amplitudes are ``amplitudes`` [m/s²] at ``freqs_hz`` [Hz].
 
         p_j = A_j²/2 (one-sided) or A_j²/4 (as printed) and S = p/Δω (Eq. 8), Δω as in the
@@ -102,16 +108,18 @@ class PowerSpectrum:
         omega = 2.0 * np.pi * freqs
         domega = frequency_increments(omega)
         p = amps**2 / factor
-        return cls(freqs, omega, domega, p, p / domega, amps, equivalent_duration, damping,
-                   convention)
+        return cls(
+            freqs, omega, domega, p, p / domega, amps, equivalent_duration, damping, convention
+        )
 
 
 def _convention_factor(convention: str) -> float:
     try:
         return CONVENTIONS[convention]
     except (KeyError, TypeError):
-        raise InputError(f"convention must be one of {', '.join(CONVENTIONS)}, "
-                         f"got {convention!r}") from None
+        raise InputError(
+            f"convention must be one of {', '.join(CONVENTIONS)}, got {convention!r}"
+        ) from None
 
 
 def log_frequencies(n_freq: int = 100, fmin: float = 0.15, fmax: float = 50.0) -> np.ndarray:
@@ -166,8 +174,10 @@ def transfer(omega_k, omega_j, damping: float) -> np.ndarray:
 def target_psa(target, freqs_hz, damping: float | None = None) -> tuple[np.ndarray, float]:
     """Target pseudo-spectral accelerations [g] at ``freqs_hz`` [Hz] and their damping [-].
 
-    ``target`` is anything with a ``psa(freqs_hz)`` method (a ``rocking.motions.targets.TargetSpectrum``)
-    or a function ``f(freqs_hz, damping=...)`` such as ``rocking.motions.targets.rg160``. ``damping``
+    ``target`` is anything with a ``psa(freqs_hz)`` method (a
+    ``rocking.motions.targets.TargetSpectrum``)
+    or a function ``f(freqs_hz, damping=...)`` such as ``rocking.motions.targets.rg160``.
+    ``damping``
     defaults to the target's own ``damping`` attribute, else 0.05; an explicit value that
     contradicts the target's raises :class:`InputError`.
     """
@@ -176,25 +186,35 @@ def target_psa(target, freqs_hz, damping: float | None = None) -> tuple[np.ndarr
         damping = 0.05 if own is None else own
     h = in_range("damping", damping, 0.0, 1.0, lo_open=True, hi_open=True)
     if own is not None and not math.isclose(own, h):
-        raise InputError(f"damping={damping!r} contradicts the target spectrum's damping "
-                         f"{own!r}; the fit needs the target's damping")
+        raise InputError(
+            f"damping={damping!r} contradicts the target spectrum's damping "
+            f"{own!r}; the fit needs the target's damping"
+        )
     freqs = np.asarray(freqs_hz, dtype=float)
     if hasattr(target, "psa"):
         values = target.psa(freqs)
     elif callable(target):
         values = target(freqs, damping=h)
     else:
-        raise InputError("target must have a psa(freqs_hz) method or be a function "
-                         f"f(freqs_hz, damping=...), got {type(target).__name__}")
+        raise InputError(
+            "target must have a psa(freqs_hz) method or be a function "
+            f"f(freqs_hz, damping=...), got {type(target).__name__}"
+        )
     values = finite_array("target psa", values)
     if values.shape != freqs.shape or (values <= 0).any():
         raise InputError("target psa must give one positive value [g] per frequency")
     return values, h
 
 
-def power_spectrum(psa_g, freqs_hz, equivalent_duration: float, *, damping: float = 0.05,
-                   peak_constant: float = DEFAULT_PEAK_CONSTANT,
-                   convention: str = "one-sided") -> PowerSpectrum:
+def power_spectrum(
+    psa_g,
+    freqs_hz,
+    equivalent_duration: float,
+    *,
+    damping: float = 0.05,
+    peak_constant: float = DEFAULT_PEAK_CONSTANT,
+    convention: str = "one-sided",
+) -> PowerSpectrum:
     """PSD whose components reproduce a target spectrum, by the paper's method (Eqs. 5–8).
 
     Parameters

@@ -47,8 +47,15 @@ from ..errors import InputError
 
 #: Accepted unit names and their factor to m/s².
 UNITS = {"g": G, "m/s2": 1.0, "cm/s2": 0.01}
-_UNIT_ALIASES = {"m/s^2": "m/s2", "m/s/s": "m/s2", "m/s**2": "m/s2", "cm/s^2": "cm/s2",
-                 "cm/s/s": "cm/s2", "cm/s**2": "cm/s2", "gal": "cm/s2"}
+_UNIT_ALIASES = {
+    "m/s^2": "m/s2",
+    "m/s/s": "m/s2",
+    "m/s**2": "m/s2",
+    "cm/s^2": "cm/s2",
+    "cm/s/s": "cm/s2",
+    "cm/s**2": "cm/s2",
+    "gal": "cm/s2",
+}
 #: Unit statements looked for in headers, in this order (cm before m, so "cm/s/s" is not "m/s/s").
 _UNIT_PATTERNS = (
     ("cm/s2", re.compile(r"\bcm\s*/\s*s(ec)?\s*(/\s*s(ec)?|\^?\s*2|\*\*\s*2)|\bgals?\b")),
@@ -139,20 +146,27 @@ def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
     try:
         npts = int(found[0])
     except ValueError:
-        raise InputError(f"{path}: line {lineno}: NPTS is not a whole number: "
-                         f"{found[0]!r}") from None
+        raise InputError(
+            f"{path}: line {lineno}: NPTS is not a whole number: {found[0]!r}"
+        ) from None
     dt = _number(found[1], path, lineno)
     if not dt > 0.0:
         raise InputError(f"{path}: line {lineno}: DT must be > 0 [s], got {found[1]!r}")
     header = "\n".join(lines[:head])
     if re.search(r"\b(velocity|displacement)\s+time\s+series", header, re.I):
-        raise InputError(f"{path}: the header announces a velocity or displacement time series, "
-                         "not an acceleration")
-    values = [_number(tok, path, n) for n in range(lineno + 1, len(lines) + 1)
-              for tok in lines[n - 1].split()]
+        raise InputError(
+            f"{path}: the header announces a velocity or displacement time series, "
+            "not an acceleration"
+        )
+    values = [
+        _number(tok, path, n)
+        for n in range(lineno + 1, len(lines) + 1)
+        for tok in lines[n - 1].split()
+    ]
     if len(values) != npts:
-        raise InputError(f"{path}: the header announces NPTS = {npts} values, the file holds "
-                         f"{len(values)}")
+        raise InputError(
+            f"{path}: the header announces NPTS = {npts} values, the file holds {len(values)}"
+        )
     return np.array(values), dt, _stated_units(header) or "g"
 
 
@@ -172,12 +186,16 @@ def _read_text(path: Path, lines: list[str], dt: float | None):
         raise InputError(f"{path}: no data")
     ncol = len(rows[0][1])
     if ncol not in (1, 2):
-        raise InputError(f"{path}: line {rows[0][0]}: expected 1 column (acceleration) or 2 "
-                         f"(time [s], acceleration), got {ncol}")
+        raise InputError(
+            f"{path}: line {rows[0][0]}: expected 1 column (acceleration) or 2 "
+            f"(time [s], acceleration), got {ncol}"
+        )
     for lineno, cells in rows:
         if len(cells) != ncol:
-            raise InputError(f"{path}: line {lineno}: expected {ncol} value(s) like the first "
-                             f"data line, got {len(cells)}")
+            raise InputError(
+                f"{path}: line {lineno}: expected {ncol} value(s) like the first "
+                f"data line, got {len(cells)}"
+            )
     data = np.array([[_number(c, path, n) for c in cells] for n, cells in rows])
     if ncol == 1:
         if dt is None:
@@ -193,9 +211,11 @@ def _read_text(path: Path, lines: list[str], dt: float | None):
     bad = np.flatnonzero(np.abs(steps - typical) > _DT_RTOL * typical)
     if bad.size:
         i = bad[0]
-        raise InputError(f"{path}: line {rows[i + 1][0]}: unequal time spacing: step "
-                         f"{steps[i]:g} s from t = {t[i]:g} s where the typical step is "
-                         f"{typical:g} s")
+        raise InputError(
+            f"{path}: line {rows[i + 1][0]}: unequal time spacing: step "
+            f"{steps[i]:g} s from t = {t[i]:g} s where the typical step is "
+            f"{typical:g} s"
+        )
     return data[:, 1], (t[-1] - t[0]) / (t.size - 1), header_units or "g"
 
 
@@ -209,10 +229,12 @@ _SNIFF_BYTES = 4096
 def _refuse_binary(path: Path, head: bytes) -> None:
     """InputError for a netCDF or other binary file given where a text record is expected."""
     if head.startswith(_NETCDF_MAGIC):
-        raise InputError(f"{path}: a netCDF (binary) file, not a ground-motion record; an "
-                         "ensemble of motions is read with rocking.Ensemble.load (on the command "
-                         "line: --motions of fragility, agx50 and frame spectra; its spectra: "
-                         "rocking motions show)")
+        raise InputError(
+            f"{path}: a netCDF (binary) file, not a ground-motion record; an "
+            "ensemble of motions is read with rocking.Ensemble.load (on the command "
+            "line: --motions of fragility, agx50 and frame spectra; its spectra: "
+            "rocking motions show)"
+        )
     if b"\0" in head:
         raise InputError(f"{path}: a binary file, not a ground-motion record (PEER .AT2 or text)")
 
@@ -253,8 +275,14 @@ def read_record(path, *, dt: float | None = None, units: str | None = None) -> R
     lines = text.splitlines()
     if not text.strip():
         raise InputError(f"{path}: empty file")
-    head = next(((i, f) for i, line in enumerate(lines[:_HEADER_LINES])
-                 if (f := _npts_dt(line)) is not None), None)
+    head = next(
+        (
+            (i, f)
+            for i, line in enumerate(lines[:_HEADER_LINES])
+            if (f := _npts_dt(line)) is not None
+        ),
+        None,
+    )
     if head is not None:
         values, step, stated = _read_at2(path, lines, *head)
     elif path.suffix.lower() == ".at2":
@@ -298,9 +326,10 @@ def record_paths(paths) -> list[Path]:
     out: list[Path] = []
     for p in map(record_path, paths):
         if p.is_dir():
-            found = sorted((q for q in p.iterdir()
-                            if q.is_file() and q.suffix.lower() in RECORD_SUFFIXES),
-                           key=lambda q: q.name)
+            found = sorted(
+                (q for q in p.iterdir() if q.is_file() and q.suffix.lower() in RECORD_SUFFIXES),
+                key=lambda q: q.name,
+            )
             if not found:
                 raise InputError(f"{p}: folder holds no .AT2, .txt or .csv files")
             out.extend(found)

@@ -45,12 +45,17 @@ class ResponseSpectrum:
     psv: np.ndarray
     psa: np.ndarray
 
-    def mean(self) -> "ResponseSpectrum":
+    def mean(self) -> ResponseSpectrum:
         """Ensemble-mean spectrum (itself for a single motion)."""
         if self.sd.ndim == 1:
             return self
-        return ResponseSpectrum(self.freqs_hz, self.damping, self.sd.mean(axis=0),
-                                self.psv.mean(axis=0), self.psa.mean(axis=0))
+        return ResponseSpectrum(
+            self.freqs_hz,
+            self.damping,
+            self.sd.mean(axis=0),
+            self.psv.mean(axis=0),
+            self.psa.mean(axis=0),
+        )
 
 
 def foh_coefficients(omega: np.ndarray, zeta: float, h: np.ndarray) -> np.ndarray:
@@ -65,7 +70,7 @@ def foh_coefficients(omega: np.ndarray, zeta: float, h: np.ndarray) -> np.ndarra
     n = omega.size
     m = np.zeros((n, 4, 4))  # state (u, v, a, Δa); da/dt = Δa/h
     m[:, 0, 1] = h
-    m[:, 1, 0] = -omega**2 * h
+    m[:, 1, 0] = -(omega**2) * h
     m[:, 1, 1] = -2.0 * zeta * omega * h
     m[:, 1, 2] = -h
     m[:, 2, 3] = 1.0
@@ -106,8 +111,12 @@ def _hermite_extremum(u0, v0, u1, v1, h):
     s = min(max(s, 0.0), 1.0)
     s2 = s * s
     s3 = s2 * s
-    return ((2.0 * s3 - 3.0 * s2 + 1.0) * u0 + (s3 - 2.0 * s2 + s) * h * v0
-            + (3.0 * s2 - 2.0 * s3) * u1 + (s3 - s2) * h * v1)
+    return (
+        (2.0 * s3 - 3.0 * s2 + 1.0) * u0
+        + (s3 - 2.0 * s2 + s) * h * v0
+        + (3.0 * s2 - 2.0 * s3) * u1
+        + (s3 - s2) * h * v1
+    )
 
 
 @kernel
@@ -120,7 +129,8 @@ def _free_vibration_extremum(u, v, omega, zeta):
     if phi <= 0.0:
         phi += math.pi
     return math.exp(-zeta * omega * phi / wd) * (
-        u * math.cos(phi) + (v + zeta * omega * u) / wd * math.sin(phi))
+        u * math.cos(phi) + (v + zeta * omega * u) / wd * math.sin(phi)
+    )
 
 
 @kernel
@@ -158,8 +168,9 @@ def _peak_displacements(acc, coef, nsub, h, omega, zeta):
     return out
 
 
-def response_spectrum(acc, dt: float, freqs_hz, damping: float = 0.05, *,
-                      steps_per_period: int = 10) -> ResponseSpectrum:
+def response_spectrum(
+    acc, dt: float, freqs_hz, damping: float = 0.05, *, steps_per_period: int = 10
+) -> ResponseSpectrum:
     """Response spectra of ground accelerations by the Nigam & Jennings (1969) recurrence.
 
     Each oscillator u'' + 2ζωu' + ω²u = −a(t) starts at rest; a(t) is the piecewise-linear
@@ -167,7 +178,8 @@ def response_spectrum(acc, dt: float, freqs_hz, damping: float = 0.05, *,
     peaks between samples would be missed (reference.md §7), so each step dt is cut into
     m = ceil(steps_per_period·dt·f) sub-steps and the peak inside a sub-step is located by cubic
     Hermite interpolation of (u, v): with the default 10 steps per period the peaks are within
-    (2π/10)⁴/384 ≈ 4e-4 (relative) of the exact ones. The ground is taken to be at rest after the last
+    (2π/10)⁴/384 ≈ 4e-4 (relative) of the exact ones. The ground is taken to be at rest after the
+    last
     sample, so the free vibration that follows the record counts too (it matters at long periods:
     Boore 2005, "On pads and filters").
 

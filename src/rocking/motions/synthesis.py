@@ -29,11 +29,9 @@ from ..errors import InputError
 from .baseline import baseline_correct
 from .ensemble import Ensemble, _n_samples
 from .envelopes import ENVELOPES, make_envelope
-from .psd import (DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_spectrum,
-                  target_psa)
+from .psd import DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_spectrum, target_psa
 from .response import response_spectrum
 from .targets import rg160
-
 
 #: Members synthesised per call of the compiled kernel (bounds the memory of a chunk; the
 #: result does not depend on it).
@@ -46,8 +44,12 @@ def member_phases(seed: int, members, n_freq: int) -> np.ndarray:
     Returns shape (len(members), n_freq); row k depends only on ``seed`` and the member index.
     """
     seed = _count("seed", seed, 0)
-    rows = [np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(int(m),)))
-            .uniform(0.0, 2.0 * math.pi, n_freq) for m in members]
+    rows = [
+        np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(int(m),))).uniform(
+            0.0, 2.0 * math.pi, n_freq
+        )
+        for m in members
+    ]
     return np.array(rows).reshape(len(rows), n_freq)
 
 
@@ -95,14 +97,24 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
     dt = positive("dt", dt, "s")
     phi = finite_array("phases", phases, ndim=(2,))
     if phi.shape[1] != spectrum.omega.size:
-        raise InputError(f"phases has {phi.shape[1]} columns but the spectrum has "
-                         f"{spectrum.omega.size} frequencies")
+        raise InputError(
+            f"phases has {phi.shape[1]} columns but the spectrum has "
+            f"{spectrum.omega.size} frequencies"
+        )
     t = np.arange(_n_samples(envelope.duration, dt)) * dt
     wt = spectrum.omega[:, None] * t
     sin_wt, cos_wt, intensity = np.sin(wt), np.cos(wt), envelope(t)
     amp = spectrum.amplitudes
-    parts = [_superpose(amp * np.cos(phi[i:i + CHUNK]), amp * np.sin(phi[i:i + CHUNK]),
-                        sin_wt, cos_wt, intensity) for i in range(0, phi.shape[0], CHUNK)]
+    parts = [
+        _superpose(
+            amp * np.cos(phi[i : i + CHUNK]),
+            amp * np.sin(phi[i : i + CHUNK]),
+            sin_wt,
+            cos_wt,
+            intensity,
+        )
+        for i in range(0, phi.shape[0], CHUNK)
+    ]
     return np.concatenate(parts) if parts else np.empty((0, t.size))
 
 
@@ -121,8 +133,9 @@ PEAK_LIMIT_SAMPLES_PER_CYCLE = 4.0
 
 
 @parallel_kernel
-def _limit_kernel(cos_amp, sin_amp, amps, free, basis, basis_t, intensity, gram_inv, limit,
-                  relaxation, passes):
+def _limit_kernel(
+    cos_amp, sin_amp, amps, free, basis, basis_t, intensity, gram_inv, limit, relaxation, passes
+):
     """Clip-and-restore passes on the coefficients (A_j cos φ_kj, A_j sin φ_kj) of each member.
 
     basis (n_t, 2m) and basis_t (2m, n_t): sin ω_j t_i and cos ω_j t_i on the coarse grid;
@@ -160,10 +173,10 @@ def _limit_kernel(cos_amp, sin_amp, amps, free, basis, basis_t, intensity, gram_
                 for j in range(2 * m):
                     proj[j] += si * basis[i, j]
             coef[:] = 0.0
-            for l in range(2 * m):
-                pl = proj[l]
+            for q in range(2 * m):
+                pq = proj[q]
                 for j in range(2 * m):
-                    coef[j] += pl * gram_inv[l, j]
+                    coef[j] += pq * gram_inv[q, j]
             for j in range(m):  # keep the new phase, restore the amplitude A_j
                 norm = math.hypot(coef[j], coef[m + j])
                 if free[j] and norm > 0.0:
@@ -225,8 +238,10 @@ def limit_peaks(spectrum: PowerSpectrum, envelope, dt: float, phases, limit: flo
     limit = positive("limit", limit, "m/s²")
     phi = finite_array("phases", phases, ndim=(2,))
     if phi.shape[1] != spectrum.omega.size:
-        raise InputError(f"phases has {phi.shape[1]} columns but the spectrum has "
-                         f"{spectrum.omega.size} frequencies")
+        raise InputError(
+            f"phases has {phi.shape[1]} columns but the spectrum has "
+            f"{spectrum.omega.size} frequencies"
+        )
     active = spectrum.amplitudes > 0.0
     out = phi.copy()
     if not active.any() or phi.shape[0] == 0:
@@ -243,10 +258,20 @@ def limit_peaks(spectrum: PowerSpectrum, envelope, dt: float, phases, limit: flo
     columns = np.flatnonzero(active)
     sub = phi[:, columns]
     for i in range(0, sub.shape[0], CHUNK):
-        c, s = _limit_kernel(amps * np.cos(sub[i:i + CHUNK]), amps * np.sin(sub[i:i + CHUNK]),
-                             amps, free, basis, basis_t, intensity, gram_inv, limit,
-                             PEAK_LIMIT_RELAXATION, PEAK_LIMIT_PASSES)
-        out[i:i + CHUNK, columns[free]] = np.arctan2(s[:, free], c[:, free])
+        c, s = _limit_kernel(
+            amps * np.cos(sub[i : i + CHUNK]),
+            amps * np.sin(sub[i : i + CHUNK]),
+            amps,
+            free,
+            basis,
+            basis_t,
+            intensity,
+            gram_inv,
+            limit,
+            PEAK_LIMIT_RELAXATION,
+            PEAK_LIMIT_PASSES,
+        )
+        out[i : i + CHUNK, columns[free]] = np.arctan2(s[:, free], c[:, free])
     return out
 
 
@@ -299,12 +324,14 @@ class SpectralFit:
         return float(np.abs(self.ratio - 1.0).mean())
 
 
-def spectral_fit(ensemble: Ensemble, target=None, band=FIT_BAND,
-                 per_decade: int | None = None) -> SpectralFit:
+def spectral_fit(
+    ensemble: Ensemble, target=None, band=FIT_BAND, per_decade: int | None = None
+) -> SpectralFit:
     """Mean PSA of ``ensemble`` against ``target`` over ``band`` [Hz].
 
     The frequencies are those the ensemble was fitted at (``meta["freqs_hz"]``) or else
-    :func:`rocking.motions.psd.log_frequencies` defaults, restricted to ``band`` (default 0.2–33 Hz);
+    :func:`rocking.motions.psd.log_frequencies` defaults, restricted to ``band`` (default 0.2–33
+    Hz);
     or, with ``per_decade``, that many log-spaced frequencies per decade from one end of the
     band to the other, both included (US SRP 3.7.1 asks for 100), which also checks the fit
     between and beyond the fitted frequencies (e.g. at 33 Hz itself, where the paper's grid has
@@ -328,20 +355,49 @@ def spectral_fit(ensemble: Ensemble, target=None, band=FIT_BAND,
 
 
 #: Parameters of :func:`generate` stored in the metadata (besides the target and members).
-_GENERATION_KEYS = ("duration", "dt", "envelope", "envelope_params", "seed", "baseline",
-                    "damping", "n_freq", "fmin", "fmax", "iterations", "pilot", "peak_limit",
-                    "peak_constant", "convention")
+_GENERATION_KEYS = (
+    "duration",
+    "dt",
+    "envelope",
+    "envelope_params",
+    "seed",
+    "baseline",
+    "damping",
+    "n_freq",
+    "fmin",
+    "fmax",
+    "iterations",
+    "pilot",
+    "peak_limit",
+    "peak_constant",
+    "convention",
+)
 
 
-def generate(n: int, *, duration: float = 20.0, dt: float = 1 / 400, envelope: str = "compound",
-             envelope_params: dict | None = None, target=rg160, seed: int = 0,
-             baseline: bool = True, damping: float | None = None, n_freq: int = 100,
-             fmin: float = 0.15, fmax: float = 50.0, iterations: int = 0, pilot: int = 200,
-             peak_limit: bool = True, peak_constant: float = DEFAULT_PEAK_CONSTANT,
-             convention: str = "one-sided") -> Ensemble:
+def generate(
+    n: int,
+    *,
+    duration: float = 20.0,
+    dt: float = 1 / 400,
+    envelope: str = "compound",
+    envelope_params: dict | None = None,
+    target=rg160,
+    seed: int = 0,
+    baseline: bool = True,
+    damping: float | None = None,
+    n_freq: int = 100,
+    fmin: float = 0.15,
+    fmax: float = 50.0,
+    iterations: int = 0,
+    pilot: int = 200,
+    peak_limit: bool = True,
+    peak_constant: float = DEFAULT_PEAK_CONSTANT,
+    convention: str = "one-sided",
+) -> Ensemble:
     """Simulate ``n`` ground motions compatible with a target response spectrum.
 
-    Steps: the PSD by the paper's method (:func:`rocking.motions.psd.power_spectrum`, Eqs. 5–8); with
+    Steps: the PSD by the paper's method (:func:`rocking.motions.psd.power_spectrum`, Eqs. 5–8);
+    with
     ``iterations`` > 0 the iterative correction (below); synthesis by Eq. (9) with phases from
     :func:`member_phases`; then, if ``baseline``, :func:`baseline_correct` (quadratic).
 
@@ -422,36 +478,77 @@ def generate(n: int, *, duration: float = 20.0, dt: float = 1 / 400, envelope: s
         (``envelope_shape``), T_e [s], the frequencies [Hz], the target PSA [g] there, the
         final amplitudes [m/s²] and the member indices.
     """
-    return _generate(range(_count("n", n, 1)), duration=duration, dt=dt, envelope=envelope,
-                     envelope_params=envelope_params, target=target, seed=seed,
-                     baseline=baseline, damping=damping, n_freq=n_freq, fmin=fmin, fmax=fmax,
-                     iterations=iterations, pilot=pilot, peak_limit=peak_limit,
-                     peak_constant=peak_constant, convention=convention)
+    return _generate(
+        range(_count("n", n, 1)),
+        duration=duration,
+        dt=dt,
+        envelope=envelope,
+        envelope_params=envelope_params,
+        target=target,
+        seed=seed,
+        baseline=baseline,
+        damping=damping,
+        n_freq=n_freq,
+        fmin=fmin,
+        fmax=fmax,
+        iterations=iterations,
+        pilot=pilot,
+        peak_limit=peak_limit,
+        peak_constant=peak_constant,
+        convention=convention,
+    )
 
 
-def _generate(members, *, duration, dt, envelope, envelope_params, target, seed, baseline,
-              damping, n_freq, fmin, fmax, iterations, pilot, peak_limit, peak_constant,
-              convention) -> Ensemble:
+def _generate(
+    members,
+    *,
+    duration,
+    dt,
+    envelope,
+    envelope_params,
+    target,
+    seed,
+    baseline,
+    damping,
+    n_freq,
+    fmin,
+    fmax,
+    iterations,
+    pilot,
+    peak_limit,
+    peak_constant,
+    convention,
+) -> Ensemble:
     """:func:`generate` for the given member indices."""
     dt = positive("dt", dt, "s")
     fmax = positive("fmax", fmax, "Hz")
     if fmax > 0.5 / dt:
-        raise InputError(f"dt = {dt:g} s samples frequencies up to {0.5 / dt:g} Hz (Nyquist), but "
-                         f"the motions are fitted up to fmax = {fmax:g} Hz: use dt <= "
-                         f"{0.5 / fmax:g} s or a lower fmax")
+        raise InputError(
+            f"dt = {dt:g} s samples frequencies up to {0.5 / dt:g} Hz (Nyquist), but "
+            f"the motions are fitted up to fmax = {fmax:g} Hz: use dt <= "
+            f"{0.5 / fmax:g} s or a lower fmax"
+        )
     seed = _count("seed", seed, 0)
     n_iter = _count("iterations", iterations, 0)
     n_pilot = _count("pilot", pilot, 1)
     env = make_envelope(envelope, duration, **(envelope_params or {}))
     n_t = _n_samples(env.duration, dt)
     # the motions, their baseline-corrected copy and one chunk of the synthesis at a time
-    require_memory(8.0 * n_t * (2 * len(members) + CHUNK + n_pilot * min(n_iter, 1)),
-                   f"n: {len(members):,} motions of {n_t:,} samples")
+    require_memory(
+        8.0 * n_t * (2 * len(members) + CHUNK + n_pilot * min(n_iter, 1)),
+        f"n: {len(members):,} motions of {n_t:,} samples",
+    )
     members = [int(m) for m in members]
     freqs = log_frequencies(n_freq, fmin, fmax)
     psa_g, h = target_psa(target, freqs, damping)
-    spectrum = power_spectrum(psa_g, freqs, env.equivalent_duration(), damping=h,
-                              peak_constant=peak_constant, convention=convention)
+    spectrum = power_spectrum(
+        psa_g,
+        freqs,
+        env.equivalent_duration(),
+        damping=h,
+        peak_constant=peak_constant,
+        convention=convention,
+    )
     # The ZPA: the target at the stiffest oscillator, where PSA tends to the PGA.
     pga_limit = float(psa_g[-1]) if n_iter and peak_limit else None
 
@@ -464,21 +561,43 @@ def _generate(members, *, duration, dt, envelope, envelope_params, target, seed,
     for _ in range(n_iter):  # PSD_{i+1} = PSD_i·(target/mean)²
         mean_psa = response_spectrum(motions(spectrum, range(n_pilot)), dt, freqs, h).mean().psa
         spectrum = PowerSpectrum.from_amplitudes(
-            freqs, spectrum.amplitudes * (psa_g * G / mean_psa),
-            spectrum.equivalent_duration, h, convention)
+            freqs,
+            spectrum.amplitudes * (psa_g * G / mean_psa),
+            spectrum.equivalent_duration,
+            h,
+            convention,
+        )
     acc = motions(spectrum, members)
     if baseline:
         acc = baseline_correct(acc, dt)
-    meta = {"kind": "simulated", "location": "ground", "scale": 1.0,
-            "target": _target_name(target, h), "duration": env.duration, "dt": dt,
-            "envelope": _envelope_name(env), "envelope_params": dict(envelope_params or {}),
-            "envelope_shape": env.params(), "seed": seed, "baseline": bool(baseline),
-            "damping": h, "n_freq": freqs.size, "fmin": float(fmin), "fmax": float(fmax),
-            "iterations": n_iter, "pilot": n_pilot, "peak_limit": bool(peak_limit),
-            "pga_limit": pga_limit, "peak_constant": float(peak_constant),
-            "convention": convention, "equivalent_duration": env.equivalent_duration(),
-            "freqs_hz": freqs.tolist(), "target_psa": psa_g.tolist(),
-            "amplitudes": spectrum.amplitudes.tolist(), "members": members}
+    meta = {
+        "kind": "simulated",
+        "location": "ground",
+        "scale": 1.0,
+        "target": _target_name(target, h),
+        "duration": env.duration,
+        "dt": dt,
+        "envelope": _envelope_name(env),
+        "envelope_params": dict(envelope_params or {}),
+        "envelope_shape": env.params(),
+        "seed": seed,
+        "baseline": bool(baseline),
+        "damping": h,
+        "n_freq": freqs.size,
+        "fmin": float(fmin),
+        "fmax": float(fmax),
+        "iterations": n_iter,
+        "pilot": n_pilot,
+        "peak_limit": bool(peak_limit),
+        "pga_limit": pga_limit,
+        "peak_constant": float(peak_constant),
+        "convention": convention,
+        "equivalent_duration": env.equivalent_duration(),
+        "freqs_hz": freqs.tolist(),
+        "target_psa": psa_g.tolist(),
+        "amplitudes": spectrum.amplitudes.tolist(),
+        "members": members,
+    }
     return Ensemble(acc, dt, [f"sim-{m:04d}" for m in members], meta)
 
 

@@ -55,7 +55,7 @@ class TargetSpectrum(ABC):
         """Pseudo-spectral acceleration [g] at frequencies ``freqs_hz`` [Hz] (same shape)."""
 
     @abstractmethod
-    def scaled(self, factor: float) -> "TargetSpectrum":
+    def scaled(self, factor: float) -> TargetSpectrum:
         """The spectrum with every ordinate multiplied by ``factor`` [-] (> 0)."""
 
     def __call__(self, freqs_hz) -> np.ndarray:
@@ -97,7 +97,8 @@ class RG160(TargetSpectrum):
 
     Control points (reference.md §3): PSA = ZPA at A (33 Hz), PSA = B·ZPA at 9 Hz and C·ZPA at
     2.5 Hz, and SD = D·PGD at D (0.25 Hz), where the peak ground displacement PGD is 36 in
-    (0.9144 m) per g of ZPA. Straight lines on log-log axes between the control points, constant SD below
+    (0.9144 m) per g of ZPA. Straight lines on log-log axes between the control points, constant SD
+    below
     0.25 Hz, PSA = ZPA above 33 Hz.
 
     Between the tabulated dampings (0.5, 2, 5, 7, 10 %) the factors B, C and D are interpolated
@@ -116,8 +117,11 @@ class RG160(TargetSpectrum):
     pga: float = 1.0
 
     def __post_init__(self):
-        object.__setattr__(self, "damping", in_range(
-            "damping", self.damping, RG160_DAMPINGS[0], RG160_DAMPINGS[-1], unit="-"))
+        object.__setattr__(
+            self,
+            "damping",
+            in_range("damping", self.damping, RG160_DAMPINGS[0], RG160_DAMPINGS[-1], unit="-"),
+        )
         object.__setattr__(self, "pga", positive("pga", self.pga, "g"))
 
     @property
@@ -143,7 +147,7 @@ class RG160(TargetSpectrum):
         f, shape = _freqs(freqs_hz)
         return _loglog(f, *self.control_points()).reshape(shape)
 
-    def scaled(self, factor: float) -> "RG160":
+    def scaled(self, factor: float) -> RG160:
         """RG 1.60 spectrum for ZPA ``pga·factor`` [g]."""
         return RG160(self.damping, self.pga * positive("factor", factor, "-"))
 
@@ -154,9 +158,16 @@ def rg160(freqs_hz, damping: float = 0.05, pga: float = 1.0) -> np.ndarray:
     return RG160(damping, pga).psa(freqs_hz)
 
 
-def _check_table(x: np.ndarray, psa: np.ndarray, where: list[str], source: str,
-                 xname: str = "frequency", xunit: str = "Hz", yname: str = "PSA",
-                 yunit: str = "g") -> None:
+def _check_table(
+    x: np.ndarray,
+    psa: np.ndarray,
+    where: list[str],
+    source: str,
+    xname: str = "frequency",
+    xunit: str = "Hz",
+    yname: str = "PSA",
+    yunit: str = "g",
+) -> None:
     """Validate a spectrum table of abscissae ``x`` (frequencies or periods) and ordinates
     (PSA [g] unless ``yname``/``yunit`` say otherwise).
 
@@ -168,12 +179,13 @@ def _check_table(x: np.ndarray, psa: np.ndarray, where: list[str], source: str,
         bad = np.flatnonzero(~np.isfinite(values) | (values <= 0.0))
         if bad.size:
             i = bad[0]
-            raise InputError(f"{where[i]}: {name} must be a finite number > 0 [{unit}], "
-                             f"got {values[i]!r}")
+            raise InputError(
+                f"{where[i]}: {name} must be a finite number > 0 [{unit}], got {values[i]!r}"
+            )
     order = np.argsort(x, kind="stable")
     dup = np.flatnonzero(np.diff(x[order]) == 0.0)
     if dup.size:
-        i, j = sorted(order[dup[0]:dup[0] + 2])
+        i, j = sorted(order[dup[0] : dup[0] + 2])
         raise InputError(f"{where[j]}: {xname} {x[j]:g} {xunit} repeats that of {where[i]}")
 
 
@@ -206,18 +218,21 @@ class TabulatedSpectrum(TargetSpectrum):
         f = np.ravel(np.asarray(self.freqs_hz, dtype=np.float64))
         a = np.ravel(np.asarray(self.psa_g, dtype=np.float64))
         if f.size != a.size:
-            raise InputError(f"freqs_hz and psa_g must have the same length, got {f.size} "
-                             f"and {a.size}")
+            raise InputError(
+                f"freqs_hz and psa_g must have the same length, got {f.size} and {a.size}"
+            )
         _check_table(f, a, [f"row {i}" for i in range(f.size)], "freqs_hz")
         order = np.argsort(f)
         object.__setattr__(self, "freqs_hz", f[order])
         object.__setattr__(self, "psa_g", a[order])
-        object.__setattr__(self, "damping", in_range(
-            "damping", self.damping, 0.0, 1.0, lo_open=True, hi_open=True, unit="-"))
+        object.__setattr__(
+            self,
+            "damping",
+            in_range("damping", self.damping, 0.0, 1.0, lo_open=True, hi_open=True, unit="-"),
+        )
 
     @classmethod
-    def from_csv(cls, path, damping: float = 0.05, select: str | None = None
-                 ) -> "TabulatedSpectrum":
+    def from_csv(cls, path, damping: float = 0.05, select: str | None = None) -> TabulatedSpectrum:
         """Read a spectrum from a CSV file with a header row; columns are found by their header.
 
         * Abscissa: the first column whose header names a frequency [Hz] ("freq", "Hz") or a
@@ -270,8 +285,9 @@ class TabulatedSpectrum(TargetSpectrum):
                 try:
                     out.append(float(cells[column]))
                 except ValueError:
-                    raise InputError(f"{path}: line {lineno}: not a number: "
-                                     f"{cells[column]!r}") from None
+                    raise InputError(
+                        f"{path}: line {lineno}: not a number: {cells[column]!r}"
+                    ) from None
             where.append(f"{path}: line {lineno}")
         x, a = np.array(x), np.array(a)
         xname = ("period", "s") if cols.is_period else ("frequency", "Hz")
@@ -281,18 +297,21 @@ class TabulatedSpectrum(TargetSpectrum):
         if factor is not None:  # PSV [unit] -> PSA [g]: PSA = ω·PSV
             a = a * factor * 2.0 * math.pi * f / G
         name = spectra[key]
-        return cls(f, a, damping=damping,
-                   name=path.stem if not name else f"{path.stem}:{name}")
+        return cls(f, a, damping=damping, name=path.stem if not name else f"{path.stem}:{name}")
 
     def psa(self, freqs_hz) -> np.ndarray:
         """PSA [g] at ``freqs_hz`` [Hz] (any shape, every value finite and > 0)."""
         f, shape = _freqs(freqs_hz)
         return _loglog(f, self.freqs_hz, self.psa_g).reshape(shape)
 
-    def scaled(self, factor: float) -> "TabulatedSpectrum":
+    def scaled(self, factor: float) -> TabulatedSpectrum:
         """The table with every PSA multiplied by ``factor`` [-] (> 0)."""
-        return TabulatedSpectrum(self.freqs_hz, self.psa_g * positive("factor", factor, "-"),
-                                 damping=self.damping, name=self.name)
+        return TabulatedSpectrum(
+            self.freqs_hz,
+            self.psa_g * positive("factor", factor, "-"),
+            damping=self.damping,
+            name=self.name,
+        )
 
 
 def _is_frequency(header: str) -> bool:
@@ -302,13 +321,22 @@ def _is_frequency(header: str) -> bool:
 
 def _is_period(header: str) -> bool:
     h = header.strip().lower()
-    return ("period" in h or re.fullmatch(r"t\b.*", h) is not None
-            or re.search(r"[\[(]\s*(s|sec)\s*[\])]", h) is not None)
+    return (
+        "period" in h
+        or re.fullmatch(r"t\b.*", h) is not None
+        or re.search(r"[\[(]\s*(s|sec)\s*[\])]", h) is not None
+    )
 
 
 #: Header words of the ordinates: the quantity they name.
-_QUANTITY_WORDS = {"psa": "psa", "sa": "psa", "acceleration": "psa", "psv": "psv", "sv": "psv",
-                   "velocity": "psv"}
+_QUANTITY_WORDS = {
+    "psa": "psa",
+    "sa": "psa",
+    "acceleration": "psa",
+    "psv": "psv",
+    "sv": "psv",
+    "velocity": "psv",
+}
 #: Words of an ordinate header that name neither quantity, unit nor location.
 _FILLER_WORDS = {"pseudo", "spectral", "spectrum", "response", "mean"}
 #: Units of PSV (header words in order) and their factor to m/s.
@@ -325,8 +353,8 @@ def _take(words: list[str], unit: tuple[str, ...]) -> list[str] | None:
     """``words`` without the first occurrence of the word sequence ``unit`` (None: absent)."""
     n = len(unit)
     for i in range(len(words) - n + 1):
-        if tuple(words[i:i + n]) == unit:
-            return words[:i] + words[i + n:]
+        if tuple(words[i : i + n]) == unit:
+            return words[:i] + words[i + n :]
     return None
 
 
@@ -353,11 +381,15 @@ class _SpectrumColumns:
                         raise InputError(f"{where}: column {header!r}: PSA must be in g")
                     factor, words = None, words if rest is None else rest
                 else:
-                    factor, rest = next(((k, r) for unit, k in _PSV_UNITS
-                                         if (r := _take(words, unit)) is not None), (None, None))
+                    factor, rest = next(
+                        ((k, r) for unit, k in _PSV_UNITS if (r := _take(words, unit)) is not None),
+                        (None, None),
+                    )
                     if factor is None:
-                        raise InputError(f"{where}: column {header!r}: state the unit of PSV, "
-                                         "cm/s or m/s (e.g. 'PSV [cm/s]')")
+                        raise InputError(
+                            f"{where}: column {header!r}: state the unit of PSV, "
+                            "cm/s or m/s (e.g. 'PSV [cm/s]')"
+                        )
                     words = rest
                 found.setdefault(" ".join(words), {})[quantity] = (i, factor)
             elif self.x is None and (_is_frequency(header) or _is_period(header)):
@@ -365,20 +397,30 @@ class _SpectrumColumns:
             elif self.label is None and header.strip().lower() in _LABEL_HEADERS:
                 self.label = i
         if self.x is None:
-            raise InputError(f"{where}: first column header {head[0]!r} names neither a "
-                             "frequency ('freq', 'Hz') nor a period ('period', 'T', '(s)'), nor "
-                             f"does any other ({','.join(head)})")
+            raise InputError(
+                f"{where}: first column header {head[0]!r} names neither a "
+                "frequency ('freq', 'Hz') nor a period ('period', 'T', '(s)'), nor "
+                f"does any other ({','.join(head)})"
+            )
         if not found:
-            raise InputError(f"{where}: need a column of PSA [g] or PSV [cm/s or m/s] (headers "
-                             f"such as 'psa_g', 'PSV [cm/s]'), got {','.join(head)!r}")
+            raise InputError(
+                f"{where}: need a column of PSA [g] or PSV [cm/s or m/s] (headers "
+                f"such as 'psa_g', 'PSV [cm/s]'), got {','.join(head)!r}"
+            )
         self.groups = {loc: q.get("psa", q.get("psv")) for loc, q in found.items()}
 
     def spectra(self, data: list[list[str]]) -> dict[tuple[str, str], str]:
         """(label, location) -> display name of every spectrum in the file, in file order."""
-        labels = [""] if self.label is None else list(dict.fromkeys(
-            cells[self.label] for cells in data if len(cells) > self.label))
-        return {(lab, loc): " ".join(p for p in (lab, loc) if p)
-                for lab in labels for loc in self.groups}
+        labels = (
+            [""]
+            if self.label is None
+            else list(dict.fromkeys(cells[self.label] for cells in data if len(cells) > self.label))
+        )
+        return {
+            (lab, loc): " ".join(p for p in (lab, loc) if p)
+            for lab in labels
+            for loc in self.groups
+        }
 
 
 def _normalised(name: str) -> str:
@@ -391,14 +433,18 @@ def _select_spectrum(spectra: dict, select: str | None, path: Path):
     if select is None:
         if len(spectra) == 1:
             return next(iter(spectra))
-        raise InputError(f"{path}: holds {len(spectra)} spectra ({names}): choose one, "
-                         f"e.g. {path}:{next(iter(spectra.values()))}")
+        raise InputError(
+            f"{path}: holds {len(spectra)} spectra ({names}): choose one, "
+            f"e.g. {path}:{next(iter(spectra.values()))}"
+        )
     match = [k for k, n in spectra.items() if _normalised(n) == _normalised(select)]
     if not match:
         match = [k for k in spectra if _normalised(select) in map(_normalised, k)]
     if len(match) != 1:
-        raise InputError(f"{path}: no single spectrum named {select!r}; the file holds "
-                         f"{names or 'one unnamed spectrum'}")
+        raise InputError(
+            f"{path}: no single spectrum named {select!r}; the file holds "
+            f"{names or 'one unnamed spectrum'}"
+        )
     return match[0]
 
 
@@ -430,12 +476,18 @@ class StoredTarget(TargetSpectrum):
         f = np.asarray(freqs_hz, dtype=float)
         idx = np.clip(np.searchsorted(known, f), 0, known.size - 1)
         if not np.array_equal(known[idx], f):
-            raise InputError("the stored target spectrum is known only at the stored frequencies:"
-                             " pass target= when changing n_freq, fmin or fmax")
+            raise InputError(
+                "the stored target spectrum is known only at the stored frequencies:"
+                " pass target= when changing n_freq, fmin or fmax"
+            )
         return np.asarray(self.values)[idx]
 
-    def scaled(self, factor: float) -> "StoredTarget":
+    def scaled(self, factor: float) -> StoredTarget:
         """The stored spectrum with every PSA multiplied by ``factor`` [-] (> 0)."""
         factor = positive("factor", factor, "-")
-        return StoredTarget(f"{self.name} × {factor:.4g}", self.freqs_hz,
-                            tuple(v * factor for v in self.values), self.damping)
+        return StoredTarget(
+            f"{self.name} × {factor:.4g}",
+            self.freqs_hz,
+            tuple(v * factor for v in self.values),
+            self.damping,
+        )

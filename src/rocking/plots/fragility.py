@@ -35,7 +35,8 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
     Parameters
     ----------
     ds : xarray.Dataset
-        Result of :func:`rocking.montecarlo.probability.overturning_probability`: ``probability``, ``ci_low``,
+        Result of :func:`rocking.montecarlo.probability.overturning_probability`: ``probability``,
+        ``ci_low``,
         ``ci_high`` [-] on dimensions (``body``, ``agx``) or (``case``, ``body``, ``agx``),
         ``agx`` [g]; coordinates ``R`` [m] and ``gamma`` [-] on ``body``.
     fits : dict, optional
@@ -52,8 +53,9 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
     ax = fig.add_subplot()
     curves = _curves(ds)
     for k, (key, label, sel) in enumerate(curves):
-        _draw_curve(ax, agx, sel, fits.get(key), f"C{k % 10}",
-                    label=label if k < MAX_LEGEND else None)
+        _draw_curve(
+            ax, agx, sel, fits.get(key), f"C{k % 10}", label=label if k < MAX_LEGEND else None
+        )
     _probability_axes(ax)
     ax.set_xlabel("ensemble mean peak acceleration A_gx [g]")
     ax.set_ylabel("probability of overturning [-]")
@@ -81,35 +83,54 @@ def _plot_by_size(ds, fits: dict, title: str) -> Figure:
         index = np.flatnonzero(r_mm == size)
         for i in index[np.argsort(ds["gamma"].values[index])]:
             sel = ds.isel(body=i)
-            _draw_curve(ax, agx, sel, fits.get(str(sel["body"].values)),
-                        cmap(norm(float(sel["gamma"]))), ms=2.0, alpha=0.1)
+            _draw_curve(
+                ax,
+                agx,
+                sel,
+                fits.get(str(sel["body"].values)),
+                cmap(norm(float(sel["gamma"]))),
+                ms=2.0,
+                alpha=0.1,
+            )
         _probability_axes(ax)
         ax.set_title(f"R = {size / 1000.0:.2f} m", fontsize="small")
         ax.tick_params(labelsize="small")
-    for ax in axes[sizes.size:]:
+    for ax in axes[sizes.size :]:
         ax.remove()
     fig.supxlabel("ensemble mean peak acceleration A_gx [g]", fontsize="medium")
     fig.supylabel("probability of overturning [-]", fontsize="medium")
     key = _key_text(ds, fits).replace("; ", "\n")
     if gammas.size <= MAX_LEGEND:
-        handles = [Line2D([], [], color=cmap(norm(g)), marker="o", ms=3, label=f"γ = {g:g}")
-                   for g in gammas]
-        fig.legend(handles=handles, loc="outside right upper", fontsize="small",
-                   title=f"slenderness γ\n{key}", title_fontsize="small")
+        handles = [
+            Line2D([], [], color=cmap(norm(g)), marker="o", ms=3, label=f"γ = {g:g}")
+            for g in gammas
+        ]
+        fig.legend(
+            handles=handles,
+            loc="outside right upper",
+            fontsize="small",
+            title=f"slenderness γ\n{key}",
+            title_fontsize="small",
+        )
     else:
-        fig.colorbar(ScalarMappable(norm, cmap), ax=axes[:sizes.size].tolist(),
-                     label=f"slenderness γ [-] ({key})".replace("\n", "; "))
+        fig.colorbar(
+            ScalarMappable(norm, cmap),
+            ax=axes[: sizes.size].tolist(),
+            label=f"slenderness γ [-] ({key})".replace("\n", "; "),
+        )
     if title:
         fig.suptitle(title)
     return fig
 
 
-def _draw_curve(ax, agx, sel, fit, color, *, label=None, ms: float = 3.0,
-                alpha: float = 0.18) -> None:
+def _draw_curve(
+    ax, agx, sel, fit, color, *, label=None, ms: float = 3.0, alpha: float = 0.18
+) -> None:
     """One probability curve with its Wilson band (opacity ``alpha``) and, if fitted, its
     lognormal fit."""
-    ax.fill_between(agx, sel["ci_low"].values, sel["ci_high"].values, color=color, alpha=alpha,
-                    lw=0)
+    ax.fill_between(
+        agx, sel["ci_low"].values, sel["ci_high"].values, color=color, alpha=alpha, lw=0
+    )
     ax.plot(agx, sel["probability"].values, "o-", color=color, ms=ms, lw=1.2, label=label)
     if fit is not None and np.isfinite(fit.median) and np.isfinite(fit.beta) and fit.beta > 0:
         fine = np.linspace(agx.min(), agx.max(), 200)
@@ -135,7 +156,8 @@ def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
     Parameters
     ----------
     energy_ds : xarray.Dataset
-        Result of :func:`rocking.assessment.energy.energy_balance` (``sv_required`` and ``sv1`` [m/s],
+        Result of :func:`rocking.assessment.energy.energy_balance` (``sv_required`` and ``sv1``
+        [m/s],
         ``agx50`` [g]); bodies with NaN A_gx50 are left out.
     title : str
         Figure title.
@@ -150,15 +172,21 @@ def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
     if ok.sum() >= 2 and np.ptp(x[ok]) > 0:
         slope, intercept = np.polyfit(x[ok], y[ok], 1)
         r2 = np.corrcoef(x[ok], y[ok])[0, 1] ** 2
-        ax.plot(xs, intercept + slope * xs, "k-", lw=1.2,
-                label=f"least squares: S_v = {slope:.1f}·A_gx {'+' if intercept >= 0 else '−'} "
-                      f"{abs(intercept):.1f} (R² = {r2:.3f})")
+        ax.plot(
+            xs,
+            intercept + slope * xs,
+            "k-",
+            lw=1.2,
+            label=f"least squares: S_v = {slope:.1f}·A_gx {'+' if intercept >= 0 else '−'} "
+            f"{abs(intercept):.1f} (R² = {r2:.3f})",
+        )
     if ok.any():
         # S_v1 is proportional to A_gx (spectra scale with the motions): sv1/agx50 is the same
         # for every body; on this line S_v1 equals the required S_v.
         per_g = 100.0 * float(np.mean(energy_ds["sv1"].values[ok] / x[ok]))
-        ax.plot(xs, per_g * xs, "--", color="C3", lw=1.0,
-                label=f"S_v1 = {per_g:.1f}·A_gx (ratio 1)")
+        ax.plot(
+            xs, per_g * xs, "--", color="C3", lw=1.0, label=f"S_v1 = {per_g:.1f}·A_gx (ratio 1)"
+        )
     ax.set_xlabel("A_gx at 50 % overturning probability [g]")
     ax.set_ylabel("required S_v, Eq. (11) [cm/s]")
     ax.grid(True, lw=0.4, alpha=0.5)
@@ -168,8 +196,9 @@ def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
     return fig
 
 
-def plot_sv1_spectrum(freqs_hz, psv, *, sv_required: float | None = None, band_hz=BAND_HZ,
-                      title: str = "") -> Figure:
+def plot_sv1_spectrum(
+    freqs_hz, psv, *, sv_required: float | None = None, band_hz=BAND_HZ, title: str = ""
+) -> Figure:
     """Mean pseudo-velocity spectrum with the band of the available S_v shaded, its maximum in the
     band (S_v1) marked and the required S_v of Eq. (11) drawn (paper Fig. 14).
 
@@ -199,8 +228,13 @@ def plot_sv1_spectrum(freqs_hz, psv, *, sv_required: float | None = None, band_h
         k = np.flatnonzero(inside)[np.argmax(v[inside])]
         ax.plot(f[k], v[k], "o", color="C3", label=f"S_v1 = {v[k]:.1f} cm/s at {f[k]:.3g} Hz")
     if sv_required is not None:
-        ax.axhline(100.0 * sv_required, color="k", ls="--", lw=1.0,
-                   label=f"required S_v (Eq. 11) = {100.0 * sv_required:.1f} cm/s")
+        ax.axhline(
+            100.0 * sv_required,
+            color="k",
+            ls="--",
+            lw=1.0,
+            label=f"required S_v (Eq. 11) = {100.0 * sv_required:.1f} cm/s",
+        )
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("pseudo-velocity S_v [cm/s]")
     ax.grid(True, which="both", lw=0.4, alpha=0.5)
@@ -215,5 +249,8 @@ def _curves(ds):
     bodies = [str(b) for b in ds["body"].values]
     if "case" not in ds.dims:
         return [(b, b, ds.isel(body=i)) for i, b in enumerate(bodies)]
-    return [((str(c), b), f"{c}: {b}", ds.isel(case=j, body=i))
-            for j, c in enumerate(ds["case"].values) for i, b in enumerate(bodies)]
+    return [
+        ((str(c), b), f"{c}: {b}", ds.isel(case=j, body=i))
+        for j, c in enumerate(ds["case"].values)
+        for i, b in enumerate(bodies)
+    ]

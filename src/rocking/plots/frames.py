@@ -7,7 +7,8 @@ from matplotlib.figure import Figure
 
 
 def plot_mode_shapes(frame) -> Figure:
-    """Mode shapes of a :class:`rocking.structures.frames.ShearFrame`, each scaled to a largest |entry| of 1,
+    """Mode shapes of a :class:`rocking.structures.frames.ShearFrame`, each scaled to a largest
+    |entry| of 1,
     drawn against the floor level (0 = ground)."""
     fig = Figure(figsize=(5.0, 5.5), layout="constrained")
     ax = fig.add_subplot()

@@ -16,7 +16,8 @@ def plot_envelopes(envelopes, *, title: str = "") -> Figure:
     Parameters
     ----------
     envelopes : sequence
-        Intensity functions of :mod:`rocking.motions.envelopes` (called on t [s], with ``duration`` [s]).
+        Intensity functions of :mod:`rocking.motions.envelopes` (called on t [s], with ``duration``
+        [s]).
     title : str
         Figure title.
     """
@@ -24,8 +25,10 @@ def plot_envelopes(envelopes, *, title: str = "") -> Figure:
     ax = fig.add_subplot()
     for env in envelopes:
         t = np.linspace(0.0, env.duration, 1001)
-        label = (f"{type(env).__name__.lower()}, T = {env.duration:g} s, "
-                 f"T_e = {env.equivalent_duration():.3g} s")
+        label = (
+            f"{type(env).__name__.lower()}, T = {env.duration:g} s, "
+            f"T_e = {env.equivalent_duration():.3g} s"
+        )
         ax.plot(t, env(t), lw=1.5, label=label)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("intensity I(t) [-]")
@@ -37,8 +40,7 @@ def plot_envelopes(envelopes, *, title: str = "") -> Figure:
     return fig
 
 
-def plot_baseline_comparison(dt: float, raw, corrected, labels=None, *,
-                             title: str = "") -> Figure:
+def plot_baseline_comparison(dt: float, raw, corrected, labels=None, *, title: str = "") -> Figure:
     """Acceleration, velocity and displacement of motions before and after baseline correction.
 
     Velocity and displacement are integrated from rest with the trapezoidal rule.
@@ -78,8 +80,9 @@ def plot_baseline_comparison(dt: float, raw, corrected, labels=None, *,
     return fig
 
 
-def plot_fit_ratios(freqs_hz, ratios: dict, *, tolerance: float = 0.10, band=None,
-                    title: str = "") -> Figure:
+def plot_fit_ratios(
+    freqs_hz, ratios: dict, *, tolerance: float = 0.10, band=None, title: str = ""
+) -> Figure:
     """Ensemble-mean PSA over the target PSA against frequency, one line per method.
 
     Parameters
@@ -99,8 +102,9 @@ def plot_fit_ratios(freqs_hz, ratios: dict, *, tolerance: float = 0.10, band=Non
     fig = Figure(figsize=(6.5, 4.2), layout="constrained")
     ax = fig.add_subplot()
     ax.set_xscale("log")
-    ax.axhspan(1.0 - tolerance, 1.0 + tolerance, color="0.85",
-               label=f"target ± {100 * tolerance:g} %")
+    ax.axhspan(
+        1.0 - tolerance, 1.0 + tolerance, color="0.85", label=f"target ± {100 * tolerance:g} %"
+    )
     ax.axhline(1.0, color="k", lw=0.8)
     for label, ratio in ratios.items():
         ax.plot(f, np.asarray(ratio, dtype=float), lw=1.3, label=label)

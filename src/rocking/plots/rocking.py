@@ -35,14 +35,26 @@ def plot_response(response, ag_g, *, title: str | None = None) -> Figure:
 
     ax_th.plot(t, response.theta_over_alpha, color="C0", lw=0.9, label="θ/α")
     for sign in (1.0, -1.0):
-        ax_th.axhline(sign, color="0.5", ls="--", lw=0.8,
-                      label="θ = ±α (static stability limit)" if sign > 0 else None)
+        ax_th.axhline(
+            sign,
+            color="0.5",
+            ls="--",
+            lw=0.8,
+            label="θ = ±α (static stability limit)" if sign > 0 else None,
+        )
     if response.overturned:
         last = response.theta[np.isfinite(response.theta)][-1]
         y_ov = math.copysign(response.overturn_angle, last) / block.alpha
         ax_th.axvline(response.t_overturn, color="C3", lw=1.0)
-        ax_th.plot([response.t_overturn], [y_ov], "x", color="C3", ms=9, mew=2,
-                   label=f"overturned at t = {response.t_overturn:.3f} s")
+        ax_th.plot(
+            [response.t_overturn],
+            [y_ov],
+            "x",
+            color="C3",
+            ms=9,
+            mew=2,
+            label=f"overturned at t = {response.t_overturn:.3f} s",
+        )
     ax_th.set_ylabel("rotation θ/α [-]")
     ax_th.grid(True, lw=0.4, alpha=0.5)
     ax_th.legend(fontsize="small", loc="best")
@@ -50,8 +62,13 @@ def plot_response(response, ag_g, *, title: str | None = None) -> Figure:
     tan_a = math.tan(block.alpha)
     ax_ag.plot(t, ag_g, color="C1", lw=0.6, label="ground acceleration")
     for sign in (1.0, -1.0):
-        ax_ag.axhline(sign * tan_a, color="0.5", ls="--", lw=0.8,
-                      label=f"uplift threshold ±g·tan α = ±{tan_a:.3g} g" if sign > 0 else None)
+        ax_ag.axhline(
+            sign * tan_a,
+            color="0.5",
+            ls="--",
+            lw=0.8,
+            label=f"uplift threshold ±g·tan α = ±{tan_a:.3g} g" if sign > 0 else None,
+        )
     ax_ag.set_ylabel("ground acceleration [g]")
     ax_ag.set_xlabel("time t [s]")
     ax_ag.grid(True, lw=0.4, alpha=0.5)

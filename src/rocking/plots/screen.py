@@ -38,8 +38,10 @@ def plot_screen(ds, *, title: str = "") -> Figure:
     fig = Figure(figsize=(7.0, 5.2), layout="constrained")
     ax = fig.add_subplot()
     # the ground first, then each frame's floors upwards
-    keys = sorted(set(zip(ds["frame"].values.astype(str), ds["floor"].values.astype(int))),
-                  key=lambda key: (key[1] != 0, key))
+    keys = sorted(
+        set(zip(ds["frame"].values.astype(str), ds["floor"].values.astype(int))),
+        key=lambda key: (key[1] != 0, key),
+    )
     for k, (frame, floor) in enumerate(keys):
         color = f"C{k % 10}"
         sel = (ds["floor"].values == floor) & ((floor == 0) | (ds["frame"].values == frame))
@@ -51,15 +53,15 @@ def plot_screen(ds, *, title: str = "") -> Figure:
     ax.axvline(design, color="k", ls="--", lw=1.0, label=f"design A_gx = {design:.3g} g")
     for i, name in enumerate(names):
         if len(names) <= MAX_NAMED or at_risk[i]:
-            ax.annotate(name, (x[i], sv[i]), xytext=(4, 3), textcoords="offset points",
-                        fontsize=7)
+            ax.annotate(name, (x[i], sv[i]), xytext=(4, 3), textcoords="offset points", fontsize=7)
     ax.set_xlim(left=0.0)
     ax.set_ylim(bottom=0.0)
     ground = ds.attrs.get("floor_motions", "building") == "building"
     ax.set_xlabel(("ground " if ground else "") + "A_gx at 50 % overturning probability [g]")
     ax.set_ylabel("required S_v, Eq. (11) [cm/s]")
     ax.grid(True, lw=0.4, alpha=0.5)
-    ax.legend(fontsize="small", title="dotted: available S_v at the location",
-              title_fontsize="small")
+    ax.legend(
+        fontsize="small", title="dotted: available S_v at the location", title_fontsize="small"
+    )
     ax.set_title(title or f"Screening: {ds.attrs.get('spectrum', '')}", fontsize="medium")
     return fig

@@ -18,8 +18,9 @@ def _log_axes(fig: Figure, title: str):
     return ax
 
 
-def plot_spectra(freqs_hz, psa_g, labels=None, *, damping: float | None = None,
-                 title: str = "") -> Figure:
+def plot_spectra(
+    freqs_hz, psa_g, labels=None, *, damping: float | None = None, title: str = ""
+) -> Figure:
     """PSA spectra against frequency on log-log axes, one line per spectrum.
 
     Parameters
@@ -68,8 +69,13 @@ def plot_mean_vs_target(freqs_hz, psa_members, target, *, title: str = "") -> Fi
     fig = Figure(figsize=(6.5, 4.8), layout="constrained")
     ax = _log_axes(fig, title)
     # On log axes a band reaching zero or below cannot be drawn: clip its lower edge.
-    ax.fill_between(f, np.maximum(mean - std, 1e-3 * mean), mean + std, alpha=0.25,
-                    label=f"mean ± 1 std ({psa.shape[0]} members)")
+    ax.fill_between(
+        f,
+        np.maximum(mean - std, 1e-3 * mean),
+        mean + std,
+        alpha=0.25,
+        label=f"mean ± 1 std ({psa.shape[0]} members)",
+    )
     ax.plot(f, mean, lw=1.5, label="ensemble mean")
     ax.plot(f, target.psa(f), "k--", lw=1.5, label=f"target: {target.name}")
     ax.legend(fontsize="small")

@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 from scipy.linalg import eigh
 
-from ..core.compile import parallel_kernel, prange
 from ..core.checks import finite_array, in_range, positive, read_toml
+from ..core.compile import parallel_kernel, prange
 from ..dynamics.body import G
 from ..errors import InputError
 from ..motions.response import foh_coefficients
@@ -63,20 +63,38 @@ _K_2S = kN_per_cm_to_N_per_m(55.23)  # and 55.23 kN/cm per story
 _K_1_5S = _uniform_stiffness_for_period(_M_2S, 5, 1.5)  # 98.24 kN/cm
 _K_1S = _uniform_stiffness_for_period(_M_2S, 5, 1.0)  # 221.04 kN/cm
 _PRESET_DATA = {
-    "paper-2.0": ("paper Section 7, T1 = 2.0 s: 444.82 kN/g per floor, 55.23 kN/cm per story "
-                  "(gives T1 = 2.0005 s)", _M_2S, _K_2S),
-    "paper-1.5": (f"T1 = 1.5 s (no data in the paper): 444.82 kN/g per floor as the 2.0 s frame, "
-                  f"{_K_1_5S / 1e5:.2f} kN/cm per story for T1 = 1.5 s exactly", _M_2S, _K_1_5S),
-    "paper-1.0": (f"T1 = 1.0 s (no data in the paper): 444.82 kN/g per floor as the 2.0 s frame, "
-                  f"{_K_1S / 1e5:.2f} kN/cm per story for T1 = 1.0 s exactly", _M_2S, _K_1S),
-    "paper-0.5": ("paper Section 7, T1 = 0.5 s: 87.59 kN/g per floor, 175.11 kN/cm per story "
-                  "(gives T1 = 0.4986 s)", kN_per_g_to_kg(87.59), kN_per_cm_to_N_per_m(175.11)),
+    "paper-2.0": (
+        "paper Section 7, T1 = 2.0 s: 444.82 kN/g per floor, 55.23 kN/cm per story "
+        "(gives T1 = 2.0005 s)",
+        _M_2S,
+        _K_2S,
+    ),
+    "paper-1.5": (
+        f"T1 = 1.5 s (no data in the paper): 444.82 kN/g per floor as the 2.0 s frame, "
+        f"{_K_1_5S / 1e5:.2f} kN/cm per story for T1 = 1.5 s exactly",
+        _M_2S,
+        _K_1_5S,
+    ),
+    "paper-1.0": (
+        f"T1 = 1.0 s (no data in the paper): 444.82 kN/g per floor as the 2.0 s frame, "
+        f"{_K_1S / 1e5:.2f} kN/cm per story for T1 = 1.0 s exactly",
+        _M_2S,
+        _K_1S,
+    ),
+    "paper-0.5": (
+        "paper Section 7, T1 = 0.5 s: 87.59 kN/g per floor, 175.11 kN/cm per story "
+        "(gives T1 = 0.4986 s)",
+        kN_per_g_to_kg(87.59),
+        kN_per_cm_to_N_per_m(175.11),
+    ),
 }
 
 #: Names and descriptions of the preset frames of :meth:`ShearFrame.preset` (all uniform,
 #: 5 stories, 5 % damping in every mode).
-PRESETS = {name: f"5-story uniform frame, 5 % modal damping; {desc}"
-           for name, (desc, _, _) in _PRESET_DATA.items()}
+PRESETS = {
+    name: f"5-story uniform frame, 5 % modal damping; {desc}"
+    for name, (desc, _, _) in _PRESET_DATA.items()
+}
 
 #: Keys under which a floor ensemble's ``meta`` records its frame (see :meth:`ShearFrame.to_meta`).
 _META_KEYS = ("frame_name", "frame_masses_kg", "frame_stiffnesses_N_per_m", "frame_damping")
@@ -117,45 +135,54 @@ class ShearFrame:
         if not m:
             raise InputError("masses must list at least one story, got none")
         if len(m) != len(k):
-            raise InputError(f"masses has {len(m)} entries but stiffnesses has {len(k)}; "
-                             "give one mass and one stiffness per story")
+            raise InputError(
+                f"masses has {len(m)} entries but stiffnesses has {len(k)}; "
+                "give one mass and one stiffness per story"
+            )
         object.__setattr__(self, "masses", m)
         object.__setattr__(self, "stiffnesses", k)
-        object.__setattr__(self, "damping",
-                           in_range("damping", self.damping, 0.0, 1.0, hi_open=True, unit="-"))
+        object.__setattr__(
+            self, "damping", in_range("damping", self.damping, 0.0, 1.0, hi_open=True, unit="-")
+        )
         object.__setattr__(self, "name", str(self.name) or f"{len(m)}-story frame")
 
     # ---- constructors -------------------------------------------------------------------------
     @classmethod
-    def uniform(cls, n_stories: int, mass: float, stiffness: float, damping: float = 0.05,
-                name: str = "") -> "ShearFrame":
+    def uniform(
+        cls, n_stories: int, mass: float, stiffness: float, damping: float = 0.05, name: str = ""
+    ) -> ShearFrame:
         """Frame of ``n_stories`` equal floors of ``mass`` [kg] and equal stories of
         ``stiffness`` [N/m]."""
-        if isinstance(n_stories, bool) or not isinstance(n_stories, (int, np.integer)) \
-                or n_stories < 1:
+        if (
+            isinstance(n_stories, bool)
+            or not isinstance(n_stories, (int, np.integer))
+            or n_stories < 1
+        ):
             raise InputError(f"n_stories must be an integer >= 1, got {n_stories!r}")
         return cls((mass,) * int(n_stories), (stiffness,) * int(n_stories), damping, name)
 
     @classmethod
-    def from_paper_units(cls, weights_kN_per_g, stiffness_kN_per_cm, damping: float = 0.05,
-                         name: str = "") -> "ShearFrame":
+    def from_paper_units(
+        cls, weights_kN_per_g, stiffness_kN_per_cm, damping: float = 0.05, name: str = ""
+    ) -> ShearFrame:
         """Frame from floor weights [kN/g, i.e. kN of weight] and story stiffnesses [kN/cm]."""
         w = _positive_list("weights_kN_per_g", weights_kN_per_g, "kN/g")
         k = _positive_list("stiffness_kN_per_cm", stiffness_kN_per_cm, "kN/cm")
         return cls(tuple(kN_per_g_to_kg(w)), tuple(kN_per_cm_to_N_per_m(k)), damping, name)
 
     @classmethod
-    def preset(cls, name: str) -> "ShearFrame":
+    def preset(cls, name: str) -> ShearFrame:
         """One of the frames of the paper's Section 7 by name (see :data:`PRESETS`)."""
         try:
             _, m, k = _PRESET_DATA[name]
         except (KeyError, TypeError):
-            raise InputError(f"unknown frame preset {name!r}; known presets: "
-                             f"{', '.join(PRESETS)}") from None
+            raise InputError(
+                f"unknown frame preset {name!r}; known presets: {', '.join(PRESETS)}"
+            ) from None
         return cls.uniform(5, m, k, 0.05, name)
 
     @classmethod
-    def from_mapping(cls, data: dict, name: str, where: str = "frame") -> "ShearFrame":
+    def from_mapping(cls, data: dict, name: str, where: str = "frame") -> ShearFrame:
         """Frame from a mapping (a TOML table) with the keys of :meth:`from_toml`.
 
         ``masses_kg`` and ``stiffnesses_N_per_m`` (lists, SI), or ``weights_kN_per_g`` and
@@ -167,24 +194,29 @@ class ShearFrame:
         keys = set(data) - {"damping", "name"}
         unknown = keys - si - paper
         if unknown:
-            raise InputError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}; expected "
-                             f"{', '.join(sorted(si | paper))}, damping, name")
+            raise InputError(
+                f"{where}: unknown key(s) {', '.join(sorted(unknown))}; expected "
+                f"{', '.join(sorted(si | paper))}, damping, name"
+            )
         damping = data.get("damping", 0.05)
         name = str(data.get("name", name))
         try:
             if keys == si:
                 return cls(data["masses_kg"], data["stiffnesses_N_per_m"], damping, name)
             if keys == paper:
-                return cls.from_paper_units(data["weights_kN_per_g"], data["stiffness_kN_per_cm"],
-                                            damping, name)
+                return cls.from_paper_units(
+                    data["weights_kN_per_g"], data["stiffness_kN_per_cm"], damping, name
+                )
         except InputError as exc:
             raise InputError(f"{where}: {exc}") from None
-        raise InputError(f"{where}: give either masses_kg and stiffnesses_N_per_m, or "
-                         "weights_kN_per_g and stiffness_kN_per_cm (one pair, both lists); got "
-                         f"{', '.join(sorted(data)) or 'nothing'}")
+        raise InputError(
+            f"{where}: give either masses_kg and stiffnesses_N_per_m, or "
+            "weights_kN_per_g and stiffness_kN_per_cm (one pair, both lists); got "
+            f"{', '.join(sorted(data)) or 'nothing'}"
+        )
 
     @classmethod
-    def from_toml(cls, path) -> "ShearFrame":
+    def from_toml(cls, path) -> ShearFrame:
         """Frame from a TOML file with the keys of :meth:`from_mapping` (name defaults to the
         file's stem)."""
         path = Path(path)
@@ -192,19 +224,25 @@ class ShearFrame:
 
     def to_meta(self) -> dict:
         """The frame as flat ``meta`` entries (numbers and lists only; survives netCDF attrs)."""
-        return {"frame_name": self.name, "frame_masses_kg": list(self.masses),
-                "frame_stiffnesses_N_per_m": list(self.stiffnesses),
-                "frame_damping": self.damping}
+        return {
+            "frame_name": self.name,
+            "frame_masses_kg": list(self.masses),
+            "frame_stiffnesses_N_per_m": list(self.stiffnesses),
+            "frame_damping": self.damping,
+        }
 
     @classmethod
-    def from_meta(cls, meta: dict) -> "ShearFrame":
+    def from_meta(cls, meta: dict) -> ShearFrame:
         """Inverse of :meth:`to_meta` (e.g. ``ShearFrame.from_meta(floor_ensemble.meta)``)."""
         missing = [key for key in _META_KEYS if key not in meta]
         if missing:
             raise InputError(f"meta has no frame description (missing {', '.join(missing)})")
-        return cls(np.atleast_1d(meta["frame_masses_kg"]).tolist(),
-                   np.atleast_1d(meta["frame_stiffnesses_N_per_m"]).tolist(),
-                   float(meta["frame_damping"]), str(meta["frame_name"]))
+        return cls(
+            np.atleast_1d(meta["frame_masses_kg"]).tolist(),
+            np.atleast_1d(meta["frame_stiffnesses_N_per_m"]).tolist(),
+            float(meta["frame_damping"]),
+            str(meta["frame_name"]),
+        )
 
     # ---- matrices and modes -------------------------------------------------------------------
     @property
@@ -318,24 +356,36 @@ class ShearFrame:
         return out
 
     def _check_floor(self, floor) -> int:
-        if isinstance(floor, bool) or not isinstance(floor, (int, np.integer)) \
-                or not 0 <= floor <= self.n_stories:
-            raise InputError(f"floor must be an integer from 0 (ground) to {self.n_stories} "
-                             f"(roof of {self.name}), got {floor!r}")
+        if (
+            isinstance(floor, bool)
+            or not isinstance(floor, (int, np.integer))
+            or not 0 <= floor <= self.n_stories
+        ):
+            raise InputError(
+                f"floor must be an integer from 0 (ground) to {self.n_stories} "
+                f"(roof of {self.name}), got {floor!r}"
+            )
         return int(floor)
 
     @staticmethod
     def _ground(ensemble) -> np.ndarray:
         if "frame_name" in ensemble.meta:
-            raise InputError("ensemble is already a floor motion "
-                             f"({ensemble.meta.get('location')}); give the ground ensemble")
+            raise InputError(
+                "ensemble is already a floor motion "
+                f"({ensemble.meta.get('location')}); give the ground ensemble"
+            )
         return np.ascontiguousarray(ensemble.acc, dtype=np.float64)
 
     def _wrap(self, ensemble, floor: int, acc: np.ndarray):
         # kind changes so that Ensemble.regenerate (ground motions only) refuses a floor ensemble
-        meta = {**ensemble.meta, **self.to_meta(), "floor": floor,
-                "location": f"floor {floor} of {self.name}", "kind": "floor",
-                "ground_kind": ensemble.meta.get("kind", "unknown")}
+        meta = {
+            **ensemble.meta,
+            **self.to_meta(),
+            "floor": floor,
+            "location": f"floor {floor} of {self.name}",
+            "kind": "floor",
+            "ground_kind": ensemble.meta.get("kind", "unknown"),
+        }
         return dataclasses.replace(ensemble, acc=acc, meta=meta)
 
     def _floors(self, ag: np.ndarray, dt: float, rows: np.ndarray) -> np.ndarray:
@@ -345,13 +395,16 @@ class ShearFrame:
         # q_r = Γ_r u_r and Σ_r φ_ir Γ_r = 1 when every mode is kept.
         weights = self._modes[1][rows] * self.participation_factors
         coef = foh_coefficients(omega, self.damping, np.full(omega.size, dt))
-        return _floor_kernel(ag, coef, 2.0 * self.damping * omega, omega ** 2,
-                             np.ascontiguousarray(weights))
+        return _floor_kernel(
+            ag, coef, 2.0 * self.damping * omega, omega**2, np.ascontiguousarray(weights)
+        )
 
     def __str__(self) -> str:
         stories = "story" if self.n_stories == 1 else "stories"
-        return (f"ShearFrame({self.name!r}: {self.n_stories} {stories}, "
-                f"T1 = {self.periods[0]:.4g} s, damping {self.damping:g})")
+        return (
+            f"ShearFrame({self.name!r}: {self.n_stories} {stories}, "
+            f"T1 = {self.periods[0]:.4g} s, damping {self.damping:g})"
+        )
 
 
 @parallel_kernel
@@ -360,7 +413,8 @@ def _floor_kernel(ag, coef, c, k, weights):
 
     ag (n_motions, n_t) ground acceleration [m/s²]; coef (n_modes, 8): the exact (Nigam &
     Jennings 1969) one-step recurrence of each mode for ground acceleration linear over a step,
-    from :func:`rocking.motions.response.foh_coefficients`; c = 2ζω_r [1/s] and k = ω_r² [1/s²] per mode;
+    from :func:`rocking.motions.response.foh_coefficients`; c = 2ζω_r [1/s] and k = ω_r² [1/s²] per
+    mode;
     weights (n_rows, n_modes) = φ_ir Γ_r [-].
 
     Hand-written rather than ``scipy.signal.lfilter`` per mode plus a matrix product: one pass
@@ -387,6 +441,8 @@ def _floor_kernel(ag, coef, c, k, weights):
                 a1 = ag[m, j + 1]
                 for r in range(n_modes):
                     e = coef[r]
-                    u[r], v[r] = (e[0] * u[r] + e[1] * v[r] + e[2] * a0 + e[3] * a1,
-                                  e[4] * u[r] + e[5] * v[r] + e[6] * a0 + e[7] * a1)
+                    u[r], v[r] = (
+                        e[0] * u[r] + e[1] * v[r] + e[2] * a0 + e[3] * a1,
+                        e[4] * u[r] + e[5] * v[r] + e[6] * a0 + e[7] * a1,
+                    )
     return out

@@ -17,8 +17,13 @@ from ..defaults import STUDY_SECTIONS
 from ..errors import InputError
 
 #: Study modules by section number (imported when a section runs: they load Matplotlib).
-STUDIES = {"4": "sec4_baseline", "5": "sec5_sensitivity", "6": "sec6_duration",
-           "7": "sec7_floors", "8": "sec8_energy"}
+STUDIES = {
+    "4": "sec4_baseline",
+    "5": "sec5_sensitivity",
+    "6": "sec6_duration",
+    "7": "sec7_floors",
+    "8": "sec8_energy",
+}
 
 
 def study(section: str):
@@ -26,8 +31,17 @@ def study(section: str):
     return importlib.import_module(f".{STUDIES[section]}", __name__)
 
 
-def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | None = None,
-              config=None, sets=(), progress=False, echo=None) -> Path:
+def reproduce(
+    sections,
+    *,
+    fidelity: str = "quick",
+    out_dir,
+    scheduler: str | None = None,
+    config=None,
+    sets=(),
+    progress=False,
+    echo=None,
+) -> Path:
     """Run ``sections`` (e.g. ``["8"]`` or all of :data:`STUDIES`) and write the report.
 
     Parameters
@@ -41,7 +55,8 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
         figures/, tables/, and chunks/ (finished Monte Carlo chunks: a rerun with the same
         parameters resumes from them).
     scheduler : str, optional
-        Backend (:func:`rocking.montecarlo.backends.get_backend`): None/"local", "dask-local" or a Dask
+        Backend (:func:`rocking.montecarlo.backends.get_backend`): None/"local", "dask-local" or a
+        Dask
         scheduler address.
     config : str or Path, optional
         TOML file of parameter overrides (:func:`rocking.studies.config.load_config`).
@@ -57,29 +72,36 @@ def reproduce(sections, *, fidelity: str = "quick", out_dir, scheduler: str | No
     Path
         The report.html written.
     """
-    from ..montecarlo.backends import get_backend
     from ..core.progress import resolve
-    from ..report import remove_report
     from ..core.runs import RunFolder
+    from ..montecarlo.backends import get_backend
+    from ..report import remove_report
     from .config import PRESETS, RunContext, load_config, validate
 
     echo = echo or (lambda _msg: None)
     sections = list(dict.fromkeys(str(s) for s in sections))
     unknown = [s for s in sections if s not in STUDIES]
     if unknown or not sections:
-        raise InputError(f"unknown section(s) {', '.join(unknown) or '(none)'}; choose from "
-                         f"{', '.join(STUDIES)} or all")
+        raise InputError(
+            f"unknown section(s) {', '.join(unknown) or '(none)'}; choose from "
+            f"{', '.join(STUDIES)} or all"
+        )
     cfg = load_config(fidelity, config, sets)
     validate(cfg)
     backend = get_backend(scheduler)  # checks the address before anything is written
     reporter = resolve(progress)
     out = Path(out_dir)
     modified = cfg != PRESETS[fidelity]
-    run_info = {"sections": sections, "fidelity": fidelity,
-                "config_file": None if config is None else str(config), "sets": list(sets),
-                "modified": modified, "scheduler": scheduler or "local",
-                "seeds": {s: cfg[s]["seed"] for s in cfg if "seed" in cfg[s]},
-                "backend": repr(backend)}
+    run_info = {
+        "sections": sections,
+        "fidelity": fidelity,
+        "config_file": None if config is None else str(config),
+        "sets": list(sets),
+        "modified": modified,
+        "scheduler": scheduler or "local",
+        "seeds": {s: cfg[s]["seed"] for s in cfg if "seed" in cfg[s]},
+        "backend": repr(backend),
+    }
     with RunFolder(out, command="reproduce", params={"parameters": cfg}) as run, reporter:
         # the pages of an earlier run must not look like this run's result if it fails
         remove_report(out)
@@ -114,8 +136,11 @@ def _write_report(out: Path, ctx, results: dict) -> list[str]:
     from . import conclusions
 
     sections = list(results)
-    rep = Report(f"Reproduction of the rocking paper: sections {', '.join(sections)} "
-                 f"({ctx.fidelity} fidelity)", out)
+    rep = Report(
+        f"Reproduction of the rocking paper: sections {', '.join(sections)} "
+        f"({ctx.fidelity} fidelity)",
+        out,
+    )
     _introduction(rep, ctx, sections, ctx.fidelity, ctx.modified)
     _conclusions(rep, conclusions.evaluate(results), ctx.label())
     for s in sections:
@@ -134,19 +159,31 @@ def _introduction(rep, ctx, sections, fidelity: str, modified: bool) -> None:
         f"simulated from the RG 1.60 spectrum with the {c['envelope']} intensity function, "
         f"{c['duration']:g} s, unless a section says otherwise. Every parameter, seed, version "
         "and wall time is in [run.json](run.json); tables are also in `tables/` as CSV. "
-        + ("The quick fidelity uses small ensembles: its probabilities carry wide sampling "
-           "intervals (shown), so verdicts may differ from a paper-fidelity run."
-           if fidelity == "quick" else ""))
+        + (
+            "The quick fidelity uses small ensembles: its probabilities carry wide sampling "
+            "intervals (shown), so verdicts may differ from a paper-fidelity run."
+            if fidelity == "quick"
+            else ""
+        )
+    )
 
 
 def _conclusions(rep, verdicts, label: str) -> None:
     import pandas as pd
 
     rep.heading("The paper's nine conclusions")
-    table = pd.DataFrame({"no.": [v.number for v in verdicts],
-                          "verdict": [v.verdict for v in verdicts],
-                          "sections": [v.sections for v in verdicts],
-                          "conclusion (paper, Section 9)": [v.statement for v in verdicts]})
-    rep.table(table, f"Verdicts on the paper's conclusions, evidence below [{label}; "
-              "sizes per section in the figure captions]", name="conclusions")
+    table = pd.DataFrame(
+        {
+            "no.": [v.number for v in verdicts],
+            "verdict": [v.verdict for v in verdicts],
+            "sections": [v.sections for v in verdicts],
+            "conclusion (paper, Section 9)": [v.statement for v in verdicts],
+        }
+    )
+    rep.table(
+        table,
+        f"Verdicts on the paper's conclusions, evidence below [{label}; "
+        "sizes per section in the figure captions]",
+        name="conclusions",
+    )
     rep.text("\n".join(f"- **{v.number}. {v.verdict}.** {v.evidence}" for v in verdicts))

@@ -16,14 +16,18 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from ..assessment.screen import AGREE, eq11_vs_monte_carlo
 from ..dynamics.body import FOOT
 from ..montecarlo.statistics import wilson_interval
-from ..assessment.screen import AGREE, eq11_vs_monte_carlo
 from .paper import paper_values
 from .sec5_sensitivity import reversals
 
 REPRODUCED, PARTLY, NOT_REPRODUCED, NOT_EVALUATED = (
-    "reproduced", "partly", "not reproduced", "not evaluated")
+    "reproduced",
+    "partly",
+    "not reproduced",
+    "not evaluated",
+)
 
 #: Conclusion 1: share of (body, motion) outcomes the correction must change to count as
 #: "sensitive" (one flip in fifty pairs).
@@ -92,12 +96,15 @@ def conclusion_1(check: xr.Dataset) -> Verdict:
     changed = int((raw["overturned"] != cor["overturned"]).sum())
     n = int(raw["overturned"].size)
     rocked = ~raw["overturned"] & ~cor["overturned"] & (raw["peak"] > 0) & (cor["peak"] > 0)
-    rel = np.abs(cor["peak"] - raw["peak"]).values[rocked.values] / raw["peak"].values[
-        rocked.values]
+    rel = (
+        np.abs(cor["peak"] - raw["peak"]).values[rocked.values] / raw["peak"].values[rocked.values]
+    )
     med = f"{np.median(rel):.1%}" if rel.size else "n/a (none rocked without overturning)"
-    evidence = (f"the correction changes the overturning outcome in {_share(changed, n)} "
-                f"(body, motion) pairs at PGA {check.attrs.get('agx', float('nan')):g} g; "
-                f"median change of peak θ/α where neither overturns: {med}")
+    evidence = (
+        f"the correction changes the overturning outcome in {_share(changed, n)} "
+        f"(body, motion) pairs at PGA {check.attrs.get('agx', float('nan')):g} g; "
+        f"median change of peak θ/α where neither overturns: {med}"
+    )
     if changed / n >= MIN_CHANGED_SHARE:
         return _verdict(1, REPRODUCED, evidence, "4")
     verdict = PARTLY if changed or (rel.size and np.median(rel) >= 0.1) else NOT_REPRODUCED
@@ -112,15 +119,19 @@ def conclusion_2(sweeps: dict, motions: xr.Dataset) -> Verdict:
     found = [0 < n_ov < n]
     for name, ds in sweeps.items():
         rev = reversals(ds)
-        parts.append(f"{name}: {rev['peak']} of {rev['n']} motions reversed "
-                     f"({rev['outcome']} with overturning at the milder value only)")
+        parts.append(
+            f"{name}: {rev['peak']} of {rev['n']} motions reversed "
+            f"({rev['outcome']} with overturning at the milder value only)"
+        )
         found.append(rev["peak"] > 0)
     evidence = "; ".join(parts)
     k = sum(found)
-    verdict = REPRODUCED if k == len(found) else PARTLY if k >= len(found) // 2 + 1 else \
-        NOT_REPRODUCED
-    return _verdict(2, verdict, f"{k} of {len(found)} factors act unsystematically: {evidence}",
-                    "5")
+    verdict = (
+        REPRODUCED if k == len(found) else PARTLY if k >= len(found) // 2 + 1 else NOT_REPRODUCED
+    )
+    return _verdict(
+        2, verdict, f"{k} of {len(found)} factors act unsystematically: {evidence}", "5"
+    )
 
 
 # --------------------------------------------------------------------------- statistics
@@ -129,8 +140,11 @@ def conclusion_2(sweeps: dict, motions: xr.Dataset) -> Verdict:
 def _curves(ds: xr.Dataset) -> list[xr.Dataset]:
     """Every probability curve (1-D over agx) of a dataset."""
     other = [d for d in ds["probability"].dims if d != "agx"]
-    stacked = ds[["probability", "ci_low", "ci_high"]].stack(curve=other) if other else \
-        ds[["probability", "ci_low", "ci_high"]].expand_dims(curve=[0])
+    stacked = (
+        ds[["probability", "ci_low", "ci_high"]].stack(curve=other)
+        if other
+        else ds[["probability", "ci_low", "ci_high"]].expand_dims(curve=[0])
+    )
     return [stacked.isel(curve=i) for i in range(stacked.sizes["curve"])]
 
 
@@ -151,16 +165,23 @@ def conclusion_3(datasets: dict) -> Verdict:
             if lo[-1] > hi[0]:
                 n_up += 1
     varying = n_curves - n_flat
-    evidence = (f"{n_curves} curves (sections {', '.join(datasets)}); {n_flat} flat (all 0 or "
-                f"all 1 on the grid); of the other {varying}: {n_up} rise significantly from the "
-                f"lowest to the highest A_gx, {n_down} have a significant drop between any two "
-                "levels")
+    evidence = (
+        f"{n_curves} curves (sections {', '.join(datasets)}); {n_flat} flat (all 0 or "
+        f"all 1 on the grid); of the other {varying}: {n_up} rise significantly from the "
+        f"lowest to the highest A_gx, {n_down} have a significant drop between any two "
+        "levels"
+    )
     if varying == 0:
         return _verdict(3, NOT_EVALUATED, evidence, ", ".join(datasets))
     # Curves that stay near 0 or 1 on the grid rise too little to be significant: a majority
     # of significant rises and no significant drop is what "increases" can be held to.
-    verdict = REPRODUCED if n_down == 0 and n_up >= 0.5 * varying else \
-        PARTLY if n_down <= 0.1 * varying else NOT_REPRODUCED
+    verdict = (
+        REPRODUCED
+        if n_down == 0 and n_up >= 0.5 * varying
+        else PARTLY
+        if n_down <= 0.1 * varying
+        else NOT_REPRODUCED
+    )
     return _verdict(3, verdict, evidence, ", ".join(datasets))
 
 
@@ -179,9 +200,11 @@ def conclusion_4(prob: xr.Dataset) -> Verdict:
     up, down = int(_higher(hi, lo).sum()), int(_higher(lo, hi).sum())
     cells = int(lo["probability"].size)
     means = ", ".join(f"{t:g} s: {m:.3f}" for t, m in zip(d, mean))
-    evidence = (f"mean probability over shapes, bodies and A_gx by duration: {means}; "
-                f"{d.max():g} s against {d.min():g} s: significantly higher in {up} and lower "
-                f"in {down} of {cells} (shape, body, A_gx) cells")
+    evidence = (
+        f"mean probability over shapes, bodies and A_gx by duration: {means}; "
+        f"{d.max():g} s against {d.min():g} s: significantly higher in {up} and lower "
+        f"in {down} of {cells} (shape, body, A_gx) cells"
+    )
     monotone = bool(np.all(np.diff(mean) >= 0))
     if monotone and up > 0 and down == 0:
         verdict = REPRODUCED
@@ -199,19 +222,26 @@ def conclusion_5(prob: xr.Dataset) -> Verdict:
     d = np.sort(prob["duration"].values)
     mids = d[(d >= 25.0) & (d < d.max())]
     if d.max() <= 25.0 or mids.size == 0 or d.min() >= mids[-1]:
-        return _verdict(5, NOT_EVALUATED, f"needs durations below 25 s, 25 s (or more) and a "
-                        f"longer one; durations run: {', '.join(f'{t:g}' for t in d)} s", "6")
+        return _verdict(
+            5,
+            NOT_EVALUATED,
+            f"needs durations below 25 s, 25 s (or more) and a "
+            f"longer one; durations run: {', '.join(f'{t:g}' for t in d)} s",
+            "6",
+        )
     t_lo, t_mid, t_hi = d.min(), mids[-1], d.max()
     mean = _by_duration(prob)
     early = float(mean.sel(duration=t_mid) - mean.sel(duration=t_lo)) / (t_mid - t_lo)
     late = float(mean.sel(duration=t_hi) - mean.sel(duration=t_mid)) / (t_hi - t_mid)
     sig = int(_higher(prob.sel(duration=t_hi), prob.sel(duration=t_mid)).sum())
     cells = int(prob.sel(duration=t_hi)["probability"].size)
-    evidence = (f"growth of the mean probability per second of duration: {early:.4f}/s from "
-                f"{t_lo:g} to {t_mid:g} s, {late:.4f}/s from {t_mid:g} to {t_hi:g} s "
-                f"(ratio {late / early if early else float('nan'):.2f}; 'not appreciable' taken "
-                f"as ≤ {LATE_GROWTH_FRACTION:g}); {t_hi:g} s significantly above {t_mid:g} s in "
-                f"{sig} of {cells} cells")
+    evidence = (
+        f"growth of the mean probability per second of duration: {early:.4f}/s from "
+        f"{t_lo:g} to {t_mid:g} s, {late:.4f}/s from {t_mid:g} to {t_hi:g} s "
+        f"(ratio {late / early if early else float('nan'):.2f}; 'not appreciable' taken "
+        f"as ≤ {LATE_GROWTH_FRACTION:g}); {t_hi:g} s significantly above {t_mid:g} s in "
+        f"{sig} of {cells} cells"
+    )
     if early > 0 and late <= LATE_GROWTH_FRACTION * early and sig == 0:
         verdict = REPRODUCED
     elif early > 0 and late < early:
@@ -228,16 +258,22 @@ def conclusion_6(prob: xr.Dataset) -> Verdict:
         return _verdict(6, NOT_EVALUATED, "needs at least two intensity functions", "6")
     mean = prob["probability"].mean("agx")
     spread = mean.max("envelope") - mean.min("envelope")  # (duration, body)
-    sig = sum(int(_higher(prob.sel(envelope=a), prob.sel(envelope=b)).sum())
-              for a in envs for b in envs if a != b)
+    sig = sum(
+        int(_higher(prob.sel(envelope=a), prob.sel(envelope=b)).sum())
+        for a in envs
+        for b in envs
+        if a != b
+    )
     cells = int(prob.sel(envelope=envs[0])["probability"].size)
     k = int(np.argmax(spread.values))
     worst = spread.stack(c=spread.dims).isel(c=k)
-    evidence = (f"largest difference between shapes of the probability averaged over A_gx: "
-                f"{float(spread.max()):.3f} (duration {float(worst['duration']):g} s, "
-                f"{worst['body'].item()}), mean {float(spread.mean()):.3f}; 'little' taken as "
-                f"≤ {SHAPE_EFFECT:g}; significant pairwise differences in {sig} of "
-                f"{cells * len(envs) * (len(envs) - 1) // 2} (pair, duration, body, A_gx) cells")
+    evidence = (
+        f"largest difference between shapes of the probability averaged over A_gx: "
+        f"{float(spread.max()):.3f} (duration {float(worst['duration']):g} s, "
+        f"{worst['body'].item()}), mean {float(spread.mean()):.3f}; 'little' taken as "
+        f"≤ {SHAPE_EFFECT:g}; significant pairwise differences in {sig} of "
+        f"{cells * len(envs) * (len(envs) - 1) // 2} (pair, duration, body, A_gx) cells"
+    )
     if float(spread.max()) <= SHAPE_EFFECT:
         verdict = REPRODUCED
     elif float(spread.mean()) <= SHAPE_EFFECT:
@@ -266,17 +302,25 @@ def conclusion_7(prob: xr.Dataset) -> Verdict:
     parts, signs = [], set()
     for frame in prob["frame"].values:
         up, down, cells, diff = _floor_differences(prob, frame)
-        parts.append(f"{frame}: floors significantly above the ground in {up}, below in {down} "
-                     f"of {cells} cells (mean P(floor) − P(ground) "
-                     f"{float(diff.min()):+.3f} to {float(diff.max()):+.3f})")
+        parts.append(
+            f"{frame}: floors significantly above the ground in {up}, below in {down} "
+            f"of {cells} cells (mean P(floor) − P(ground) "
+            f"{float(diff.min()):+.3f} to {float(diff.max()):+.3f})"
+        )
         signs |= {s for s, k in (("+", up), ("-", down)) if k}
     evidence = "; ".join(parts)
     if signs == {"+", "-"}:
-        return _verdict(7, REPRODUCED, "floors are significantly more dangerous than the "
-                        f"ground in some cases and less in others: {evidence}", "7")
+        return _verdict(
+            7,
+            REPRODUCED,
+            "floors are significantly more dangerous than the "
+            f"ground in some cases and less in others: {evidence}",
+            "7",
+        )
     verdict = NOT_EVALUATED if not signs else NOT_REPRODUCED
-    return _verdict(7, verdict, "a single direction (or none) of significant difference: "
-                    + evidence, "7")
+    return _verdict(
+        7, verdict, "a single direction (or none) of significant difference: " + evidence, "7"
+    )
 
 
 def conclusion_8(prob: xr.Dataset) -> Verdict:
@@ -288,11 +332,14 @@ def conclusion_8(prob: xr.Dataset) -> Verdict:
     frame = prob["frame"].values[int(np.argmin(t1))]
     up, down, cells, diff = _floor_differences(prob, frame)
     n_below = int((diff < 0).sum())
-    evidence = (f"{frame} (T1 = {t1.min():.3f} s): mean P(floor) − P(ground) by floor "
-                + ", ".join(f"{loc}: {float(v):+.3f}" for loc, v in
-                            zip(diff["location"].values, diff.values))
-                + f"; floor significantly above the ground in {up}, below in {down} of {cells} "
-                "(floor, body, A_gx) cells")
+    evidence = (
+        f"{frame} (T1 = {t1.min():.3f} s): mean P(floor) − P(ground) by floor "
+        + ", ".join(
+            f"{loc}: {float(v):+.3f}" for loc, v in zip(diff["location"].values, diff.values)
+        )
+        + f"; floor significantly above the ground in {up}, below in {down} of {cells} "
+        "(floor, body, A_gx) cells"
+    )
     if n_below == diff.size and up == 0 and down > 0:
         verdict = REPRODUCED
     elif n_below > diff.size / 2 and down > up:
@@ -311,8 +358,7 @@ def ratio_stats(ratio) -> dict:
     r = r[np.isfinite(r)]
     if r.size == 0:
         return {"n": 0, "mean": np.nan, "min": np.nan, "max": np.nan}
-    return {"n": int(r.size), "mean": float(r.mean()), "min": float(r.min()),
-            "max": float(r.max())}
+    return {"n": int(r.size), "mean": float(r.mean()), "min": float(r.min()), "max": float(r.max())}
 
 
 def linear_fit(balance: xr.Dataset) -> tuple[float, float, float]:
@@ -337,9 +383,11 @@ def conclusion_9(balance: xr.Dataset, examples: xr.Dataset | None = None) -> Ver
         b = balance.sel(location=loc)
         s = ratio_stats(b["ratio"].values)
         slope, intercept, r2 = linear_fit(b)
-        parts.append(f"{loc}: S_v1/S_v of {s['n']} bodies mean {s['mean']:.3f}, range "
-                     f"{s['min']:.3f}–{s['max']:.3f}; S_v = {intercept:.1f} + {slope:.1f}·A_gx50"
-                     f" with R² = {r2:.3f}")
+        parts.append(
+            f"{loc}: S_v1/S_v of {s['n']} bodies mean {s['mean']:.3f}, range "
+            f"{s['min']:.3f}–{s['max']:.3f}; S_v = {intercept:.1f} + {slope:.1f}·A_gx50"
+            f" with R² = {r2:.3f}"
+        )
         lo, hi = RATIO_RANGE if i == 0 else FLOOR_RANGE
         good = s["n"] > 0 and lo <= s["min"] and s["max"] <= hi
         if i == 0:
@@ -347,15 +395,22 @@ def conclusion_9(balance: xr.Dataset, examples: xr.Dataset | None = None) -> Ver
         ok.append(good)
     parts.append(f"paper (ground): range {paper['ratio_min']}–{paper['ratio_max']}")
     if examples is not None:
-        compared = eq11_vs_monte_carlo(examples["verdict"].values,
-                                       examples["probability"].values,
-                                       examples["ci_low"].values, examples["ci_high"].values)
+        compared = eq11_vs_monte_carlo(
+            examples["verdict"].values,
+            examples["probability"].values,
+            examples["ci_low"].values,
+            examples["ci_high"].values,
+        )
         agree = sum(c.startswith(AGREE) for c in compared)
-        parts.append(f"worked examples: Eq. (11) with our spectrum agrees with the simulated "
-                     f"probability for {agree} of {len(compared)} bodies")
-    evidence = "; ".join(parts) + (f" (thresholds: ground mean within ±{RATIO_MEAN:g} of 1 and "
-                                   f"range within {RATIO_RANGE}, floor range within "
-                                   f"{FLOOR_RANGE})")
+        parts.append(
+            f"worked examples: Eq. (11) with our spectrum agrees with the simulated "
+            f"probability for {agree} of {len(compared)} bodies"
+        )
+    evidence = "; ".join(parts) + (
+        f" (thresholds: ground mean within ±{RATIO_MEAN:g} of 1 and "
+        f"range within {RATIO_RANGE}, floor range within "
+        f"{FLOOR_RANGE})"
+    )
     verdict = REPRODUCED if all(ok) else PARTLY if ok[0] else NOT_REPRODUCED
     return _verdict(9, verdict, evidence, "8")
 
@@ -402,7 +457,7 @@ def agx50_interval(curve: xr.Dataset) -> tuple[float, float]:
         k = int(np.argmax(y >= 0.5))
         if k == 0:
             return float(agx[0])
-        return float(np.interp(0.5, y[k - 1:k + 1], agx[k - 1:k + 1]))
+        return float(np.interp(0.5, y[k - 1 : k + 1], agx[k - 1 : k + 1]))
 
     return crossing(hi), crossing(lo)
 
@@ -416,15 +471,17 @@ def known_disagreements(results: dict) -> list[str]:
     pv = paper_values()
     t = pv["tables"]
     printed = np.array(t["table1_sv_required"])
-    feet = np.array([[100 * housner_sv(Block(f * FOOT, g)) for g in t["gamma"]]
-                     for f in t["R_ft"]])
-    metres = np.array([[100 * housner_sv(Block(r, g)) for g in t["gamma"]]
-                       for r in t["R_printed_m"]])
+    feet = np.array([[100 * housner_sv(Block(f * FOOT, g)) for g in t["gamma"]] for f in t["R_ft"]])
+    metres = np.array(
+        [[100 * housner_sv(Block(r, g)) for g in t["gamma"]] for r in t["R_printed_m"]]
+    )
     diff = feet - printed
     off = np.abs(diff) > 0.05  # cm/s: Table 1 prints two decimals; the rest agree to 0.03
-    cells = ", ".join(f"R = {t['R_printed_m'][i]} m, γ = {t['gamma'][j]:g}: printed "
-                      f"{printed[i, j]:.2f}, Eq. (11) {feet[i, j]:.2f} cm/s"
-                      for i, j in zip(*np.nonzero(off)))
+    cells = ", ".join(
+        f"R = {t['R_printed_m'][i]} m, γ = {t['gamma'][j]:g}: printed "
+        f"{printed[i, j]:.2f}, Eq. (11) {feet[i, j]:.2f} cm/s"
+        for i, j in zip(*np.nonzero(off))
+    )
     ratio_t3 = np.array(t["table3_ratio"]) * printed / feet
     items = [
         f"**Table 1 misprints.** With R in whole feet (1.22 m = 4 ft, 3.05 m = 10 ft = 3.048 m) "
@@ -450,8 +507,10 @@ def known_disagreements(results: dict) -> list[str]:
         ours = 100 * float(ex["sv_available"].values[0])
         paper = pv["section8"]["example_floor_sv_cm_s"]
         # the paper's first worked example is R = 4 ft, γ = 2 (safe by Eq. 11 in the paper)
-        is_papers = (np.isclose(float(ex["R"].values[0]), 4 * FOOT, rtol=1e-6)
-                     and float(ex["gamma"].values[0]) == 2.0)
+        is_papers = (
+            np.isclose(float(ex["R"].values[0]), 4 * FOOT, rtol=1e-6)
+            and float(ex["gamma"].values[0]) == 2.0
+        )
         items.append(
             f"**Floor spectrum of the worked examples.** Max of the mean S_v in 0.04–0.6 Hz on "
             f"{ex.attrs['location']} at A_gx = {ex.attrs['agx']:g} g: ours {ours:.1f} cm/s, "
@@ -463,25 +522,31 @@ def known_disagreements(results: dict) -> list[str]:
             f"'{ex['verdict'].values[0]}' by Eq. (11){' (the paper: safe)' if is_papers else ''}; "
             "the simulated "
             f"probability of overturning is {float(ex['probability'].values[0]):.2f} "
-            f"(95 % CI {float(ex['ci_low'].values[0]):.2f}–{float(ex['ci_high'].values[0]):.2f}).")
+            f"(95 % CI {float(ex['ci_low'].values[0]):.2f}–{float(ex['ci_high'].values[0]):.2f})."
+        )
         g = ratio_stats(r8.balance["ratio"].isel(location=0).values)
         pr = np.array(t["table3_ratio"])
         f13 = r8.fig13
         lo, hi = agx50_interval(f13.isel(body=0))
         a50 = f13.attrs["agx50"]
-        spread = (f"50 % lies inside the 95 % Wilson band of Fig. 13 from {lo:.2f} to {hi:.2f} g "
-                  f"(A_gx50 {a50:.2f} g ± {50 * (hi - lo) / a50:.0f} %)"
-                  if np.isfinite([lo, hi, a50]).all() else "see the Wilson band of Fig. 13")
+        spread = (
+            f"50 % lies inside the 95 % Wilson band of Fig. 13 from {lo:.2f} to {hi:.2f} g "
+            f"(A_gx50 {a50:.2f} g ± {50 * (hi - lo) / a50:.0f} %)"
+            if np.isfinite([lo, hi, a50]).all()
+            else "see the Wilson band of Fig. 13"
+        )
         items.append(
             f"**Table 3.** Our ground ratios S_v1/S_v: mean {g['mean']:.3f}, range "
             f"{g['min']:.3f}–{g['max']:.3f} over {g['n']} bodies; the paper's: mean "
             f"{pr.mean():.3f}, range {pr.min():.3f}–{pr.max():.3f}. A_gx50 from a finite "
             "ensemble carries sampling error, which the ratio inherits: with the "
-            f"{int(f13['n'].max())} motions of this run, {spread}.")
+            f"{int(f13['n'].max())} motions of this run, {spread}."
+        )
         items.append(
             f"**Fig. 13.** A_gx50 of {f13['body'].values[0]} on the ground: ours "
             f"{a50:.2f} g (A_gx where 50 % lies inside the 95 % Wilson band: "
-            f"{lo:.2f}–{hi:.2f} g), the paper's {pv['section8']['fig13_agx50']} g.")
+            f"{lo:.2f}–{hi:.2f} g), the paper's {pv['section8']['fig13_agx50']} g."
+        )
     return items
 
 
@@ -497,16 +562,24 @@ def _frame_hint(psv: xr.DataArray, pv: dict) -> str:
     for frame in psv["frame"].values:
         sv1 = float(band.sel(frame=frame, location="floor 1"))
         same_order = floor_order(psv, frame) == order
-        parts.append(f"{frame} (T1 = {float(psv['T1'].sel(frame=frame)):.2f} s): floor-1 S_v "
-                     f"{sv1:.1f} cm/s, order at 1 Hz "
-                     f"{'the same as' if same_order else 'unlike'} the paper's")
+        parts.append(
+            f"{frame} (T1 = {float(psv['T1'].sel(frame=frame)):.2f} s): floor-1 S_v "
+            f"{sv1:.1f} cm/s, order at 1 Hz "
+            f"{'the same as' if same_order else 'unlike'} the paper's"
+        )
         if same_order and abs(sv1 / target - 1.0) < FRAME_MATCH:
             both.append(str(frame))
-    verdict = (f"Matching both (S_v within {FRAME_MATCH:.0%}): {', '.join(both)}; the paper's "
-               "Fig. 12(a) and worked examples may have used a stiffer frame than the stated "
-               "444.82 kN/g and 55.23 kN/cm (a hint, not a proof)."
-               if both else "No frame of ours matches both.")
-    return ("**Which frame is the paper's Fig. 12(a)?** The paper gives, for its T1 = 2.0 s "
-            f"frame at A_gx = {psv.attrs['agx']:g} g, a floor-1 S_v of {target:.2f} cm/s "
-            f"(0.04–0.6 Hz) and the order {', '.join(order)} at 1 Hz. Ours: "
-            + "; ".join(parts) + f". {verdict}")
+    verdict = (
+        f"Matching both (S_v within {FRAME_MATCH:.0%}): {', '.join(both)}; the paper's "
+        "Fig. 12(a) and worked examples may have used a stiffer frame than the stated "
+        "444.82 kN/g and 55.23 kN/cm (a hint, not a proof)."
+        if both
+        else "No frame of ours matches both."
+    )
+    return (
+        "**Which frame is the paper's Fig. 12(a)?** The paper gives, for its T1 = 2.0 s "
+        f"frame at A_gx = {psv.attrs['agx']:g} g, a floor-1 S_v of {target:.2f} cm/s "
+        f"(0.04–0.6 Hz) and the order {', '.join(order)} at 1 Hz. Ours: "
+        + "; ".join(parts)
+        + f". {verdict}"
+    )

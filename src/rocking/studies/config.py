@@ -19,7 +19,8 @@ of a CSV file read by :func:`rocking.assessment.bodies.read_bodies`; frames are 
     ``dt`` [s] time step of motions and rocking solver; ``e`` [-] coefficient of restitution;
     ``envelope`` ("boxcar", "trapezoidal", "compound"); ``duration`` [s];
     ``envelope_params`` (table, e.g. ``{t1 = 2.0, t2 = 12.0, c = 0.25}`` [s, s, 1/s]; empty: the
-    duration rule of :mod:`rocking.motions.envelopes`); ``iterations`` [-] spectral-matching iterations
+    duration rule of :mod:`rocking.motions.envelopes`); ``iterations`` [-] spectral-matching
+    iterations
     of :func:`rocking.motions.synthesis.generate` (the paper: 0).
 ``[sec4]`` baseline correction (Figs. 3–4): ``seed``; ``motion`` (No.); ``R`` [m]; ``gammas``;
     ``agx`` [g] (the motion's own PGA); ``n_check`` [-] motions over which the share of changed
@@ -63,44 +64,95 @@ def _ft(*feet) -> list[float]:
 
 
 def _grid(lo: float, hi: float, step: float) -> list[float]:
-    n = int(round((hi - lo) / step))
+    n = round((hi - lo) / step)
     return [round(lo + i * step, 10) for i in range(n + 1)]
 
 
 _R4, _R8, _R12 = _ft(4, 8, 12)
 
 PAPER: dict = {
-    "common": {"dt": 1 / 400, "e": 0.925, "envelope": "compound", "duration": 20.0,
-               "envelope_params": {}, "iterations": 0},
-    "sec4": {"seed": 1, "motion": 1, "R": _ft(10)[0], "gammas": [3.75, 4.0, 5.0, 6.0],
-             "agx": 0.6, "n_check": 100},
-    "sec5": {"seed": 1, "n": 25, "R": _R12, "gamma": 5.0, "agx": 0.6,
-             "motions": [10, 12, 19, 23], "scale_motion": 25, "scales": [0.35, 0.45, 0.6, 0.75],
-             "size_motion": 1, "size_agx": 0.5, "sizes": _ft(5, 10, 12, 14), "size_gamma": 5.0,
-             "e_R": _ft(10)[0], "e_values": [0.80, 0.88, 0.92, 0.93],
-             "gammas": [3.75, 4.0, 5.0, 6.0]},
-    "sec6": {"seed": 6, "n": 500, "durations": [10.0, 15.0, 20.0, 25.0, 30.0],
-             "envelopes": ["boxcar", "trapezoidal", "compound"],
-             "bodies": [[_R4, 4.0], [_R12, 4.0]], "agx": _grid(0.1, 1.5, 0.1),
-             "fig10_durations": [15.0, 20.0, 25.0, 30.0]},
-    "sec7": {"seed": 7, "n": 500, "frames": ["paper-2.0", "paper-1.5", "paper-1.0", "paper-0.5"],
-             "bodies": [[r, g] for r in (_R4, _R8, _R12) for g in (3.0, 4.0)],
-             "agx": _grid(0.3, 0.8, 0.05), "spectra_agx": 0.6, "n_freq": 150,
-             "fig11_body": [_R4, 4.0]},
-    "sec8": {"seed": 8, "n": 200, "bodies": "paper", "frame": "paper-2.0", "floor": 1,
-             "resolution": 0.01, "agx_max": 5.0, "fig13_agx": _grid(0.5, 1.6, 0.05),
-             "examples": [[_R4, 2.0], [_R4, 4.0]], "example_agx": 0.6, "band_hz": [0.04, 0.6]},
+    "common": {
+        "dt": 1 / 400,
+        "e": 0.925,
+        "envelope": "compound",
+        "duration": 20.0,
+        "envelope_params": {},
+        "iterations": 0,
+    },
+    "sec4": {
+        "seed": 1,
+        "motion": 1,
+        "R": _ft(10)[0],
+        "gammas": [3.75, 4.0, 5.0, 6.0],
+        "agx": 0.6,
+        "n_check": 100,
+    },
+    "sec5": {
+        "seed": 1,
+        "n": 25,
+        "R": _R12,
+        "gamma": 5.0,
+        "agx": 0.6,
+        "motions": [10, 12, 19, 23],
+        "scale_motion": 25,
+        "scales": [0.35, 0.45, 0.6, 0.75],
+        "size_motion": 1,
+        "size_agx": 0.5,
+        "sizes": _ft(5, 10, 12, 14),
+        "size_gamma": 5.0,
+        "e_R": _ft(10)[0],
+        "e_values": [0.80, 0.88, 0.92, 0.93],
+        "gammas": [3.75, 4.0, 5.0, 6.0],
+    },
+    "sec6": {
+        "seed": 6,
+        "n": 500,
+        "durations": [10.0, 15.0, 20.0, 25.0, 30.0],
+        "envelopes": ["boxcar", "trapezoidal", "compound"],
+        "bodies": [[_R4, 4.0], [_R12, 4.0]],
+        "agx": _grid(0.1, 1.5, 0.1),
+        "fig10_durations": [15.0, 20.0, 25.0, 30.0],
+    },
+    "sec7": {
+        "seed": 7,
+        "n": 500,
+        "frames": ["paper-2.0", "paper-1.5", "paper-1.0", "paper-0.5"],
+        "bodies": [[r, g] for r in (_R4, _R8, _R12) for g in (3.0, 4.0)],
+        "agx": _grid(0.3, 0.8, 0.05),
+        "spectra_agx": 0.6,
+        "n_freq": 150,
+        "fig11_body": [_R4, 4.0],
+    },
+    "sec8": {
+        "seed": 8,
+        "n": 200,
+        "bodies": "paper",
+        "frame": "paper-2.0",
+        "floor": 1,
+        "resolution": 0.01,
+        "agx_max": 5.0,
+        "fig13_agx": _grid(0.5, 1.6, 0.05),
+        "examples": [[_R4, 2.0], [_R4, 4.0]],
+        "example_agx": 0.6,
+        "band_hz": [0.04, 0.6],
+    },
 }
 
 QUICK: dict = copy.deepcopy(PAPER)
 QUICK["common"]["dt"] = 1 / 200
 QUICK["sec4"]["n_check"] = 25
-QUICK["sec6"].update(n=40, agx=_grid(0.2, 1.4, 0.3), durations=[10.0, 20.0, 25.0, 30.0],
-                     fig10_durations=[20.0, 30.0])
-QUICK["sec7"].update(n=30, agx=[0.3, 0.55, 0.8], n_freq=40,
-                     bodies=[[_R4, 3.0], [_R4, 4.0], [_R12, 4.0]])
-QUICK["sec8"].update(n=40, bodies=[[r, g] for r in _ft(4, 7, 10) for g in (2.0, 4.0, 6.0)],
-                     resolution=0.02, fig13_agx=_grid(0.6, 1.4, 0.2))
+QUICK["sec6"].update(
+    n=40, agx=_grid(0.2, 1.4, 0.3), durations=[10.0, 20.0, 25.0, 30.0], fig10_durations=[20.0, 30.0]
+)
+QUICK["sec7"].update(
+    n=30, agx=[0.3, 0.55, 0.8], n_freq=40, bodies=[[_R4, 3.0], [_R4, 4.0], [_R12, 4.0]]
+)
+QUICK["sec8"].update(
+    n=40,
+    bodies=[[r, g] for r in _ft(4, 7, 10) for g in (2.0, 4.0, 6.0)],
+    resolution=0.02,
+    fig13_agx=_grid(0.6, 1.4, 0.2),
+)
 
 #: Fidelity presets by name.
 PRESETS = {"quick": QUICK, "paper": PAPER}
@@ -134,8 +186,10 @@ def load_config(fidelity: str = "quick", path=None, sets=()) -> dict:
         data = read_toml(path, f"config {path}")
         for section, table in data.items():
             if not isinstance(table, dict):
-                raise InputError(f"config {path}: {section!r} must be a [section] table of "
-                                 f"keys; sections are {', '.join(SECTIONS)}")
+                raise InputError(
+                    f"config {path}: {section!r} must be a [section] table of "
+                    f"keys; sections are {', '.join(SECTIONS)}"
+                )
             for key, value in table.items():
                 _override(cfg, section, key, value, f"config {path}")
     for item in sets:
@@ -146,8 +200,10 @@ def load_config(fidelity: str = "quick", path=None, sets=()) -> dict:
         try:
             value = tomllib.loads(f"v = {text.strip()}")["v"]
         except tomllib.TOMLDecodeError:
-            raise InputError(f"--set {item!r}: VALUE must be written in TOML syntax (numbers, "
-                             '"strings", [lists])') from None
+            raise InputError(
+                f"--set {item!r}: VALUE must be written in TOML syntax (numbers, "
+                '"strings", [lists])'
+            ) from None
         _override(cfg, section, key.strip(), value, "--set")
     return cfg
 
@@ -180,11 +236,13 @@ def _toml_value(value) -> str:
 def _override(cfg: dict, section: str, key: str, value, where: str) -> None:
     """Replace ``cfg[section][key]`` by ``value`` after checking the name and the type."""
     if section not in cfg:
-        raise InputError(f"{where}: unknown section [{section}]; sections are "
-                         f"{', '.join(SECTIONS)}")
+        raise InputError(
+            f"{where}: unknown section [{section}]; sections are {', '.join(SECTIONS)}"
+        )
     if key not in cfg[section]:
-        raise InputError(f"{where}: unknown key {key!r} in [{section}]; keys are "
-                         f"{', '.join(cfg[section])}")
+        raise InputError(
+            f"{where}: unknown key {key!r} in [{section}]; keys are {', '.join(cfg[section])}"
+        )
     old = cfg[section][key]
     if not _same_kind(old, value):
         raise InputError(f"{where}: [{section}] {key} must be {_kind(old)}, got {value!r}")
@@ -193,22 +251,30 @@ def _override(cfg: dict, section: str, key: str, value, where: str) -> None:
 
 def _same_kind(old, new) -> bool:
     if key_is_bodies(old):  # body lists: "paper", a CSV path or [[R, gamma], ...]
-        return isinstance(new, str) or (isinstance(new, list) and all(
-            isinstance(p, list) and len(p) == 2 and all(_is_number(x) for x in p) for p in new))
+        return isinstance(new, str) or (
+            isinstance(new, list)
+            and all(
+                isinstance(p, list) and len(p) == 2 and all(_is_number(x) for x in p) for p in new
+            )
+        )
     if isinstance(old, bool) or isinstance(new, bool):
         return type(old) is type(new)
     if isinstance(old, float):
         return _is_number(new)
     if isinstance(old, list):
-        return isinstance(new, list) and bool(new) and all(
-            _same_kind(old[0], x) if old else True for x in new)
+        return (
+            isinstance(new, list)
+            and bool(new)
+            and all(_same_kind(old[0], x) if old else True for x in new)
+        )
     return type(old) is type(new)
 
 
 def key_is_bodies(value) -> bool:
     """True if a preset value is a body list (``"paper"`` or ``[[R, gamma], ...]``)."""
-    return value == "paper" or (isinstance(value, list) and bool(value)
-                                and isinstance(value[0], list))
+    return value == "paper" or (
+        isinstance(value, list) and bool(value) and isinstance(value[0], list)
+    )
 
 
 def _is_number(x) -> bool:
@@ -220,8 +286,13 @@ def _kind(old) -> str:
         return '"paper", a CSV path or a list of [R, gamma] pairs'
     if isinstance(old, list):
         return f"a non-empty list of {_kind(old[0])}s" if old else "a list"
-    return {float: "a number", int: "an integer", str: "a string", dict: "a table",
-            bool: "true or false"}.get(type(old), type(old).__name__)
+    return {
+        float: "a number",
+        int: "an integer",
+        str: "a string",
+        dict: "a table",
+        bool: "true or false",
+    }.get(type(old), type(old).__name__)
 
 
 def resolve_bodies(value, where: str) -> list[Block]:
@@ -253,18 +324,29 @@ def validate(cfg: dict) -> None:
 
     c = cfg["common"]
     checks = {
-        "common.envelope_params": lambda: make_envelope(c["envelope"], c["duration"],
-                                                        **c["envelope_params"]),
-        "sec6.envelopes": lambda: [make_envelope(env, dur) for env in cfg["sec6"]["envelopes"]
-                                   for dur in cfg["sec6"]["durations"]],
+        "common.envelope_params": lambda: make_envelope(
+            c["envelope"], c["duration"], **c["envelope_params"]
+        ),
+        "sec6.envelopes": lambda: [
+            make_envelope(env, dur)
+            for env in cfg["sec6"]["envelopes"]
+            for dur in cfg["sec6"]["durations"]
+        ],
         "sec7.frames": lambda: [resolve_frame(f) for f in cfg["sec7"]["frames"]],
         "sec8.frame": lambda: resolve_frame(cfg["sec8"]["frame"]),
         "sec7.fig11_body": lambda: Block(*cfg["sec7"]["fig11_body"]),
     }
-    checks.update({f"{sec}.{key}": (lambda v=cfg[sec][key], w=f"{sec}.{key}":
-                                    resolve_bodies(v, w))
-                   for sec, key in (("sec6", "bodies"), ("sec7", "bodies"), ("sec8", "bodies"),
-                                    ("sec8", "examples"))})
+    checks.update(
+        {
+            f"{sec}.{key}": (lambda v=cfg[sec][key], w=f"{sec}.{key}": resolve_bodies(v, w))
+            for sec, key in (
+                ("sec6", "bodies"),
+                ("sec7", "bodies"),
+                ("sec8", "bodies"),
+                ("sec8", "examples"),
+            )
+        }
+    )
     for where, check in checks.items():
         try:
             check()
@@ -273,13 +355,17 @@ def validate(cfg: dict) -> None:
             raise InputError(msg if msg.startswith(where) else f"{where}: {msg}") from None
     stories = {resolve_frame(f).n_stories for f in cfg["sec7"]["frames"]}
     if len(stories) > 1:
-        raise InputError(f"sec7.frames: the frames must have the same number of stories "
-                         f"(their floors are compared side by side), got {sorted(stories)}")
+        raise InputError(
+            f"sec7.frames: the frames must have the same number of stories "
+            f"(their floors are compared side by side), got {sorted(stories)}"
+        )
     p = cfg["sec5"]
     numbers = p["motions"] + [p["scale_motion"], p["size_motion"]]
     if min(numbers) < 1 or max(numbers) > p["n"]:
-        raise InputError(f"sec5: motion numbers must lie in 1..n = {p['n']} (the ensemble "
-                         f"size); got {sorted(numbers)}")
+        raise InputError(
+            f"sec5: motion numbers must lie in 1..n = {p['n']} (the ensemble "
+            f"size); got {sorted(numbers)}"
+        )
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
 
@@ -317,8 +403,9 @@ class RunContext:
         chunks of an earlier run (see :class:`rocking.montecarlo.store.ChunkStore`)."""
         if self.chunks is None:
             return None
-        text = json.dumps({"common": self.cfg["common"], section: self.cfg[section]},
-                          sort_keys=True)
+        text = json.dumps(
+            {"common": self.cfg["common"], section: self.cfg[section]}, sort_keys=True
+        )
         return self.chunks / f"{section}-{hashlib.sha256(text.encode()).hexdigest()[:10]}" / name
 
     def label(self, **counts) -> str:
@@ -330,12 +417,18 @@ class RunContext:
 
     def motions(self, section: str, n: int, **changes):
         """``n`` simulated motions with the common settings and the section's seed
-        (:func:`rocking.motions.synthesis.generate`); ``changes`` override generate()'s arguments."""
+        (:func:`rocking.motions.synthesis.generate`); ``changes`` override generate()'s
+        arguments."""
         from ..motions.synthesis import generate
 
         c = self.cfg["common"]
-        kwargs = dict(duration=c["duration"], dt=c["dt"], envelope=c["envelope"],
-                      envelope_params=c["envelope_params"] or None, iterations=c["iterations"],
-                      seed=self.cfg[section]["seed"])
+        kwargs = dict(
+            duration=c["duration"],
+            dt=c["dt"],
+            envelope=c["envelope"],
+            envelope_params=c["envelope_params"] or None,
+            iterations=c["iterations"],
+            seed=self.cfg[section]["seed"],
+        )
         kwargs.update(changes)
         return generate(n, **kwargs)

@@ -15,7 +15,7 @@ import pandas as pd
 import xarray as xr
 
 from ..dynamics.batch import overturn_batch
-from ..dynamics.body import G, Block
+from ..dynamics.body import Block, G
 from ..dynamics.simulate import simulate
 from ..motions.baseline import baseline_correct
 from ..plots.studies import plot_responses
@@ -52,20 +52,30 @@ def run(ctx: RunContext) -> Sec4Result:
             theta[i, j] = res.theta_over_alpha
             t_ov[i, j] = res.t_overturn
     n_check = p["n_check"]
-    flags, peaks = zip(*(overturn_batch(blocks, unit[c][:n_check], raw.dt, [p["agx"]], e=e)
-                         for c in CORRECTIONS))
+    flags, peaks = zip(
+        *(overturn_batch(blocks, unit[c][:n_check], raw.dt, [p["agx"]], e=e) for c in CORRECTIONS)
+    )
     coords = {"correction": list(CORRECTIONS), "gamma": p["gammas"]}
     responses = xr.Dataset(
-        {"theta_over_alpha": (("correction", "gamma", "time"), theta),
-         "t_overturn": (("correction", "gamma"), t_ov, {"units": "s"})},
+        {
+            "theta_over_alpha": (("correction", "gamma", "time"), theta),
+            "t_overturn": (("correction", "gamma"), t_ov, {"units": "s"}),
+        },
         coords={**coords, "time": ("time", raw.t, {"units": "s"})},
-        attrs={"R": p["R"], "agx": p["agx"], "motion": p["motion"]})
+        attrs={"R": p["R"], "agx": p["agx"], "motion": p["motion"]},
+    )
     check = xr.Dataset(
-        {"overturned": (("correction", "body", "motion"), np.array(flags)[:, :, 0]),
-         "peak": (("correction", "body", "motion"), np.array(peaks)[:, :, 0])},
-        coords={"correction": list(CORRECTIONS), "body": [b.label for b in blocks],
-                "motion": np.arange(1, n_check + 1)},
-        attrs={"agx": p["agx"]})
+        {
+            "overturned": (("correction", "body", "motion"), np.array(flags)[:, :, 0]),
+            "peak": (("correction", "body", "motion"), np.array(peaks)[:, :, 0]),
+        },
+        coords={
+            "correction": list(CORRECTIONS),
+            "body": [b.label for b in blocks],
+            "motion": np.arange(1, n_check + 1),
+        },
+        attrs={"agx": p["agx"]},
+    )
     return Sec4Result(responses, check, ctx.label(motions=n_check))
 
 
@@ -74,28 +84,45 @@ def report(result: Sec4Result, rep, ctx: RunContext) -> None:
     r = result.responses
     R, agx, k = r.attrs["R"], r.attrs["agx"], r.attrs["motion"]
     rep.heading(TITLE)
-    rep.text("Paper: without correction the response grows with γ (Fig. 3); with it the γ = 5 "
-             "body overturns but the γ = 6 body does not (Fig. 4). Our motion No. "
-             f"{k} is a different random draw from the paper's, so the individual curves "
-             "cannot match; the check over many motions below measures how often the "
-             "correction changes the outcome.")
+    rep.text(
+        "Paper: without correction the response grows with γ (Fig. 3); with it the γ = 5 "
+        "body overturns but the γ = 6 body does not (Fig. 4). Our motion No. "
+        f"{k} is a different random draw from the paper's, so the individual curves "
+        "cannot match; the check over many motions below measures how often the "
+        "correction changes the outcome."
+    )
     for fig_no, corr in ((3, "uncorrected"), (4, "corrected")):
         sel = r.sel(correction=corr)
         labels = [f"γ = {g:g}" for g in r["gamma"].values]
-        caption = (f"Fig. {fig_no}: R = {R:.2f} m, motion No. {k} {corr}, PGA {agx:g} g "
-                   f"[{result.label}]")
-        rep.figure(plot_responses(r["time"].values, sel["theta_over_alpha"].values, labels,
-                                  overturned=sel["t_overturn"].values),
-                   f"fig{fig_no}", caption)
+        caption = (
+            f"Fig. {fig_no}: R = {R:.2f} m, motion No. {k} {corr}, PGA {agx:g} g [{result.label}]"
+        )
+        rep.figure(
+            plot_responses(
+                r["time"].values,
+                sel["theta_over_alpha"].values,
+                labels,
+                overturned=sel["t_overturn"].values,
+            ),
+            f"fig{fig_no}",
+            caption,
+        )
     c = result.check
     n = c.sizes["motion"]
-    table = pd.DataFrame({
-        "body": c["body"].values,
-        "overturned, uncorrected": c["overturned"].sel(correction="uncorrected").sum("motion"),
-        "overturned, corrected": c["overturned"].sel(correction="corrected").sum("motion"),
-        "outcome changed": (c["overturned"].sel(correction="uncorrected")
-                            != c["overturned"].sel(correction="corrected")).sum("motion"),
-    })
-    rep.table(table, f"Section 4 check: of {n} motions (each at PGA {agx:g} g), how many "
-              f"overturn each body with and without baseline correction [{result.label}]",
-              name="sec4-check")
+    table = pd.DataFrame(
+        {
+            "body": c["body"].values,
+            "overturned, uncorrected": c["overturned"].sel(correction="uncorrected").sum("motion"),
+            "overturned, corrected": c["overturned"].sel(correction="corrected").sum("motion"),
+            "outcome changed": (
+                c["overturned"].sel(correction="uncorrected")
+                != c["overturned"].sel(correction="corrected")
+            ).sum("motion"),
+        }
+    )
+    rep.table(
+        table,
+        f"Section 4 check: of {n} motions (each at PGA {agx:g} g), how many "
+        f"overturn each body with and without baseline correction [{result.label}]",
+        name="sec4-check",
+    )

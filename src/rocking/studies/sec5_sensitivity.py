@@ -58,44 +58,72 @@ def run(ctx: RunContext) -> Sec5Result:
     e_body = Block(p["e_R"], p["size_gamma"])
     k6, k7 = p["scale_motion"] - 1, p["size_motion"] - 1
     cases = {  # fig: (labels, [(block, motion index, PGA [g], e)], description)
-        5: ([f"No. {m}" for m in p["motions"]],
+        5: (
+            [f"No. {m}" for m in p["motions"]],
             [(body, m - 1, p["agx"], e) for m in p["motions"]],
-            f"R = {body.R:.2f} m, γ = {body.gamma:g}, four motions at PGA {p['agx']:g} g"),
-        6: ([f"PGA {s:g} g" for s in p["scales"]],
+            f"R = {body.R:.2f} m, γ = {body.gamma:g}, four motions at PGA {p['agx']:g} g",
+        ),
+        6: (
+            [f"PGA {s:g} g" for s in p["scales"]],
             [(body, k6, s, e) for s in p["scales"]],
-            f"R = {body.R:.2f} m, γ = {body.gamma:g}, motion No. {p['scale_motion']}"),
-        7: ([f"R = {r:.2f} m" for r in p["sizes"]],
+            f"R = {body.R:.2f} m, γ = {body.gamma:g}, motion No. {p['scale_motion']}",
+        ),
+        7: (
+            [f"R = {r:.2f} m" for r in p["sizes"]],
             [(Block(r, p["size_gamma"]), k7, p["size_agx"], e) for r in p["sizes"]],
-            f"γ = {p['size_gamma']:g}, motion No. {p['size_motion']} at {p['size_agx']:g} g"),
-        8: ([f"e = {v:g}" for v in p["e_values"]],
+            f"γ = {p['size_gamma']:g}, motion No. {p['size_motion']} at {p['size_agx']:g} g",
+        ),
+        8: (
+            [f"e = {v:g}" for v in p["e_values"]],
             [(e_body, k7, p["size_agx"], v) for v in p["e_values"]],
             f"R = {e_body.R:.2f} m, γ = {e_body.gamma:g}, motion No. {p['size_motion']} at "
-            f"{p['size_agx']:g} g"),
+            f"{p['size_agx']:g} g",
+        ),
     }
     figures = {}
     for fig_no, (labels, runs, text) in cases.items():
         res = [simulate(b, pga * acc[m], ens.dt, e=ee) for b, m, pga, ee in runs]
-        figures[fig_no] = (labels, np.array([r.theta_over_alpha for r in res]),
-                           np.array([r.t_overturn for r in res]), text)
+        figures[fig_no] = (
+            labels,
+            np.array([r.theta_over_alpha for r in res]),
+            np.array([r.t_overturn for r in res]),
+            text,
+        )
 
     sweeps = {
-        "PGA": _sweep(p["scales"], *overturn_batch([body], acc, ens.dt, p["scales"], e=e),
-                      lambda a: a[0]),
-        "R": _sweep(p["sizes"], *overturn_batch([Block(r, p["size_gamma"]) for r in p["sizes"]],
-                                                acc, ens.dt, [p["size_agx"]], e=e),
-                    lambda a: a[:, 0]),
-        "γ": _sweep(p["gammas"], *overturn_batch([Block(p["e_R"], g) for g in p["gammas"]],
-                                                 acc, ens.dt, [p["size_agx"]], e=e),
-                    lambda a: a[:, 0]),
-        "e": _sweep(p["e_values"], *overturn_batch([e_body] * len(p["e_values"]), acc, ens.dt,
-                                                   [p["size_agx"]], e=p["e_values"]),
-                    lambda a: a[:, 0]),
+        "PGA": _sweep(
+            p["scales"], *overturn_batch([body], acc, ens.dt, p["scales"], e=e), lambda a: a[0]
+        ),
+        "R": _sweep(
+            p["sizes"],
+            *overturn_batch(
+                [Block(r, p["size_gamma"]) for r in p["sizes"]], acc, ens.dt, [p["size_agx"]], e=e
+            ),
+            lambda a: a[:, 0],
+        ),
+        "γ": _sweep(
+            p["gammas"],
+            *overturn_batch(
+                [Block(p["e_R"], g) for g in p["gammas"]], acc, ens.dt, [p["size_agx"]], e=e
+            ),
+            lambda a: a[:, 0],
+        ),
+        "e": _sweep(
+            p["e_values"],
+            *overturn_batch(
+                [e_body] * len(p["e_values"]), acc, ens.dt, [p["size_agx"]], e=p["e_values"]
+            ),
+            lambda a: a[:, 0],
+        ),
     }
     for name, ds in sweeps.items():
         ds.attrs["direction"] = DIRECTION[name]
     ov, pk = overturn_batch([body], acc, ens.dt, [p["agx"]], e=e)
-    motions = xr.Dataset({"overturned": ("motion", ov[0, 0]), "peak": ("motion", pk[0, 0])},
-                         coords={"motion": np.arange(1, ens.n + 1)}, attrs={"agx": p["agx"]})
+    motions = xr.Dataset(
+        {"overturned": ("motion", ov[0, 0]), "peak": ("motion", pk[0, 0])},
+        coords={"motion": np.arange(1, ens.n + 1)},
+        attrs={"agx": p["agx"]},
+    )
     return Sec5Result(ens.t, figures, sweeps, motions, ctx.label(n=ens.n))
 
 
@@ -103,8 +131,13 @@ def _sweep(values, overturned, peak, pick) -> xr.Dataset:
     """Dataset (value, motion) from overturn_batch output; ``pick`` selects the (value, motion)
     plane of the (block, scale, motion) arrays."""
     coords = {"value": list(values), "motion": np.arange(1, overturned.shape[-1] + 1)}
-    return xr.Dataset({"overturned": (("value", "motion"), pick(overturned)),
-                       "peak": (("value", "motion"), pick(peak))}, coords=coords)
+    return xr.Dataset(
+        {
+            "overturned": (("value", "motion"), pick(overturned)),
+            "peak": (("value", "motion"), pick(peak)),
+        },
+        coords=coords,
+    )
 
 
 def reversals(sweep: xr.Dataset) -> dict:
@@ -128,37 +161,58 @@ def reversals(sweep: xr.Dataset) -> dict:
         for j in range(i + 1, n_val):  # j is more severe than i
             outcome |= ov[i] & ~ov[j]
             peak |= ~ov[i] & ~ov[j] & (pk[j] < (1.0 - PEAK_TOLERANCE) * pk[i])
-    return {"outcome": int(outcome.sum()), "peak": int((outcome | peak).sum()),
-            "n": int(ov.shape[1])}
+    return {
+        "outcome": int(outcome.sum()),
+        "peak": int((outcome | peak).sum()),
+        "n": int(ov.shape[1]),
+    }
 
 
 def report(result: Sec5Result, rep, ctx: RunContext) -> None:
     """Figures 5–8 and the reversal counts of the ensemble sweeps."""
     rep.heading(TITLE)
-    rep.text("Paper: the body overturns under motions No. 12 and 19 but not 10 and 23 (Fig. 5); "
-             "under No. 25 it overturns at 0.60 g but not at 0.75 g (Fig. 6); R has no "
-             "systematic effect (Fig. 7); the response for e = 0.93 is smaller than for "
-             "e = 0.92 (Fig. 8). Our motions are other random draws, so the single curves "
-             "differ; the sweeps over the whole ensemble count how often such reversals occur.")
+    rep.text(
+        "Paper: the body overturns under motions No. 12 and 19 but not 10 and 23 (Fig. 5); "
+        "under No. 25 it overturns at 0.60 g but not at 0.75 g (Fig. 6); R has no "
+        "systematic effect (Fig. 7); the response for e = 0.93 is smaller than for "
+        "e = 0.92 (Fig. 8). Our motions are other random draws, so the single curves "
+        "differ; the sweeps over the whole ensemble count how often such reversals occur."
+    )
     for fig_no, (labels, theta, t_ov, text) in result.figures.items():
-        rep.figure(plot_responses(result.t, theta, labels, overturned=t_ov), f"fig{fig_no}",
-                   f"Fig. {fig_no}: {text} [{result.label}]")
+        rep.figure(
+            plot_responses(result.t, theta, labels, overturned=t_ov),
+            f"fig{fig_no}",
+            f"Fig. {fig_no}: {text} [{result.label}]",
+        )
     rows = []
     for name, ds in result.sweeps.items():
         rev = reversals(ds)
-        rows.append({"factor": name, "values": ", ".join(f"{v:g}" for v in ds["value"].values),
-                     "motions": rev["n"],
-                     "overturning in some but not all": int(
-                         (ds["overturned"].any("value") & ~ds["overturned"].all("value")).sum()),
-                     "outcome reversed": rev["outcome"], "outcome or peak reversed": rev["peak"]})
+        rows.append(
+            {
+                "factor": name,
+                "values": ", ".join(f"{v:g}" for v in ds["value"].values),
+                "motions": rev["n"],
+                "overturning in some but not all": int(
+                    (ds["overturned"].any("value") & ~ds["overturned"].all("value")).sum()
+                ),
+                "outcome reversed": rev["outcome"],
+                "outcome or peak reversed": rev["peak"],
+            }
+        )
     m = result.motions
-    rep.table(pd.DataFrame(rows), "Section 5 sweeps over every motion of the ensemble: "
-              "motions for which a more severe value of the factor gives a less severe "
-              f"response (peak drop > {PEAK_TOLERANCE:.0%} or no overturning) "
-              f"[{result.label}]", name="sec5-reversals")
-    rep.text(f"Fig. 5 body under all {m.sizes['motion']} motions at PGA {m.attrs['agx']:g} g: "
-             f"{int(m['overturned'].sum())} overturn; peak θ/α of the others ranges "
-             f"{_range(m['peak'].values[~m['overturned'].values])}.")
+    rep.table(
+        pd.DataFrame(rows),
+        "Section 5 sweeps over every motion of the ensemble: "
+        "motions for which a more severe value of the factor gives a less severe "
+        f"response (peak drop > {PEAK_TOLERANCE:.0%} or no overturning) "
+        f"[{result.label}]",
+        name="sec5-reversals",
+    )
+    rep.text(
+        f"Fig. 5 body under all {m.sizes['motion']} motions at PGA {m.attrs['agx']:g} g: "
+        f"{int(m['overturned'].sum())} overturn; peak θ/α of the others ranges "
+        f"{_range(m['peak'].values[~m['overturned'].values])}."
+    )
 
 
 def _range(x) -> str:

@@ -27,7 +27,8 @@ TITLE = "Section 6: duration and intensity function (Figs. 9-10)"
 
 @dataclass(frozen=True)
 class Sec6Result:
-    """``probability``: Dataset of :func:`rocking.montecarlo.probability.overturning_probability` with extra
+    """``probability``: Dataset of :func:`rocking.montecarlo.probability.overturning_probability`
+    with extra
     leading dimensions ``envelope`` and ``duration`` [s]."""
 
     probability: xr.Dataset
@@ -43,9 +44,17 @@ def run(ctx: RunContext) -> Sec6Result:
         by_dur = []
         for dur in p["durations"]:
             ens = ctx.motions("sec6", p["n"], envelope=env, duration=dur, envelope_params=None)
-            by_dur.append(overturning_probability(blocks, ens, p["agx"], e=e,
-                                                  backend=ctx.backend, progress=ctx.progress,
-                                                  out=ctx.store("sec6", f"{env}-T{dur:g}")))
+            by_dur.append(
+                overturning_probability(
+                    blocks,
+                    ens,
+                    p["agx"],
+                    e=e,
+                    backend=ctx.backend,
+                    progress=ctx.progress,
+                    out=ctx.store("sec6", f"{env}-T{dur:g}"),
+                )
+            )
         by_env.append(xr.concat(by_dur, pd.Index(p["durations"], name="duration")))
     prob = xr.concat(by_env, pd.Index(p["envelopes"], name="envelope"))
     return Sec6Result(prob, ctx.label(n=p["n"]))
@@ -61,28 +70,36 @@ def report(result: Sec6Result, rep, ctx: RunContext) -> None:
     """Figures 9–10 and a table of the mean probability by duration and shape."""
     ds = result.probability
     rep.heading(TITLE)
-    rep.text("Paper: the probability grows with the duration, but little from 25 to 30 s "
-             "(Fig. 9); the shape of the intensity function matters little (Fig. 10). "
-             f"Shaded bands: 95 % Wilson intervals of the sampling error of {int(ds['n'].max())} "
-             "motions.")
+    rep.text(
+        "Paper: the probability grows with the duration, but little from 25 to 30 s "
+        "(Fig. 9); the shape of the intensity function matters little (Fig. 10). "
+        f"Shaded bands: 95 % Wilson intervals of the sampling error of {int(ds['n'].max())} "
+        "motions."
+    )
     env9 = "boxcar" if "boxcar" in ds["envelope"].values else str(ds["envelope"].values[0])
     for i, body in enumerate(ds["body"].values):
         panel = chr(ord("a") + i) if i < 26 else f"-{i + 1}"
         sel = _cases(ds.sel(envelope=env9, body=[body]), "duration", "T = {:g} s")
-        rep.figure(plot_fragility(sel), f"fig9{panel}",
-                   f"Fig. 9{panel}: {body}, {env9} [{result.label}]")
+        rep.figure(
+            plot_fragility(sel), f"fig9{panel}", f"Fig. 9{panel}: {body}, {env9} [{result.label}]"
+        )
     body10 = ds["body"].values[0]
     fig10 = [d for d in ctx.cfg["sec6"]["fig10_durations"] if d in ds["duration"].values]
     for d in fig10:
         sel = _cases(ds.sel(duration=d, body=[body10]), "envelope", "{}")
-        rep.figure(plot_fragility(sel), f"fig10-T{d:g}",
-                   f"Fig. 10 (T = {d:g} s): {body10}, three intensity functions "
-                   f"[{result.label}]")
+        rep.figure(
+            plot_fragility(sel),
+            f"fig10-T{d:g}",
+            f"Fig. 10 (T = {d:g} s): {body10}, three intensity functions [{result.label}]",
+        )
     mean = ds["probability"].mean("agx").to_dataframe().reset_index()
-    table = mean.pivot_table(index=["body", "envelope"], columns="duration",
-                             values="probability")
+    table = mean.pivot_table(index=["body", "envelope"], columns="duration", values="probability")
     table.columns = [f"T = {d:g} s" for d in table.columns]
-    rep.table(table, "Section 6: overturning probability averaged over the A_gx grid "
-              f"({', '.join(f'{a:g}' for a in ds['agx'].values)} g) by body, intensity "
-              f"function and duration [{result.label}]", name="sec6-mean-probability",
-              floatfmt=".3f")
+    rep.table(
+        table,
+        "Section 6: overturning probability averaged over the A_gx grid "
+        f"({', '.join(f'{a:g}' for a in ds['agx'].values)} g) by body, intensity "
+        f"function and duration [{result.label}]",
+        name="sec6-mean-probability",
+        floatfmt=".3f",
+    )

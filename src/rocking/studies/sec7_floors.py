@@ -18,9 +18,9 @@ import xarray as xr
 
 from ..dynamics.body import Block
 from ..montecarlo.probability import overturning_probability
+from ..motions.response import response_spectrum
 from ..plots.fragility import plot_fragility
 from ..plots.frames import plot_floor_spectra
-from ..motions.response import response_spectrum
 from ..report import slug
 from .config import RunContext, resolve_bodies, resolve_frame
 
@@ -52,19 +52,36 @@ def run(ctx: RunContext) -> Sec7Result:
         frame = resolve_frame(name)
         floors = frame.floor_ensembles(ground)
         cases = {("ground" if k == 0 else f"floor {k}"): ens for k, ens in floors.items()}
-        ds = overturning_probability(blocks, cases, p["agx"], e=e, backend=ctx.backend,
-                                     progress=ctx.progress, out=ctx.store("sec7", f"frame-{i}"))
+        ds = overturning_probability(
+            blocks,
+            cases,
+            p["agx"],
+            e=e,
+            backend=ctx.backend,
+            progress=ctx.progress,
+            out=ctx.store("sec7", f"frame-{i}"),
+        )
         probs.append(ds.rename({"case": "location"}))
-        spectra.append([response_spectrum(ens.scaled(p["spectra_agx"]).acc, ens.dt, freqs,
-                                          0.05).mean().psv for ens in cases.values()])
+        spectra.append(
+            [
+                response_spectrum(ens.scaled(p["spectra_agx"]).acc, ens.dt, freqs, 0.05).mean().psv
+                for ens in cases.values()
+            ]
+        )
         periods.append(float(frame.periods[0]))
     prob = xr.concat(probs, pd.Index(p["frames"], name="frame"))
     prob = prob.assign_coords(T1=("frame", periods, {"units": "s"}))
-    psv = xr.DataArray(np.array(spectra), dims=("frame", "location", "freq"),
-                       coords={"frame": p["frames"], "location": list(cases),
-                               "freq": ("freq", freqs, {"units": "Hz"}),
-                               "T1": ("frame", periods, {"units": "s"})},
-                       attrs={"units": "m s-1", "agx": p["spectra_agx"], "damping": 0.05})
+    psv = xr.DataArray(
+        np.array(spectra),
+        dims=("frame", "location", "freq"),
+        coords={
+            "frame": p["frames"],
+            "location": list(cases),
+            "freq": ("freq", freqs, {"units": "Hz"}),
+            "T1": ("frame", periods, {"units": "s"}),
+        },
+        attrs={"units": "m s-1", "agx": p["spectra_agx"], "damping": 0.05},
+    )
     return Sec7Result(prob, psv, ctx.label(n=ground.n))
 
 
@@ -78,44 +95,77 @@ def report(result: Sec7Result, rep, ctx: RunContext) -> None:
     """Figures 11 (one per frame) and 12, and tables of mean probability and S_v."""
     ds, psv = result.probability, result.psv
     rep.heading(TITLE)
-    rep.text("Paper: on the 2.0 s frame the R = 1.22 m, γ = 4 body is most likely to overturn "
-             "on the 4th floor and least on the ground (Fig. 11a); on the 0.5 s frame the "
-             "ground is worst and the probability falls floor by floor (Fig. 11b). Around "
-             "1 Hz the 2.0 s frame's S_v rises in the order ground, 1, 2, 5, 3, 4 (Fig. 12a).")
+    rep.text(
+        "Paper: on the 2.0 s frame the R = 1.22 m, γ = 4 body is most likely to overturn "
+        "on the 4th floor and least on the ground (Fig. 11a); on the 0.5 s frame the "
+        "ground is worst and the probability falls floor by floor (Fig. 11b). Around "
+        "1 Hz the 2.0 s frame's S_v rises in the order ground, 1, 2, 5, 3, 4 (Fig. 12a)."
+    )
     wanted = Block(*ctx.cfg["sec7"]["fig11_body"]).label
     body = wanted if wanted in ds["body"].values else ds["body"].values[0]
-    for i, frame in enumerate(ds["frame"].values):
+    for frame in ds["frame"].values:
         t1 = float(ds["T1"].sel(frame=frame))
         sel = ds.sel(frame=frame, body=[body]).rename({"location": "case"})
-        rep.figure(plot_fragility(sel), f"fig11-{slug(frame)}",
-                   f"Fig. 11: {body} on {frame} (T1 = {t1:.2f} s) [{result.label}]")
+        rep.figure(
+            plot_fragility(sel),
+            f"fig11-{slug(frame)}",
+            f"Fig. 11: {body} on {frame} (T1 = {t1:.2f} s) [{result.label}]",
+        )
     for frame in psv["frame"].values:
-        caption = (f"Fig. 12: mean PSV of {frame} (T1 = "
-                   f"{float(psv['T1'].sel(frame=frame)):.2f} s) at A_gx = {psv.attrs['agx']:g} g, "
-                   f"5 % damping [{result.label}]")
-        rep.figure(plot_floor_spectra(psv["freq"].values, psv.sel(frame=frame).values,
-                                      list(psv["location"].values)),
-                   f"fig12-{slug(frame)}", caption)
+        caption = (
+            f"Fig. 12: mean PSV of {frame} (T1 = "
+            f"{float(psv['T1'].sel(frame=frame)):.2f} s) at A_gx = {psv.attrs['agx']:g} g, "
+            f"5 % damping [{result.label}]"
+        )
+        rep.figure(
+            plot_floor_spectra(
+                psv["freq"].values, psv.sel(frame=frame).values, list(psv["location"].values)
+            ),
+            f"fig12-{slug(frame)}",
+            caption,
+        )
     mean = ds["probability"].mean("agx").to_dataframe().reset_index()
-    table = mean.pivot_table(index=["frame", "body"], columns="location",
-                             values="probability")[list(ds["location"].values)]
-    rep.table(table, "Section 7: overturning probability averaged over A_gx = "
-              f"{', '.join(f'{a:g}' for a in ds['agx'].values)} g, by frame, body and location "
-              f"[{result.label}]", name="sec7-mean-probability", floatfmt=".3f")
+    table = mean.pivot_table(index=["frame", "body"], columns="location", values="probability")[
+        list(ds["location"].values)
+    ]
+    rep.table(
+        table,
+        "Section 7: overturning probability averaged over A_gx = "
+        f"{', '.join(f'{a:g}' for a in ds['agx'].values)} g, by frame, body and location "
+        f"[{result.label}]",
+        name="sec7-mean-probability",
+        floatfmt=".3f",
+    )
     band = psv.sel(freq=slice(0.04, 0.6)).max("freq")
-    rows = {f: {loc: 100 * float(band.sel(frame=f, location=loc)) for loc in psv["location"].values}
-            for f in psv["frame"].values}
-    rep.table(pd.DataFrame.from_dict(rows, orient="index").rename_axis("frame"),
-              f"Max of the mean S_v [cm/s] in 0.04–0.6 Hz at A_gx = {psv.attrs['agx']:g} g "
-              f"[{result.label}]", name="sec7-sv-band", floatfmt=".1f")
+    rows = {
+        f: {loc: 100 * float(band.sel(frame=f, location=loc)) for loc in psv["location"].values}
+        for f in psv["frame"].values
+    }
+    rep.table(
+        pd.DataFrame.from_dict(rows, orient="index").rename_axis("frame"),
+        f"Max of the mean S_v [cm/s] in 0.04–0.6 Hz at A_gx = {psv.attrs['agx']:g} g "
+        f"[{result.label}]",
+        name="sec7-sv-band",
+        floatfmt=".1f",
+    )
     by_loc = ds["probability"].sel(body=body).mean("agx")
     ranks = "; ".join(
-        f"{f}: " + ", ".join(str(loc) for loc in by_loc["location"].values[
-            np.argsort(by_loc.sel(frame=f).values, kind="stable")])
-        for f in ds["frame"].values)
-    rep.text(f"Locations of {body} in order of increasing mean probability (ours): {ranks}. "
-             "Paper: 2.0 s frame least on the ground, most on floor 4; 0.5 s frame least on "
-             "floor 5, rising floor by floor to the ground.")
+        f"{f}: "
+        + ", ".join(
+            str(loc)
+            for loc in by_loc["location"].values[
+                np.argsort(by_loc.sel(frame=f).values, kind="stable")
+            ]
+        )
+        for f in ds["frame"].values
+    )
+    rep.text(
+        f"Locations of {body} in order of increasing mean probability (ours): {ranks}. "
+        "Paper: 2.0 s frame least on the ground, most on floor 4; 0.5 s frame least on "
+        "floor 5, rising floor by floor to the ground."
+    )
     orders = "; ".join(f"{f}: {', '.join(floor_order(psv, f))}" for f in psv["frame"].values)
-    rep.text(f"Order of increasing mean S_v at {ORDER_FREQ_HZ:g} Hz (ours): {orders}. "
-             "Paper (2.0 s frame): ground, floor 1, floor 2, floor 5, floor 3, floor 4.")
+    rep.text(
+        f"Order of increasing mean S_v at {ORDER_FREQ_HZ:g} Hz (ours): {orders}. "
+        "Paper (2.0 s frame): ground, floor 1, floor 2, floor 5, floor 3, floor 4."
+    )

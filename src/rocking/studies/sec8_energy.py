@@ -4,7 +4,8 @@
 floor of a frame (floor 1 of the T1 = 2.0 s frame) scaled to the same A_gx. For every body the
 A_gx of 50 % overturning probability (A_gx50) is searched on both; S_v1 is the largest value of
 the ensemble-mean 5 %-damped PSV in 0.04–0.6 Hz with the ensemble scaled to A_gx50
-(:func:`rocking.assessment.energy.energy_balance`), to be compared with Eq. (11) (Table 1). Also: the
+(:func:`rocking.assessment.energy.energy_balance`), to be compared with Eq. (11) (Table 1). Also:
+the
 probability curve of R = 1.22 m, γ = 2 (Fig. 13) and its spectrum at A_gx50 (Fig. 14), and the
 two worked examples (bodies on floor 1 at A_gx = 0.6 g) both by Eq. (11) and by simulation.
 """
@@ -17,13 +18,13 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..dynamics.body import housner_sv
 from ..assessment.energy import assess, energy_balance, grid_table
-from ..montecarlo.probability import agx_50, overturning_probability
-from ..plots.fragility import plot_fragility, plot_sv1_spectrum, plot_sv_agx
-from ..motions.response import response_spectrum
-from ..report import slug
 from ..assessment.screen import eq11_vs_monte_carlo, eq11_vs_monte_carlo_note
+from ..dynamics.body import housner_sv
+from ..montecarlo.probability import agx_50, overturning_probability
+from ..motions.response import response_spectrum
+from ..plots.fragility import plot_fragility, plot_sv1_spectrum, plot_sv_agx
+from ..report import slug
 from .conclusions import ratio_stats
 from .config import RunContext, resolve_bodies, resolve_frame
 from .paper import paper_table, paper_values
@@ -35,7 +36,8 @@ FIG14_FREQS_HZ = np.geomspace(0.04, 30.0, 120)
 
 @dataclass(frozen=True)
 class Sec8Result:
-    """``balance``: :func:`rocking.assessment.energy.energy_balance` datasets stacked on ``location``
+    """``balance``: :func:`rocking.assessment.energy.energy_balance` datasets stacked on
+    ``location``
     ("ground", "floor k"); ``fig13``: probability curve of the first example body on the
     ground; ``fig14``: (freqs [Hz], mean PSV [m/s]) at its A_gx50; ``examples``: per example
     body ``sv_required``, ``sv_available`` [m/s], ``verdict`` (Eq. 11) and ``probability``,
@@ -57,30 +59,63 @@ def run(ctx: RunContext) -> Sec8Result:
     floor_name = f"floor {p['floor']}"
     floor = resolve_frame(p["frame"]).floor_ensemble(ground, p["floor"])
     cases = {"ground": ground, floor_name: floor}
-    a50 = agx_50(blocks, cases, resolution=p["resolution"], agx_max=p["agx_max"], e=e,
-                 backend=ctx.backend, progress=ctx.progress, out=ctx.store("sec8", "agx50"))
-    balance = xr.concat([energy_balance(blocks, ens, a50["agx50"].sel(case=name).values,
-                                        band_hz=p["band_hz"])
-                         for name, ens in cases.items()], pd.Index(list(cases), name="location"))
-    fig13 = overturning_probability(examples[:1], ground, p["fig13_agx"], e=e,
-                                    backend=ctx.backend, progress=ctx.progress)
+    a50 = agx_50(
+        blocks,
+        cases,
+        resolution=p["resolution"],
+        agx_max=p["agx_max"],
+        e=e,
+        backend=ctx.backend,
+        progress=ctx.progress,
+        out=ctx.store("sec8", "agx50"),
+    )
+    balance = xr.concat(
+        [
+            energy_balance(blocks, ens, a50["agx50"].sel(case=name).values, band_hz=p["band_hz"])
+            for name, ens in cases.items()
+        ],
+        pd.Index(list(cases), name="location"),
+    )
+    fig13 = overturning_probability(
+        examples[:1], ground, p["fig13_agx"], e=e, backend=ctx.backend, progress=ctx.progress
+    )
     same = np.isclose(a50["R"].values, examples[0].R, rtol=1e-9) & np.isclose(
-        a50["gamma"].values, examples[0].gamma, rtol=1e-9)
+        a50["gamma"].values, examples[0].gamma, rtol=1e-9
+    )
     if same.any():
         a50_ex = float(a50["agx50"].sel(case="ground").values[np.argmax(same)])
     else:
-        a50_ex = float(agx_50(examples[:1], ground, resolution=p["resolution"],
-                              agx_max=p["agx_max"], e=e, backend=ctx.backend)["agx50"][0])
-    psv = (response_spectrum(ground.scaled(a50_ex).acc, ground.dt, FIG14_FREQS_HZ, 0.05)
-           .mean().psv if np.isfinite(a50_ex) else np.full(FIG14_FREQS_HZ.size, np.nan))
+        a50_ex = float(
+            agx_50(
+                examples[:1],
+                ground,
+                resolution=p["resolution"],
+                agx_max=p["agx_max"],
+                e=e,
+                backend=ctx.backend,
+            )["agx50"][0]
+        )
+    psv = (
+        response_spectrum(ground.scaled(a50_ex).acc, ground.dt, FIG14_FREQS_HZ, 0.05).mean().psv
+        if np.isfinite(a50_ex)
+        else np.full(FIG14_FREQS_HZ.size, np.nan)
+    )
     verdicts = assess(examples, floor, agx=p["example_agx"], band_hz=p["band_hz"])
     sim = overturning_probability(examples, floor, [p["example_agx"]], e=e, backend=ctx.backend)
-    ex = xr.merge([verdicts, sim[["probability", "ci_low", "ci_high", "n"]].isel(agx=0)
-                   .assign_coords(body=verdicts["body"].values)], compat="override")
+    ex = xr.merge(
+        [
+            verdicts,
+            sim[["probability", "ci_low", "ci_high", "n"]]
+            .isel(agx=0)
+            .assign_coords(body=verdicts["body"].values),
+        ],
+        compat="override",
+    )
     ex.attrs.update(agx=p["example_agx"], location=f"{floor_name} of {p['frame']}")
     fig13.attrs.update(agx50=a50_ex, sv_required=housner_sv(examples[0]))
-    return Sec8Result(balance, fig13, (FIG14_FREQS_HZ, psv), ex,
-                      ctx.label(n=ground.n, bodies=len(blocks)))
+    return Sec8Result(
+        balance, fig13, (FIG14_FREQS_HZ, psv), ex, ctx.label(n=ground.n, bodies=len(blocks))
+    )
 
 
 def report(result: Sec8Result, rep, ctx: RunContext) -> None:
@@ -91,17 +126,26 @@ def report(result: Sec8Result, rep, ctx: RunContext) -> None:
     paper = paper_values()["section8"]
     f13 = result.fig13
     a50 = f13.attrs["agx50"]
-    rep.figure(plot_fragility(f13), "fig13",
-               f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = "
-               f"{paper['fig13_agx50']} g; ours {a50:.2f} g) [{lab}]")
+    rep.figure(
+        plot_fragility(f13),
+        "fig13",
+        f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = "
+        f"{paper['fig13_agx50']} g; ours {a50:.2f} g) [{lab}]",
+    )
     freqs, psv = result.fig14
-    caption = (f"Fig. 14: mean PSV of the ground motions at A_gx50 = {a50:.2f} g of "
-               f"{f13['body'].values[0]} (paper: S_v1 = {paper['fig14_sv1_cm_s']} cm/s) [{lab}]")
-    rep.figure(plot_sv1_spectrum(freqs, psv, sv_required=f13.attrs["sv_required"]), "fig14",
-               caption)
+    caption = (
+        f"Fig. 14: mean PSV of the ground motions at A_gx50 = {a50:.2f} g of "
+        f"{f13['body'].values[0]} (paper: S_v1 = {paper['fig14_sv1_cm_s']} cm/s) [{lab}]"
+    )
+    rep.figure(
+        plot_sv1_spectrum(freqs, psv, sv_required=f13.attrs["sv_required"]), "fig14", caption
+    )
     for fig_no, loc in zip((15, 16), locations):
-        rep.figure(plot_sv_agx(b.sel(location=loc)), f"fig{fig_no}",
-                   f"Fig. {fig_no}: required S_v against A_gx50, bodies on {_the(loc)} [{lab}]")
+        rep.figure(
+            plot_sv_agx(b.sel(location=loc)),
+            f"fig{fig_no}",
+            f"Fig. {fig_no}: required S_v against A_gx50, bodies on {_the(loc)} [{lab}]",
+        )
     _tables(b, rep, lab)
     _examples(result.examples, rep, lab)
 
@@ -114,21 +158,33 @@ def _tables(b: xr.Dataset, rep, lab: str) -> None:
         theirs = paper_table(no).reindex(index=ours.index, columns=ours.columns)
         both = pd.concat({"ours": ours, "paper": theirs, "ours - paper": ours - theirs}, axis=1)
         both.columns = [f"{k} γ={g:g}" for k, g in both.columns]
-        rep.table(_r_labels(both), f"Table {no}, {what[no]}, bodies on the ground: ours, the "
-                  f"paper's and the difference, for the bodies run [{lab}]", name=f"table{no}",
-                  floatfmt=fmt)
+        rep.table(
+            _r_labels(both),
+            f"Table {no}, {what[no]}, bodies on the ground: ours, the "
+            f"paper's and the difference, for the bodies run [{lab}]",
+            name=f"table{no}",
+            floatfmt=fmt,
+        )
     for loc in [str(x) for x in b["location"].values[1:]]:
         ratio = grid_table(b.sel(location=loc), "ratio")
         ratio.columns = [f"γ={g:g}" for g in ratio.columns]
-        rep.table(_r_labels(ratio),
-                  f"Ratio S_v1/S_v for bodies on {_the(loc)} (no table in the paper) [{lab}]",
-                  name=f"table3-{slug(loc)}", floatfmt=".3f")
-    rows = {f"ours, {loc}": ratio_stats(b["ratio"].sel(location=loc).values)
-            for loc in b["location"].values}
+        rep.table(
+            _r_labels(ratio),
+            f"Ratio S_v1/S_v for bodies on {_the(loc)} (no table in the paper) [{lab}]",
+            name=f"table3-{slug(loc)}",
+            floatfmt=".3f",
+        )
+    rows = {
+        f"ours, {loc}": ratio_stats(b["ratio"].sel(location=loc).values)
+        for loc in b["location"].values
+    }
     rows["paper, ground"] = ratio_stats(paper_table(3).values)
-    rep.table(pd.DataFrame.from_dict(rows, orient="index").rename_axis("ratio S_v1/S_v"),
-              f"Table 3 in brief: number of bodies, mean, smallest and largest ratio [{lab}]",
-              name="table3-stats", floatfmt=".3f")
+    rep.table(
+        pd.DataFrame.from_dict(rows, orient="index").rename_axis("ratio S_v1/S_v"),
+        f"Table 3 in brief: number of bodies, mean, smallest and largest ratio [{lab}]",
+        name="table3-stats",
+        floatfmt=".3f",
+    )
 
 
 def _the(location: str) -> str:
@@ -139,7 +195,8 @@ def _the(location: str) -> str:
 def _r_labels(table: pd.DataFrame) -> pd.DataFrame:
     """Rows labelled by R as the paper prints it (whole feet in metres, two decimals)."""
     return table.set_axis(np.round(table.index.to_numpy(dtype=float), 2), axis=0).rename_axis(
-        "R [m]")
+        "R [m]"
+    )
 
 
 def _examples(ex: xr.Dataset, rep, lab: str) -> None:
@@ -147,21 +204,29 @@ def _examples(ex: xr.Dataset, rep, lab: str) -> None:
     simulated overturning probability at the same A_gx, whether the two agree and why they can
     differ."""
     paper = paper_values()["section8"]
-    compared = eq11_vs_monte_carlo(ex["verdict"].values, ex["probability"].values,
-                                   ex["ci_low"].values, ex["ci_high"].values)
+    compared = eq11_vs_monte_carlo(
+        ex["verdict"].values, ex["probability"].values, ex["ci_low"].values, ex["ci_high"].values
+    )
     rows = []
     for i, body in enumerate(ex["body"].values):
-        row = {"body": body, "required S_v [cm/s]": 100 * float(ex["sv_required"][i]),
-               "available S_v, ours [cm/s]": 100 * float(ex["sv_available"][i]),
-               "available S_v, paper [cm/s]": paper["example_floor_sv_cm_s"],
-               "verdict by Eq. (11), ours": str(ex["verdict"].values[i]),
-               "P(overturn) simulated": float(ex["probability"][i]),
-               "95 % CI": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}",
-               "Eq. (11) vs Monte Carlo": compared[i]}
+        row = {
+            "body": body,
+            "required S_v [cm/s]": 100 * float(ex["sv_required"][i]),
+            "available S_v, ours [cm/s]": 100 * float(ex["sv_available"][i]),
+            "available S_v, paper [cm/s]": paper["example_floor_sv_cm_s"],
+            "verdict by Eq. (11), ours": str(ex["verdict"].values[i]),
+            "P(overturn) simulated": float(ex["probability"][i]),
+            "95 % CI": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}",
+            "Eq. (11) vs Monte Carlo": compared[i],
+        }
         if i < len(paper["example_verdicts"]):
             row["verdict, paper"] = paper["example_verdicts"][i]
         rows.append(row)
-    rep.table(pd.DataFrame(rows), f"Worked examples of Section 8: bodies on "
-              f"{ex.attrs['location']} at A_gx = {ex.attrs['agx']:g} g [{lab}]",
-              name="worked-examples", floatfmt=".2f")
+    rep.table(
+        pd.DataFrame(rows),
+        f"Worked examples of Section 8: bodies on "
+        f"{ex.attrs['location']} at A_gx = {ex.attrs['agx']:g} g [{lab}]",
+        name="worked-examples",
+        floatfmt=".2f",
+    )
     rep.text(eq11_vs_monte_carlo_note(ex.attrs["band_hz"]))
