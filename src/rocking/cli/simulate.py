@@ -11,7 +11,7 @@ import click
 
 from ..defaults import G
 from ..errors import InputError
-from ._options import parse_e, reporter, writable_file
+from ._options import e_option, parse_e, reporter, writable_file
 
 #: The word that selects the built-in simulated motion for ``--motion``.
 SIMULATED = "simulated"
@@ -128,14 +128,7 @@ def _text(s: dict) -> list[str]:
     help="Scale the motion by one factor so that its peak |a| is this many g "
     "(default: the motion as it is).",
 )
-@click.option(
-    "--e",
-    "e_text",
-    default="0.925",
-    show_default=True,
-    metavar="E|housner",
-    help="Coefficient of restitution in (0, 1], or 'housner' for 1 - 1.5 sin^2(alpha).",
-)
+@e_option
 @click.option(
     "--dt",
     type=float,

@@ -46,6 +46,7 @@ import numpy as np
 
 from ..core.checks import finite_array, positive
 from ..core.compile import highest_bit, kernel, parallel_kernel, prange
+from ..defaults import DEFAULT_E
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .equation import _plain_step, _uplifts
@@ -464,7 +465,7 @@ class BlockTable:
     g: float
 
     @classmethod
-    def from_blocks(cls, blocks, *, e=0.925, overturn_angle=math.pi / 2, g=G) -> BlockTable:
+    def from_blocks(cls, blocks, *, e=DEFAULT_E, overturn_angle=math.pi / 2, g=G) -> BlockTable:
         """Constants of ``blocks`` (a sequence of :class:`~rocking.Block`).
 
         ``e`` and ``overturn_angle`` are one value for all blocks (number, ``"housner"`` /
@@ -477,7 +478,7 @@ class BlockTable:
         alpha = np.array([b.alpha for b in blocks])
         # the same expressions as simulate(), so both integrate bit for bit the same equation
         return cls(
-            p2=np.array([3.0 * g / (4.0 * b.R) for b in blocks]),
+            p2=np.array([b.p_squared(g) for b in blocks]),
             sin_a=np.array([math.sin(a) for a in alpha]),
             cos_a=np.array([math.cos(a) for a in alpha]),
             tan_a=np.array([math.tan(a) for a in alpha]),
@@ -581,7 +582,7 @@ def overturn_cases(
     motion_index,
     scales,
     *,
-    e=0.925,
+    e=DEFAULT_E,
     overturn_angle=math.pi / 2,
     g: float = G,
 ):
@@ -636,7 +637,7 @@ def _index(name: str, values, n: int) -> np.ndarray:
 
 
 def overturn_batch(
-    blocks, acc, dt: float, scales, *, e=0.925, overturn_angle=math.pi / 2, g: float = G
+    blocks, acc, dt: float, scales, *, e=DEFAULT_E, overturn_angle=math.pi / 2, g: float = G
 ):
     """Overturning of every block under every motion at every scale factor, each from rest.
 

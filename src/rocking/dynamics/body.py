@@ -76,9 +76,15 @@ class Block:
         """Width [m]."""
         return 2.0 * self.R * math.sin(self.alpha)
 
+    def p_squared(self, g: float = G) -> float:
+        """p² = 3g/(4R) [1/s²], the coefficient of Eq. (1), for gravity ``g`` [m/s²] (the one place
+        it is computed: :func:`rocking.simulate`, the batched kernel and the reference solver
+        integrate the same number)."""
+        return 3.0 * g / (4.0 * self.R)
+
     def p_at(self, g: float = G) -> float:
         """Frequency parameter p = sqrt(3g/(4R)) [rad/s] for gravity ``g`` [m/s²]."""
-        return math.sqrt(3.0 * positive("g", g, "m/s²") / (4.0 * self.R))
+        return math.sqrt(self.p_squared(positive("g", g, "m/s²")))
 
     @property
     def p(self) -> float:

@@ -19,6 +19,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..core.checks import finite_array, positive
+from ..defaults import DEFAULT_E
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .simulate import RockingResponse
 
@@ -31,7 +32,7 @@ def simulate_reference(
     ag,
     dt: float,
     *,
-    e=0.925,
+    e=DEFAULT_E,
     overturn_angle=math.pi / 2,
     g: float = G,
     rtol: float = 1e-10,
@@ -51,7 +52,7 @@ def simulate_reference(
     th_ov = resolve_overturn_angle(overturn_angle, block)
     alpha = block.alpha
     sa, ca, tan_a = math.sin(alpha), math.cos(alpha), math.tan(alpha)
-    p2 = 3.0 * g / (4.0 * block.R)
+    p2 = block.p_squared(g)
     n = u.size
     times = np.arange(n) * dt
     cap = math.inf if max_step is None else positive("max_step", max_step, "s")

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import kernel
+from ..defaults import DEFAULT_E
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .impacts import _OVERTURNED, _REST, _ROCKING, _advance
@@ -102,7 +103,7 @@ class RockingResponse:
     n_impacts: int
     max_abs_theta: float
     block: Block = field(repr=False)
-    e: float = 0.925
+    e: float = DEFAULT_E
     overturn_angle: float = math.pi / 2
 
     @property
@@ -130,7 +131,7 @@ def simulate(
     ag,
     dt: float,
     *,
-    e=0.925,
+    e=DEFAULT_E,
     overturn_angle=math.pi / 2,
     theta0: float = 0.0,
     omega0: float = 0.0,
@@ -180,7 +181,7 @@ def simulate(
     overturned, t_ov, n_imp, peak = _simulate_kernel(
         ag / g,
         dt,
-        3.0 * g / (4.0 * block.R),
+        block.p_squared(g),
         math.sin(alpha),
         math.cos(alpha),
         math.tan(alpha),

@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ..core.checks import finite_array, in_range, positive
-from ..defaults import G
+from ..defaults import DEFAULT_E, G
 from ..dynamics.batch import BlockTable, block_list
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
@@ -71,7 +71,7 @@ def overturning_probability(
     ensemble,
     agx,
     *,
-    e=0.925,
+    e=DEFAULT_E,
     overturn_angle=math.pi / 2,
     g: float = G,
     backend=None,
@@ -197,7 +197,7 @@ def agx_50(
     *,
     resolution: float = 0.01,
     agx_max: float = 5.0,
-    e=0.925,
+    e=DEFAULT_E,
     overturn_angle=math.pi / 2,
     g: float = G,
     backend=None,

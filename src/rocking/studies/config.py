@@ -52,6 +52,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..core.checks import read_toml
+from ..defaults import DEFAULT_E
 from ..dynamics.body import FOOT, Block, paper_bodies
 from ..errors import InputError
 from ..structures.frames import PRESETS as FRAME_PRESETS
@@ -73,7 +74,7 @@ _R4, _R8, _R12 = _ft(4, 8, 12)
 PAPER: dict = {
     "common": {
         "dt": 1 / 400,
-        "e": 0.925,
+        "e": DEFAULT_E,
         "envelope": "compound",
         "duration": 20.0,
         "envelope_params": {},
