@@ -73,8 +73,8 @@ class _Main(click.Group):
             raise click.ClickException(_one_line(exc)) from None
         except OSError as exc:
             raise click.ClickException(_os_error(exc)) from None
-        except click.ClickException:
-            raise
+        except (click.ClickException, click.exceptions.Exit, click.Abort):
+            raise  # click's own messages and control flow (--help and --version end with Exit)
         except Exception as exc:
             raise _Bug(exc) from None
 
