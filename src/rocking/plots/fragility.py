@@ -3,14 +3,23 @@
 
 from __future__ import annotations
 
+from collections.abc import Hashable, Mapping
+from typing import TYPE_CHECKING
+
 import numpy as np
 from matplotlib import colormaps
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import ListedColormap, Normalize
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from numpy.typing import ArrayLike
 
-from ..assessment.energy import BAND_HZ
+from ..defaults import BAND_HZ
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from ..montecarlo.statistics import LognormalFit
 
 #: Most curves on one axis (each with a legend entry); more bodies are drawn as small multiples.
 MAX_LEGEND = 12
@@ -18,12 +27,14 @@ MAX_LEGEND = 12
 PANEL_COLUMNS = 4
 
 
-def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
+def plot_fragility(
+    ds: xr.Dataset, *, fits: Mapping[Hashable, LognormalFit] | None = None, title: str = ""
+) -> Figure:
     """Overturning probability against A_gx, one curve per body (paper Figs. 9–11, 13).
 
     Each curve has a shaded band between ``ci_low`` and ``ci_high`` (the Wilson interval at the
-    level of attribute ``confidence``, default 0.95) and,
-    when ``fits`` has an entry for it, the fitted lognormal curve Φ(ln(A_gx/median)/β) dashed.
+    level of attribute ``confidence``, default 0.95) and, when ``fits`` has an entry for it, the
+    fitted lognormal curve Φ(ln(A_gx/median)/β) dashed.
 
     Up to :data:`MAX_LEGEND` curves share one axis, each named in the legend. More bodies
     (e.g. the paper's 72, without a ``case`` dimension) are drawn as small multiples: one panel
@@ -35,13 +46,13 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
     Parameters
     ----------
     ds : xarray.Dataset
-        Result of :func:`rocking.montecarlo.probability.overturning_probability`: ``probability``,
-        ``ci_low``,
-        ``ci_high`` [-] on dimensions (``body``, ``agx``) or (``case``, ``body``, ``agx``),
-        ``agx`` [g]; coordinates ``R`` [m] and ``gamma`` [-] on ``body``.
+        Result of :func:`rocking.montecarlo.probability.overturning_probability`:
+        ``probability``, ``ci_low``, ``ci_high`` [-] on dimensions (``body``, ``agx``) or
+        (``case``, ``body``, ``agx``), ``agx`` [g]; coordinates ``R`` [m] and ``gamma`` [-] on
+        ``body``.
     fits : dict, optional
-        :class:`~rocking.LognormalFit` objects keyed by body label, or
-        by (case, body) when ``ds`` has a ``case`` dimension.
+        :class:`~rocking.LognormalFit` objects keyed by body label, or by (case, body) when
+        ``ds`` has a ``case`` dimension.
     title : str
         Figure title.
     """
@@ -66,7 +77,7 @@ def plot_fragility(ds, *, fits=None, title: str = "") -> Figure:
     return fig
 
 
-def _plot_by_size(ds, fits: dict, title: str) -> Figure:
+def _plot_by_size(ds: xr.Dataset, fits: Mapping[Hashable, LognormalFit], title: str) -> Figure:
     """Small multiples of :func:`plot_fragility`: one panel per R, one curve per γ."""
     agx = ds["agx"].values
     r_mm = np.round(1000.0 * ds["R"].values)  # bodies of one size share a panel
@@ -148,7 +159,7 @@ def _key_text(ds, fits) -> str:
     return band + ("; dashed: lognormal fit" if fits else "")
 
 
-def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
+def plot_sv_agx(energy_ds: xr.Dataset, *, title: str = "") -> Figure:
     """Required S_v (Eq. 11) against the A_gx of 50 % overturning probability, with the
     least-squares straight line (paper Figs. 15 and 16) and, dashed, the available S_v1 of the
     ensemble at each A_gx (points on it have S_v1/S_v = 1, Table 3).
@@ -157,8 +168,7 @@ def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
     ----------
     energy_ds : xarray.Dataset
         Result of :func:`rocking.assessment.energy.energy_balance` (``sv_required`` and ``sv1``
-        [m/s],
-        ``agx50`` [g]); bodies with NaN A_gx50 are left out.
+        [m/s], ``agx50`` [g]); bodies with NaN A_gx50 are left out.
     title : str
         Figure title.
     """
@@ -197,7 +207,12 @@ def plot_sv_agx(energy_ds, *, title: str = "") -> Figure:
 
 
 def plot_sv1_spectrum(
-    freqs_hz, psv, *, sv_required: float | None = None, band_hz=BAND_HZ, title: str = ""
+    freqs_hz: ArrayLike,
+    psv: ArrayLike,
+    *,
+    sv_required: float | None = None,
+    band_hz: tuple[float, float] = BAND_HZ,
+    title: str = "",
 ) -> Figure:
     """Mean pseudo-velocity spectrum with the band of the available S_v shaded, its maximum in the
     band (S_v1) marked and the required S_v of Eq. (11) drawn (paper Fig. 14).

@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from ..structures.frames import ShearFrame
 
 
-def plot_mode_shapes(frame) -> Figure:
-    """Mode shapes of a :class:`rocking.structures.frames.ShearFrame`, each scaled to a largest
-    |entry| of 1,
-    drawn against the floor level (0 = ground)."""
+def plot_mode_shapes(frame: ShearFrame) -> Figure:
+    """Mode shapes of a :class:`rocking.structures.frames.ShearFrame`, each scaled so that its
+    largest entry in absolute value is 1, drawn against the floor level (0 = ground)."""
     fig = Figure(figsize=(5.0, 5.5), layout="constrained")
     ax = fig.add_subplot()
     levels = np.arange(frame.n_stories + 1)
@@ -26,7 +32,9 @@ def plot_mode_shapes(frame) -> Figure:
     return fig
 
 
-def plot_floor_spectra(freqs_hz, psv, labels, *, title: str = "") -> Figure:
+def plot_floor_spectra(
+    freqs_hz: ArrayLike, psv: ArrayLike, labels: Sequence[str], *, title: str = ""
+) -> Figure:
     """Pseudo-velocity spectra of the ground and floors on log-log axes (as paper Fig. 12).
 
     Parameters

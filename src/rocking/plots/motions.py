@@ -3,14 +3,21 @@ correction on acceleration, velocity and displacement (paper Section 4)."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 from scipy.integrate import cumulative_trapezoid
 
 from ..dynamics.body import G
 
+if TYPE_CHECKING:
+    from ..motions.envelopes import Envelope
 
-def plot_envelopes(envelopes, *, title: str = "") -> Figure:
+
+def plot_envelopes(envelopes: Sequence[Envelope], *, title: str = "") -> Figure:
     """Intensity functions I(t) against time, one line each (cf. paper Fig. 2).
 
     Parameters
@@ -40,7 +47,14 @@ def plot_envelopes(envelopes, *, title: str = "") -> Figure:
     return fig
 
 
-def plot_baseline_comparison(dt: float, raw, corrected, labels=None, *, title: str = "") -> Figure:
+def plot_baseline_comparison(
+    dt: float,
+    raw: ArrayLike,
+    corrected: ArrayLike,
+    labels: Sequence[str] | None = None,
+    *,
+    title: str = "",
+) -> Figure:
     """Acceleration, velocity and displacement of motions before and after baseline correction.
 
     Velocity and displacement are integrated from rest with the trapezoidal rule.
@@ -81,7 +95,12 @@ def plot_baseline_comparison(dt: float, raw, corrected, labels=None, *, title: s
 
 
 def plot_fit_ratios(
-    freqs_hz, ratios: dict, *, tolerance: float = 0.10, band=None, title: str = ""
+    freqs_hz: ArrayLike,
+    ratios: Mapping[str, ArrayLike],
+    *,
+    tolerance: float = 0.10,
+    band: tuple[float, float] | None = None,
+    title: str = "",
 ) -> Figure:
     """Ensemble-mean PSA over the target PSA against frequency, one line per method.
 

@@ -3,14 +3,21 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 
+if TYPE_CHECKING:
+    from ..dynamics.simulate import RockingResponse
 
-def plot_response(response, ag_g, *, title: str | None = None) -> Figure:
+
+def plot_response(
+    response: RockingResponse, ag_g: ArrayLike, *, title: str | None = None
+) -> Figure:
     """Rotation θ/α (top) and ground acceleration (bottom) against time, sharing the time axis.
 
     The top panel marks θ = ±α (the static stability limit) and, if the block overturned, the

@@ -2,14 +2,19 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from matplotlib.figure import Figure
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: Up to this many items every point is named; above it only those at risk.
 MAX_NAMED = 25
 
 
-def plot_screen(ds, *, title: str = "") -> Figure:
+def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     """Every item at (A_gx of 50 % overturning probability, required S_v of Eq. 11).
 
     One colour per location. The dashed vertical line is the design A_gx: items to its left

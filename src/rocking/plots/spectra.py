@@ -2,11 +2,19 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from ..motions.targets import TargetSpectrum
 
 
-def _log_axes(fig: Figure, title: str):
+def _log_axes(fig: Figure, title: str) -> Axes:
     ax = fig.add_subplot()
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -19,7 +27,12 @@ def _log_axes(fig: Figure, title: str):
 
 
 def plot_spectra(
-    freqs_hz, psa_g, labels=None, *, damping: float | None = None, title: str = ""
+    freqs_hz: ArrayLike,
+    psa_g: ArrayLike,
+    labels: Sequence[str] | None = None,
+    *,
+    damping: float | None = None,
+    title: str = "",
 ) -> Figure:
     """PSA spectra against frequency on log-log axes, one line per spectrum.
 
@@ -48,7 +61,9 @@ def plot_spectra(
     return fig
 
 
-def plot_mean_vs_target(freqs_hz, psa_members, target, *, title: str = "") -> Figure:
+def plot_mean_vs_target(
+    freqs_hz: ArrayLike, psa_members: ArrayLike, target: TargetSpectrum, *, title: str = ""
+) -> Figure:
     """Mean ± 1 standard deviation of an ensemble's PSA spectra against a target spectrum.
 
     Parameters

@@ -2,11 +2,21 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 
-def plot_responses(t, theta_over_alpha, labels, *, overturned=None, title: str = "") -> Figure:
+def plot_responses(
+    t: ArrayLike,
+    theta_over_alpha: ArrayLike,
+    labels: Sequence[str],
+    *,
+    overturned: ArrayLike | None = None,
+    title: str = "",
+) -> Figure:
     """Rocking responses θ(t)/α, one panel per case, on a shared time axis (paper Figs. 3–8).
 
     Parameters
@@ -25,7 +35,7 @@ def plot_responses(t, theta_over_alpha, labels, *, overturned=None, title: str =
     y = np.atleast_2d(np.asarray(theta_over_alpha, dtype=float))
     n = y.shape[0]
     fig = Figure(figsize=(7.5, 1.7 * n + 0.8), layout="constrained")
-    axes = np.atleast_1d(fig.subplots(n, 1, sharex=True))
+    axes = fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]
     t_ov = np.full(n, np.nan) if overturned is None else np.asarray(overturned, dtype=float)
     for ax, row, label, tov in zip(axes, y, labels, t_ov):
         ax.plot(t, row, lw=0.8, color="C0")
