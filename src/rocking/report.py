@@ -18,10 +18,12 @@ from __future__ import annotations
 import base64
 import html
 import io
+import os
 import re
 import unicodedata
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import markdown as _markdown
 import numpy as np
@@ -29,6 +31,10 @@ import numpy as np
 from .core.files import atomic_write
 from .defaults import CSV_FLOAT_FORMAT
 from .errors import InputError
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
 
 #: Resolution of the PNG figures [dots per inch].
 DPI = 110
@@ -71,7 +77,7 @@ class Report:
         :meth:`write`.
     """
 
-    def __init__(self, title: str, out_dir):
+    def __init__(self, title: str, out_dir: str | os.PathLike[str]) -> None:
         self.title = str(title)
         self.out_dir = Path(out_dir)
         self.out_dir.mkdir(parents=True, exist_ok=True)
@@ -96,7 +102,7 @@ class Report:
         markdown = str(markdown).strip("\n")
         self._blocks.append(_Block(markdown, markdown_to_html(markdown)))
 
-    def figure(self, fig, name: str, caption: str) -> Path:
+    def figure(self, fig: Figure, name: str, caption: str) -> Path:
         """Add a matplotlib ``Figure``: saved as ``figures/<name>.png``; returns that path."""
         name = self._claim(name)
         buf = io.BytesIO()
@@ -118,7 +124,12 @@ class Report:
         return path
 
     def table(
-        self, dataframe, caption: str, name: str | None = None, *, floatfmt: str = ".4g"
+        self,
+        dataframe: pd.DataFrame,
+        caption: str,
+        name: str | None = None,
+        *,
+        floatfmt: str = ".4g",
     ) -> Path:
         """Add a table (a ``pandas.DataFrame``; its index is shown when it is named or not a
         plain range); also written as ``tables/<name>.csv`` (floats to 12 significant digits,
@@ -170,7 +181,7 @@ class Report:
         )
         return path
 
-    def _claim(self, name) -> str:
+    def _claim(self, name: str) -> str:
         name = str(name)
         if not _NAME.match(name):
             raise InputError(
@@ -233,7 +244,7 @@ def _greek_name(ch: str) -> str:
     return ch
 
 
-def remove_report(out_dir) -> None:
+def remove_report(out_dir: str | os.PathLike[str]) -> None:
     """Delete ``report.md`` and ``report.html`` of an earlier run in ``out_dir`` (if any), so
     that a run which then fails does not leave the old pages looking like its result."""
     for name in ("report.md", "report.html"):
