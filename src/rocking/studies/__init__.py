@@ -10,11 +10,21 @@ Every study module has ``TITLE``, ``run(ctx) -> result`` (computation only) and
 from __future__ import annotations
 
 import importlib
+import os
 import time
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING
 
 from ..defaults import STUDY_SECTIONS
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..core.progress import Reporter
+    from ..report import Report
+    from .conclusions import Verdict
+    from .config import RunContext
 
 #: Study modules by section number (imported when a section runs: they load Matplotlib).
 STUDIES = {
@@ -26,27 +36,27 @@ STUDIES = {
 }
 
 
-def study(section: str):
+def study(section: str) -> ModuleType:
     """The module of the study of ``section`` ("4"–"8")."""
     return importlib.import_module(f".{STUDIES[section]}", __name__)
 
 
 def reproduce(
-    sections,
+    sections: Iterable[str],
     *,
     fidelity: str = "quick",
-    out_dir,
+    out_dir: str | os.PathLike[str],
     scheduler: str | None = None,
-    config=None,
-    sets=(),
-    progress=False,
-    echo=None,
+    config: str | os.PathLike[str] | None = None,
+    sets: Sequence[str] = (),
+    progress: bool | Reporter | None = False,
+    echo: Callable[[str], object] | None = None,
 ) -> Path:
     """Run ``sections`` (e.g. ``["8"]`` or all of :data:`STUDIES`) and write the report.
 
     Parameters
     ----------
-    sections : sequence of str
+    sections : iterable of str
         Section numbers "4"–"8".
     fidelity : str
         "quick" or "paper" (:data:`rocking.studies.config.PRESETS`).
@@ -56,8 +66,7 @@ def reproduce(
         parameters resumes from them).
     scheduler : str, optional
         Backend (:func:`rocking.montecarlo.backends.get_backend`): None/"local", "dask-local" or a
-        Dask
-        scheduler address.
+        Dask scheduler address.
     config : str or Path, optional
         TOML file of parameter overrides (:func:`rocking.studies.config.load_config`).
     sets : sequence of str
@@ -129,7 +138,7 @@ def reproduce(
     return out / "report.html"
 
 
-def _write_report(out: Path, ctx, results: dict) -> list[str]:
+def _write_report(out: Path, ctx: RunContext, results: dict) -> list[str]:
     """Report of the studies in ``results`` (by section), conclusions first; returns the files
     it wrote (relative to ``out``)."""
     from ..report import Report
@@ -151,7 +160,9 @@ def _write_report(out: Path, ctx, results: dict) -> list[str]:
     return rep.files
 
 
-def _introduction(rep, ctx, sections, fidelity: str, modified: bool) -> None:
+def _introduction(
+    rep: Report, ctx: RunContext, sections: list[str], fidelity: str, modified: bool
+) -> None:
     c = ctx.cfg["common"]
     rep.text(
         f"Fidelity **{fidelity}**{' (modified by --config/--set)' if modified else ''}; "
@@ -168,7 +179,7 @@ def _introduction(rep, ctx, sections, fidelity: str, modified: bool) -> None:
     )
 
 
-def _conclusions(rep, verdicts, label: str) -> None:
+def _conclusions(rep: Report, verdicts: list[Verdict], label: str) -> None:
     import pandas as pd
 
     rep.heading("The paper's nine conclusions")

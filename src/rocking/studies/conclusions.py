@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..assessment.screen import AGREE, eq11_vs_monte_carlo
 from ..dynamics.body import FOOT
@@ -96,9 +97,8 @@ def conclusion_1(check: xr.Dataset) -> Verdict:
     changed = int((raw["overturned"] != cor["overturned"]).sum())
     n = int(raw["overturned"].size)
     rocked = ~raw["overturned"] & ~cor["overturned"] & (raw["peak"] > 0) & (cor["peak"] > 0)
-    rel = (
-        np.abs(cor["peak"] - raw["peak"]).values[rocked.values] / raw["peak"].values[rocked.values]
-    )
+    change = (cor["peak"] - raw["peak"]).values[rocked.values]
+    rel = np.abs(change) / raw["peak"].values[rocked.values]
     med = f"{np.median(rel):.1%}" if rel.size else "n/a (none rocked without overturning)"
     evidence = (
         f"the correction changes the overturning outcome in {_share(changed, n)} "
@@ -352,7 +352,7 @@ def conclusion_8(prob: xr.Dataset) -> Verdict:
 # --------------------------------------------------------------------------- energy balance
 
 
-def ratio_stats(ratio) -> dict:
+def ratio_stats(ratio: ArrayLike) -> dict:
     """``n``, ``mean``, ``min``, ``max`` of the finite ratios S_v1/S_v."""
     r = np.asarray(ratio, dtype=float)
     r = r[np.isfinite(r)]

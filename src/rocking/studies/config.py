@@ -47,9 +47,13 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+import os
 import tomllib
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ..core.checks import read_toml
 from ..defaults import DEFAULT_E
@@ -58,8 +62,13 @@ from ..errors import InputError
 from ..structures.frames import PRESETS as FRAME_PRESETS
 from ..structures.frames import ShearFrame
 
+if TYPE_CHECKING:
+    from ..core.progress import Reporter
+    from ..montecarlo.backends import DaskBackend, LocalBackend
+    from ..motions.ensemble import Ensemble
 
-def _ft(*feet) -> list[float]:
+
+def _ft(*feet: float) -> list[float]:
     """Sizes given in whole feet as metres (the paper prints 4 ft as 1.22 m)."""
     return [round(f * FOOT, 10) for f in feet]
 
@@ -161,7 +170,11 @@ PRESETS = {"quick": QUICK, "paper": PAPER}
 SECTIONS = tuple(PAPER)
 
 
-def load_config(fidelity: str = "quick", path=None, sets=()) -> dict:
+def load_config(
+    fidelity: str = "quick",
+    path: str | os.PathLike[str] | None = None,
+    sets: Sequence[str] = (),
+) -> dict:
     """The configuration of a run: a preset, then a TOML file, then ``section.key=VALUE`` sets.
 
     Parameters
@@ -220,7 +233,7 @@ def to_toml(cfg: dict) -> str:
     return "\n".join(lines)
 
 
-def _toml_value(value) -> str:
+def _toml_value(value: object) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, (int, float)):
@@ -234,7 +247,7 @@ def _toml_value(value) -> str:
     raise InputError(f"cannot write {value!r} as TOML")
 
 
-def _override(cfg: dict, section: str, key: str, value, where: str) -> None:
+def _override(cfg: dict, section: str, key: str, value: object, where: str) -> None:
     """Replace ``cfg[section][key]`` by ``value`` after checking the name and the type."""
     if section not in cfg:
         raise InputError(
@@ -250,7 +263,7 @@ def _override(cfg: dict, section: str, key: str, value, where: str) -> None:
     cfg[section][key] = value
 
 
-def _same_kind(old, new) -> bool:
+def _same_kind(old: object, new: object) -> bool:
     if key_is_bodies(old):  # body lists: "paper", a CSV path or [[R, gamma], ...]
         return isinstance(new, str) or (
             isinstance(new, list)
@@ -271,18 +284,18 @@ def _same_kind(old, new) -> bool:
     return type(old) is type(new)
 
 
-def key_is_bodies(value) -> bool:
+def key_is_bodies(value: object) -> bool:
     """True if a preset value is a body list (``"paper"`` or ``[[R, gamma], ...]``)."""
     return value == "paper" or (
         isinstance(value, list) and bool(value) and isinstance(value[0], list)
     )
 
 
-def _is_number(x) -> bool:
+def _is_number(x: object) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
-def _kind(old) -> str:
+def _kind(old: object) -> str:
     if key_is_bodies(old):
         return '"paper", a CSV path or a list of [R, gamma] pairs'
     if isinstance(old, list):
@@ -296,7 +309,7 @@ def _kind(old) -> str:
     }.get(type(old), type(old).__name__)
 
 
-def resolve_bodies(value, where: str) -> list[Block]:
+def resolve_bodies(value: str | Sequence[Sequence[float]], where: str) -> list[Block]:
     """Blocks of a body-list value (``"paper"``, a CSV path or ``[[R, gamma], ...]``);
     ``where`` (e.g. ``"sec8.bodies"``) names the key in error messages."""
     if value == "paper":
@@ -324,7 +337,7 @@ def validate(cfg: dict) -> None:
     from ..motions.envelopes import make_envelope
 
     c = cfg["common"]
-    checks = {
+    checks: dict[str, Callable[[], object]] = {
         "common.envelope_params": lambda: make_envelope(
             c["envelope"], c["duration"], **c["envelope_params"]
         ),
@@ -339,7 +352,7 @@ def validate(cfg: dict) -> None:
     }
     checks.update(
         {
-            f"{sec}.{key}": (lambda v=cfg[sec][key], w=f"{sec}.{key}": resolve_bodies(v, w))
+            f"{sec}.{key}": partial(resolve_bodies, cfg[sec][key], f"{sec}.{key}")
             for sec, key in (
                 ("sec6", "bodies"),
                 ("sec7", "bodies"),
@@ -383,10 +396,11 @@ class RunContext:
         Preset name the configuration started from.
     modified : bool
         True if a config file or ``--set`` changed the preset.
-    backend : object or None
+    backend : LocalBackend, DaskBackend or None
         Backend of :mod:`rocking.montecarlo.probability` (None: local).
-    progress : bool or None
-        Show progress bars (None: only when writing to a terminal).
+    progress : bool, None or rocking.core.progress.Reporter
+        Progress of the Monte Carlo runs (:func:`rocking.core.progress.resolve`; None: bars
+        only when writing to a terminal).
     chunks : Path or None
         Folder of finished Monte Carlo chunks (None: keep nothing on disk).
     """
@@ -394,8 +408,8 @@ class RunContext:
     cfg: dict
     fidelity: str = "quick"
     modified: bool = False
-    backend: object = None
-    progress: bool | None = False
+    backend: LocalBackend | DaskBackend | None = None
+    progress: bool | Reporter | None = False
     chunks: Path | None = None
 
     def store(self, section: str, name: str) -> Path | None:
@@ -409,14 +423,14 @@ class RunContext:
         )
         return self.chunks / f"{section}-{hashlib.sha256(text.encode()).hexdigest()[:10]}" / name
 
-    def label(self, **counts) -> str:
+    def label(self, **counts: object) -> str:
         """Fidelity note for titles and captions, e.g. "quick fidelity: n=40, dt=1/200 s"."""
         parts = [f"{k}={v}" for k, v in counts.items()]
         parts.append(f"dt=1/{1 / self.cfg['common']['dt']:.0f} s")
         mod = " (modified by config)" if self.modified else ""
         return f"{self.fidelity} fidelity{mod}: {', '.join(parts)}"
 
-    def motions(self, section: str, n: int, **changes):
+    def motions(self, section: str, n: int, **changes: Any) -> Ensemble:
         """``n`` simulated motions with the common settings and the section's seed
         (:func:`rocking.motions.synthesis.generate`); ``changes`` override generate()'s
         arguments."""

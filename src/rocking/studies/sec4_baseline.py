@@ -19,6 +19,7 @@ from ..dynamics.body import Block, G
 from ..dynamics.simulate import simulate
 from ..motions.baseline import baseline_correct
 from ..plots.studies import plot_responses
+from ..report import Report
 from .config import RunContext
 
 TITLE = "Section 4: baseline correction (Figs. 3-4)"
@@ -79,7 +80,7 @@ def run(ctx: RunContext) -> Sec4Result:
     return Sec4Result(responses, check, ctx.label(motions=n_check))
 
 
-def report(result: Sec4Result, rep, ctx: RunContext) -> None:
+def report(result: Sec4Result, rep: Report, ctx: RunContext) -> None:
     """Figures 3–4 and the table of outcomes with and without the correction."""
     r = result.responses
     R, agx, k = r.attrs["R"], r.attrs["agx"], r.attrs["motion"]

@@ -17,6 +17,7 @@ less severe response (no overturning where a milder value overturns, or a peak �
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +28,7 @@ from ..dynamics.batch import overturn_batch
 from ..dynamics.body import Block
 from ..dynamics.simulate import simulate
 from ..plots.studies import plot_responses
+from ..report import Report
 from .config import RunContext
 
 TITLE = "Section 5: sensitivity to the motion, intensity, size, slenderness and e (Figs. 5-8)"
@@ -92,25 +94,25 @@ def run(ctx: RunContext) -> Sec5Result:
 
     sweeps = {
         "PGA": _sweep(
-            p["scales"], *overturn_batch([body], acc, ens.dt, p["scales"], e=e), lambda a: a[0]
+            p["scales"], overturn_batch([body], acc, ens.dt, p["scales"], e=e), lambda a: a[0]
         ),
         "R": _sweep(
             p["sizes"],
-            *overturn_batch(
+            overturn_batch(
                 [Block(r, p["size_gamma"]) for r in p["sizes"]], acc, ens.dt, [p["size_agx"]], e=e
             ),
             lambda a: a[:, 0],
         ),
         "γ": _sweep(
             p["gammas"],
-            *overturn_batch(
+            overturn_batch(
                 [Block(p["e_R"], g) for g in p["gammas"]], acc, ens.dt, [p["size_agx"]], e=e
             ),
             lambda a: a[:, 0],
         ),
         "e": _sweep(
             p["e_values"],
-            *overturn_batch(
+            overturn_batch(
                 [e_body] * len(p["e_values"]), acc, ens.dt, [p["size_agx"]], e=p["e_values"]
             ),
             lambda a: a[:, 0],
@@ -127,9 +129,14 @@ def run(ctx: RunContext) -> Sec5Result:
     return Sec5Result(ens.t, figures, sweeps, motions, ctx.label(n=ens.n))
 
 
-def _sweep(values, overturned, peak, pick) -> xr.Dataset:
-    """Dataset (value, motion) from overturn_batch output; ``pick`` selects the (value, motion)
-    plane of the (block, scale, motion) arrays."""
+def _sweep(
+    values: Sequence[float],
+    batch: tuple[np.ndarray, np.ndarray],
+    pick: Callable[[np.ndarray], np.ndarray],
+) -> xr.Dataset:
+    """Dataset (value, motion) from overturn_batch output ``(overturned, peak)``; ``pick``
+    selects the (value, motion) plane of the (block, scale, motion) arrays."""
+    overturned, peak = batch
     coords = {"value": list(values), "motion": np.arange(1, overturned.shape[-1] + 1)}
     return xr.Dataset(
         {
@@ -168,7 +175,7 @@ def reversals(sweep: xr.Dataset) -> dict:
     }
 
 
-def report(result: Sec5Result, rep, ctx: RunContext) -> None:
+def report(result: Sec5Result, rep: Report, ctx: RunContext) -> None:
     """Figures 5–8 and the reversal counts of the ensemble sweeps."""
     rep.heading(TITLE)
     rep.text(

@@ -20,6 +20,7 @@ import xarray as xr
 
 from ..montecarlo.probability import overturning_probability
 from ..plots.fragility import plot_fragility
+from ..report import Report
 from .config import RunContext, resolve_bodies
 
 TITLE = "Section 6: duration and intensity function (Figs. 9-10)"
@@ -66,7 +67,7 @@ def _cases(ds: xr.Dataset, dim: str, fmt: str) -> xr.Dataset:
     return ds.rename({dim: "case"}).assign_coords(case=labels)
 
 
-def report(result: Sec6Result, rep, ctx: RunContext) -> None:
+def report(result: Sec6Result, rep: Report, ctx: RunContext) -> None:
     """Figures 9–10 and a table of the mean probability by duration and shape."""
     ds = result.probability
     rep.heading(TITLE)

@@ -21,7 +21,7 @@ from ..montecarlo.probability import overturning_probability
 from ..motions.response import response_spectrum
 from ..plots.fragility import plot_fragility
 from ..plots.frames import plot_floor_spectra
-from ..report import slug
+from ..report import Report, slug
 from .config import RunContext, resolve_bodies, resolve_frame
 
 TITLE = "Section 7: floors of shear frames (Figs. 11-12)"
@@ -91,7 +91,7 @@ def floor_order(psv: xr.DataArray, frame: str, freq_hz: float = ORDER_FREQ_HZ) -
     return [str(loc) for loc in row["location"].values[np.argsort(row.values)]]
 
 
-def report(result: Sec7Result, rep, ctx: RunContext) -> None:
+def report(result: Sec7Result, rep: Report, ctx: RunContext) -> None:
     """Figures 11 (one per frame) and 12, and tables of mean probability and S_v."""
     ds, psv = result.probability, result.psv
     rep.heading(TITLE)

@@ -24,7 +24,7 @@ from ..dynamics.body import housner_sv
 from ..montecarlo.probability import agx_50, overturning_probability
 from ..motions.response import response_spectrum
 from ..plots.fragility import plot_fragility, plot_sv1_spectrum, plot_sv_agx
-from ..report import slug
+from ..report import Report, slug
 from .conclusions import ratio_stats
 from .config import RunContext, resolve_bodies, resolve_frame
 from .paper import paper_table, paper_values
@@ -118,7 +118,7 @@ def run(ctx: RunContext) -> Sec8Result:
     )
 
 
-def report(result: Sec8Result, rep, ctx: RunContext) -> None:
+def report(result: Sec8Result, rep: Report, ctx: RunContext) -> None:
     """Figures 13–16, Tables 1–3 beside the paper's, and the worked examples."""
     b, lab = result.balance, result.label
     locations = [str(x) for x in b["location"].values]
@@ -150,14 +150,15 @@ def report(result: Sec8Result, rep, ctx: RunContext) -> None:
     _examples(result.examples, rep, lab)
 
 
-def _tables(b: xr.Dataset, rep, lab: str) -> None:
+def _tables(b: xr.Dataset, rep: Report, lab: str) -> None:
     """Tables 1–3 (ours, the paper's, differences) for the bodies run."""
     what = {1: "required S_v of Eq. (11) [cm/s]", 2: "S_v1 [cm/s]", 3: "ratio S_v1/S_v [-]"}
     for no, var, fmt in ((1, "sv_required", ".2f"), (2, "sv1", ".2f"), (3, "ratio", ".3f")):
         ours = grid_table(b.sel(location="ground"), var)
         theirs = paper_table(no).reindex(index=ours.index, columns=ours.columns)
         both = pd.concat({"ours": ours, "paper": theirs, "ours - paper": ours - theirs}, axis=1)
-        both.columns = [f"{k} γ={g:g}" for k, g in both.columns]
+        top, gamma = (both.columns.get_level_values(i) for i in (0, 1))
+        both.columns = [f"{k} γ={g:g}" for k, g in zip(top, gamma)]
         rep.table(
             _r_labels(both),
             f"Table {no}, {what[no]}, bodies on the ground: ours, the "
@@ -199,7 +200,7 @@ def _r_labels(table: pd.DataFrame) -> pd.DataFrame:
     )
 
 
-def _examples(ex: xr.Dataset, rep, lab: str) -> None:
+def _examples(ex: xr.Dataset, rep: Report, lab: str) -> None:
     """The two worked examples: Eq. (11) verdicts with our spectrum against the paper's, the
     simulated overturning probability at the same A_gx, whether the two agree and why they can
     differ."""
