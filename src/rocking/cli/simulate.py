@@ -125,7 +125,7 @@ def _text(s: dict) -> list[str]:
     "scale_g",
     type=float,
     default=None,
-    help="Scale the motion by one factor so that its peak |a| is this many g "
+    help="Scale the motion by one factor so that its peak acceleration (PGA) is this many g "
     "(default: the motion as it is).",
 )
 @e_option
@@ -142,7 +142,7 @@ def _text(s: dict) -> list[str]:
     type=click.Choice(sorted(_OVERTURN)),
     default="pi2",
     show_default=True,
-    help="Overturned when |theta| reaches pi/2 (the paper) or alpha.",
+    help="Overturned when the rotation theta reaches pi/2 (the paper) or alpha, either way.",
 )
 @click.option(
     "--plot",
@@ -156,7 +156,8 @@ def simulate_cmd(R, gamma, motion, scale_g, e_text, dt, overturn, plot_path, as_
 
     Integrates the rocking equation with fixed-step Runge-Kutta at the motion's time step (the
     paper's scheme) and prints whether and when the block overturned, the number of impacts and
-    the largest |theta|/alpha, with the block's and the motion's properties.
+    the largest rotation theta as a fraction of alpha, with the block's and the motion's
+    properties.
     """
     from ..core.checks import positive
     from ..dynamics.body import Block
