@@ -132,7 +132,7 @@ def _os_error(exc: OSError) -> str:
 
 @click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="rocking")
-def main():
+def main() -> None:
     """Rocking and overturning of free-standing rigid blocks under earthquakes."""
     # SIGTERM (a batch system's stop) unwinds like Ctrl-C, so that long runs record their
     # status as failed in run.json; finished chunks are already on disk.

@@ -9,12 +9,24 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
 from ..defaults import BAND_HZ, DEFAULT_E, FRAME_PRESETS
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..assessment.bodies import NamedBody
+    from ..core.progress import Reporter
+    from ..structures.frames import ShearFrame
+
+#: A click command callback (what the option decorators take and return).
+F = TypeVar("F", bound=Callable[..., Any])
 
 #: The paper's band of the available S_v (Section 8) as the --band text.
 BAND_TEXT = f"{BAND_HZ[0]:g}:{BAND_HZ[1]:g}"
@@ -23,7 +35,7 @@ BAND_TEXT = f"{BAND_HZ[0]:g}:{BAND_HZ[1]:g}"
 # --------------------------------------------------------------------------- parsers
 
 
-def parse_range(text: str, option: str = "--agx", unit: str = "g"):
+def parse_range(text: str, option: str = "--agx", unit: str = "g") -> np.ndarray:
     """Values of ``start:stop:step`` [``unit``] (stop included when within 1e-9·step) or of one
     number, as a NumPy array; all must be > 0.
 
@@ -67,14 +79,14 @@ def parse_band(text: str) -> tuple[float, float]:
     return lo, hi
 
 
-def parse_e(text: str):
-    """Restitution of ``--e``: a number in (0, 1] or ``housner``."""
+def parse_e(text: str) -> float | str:
+    """Restitution of ``--e``: a number in (0, 1] [-], or the word ``housner``."""
     from ..core.checks import restitution
 
     return restitution(text, "--e")
 
 
-def load_bodies(spec: str) -> list:
+def load_bodies(spec: str) -> list[NamedBody]:
     """Bodies (:class:`rocking.assessment.bodies.NamedBody`) of ``--bodies``: a CSV file, the word
     ``paper`` for the paper's 72 bodies, or ``example`` for the shipped example file (unless a
     file of that name exists)."""
@@ -88,7 +100,7 @@ def load_bodies(spec: str) -> list:
     return read_bodies_table(spec)
 
 
-def frame_and_floor(frame_name: str | None, floor: int | None):
+def frame_and_floor(frame_name: str | None, floor: int | None) -> tuple[ShearFrame | None, int]:
     """(ShearFrame or None, floor) of ``--frame`` and ``--floor`` (given together or not at all)."""
     if frame_name is None and floor is None:
         return None, 0
@@ -121,7 +133,7 @@ def writable_file(path: str | None, option: str) -> Path | None:
     return p
 
 
-def reporter(quiet: bool = False):
+def reporter(quiet: bool = False) -> Reporter:
     """The progress reporter of a command (:class:`rocking.core.progress.Reporter`); quiet: none."""
     from ..core.progress import Reporter
 
@@ -173,10 +185,10 @@ band_option = click.option(
 )
 
 
-def options(*opts):
+def options(*opts: Callable[[F], F]) -> Callable[[F], F]:
     """Apply click options in the order given (first listed first in --help)."""
 
-    def apply(func):
+    def apply(func: F) -> F:
         for option in reversed(opts):
             func = option(func)
         return func

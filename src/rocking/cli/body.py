@@ -3,10 +3,15 @@ its 72 bodies with 50 % probability by Eq. (11), compared cell by cell with the 
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import click
 
 from ..defaults import G
 from ._options import writable_file
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: A cell differs from the paper when |Eq. (11) − printed| exceeds this [cm/s]: the paper prints
 #: two decimals (±0.005) and rounded its intermediate values; its 70 agreeing cells scatter with
@@ -14,7 +19,7 @@ from ._options import writable_file
 TOLERANCE_CM_S = 0.03
 
 
-def table1(g: float = G):
+def table1(g: float = G) -> pd.DataFrame:
     """Eq. (11) for the paper's 72 bodies as Table 1 (a pandas DataFrame): S_v [cm/s], rows R [ft]
     (whole feet, as the paper's sizes are), columns γ [-]; gravity ``g`` [m/s²]."""
     import numpy as np
@@ -30,7 +35,7 @@ def table1(g: float = G):
     )
 
 
-def printed_table1():
+def printed_table1() -> pd.DataFrame:
     """Table 1 as printed in the paper [cm/s], laid out as :func:`table1`."""
     import pandas as pd
 
@@ -59,7 +64,7 @@ def printed_table1():
     type=click.Path(dir_okay=False, writable=True),
     help="Save the grid (R [ft], R [m], then one column per gamma; cm/s) to a CSV file.",
 )
-def table1_cmd(g, compare, csv_path):
+def table1_cmd(g: float, compare: bool, csv_path: str | None) -> None:
     """Print the paper's Table 1: required S_v [cm/s] by Eq. (11) for R = 4-11 ft, gamma = 2-6.
 
     By default each cell is compared with the value printed in the paper, and every cell that
@@ -85,11 +90,13 @@ def table1_cmd(g, compare, csv_path):
         click.echo(f"{r_ft:>6d} {r_ft * FOOT:>7.4f} {cells}".rstrip())
     if compare:
         click.echo(f"* differs from the paper's printed value by more than {TOLERANCE_CM_S} cm/s:")
+        cells_ours, cells_paper = ours.to_numpy(), paper.to_numpy()
         for i, j in zip(*np.nonzero(off)):
             click.echo(
                 f"  R = {ours.index[i]} ft ({ours.index[i] * FOOT:.4f} m), "
-                f"gamma = {ours.columns[j]:.1f}: Eq. (11) {ours.iat[i, j]:.2f} cm/s, "
-                f"paper {paper.iat[i, j]:.2f} cm/s (difference {diff.iat[i, j]:+.2f})"
+                f"gamma = {ours.columns[j]:.1f}: Eq. (11) {cells_ours[i, j]:.2f} cm/s, "
+                f"paper {cells_paper[i, j]:.2f} cm/s "
+                f"(difference {cells_ours[i, j] - cells_paper[i, j]:+.2f})"
             )
         agree = np.abs(diff.to_numpy()[~off])
         largest = f" (largest difference {agree.max():.3f} cm/s)" if agree.size else ""

@@ -4,8 +4,7 @@ bodies under an ensemble (paper Sections 6–8) and Housner's energy-balance scr
 Every input (bodies file, frame preset, floor, A_gx range, restitution, band) is checked before
 any work starts; a bad one ends the command with a one-line message.  The output folders are
 :class:`rocking.core.runs.RunFolder`: claimed by one run, with ``run.json`` and its status, every
-file
-written atomically; the Monte Carlo chunks in ``chunks/`` let the same command resume.
+file written atomically; the Monte Carlo chunks in ``chunks/`` let the same command resume.
 """
 
 from __future__ import annotations
@@ -13,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -33,6 +33,17 @@ from ._options import (
     scheduler_option,
 )
 
+if TYPE_CHECKING:
+    import numpy as np
+    import xarray as xr
+
+    from ..assessment.bodies import NamedBody
+    from ..montecarlo.backends import DaskBackend, LocalBackend
+    from ..montecarlo.statistics import LognormalFit
+    from ..motions.ensemble import Ensemble
+    from ..motions.targets import TargetSpectrum
+    from ..structures.frames import ShearFrame
+
 #: Files written by ``rocking agx50`` for the paper's Tables 1–3 (when the bodies form a grid),
 #: with the paper's decimals.
 _TABLES = {
@@ -45,11 +56,18 @@ _TABLES = {
 # --------------------------------------------------------------------------- helpers
 
 
-def _location(ensemble, frame, floor: int):
+def _location(ensemble: Ensemble, frame: ShearFrame | None, floor: int) -> Ensemble:
     return ensemble if frame is None else frame.floor_ensemble(ensemble, floor)
 
 
-def _prepare(bodies_spec, motions_path, floor, frame_name, e_text, scheduler):
+def _prepare(
+    bodies_spec: str,
+    motions_path: str,
+    floor: int | None,
+    frame_name: str | None,
+    e_text: str,
+    scheduler: str | None,
+) -> tuple[list[NamedBody], Ensemble, float | str, LocalBackend | DaskBackend]:
     """Check every input, then load the motions (at the bodies' location).
 
     Returns the bodies, the ensemble, e and the backend (a Dask cluster is only contacted when
@@ -58,19 +76,19 @@ def _prepare(bodies_spec, motions_path, floor, frame_name, e_text, scheduler):
     from ..motions.ensemble import Ensemble
 
     bodies = load_bodies(bodies_spec)
-    frame, floor = frame_and_floor(frame_name, floor)
+    frame, level = frame_and_floor(frame_name, floor)
     e = parse_e(e_text)
     backend = get_backend(scheduler)
-    ensemble = _location(Ensemble.load(motions_path), frame, floor)
+    ensemble = _location(Ensemble.load(motions_path), frame, level)
     return bodies, ensemble, e, backend
 
 
-def _names(ds, bodies: list):
+def _names(ds: xr.Dataset, bodies: list[NamedBody]) -> xr.Dataset:
     """``ds`` with the user's body names as the ``body`` coordinate."""
     return ds.assign_coords(body=[b.name for b in bodies])
 
 
-def _describe(ensemble) -> dict:
+def _describe(ensemble: Ensemble) -> dict:
     """netCDF attributes saying what the motions were."""
     return {
         "location": str(ensemble.meta.get("location", "")),
@@ -80,7 +98,9 @@ def _describe(ensemble) -> dict:
     }
 
 
-def _run_params(bodies, motions_path, ensemble, e, **more) -> dict:
+def _run_params(
+    bodies: list[NamedBody], motions_path: str, ensemble: Ensemble, e: float | str, **more: object
+) -> dict:
     """What run.json records about the inputs of a fragility or agx50 run."""
     return {
         "bodies": [[b.name, b.block.R, b.block.gamma] for b in bodies],
@@ -93,7 +113,7 @@ def _run_params(bodies, motions_path, ensemble, e, **more) -> dict:
     }
 
 
-def _fit(agx, one_body):
+def _fit(agx: np.ndarray, one_body: xr.Dataset) -> LognormalFit:
     """Lognormal fit of one body's counts; NaN median and beta when the counts carry no
     information on the median (all 0 or all n: fit_lognormal refuses those)."""
     import numpy as np
@@ -153,8 +173,16 @@ _run_options = options(
     help="A_gx levels [g] (ensemble mean PGA) as start:stop:step, stop included.",
 )
 def fragility_cmd(
-    bodies_spec, motions_path, floor, frame_name, out, scheduler, e_text, quiet, agx_text
-):
+    bodies_spec: str,
+    motions_path: str,
+    floor: int | None,
+    frame_name: str | None,
+    out: str,
+    scheduler: str | None,
+    e_text: str,
+    quiet: bool,
+    agx_text: str,
+) -> None:
     """Overturning probability of each body against A_gx (paper Figs. 9-11, 13).
 
     Writes to --out: probabilities.csv (one row per body and A_gx, with the count of overturned
@@ -246,18 +274,18 @@ def fragility_cmd(
 )
 @band_option
 def agx50_cmd(
-    bodies_spec,
-    motions_path,
-    floor,
-    frame_name,
-    out,
-    scheduler,
-    e_text,
-    quiet,
-    resolution,
-    agx_max,
-    band_text,
-):
+    bodies_spec: str,
+    motions_path: str,
+    floor: int | None,
+    frame_name: str | None,
+    out: str,
+    scheduler: str | None,
+    e_text: str,
+    quiet: bool,
+    resolution: float,
+    agx_max: float,
+    band_text: str,
+) -> None:
     """A_gx of 50 % overturning probability per body and Housner's energy balance (Section 8).
 
     Writes to --out: agx50.csv and agx50.nc (A_gx50 [g], required S_v of Eq. 11 and S_v1 [cm/s]
@@ -389,7 +417,16 @@ def agx50_cmd(
 )
 @frame_option
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
-def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame_name, as_json):
+def assess_cmd(
+    bodies_spec: str,
+    spectrum_path: str,
+    band_text: str,
+    damping: float,
+    agx: float | None,
+    floor: int | None,
+    frame_name: str | None,
+    as_json: bool,
+) -> None:
     """Screen bodies with Housner's energy balance (paper Eq. 11 and Section 8 examples).
 
     A body is 'safe' when its required S_v [cm/s] exceeds the available S_v (the largest PSV
@@ -398,7 +435,7 @@ def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame
     """
     band = parse_band(band_text)
     bodies = load_bodies(bodies_spec)
-    frame, floor = frame_and_floor(frame_name, floor)
+    frame, level = frame_and_floor(frame_name, floor)
     is_ensemble = Path(spectrum_path).suffix.lower() == ".nc"
     if not is_ensemble and (agx is not None or frame is not None):
         from ..errors import InputError
@@ -412,7 +449,9 @@ def assess_cmd(bodies_spec, spectrum_path, band_text, damping, agx, floor, frame
 
     with reporter():
         if is_ensemble:
-            source = _location(Ensemble.load(spectrum_path), frame, floor)
+            source: Ensemble | TargetSpectrum = _location(
+                Ensemble.load(spectrum_path), frame, level
+            )
         else:
             source = parse_spectrum(spectrum_path, damping=damping)
         ds = assess(

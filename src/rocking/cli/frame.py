@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from typing import TYPE_CHECKING
 
 import click
 
@@ -10,6 +11,9 @@ from ..core.files import save_figure
 from ..defaults import BAND_HZ, FRAME_PRESETS, G
 from ..errors import InputError
 from ._options import quiet_option, reporter, writable_file
+
+if TYPE_CHECKING:
+    from ..structures.frames import ShearFrame
 
 #: Frequencies of the floor spectra [Hz]: 0.04–30 Hz as paper Fig. 12, 100 per decade (289).
 _FREQS = (0.04, 30.0, 289)
@@ -23,7 +27,7 @@ _frame_file_opt = click.option(
 )
 
 
-def _frame(preset, frame_file):
+def _frame(preset: str | None, frame_file: str | None) -> ShearFrame:
     """The ShearFrame of a PRESET argument or a --frame-file."""
     if (preset is None) == (frame_file is None):
         raise InputError(
@@ -32,11 +36,14 @@ def _frame(preset, frame_file):
         )
     from ..structures.frames import ShearFrame
 
-    return ShearFrame.preset(preset) if frame_file is None else ShearFrame.from_toml(frame_file)
+    if frame_file is not None:
+        return ShearFrame.from_toml(frame_file)
+    assert preset is not None  # one of the two, checked above
+    return ShearFrame.preset(preset)
 
 
 @click.group("frame")
-def frame_group():
+def frame_group() -> None:
     """Shear frames (paper Section 7). Presets: paper-2.0, paper-1.5, paper-1.0, paper-0.5."""
 
 
@@ -49,7 +56,7 @@ def frame_group():
     type=click.Path(dir_okay=False, writable=True),
     help="Draw the mode shapes into this image file.",
 )
-def show(preset, frame_file, plot_path):
+def show(preset: str | None, frame_file: str | None, plot_path: str | None) -> None:
     """Print a frame's floors, periods, participation factors and mode shapes."""
     from ..structures.frames import PRESETS
 
@@ -126,8 +133,17 @@ def show(preset, frame_file, plot_path):
 )
 @quiet_option
 def spectra(
-    preset, frame_file, agx, n_motions, seed, motions_path, damping, plot_path, csv_path, quiet
-):
+    preset: str | None,
+    frame_file: str | None,
+    agx: float,
+    n_motions: int | None,
+    seed: int | None,
+    motions_path: str | None,
+    damping: float,
+    plot_path: str | None,
+    csv_path: str | None,
+    quiet: bool,
+) -> None:
     """Mean pseudo-velocity spectra of the ground and every floor, all scaled to the same A_gx
     (paper Fig. 12)."""
     frame = _frame(preset, frame_file)

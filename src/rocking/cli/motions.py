@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import click
 
 from ..defaults import DT, ENVELOPE_NAMES, FIT_BAND
-from ._options import quiet_option, reporter, writable_file
+from ._options import options, quiet_option, reporter, writable_file
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..motions.ensemble import Ensemble
+    from ..motions.targets import TargetSpectrum
 
 _damping_option = click.option(
     "--damping",
@@ -20,7 +28,8 @@ _target_option = click.option(
     type=click.Path(exists=True, dir_okay=False),
     help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default RG 1.60 at 1 g.",
 )
-_ENSEMBLE_OPTIONS = (
+#: --n, --duration, --dt and --envelope of a simulated ensemble (in this order in --help).
+_ensemble_options = options(
     click.option(
         "--n",
         "n",
@@ -53,15 +62,8 @@ _ENSEMBLE_OPTIONS = (
 )
 
 
-def _ensemble_options(command):
-    """--n, --duration, --dt and --envelope of a simulated ensemble (in this order in --help)."""
-    for option in reversed(_ENSEMBLE_OPTIONS):
-        command = option(command)
-    return command
-
-
 @click.group("motions")
-def motions():
+def motions() -> None:
     """Spectrum-compatible simulated ground motions (paper Section 3)."""
 
 
@@ -103,19 +105,19 @@ def motions():
 )
 @quiet_option
 def generate_cmd(
-    n,
-    duration,
-    dt,
-    envelope,
-    seed,
-    baseline,
-    iterations,
-    peak_limit,
-    target_path,
-    damping,
-    out,
-    quiet,
-):
+    n: int,
+    duration: float,
+    dt: float,
+    envelope: str,
+    seed: int,
+    baseline: bool,
+    iterations: int,
+    peak_limit: bool,
+    target_path: str | None,
+    damping: float,
+    out: str,
+    quiet: bool,
+) -> None:
     """Simulate an ensemble and save it as netCDF."""
     writable_file(out, "--out")  # before the work, not after
     from ..motions.synthesis import generate
@@ -144,7 +146,7 @@ def generate_cmd(
     )
 
 
-def _with_and_without_baseline(ens):
+def _with_and_without_baseline(ens: Ensemble) -> tuple[np.ndarray, np.ndarray]:
     """(uncorrected, corrected) accelerations [m/s²] of the members of the Ensemble ``ens``."""
     from ..motions.baseline import baseline_correct
 
@@ -182,7 +184,14 @@ def _with_and_without_baseline(ens):
     required=True,
     help="Output folder for the figures.",
 )
-def show(ensemble, agx, samples, target_path, damping, out):
+def show(
+    ensemble: str,
+    agx: float | None,
+    samples: int,
+    target_path: str | None,
+    damping: float,
+    out: str,
+) -> None:
     """Plot an ensemble and print how its mean PSA fits the target.
 
     Writes baseline.png (sample accelerations, velocities and displacements with and without
@@ -202,6 +211,7 @@ def show(ensemble, agx, samples, target_path, damping, out):
     ens = Ensemble.load(ensemble)
     if agx is not None:
         ens = ens.scaled(agx)
+    target: TargetSpectrum
     if target_path is not None:
         target = TabulatedSpectrum.from_csv(target_path, damping=damping)
     else:
@@ -283,8 +293,18 @@ def show(ensemble, agx, samples, target_path, damping, out):
 )
 @quiet_option
 def fit_cmd(
-    n, duration, dt, envelope, seed, iterations, per_decade, target_path, damping, out, quiet
-):
+    n: int,
+    duration: float,
+    dt: float,
+    envelope: str,
+    seed: int,
+    iterations: int,
+    per_decade: int,
+    target_path: str | None,
+    damping: float,
+    out: str,
+    quiet: bool,
+) -> None:
     """Mean PSA against the target: the paper's method alone and with the iterative correction.
 
     Simulates the same members both ways and checks the ensemble-mean PSA over
@@ -302,7 +322,9 @@ def fit_cmd(
     target = (
         RG160(damping) if target_path is None else TabulatedSpectrum.from_csv(target_path, damping)
     )
-    settings = dict(duration=duration, dt=dt, envelope=envelope, seed=seed, target=target)
+    settings: dict[str, Any] = dict(
+        duration=duration, dt=dt, envelope=envelope, seed=seed, target=target
+    )
     labels = {
         0: "paper's method alone",
         iterations: f"with iterative correction ({iterations} iterations)",

@@ -53,7 +53,16 @@ from ._options import quiet_option, reporter
     "starting point for a --config file.",
 )
 @quiet_option
-def reproduce_command(section, fidelity, out_dir, scheduler, config_path, sets, show_config, quiet):
+def reproduce_command(
+    section: str,
+    fidelity: str,
+    out_dir: str | None,
+    scheduler: str | None,
+    config_path: str | None,
+    sets: tuple[str, ...],
+    show_config: bool,
+    quiet: bool,
+) -> None:
     """Reproduce SECTION (4-8) of the paper, or all of them, into a report in --out.
 
     \b

@@ -6,15 +6,20 @@ import time
 import warnings
 from importlib.resources import files
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from ..defaults import SPECTRUM_SYNTAX
 from ._options import quiet_option, reporter
 
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
+
 #: Files shipped with the package that ``example`` stands for.
-EXAMPLE_INVENTORY = files("rocking") / "data" / "example_inventory.csv"
-EXAMPLE_SPECTRUM = files("rocking") / "data" / "example_spectrum.csv"
+EXAMPLE_INVENTORY = Path(str(files("rocking") / "data" / "example_inventory.csv"))
+EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
 
 
 @click.command("screen")
@@ -91,19 +96,19 @@ EXAMPLE_SPECTRUM = files("rocking") / "data" / "example_spectrum.csv"
 )
 @quiet_option
 def screen_command(
-    inventory,
-    spectrum_text,
-    frame,
-    out_dir,
-    n_motions,
-    seed,
-    duration,
-    resolution,
-    agx_max,
-    floor_motions,
-    scheduler,
-    quiet,
-):
+    inventory: str,
+    spectrum_text: str,
+    frame: str | None,
+    out_dir: str,
+    n_motions: int,
+    seed: int,
+    duration: float,
+    resolution: float,
+    agx_max: float,
+    floor_motions: str,
+    scheduler: str | None,
+    quiet: bool,
+) -> None:
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
 
     For each item: Housner's energy balance (paper Eq. 11) against the available S_v at its
@@ -135,14 +140,14 @@ def screen_command(
     out = Path(out_dir)
     remove_report(out)  # a failed run must not leave an older report looking like its result
     inv_path = (
-        Path(EXAMPLE_INVENTORY)
+        EXAMPLE_INVENTORY
         if inventory == "example" and not Path(inventory).exists()
         else Path(inventory)
     )
     if not inv_path.is_file():
         raise click.BadParameter(f"no such file: {inventory}", param_hint="INVENTORY")
     spectrum = parse_spectrum(
-        EXAMPLE_SPECTRUM
+        str(EXAMPLE_SPECTRUM)
         if spectrum_text == "example" and not Path(spectrum_text).exists()
         else spectrum_text
     )
@@ -217,10 +222,9 @@ _FLOORS = {
 }
 
 
-def _summary(ds, table, inv_path: Path, notes: list[str]) -> str:
+def _summary(ds: xr.Dataset, table: pd.DataFrame, inv_path: Path, notes: list[str]) -> str:
     """Markdown paragraph(s) above the figure (``table``:
-    :func:`rocking.assessment.screen.results_table`
-    of ``ds``)."""
+    :func:`rocking.assessment.screen.results_table` of ``ds``)."""
     from ..assessment.screen import AGREE, eq11_vs_monte_carlo_note
 
     a = ds.attrs

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -13,26 +14,31 @@ from ..defaults import G
 from ..errors import InputError
 from ._options import e_option, parse_e, reporter, writable_file
 
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..dynamics.body import Block
+    from ..dynamics.simulate import RockingResponse
+
 #: The word that selects the built-in simulated motion for ``--motion``.
 SIMULATED = "simulated"
 #: The built-in simulated motion: member 0 of a simulated ensemble (seed 0) compatible with
 #: RG 1.60 at 1 g, 20 s long with the compound intensity function; sampled at 1/400 s unless --dt
 #: is given.
-SIMULATED_SPEC = {"duration": 20.0, "envelope": "compound", "seed": 0}
+SIMULATED_SPEC: dict[str, Any] = {"duration": 20.0, "envelope": "compound", "seed": 0}
 _SIMULATED_NAME = "simulated (RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
 #: --overturn-angle choices: the paper's π/2, or the critical angle α.
 _OVERTURN = {"pi2": math.pi / 2, "alpha": "alpha"}
 
 
-def load_motion(spec: str, dt: float | None):
+def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
     """Ground acceleration [m/s²], its time step [s] and a name, for ``--motion``
     FILE|example|simulated.
 
     ``example`` is the shipped El Centro 1940 NS record
     (:func:`rocking.motions.records.example_record_path`), ``simulated`` the built-in simulated
-    motion
-    (:data:`SIMULATED_SPEC`). ``dt`` [s] is the step of a one-column file (checked against the
-    file's own step otherwise), or the step of the simulated motion (1/400 s if None).
+    motion (:data:`SIMULATED_SPEC`). ``dt`` [s] is the step of a one-column file (checked against
+    the file's own step otherwise), or the step of the simulated motion (1/400 s if None).
     """
     from ..motions.records import EXAMPLE, read_record, record_path
     from ..motions.synthesis import generate
@@ -49,7 +55,7 @@ def load_motion(spec: str, dt: float | None):
     return rec.acc, rec.dt, str(path) if path == Path(spec) else f"{spec} ({path.name})"
 
 
-def scale_to_peak(ag, peak_g: float):
+def scale_to_peak(ag: np.ndarray, peak_g: float) -> tuple[np.ndarray, float]:
     """``ag`` [m/s²] (NumPy array) times one factor so that max |a| is ``peak_g`` [g]; returns
     both."""
     import numpy as np
@@ -61,7 +67,9 @@ def scale_to_peak(ag, peak_g: float):
     return ag * factor, factor
 
 
-def run_summary(block, response, ag, dt: float, name: str, factor: float) -> dict:
+def run_summary(
+    block: Block, response: RockingResponse, ag: np.ndarray, dt: float, name: str, factor: float
+) -> dict:
     """JSON-friendly description of the block, the motion ``ag`` [m/s²] and the response (SI
     units; g where the key says so)."""
     import numpy as np
@@ -151,7 +159,17 @@ def _text(s: dict) -> list[str]:
     help="Save a figure of theta/alpha and the motion against time (e.g. out.png).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
-def simulate_cmd(R, gamma, motion, scale_g, e_text, dt, overturn, plot_path, as_json):
+def simulate_cmd(
+    R: float,
+    gamma: float,
+    motion: str,
+    scale_g: float | None,
+    e_text: str,
+    dt: float | None,
+    overturn: str,
+    plot_path: str | None,
+    as_json: bool,
+) -> None:
     """Rock one block (R, gamma) under one ground motion; print what happened.
 
     Integrates the rocking equation with fixed-step Runge-Kutta at the motion's time step (the

@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import click
 
 from ..defaults import G
 from ..errors import InputError
 from ._options import reporter, writable_file
+
+if TYPE_CHECKING:
+    import numpy as np
 
 #: Units of ``--units`` (those of :data:`rocking.motions.records.UNITS`; tests/test_cli.py
 #: checks it).
@@ -18,7 +23,7 @@ _DEFAULT_FMAX = 50.0
 _TABLE_FREQS = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0)
 
 
-def _table_rows(freqs):
+def _table_rows(freqs: np.ndarray) -> np.ndarray:
     import numpy as np
 
     wanted = [f for f in _TABLE_FREQS if freqs[0] <= f <= freqs[-1]] or [freqs[0], freqs[-1]]
@@ -81,7 +86,17 @@ def _table_rows(freqs):
     type=click.Path(dir_okay=False, writable=True),
     help="Save every spectrum to a CSV file.",
 )
-def spectrum(files, damping, fmin, fmax, n_freq, units, dt, plot_path, csv_path):
+def spectrum(
+    files: tuple[str, ...],
+    damping: float,
+    fmin: float,
+    fmax: float | None,
+    n_freq: int,
+    units: str | None,
+    dt: float | None,
+    plot_path: str | None,
+    csv_path: str | None,
+) -> None:
     """Response spectra of ground-acceleration records (PEER .AT2 or text; folders allowed;
     'example' is the shipped record El Centro 1940 NS).
 
