@@ -29,8 +29,9 @@ def _text_files(folder: Path):
 def test_no_file_names_a_path_outside_the_repository():
     found = [
         f"{path.relative_to(ROOT)}:{text.count(chr(10), 0, m.start()) + 1}: {m.group(0)}"
-        for folder in (ROOT / "src", ROOT / "tests")
+        for folder in (ROOT / "src", ROOT / "tests", ROOT / "examples", ROOT / "docs")
         for path, text in _text_files(folder)
+        if not {"_build", "generated", "auto_examples"} & set(path.relative_to(folder).parts)
         for m in _OUTSIDE.finditer(text)
     ]
     assert not found, "paths outside the repository:\n" + "\n".join(found)
@@ -69,3 +70,14 @@ def test_package_data_globs_cover_every_data_file():
     shipped = {p for pattern in globs for p in package.glob(pattern) if p.is_file()}
     data = {p for p in (package / "data").rglob("*") if p.is_file()}
     assert data and not data - shipped, sorted(str(p.relative_to(package)) for p in data - shipped)
+
+
+def test_ci_runs_the_readme_test_command_as_printed():
+    # .ci/run may check more before the tests (lint, types, documentation), never run less:
+    # the README's test command must be in it verbatim, as a command line of its own
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = readme.split("**Set up and run the tests**", 1)[1]
+    command = section.split("```sh\n", 1)[1].split("\n```", 1)[0].strip()
+    assert "pytest" in command, command
+    lines = [line.strip() for line in (ROOT / ".ci" / "run").read_text().splitlines()]
+    assert any(line == command or line.startswith(command + " ||") for line in lines), command
