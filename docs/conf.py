@@ -29,7 +29,6 @@ version = ".".join(release.split(".")[:2])
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
-    "sphinx.ext.mathjax",
     "numpydoc",
     "myst_parser",
     "sphinx_click",
@@ -55,7 +54,7 @@ numpydoc_attributes_as_param_list = False
 numpydoc_xref_param_type = False
 
 # -- Markdown pages -----------------------------------------------------------------------------
-myst_enable_extensions = ["dollarmath", "colon_fence"]
+myst_enable_extensions = ["colon_fence"]
 myst_heading_anchors = 3
 
 # -- Gallery ------------------------------------------------------------------------------------
