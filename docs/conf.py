@@ -34,6 +34,7 @@ extensions = [
     "sphinx_click",
     "sphinx_gallery.gen_gallery",
     "public_api",
+    "absolute_values",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}

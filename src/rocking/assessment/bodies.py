@@ -85,7 +85,8 @@ def read_bodies_table(path) -> list[NamedBody]:
     columns = _columns(path, *lines[0])
     if len(lines) == 1:
         raise InputError(f"{path}: no bodies below the header (line {lines[0][0]})")
-    bodies, seen = [], {}
+    bodies = []
+    seen: dict[str, int] = {}
     for row, (lineno, cells) in enumerate(lines[1:], start=1):
         where = f"{path}: row {row} (line {lineno})"
         if len(cells) != len(columns):

@@ -1,8 +1,7 @@
 """Housner's energy-balance check (paper Section 8): required against available pseudo-velocity.
 
 * Required S_v (Eq. 11, :func:`rocking.dynamics.body.housner_sv`): the pseudo-velocity that
-overturns a
-  body with about 50 % probability.
+  overturns a body with about 50 % probability.
 * Available S_v (:func:`available_sv`): the largest value of a 5 %-damped pseudo-velocity spectrum
   (the mean spectrum of an ensemble) in a low-frequency band, 0.04–0.6 Hz in the paper, because a
   rocking body about to overturn oscillates slowly and floor spectra have spikes at higher
@@ -87,16 +86,14 @@ def available_sv(
     ----------
     source : Ensemble, ResponseSpectrum or TargetSpectrum
         * :class:`~rocking.motions.ensemble.Ensemble`: the maximum over ``n_freqs`` log-spaced
-        frequencies
-          of the band of the ensemble-mean PSV (``damping``), after scaling the ensemble to
-          mean PGA ``agx`` if given. With ``agx`` = a body's A_gx at 50 % this is S_v1.
-        * :class:`~rocking.motions.response.ResponseSpectrum`: the maximum of its (mean) PSV at its
-        own
-          frequencies inside the band; its damping must equal ``damping``.
-        * :class:`~rocking.motions.targets.TargetSpectrum`: the maximum of its PSV on the log-spaced
-        grid
-          plus its table frequencies inside the band (PSV is monotonic between the knots of a
-          log-log-linear table, so the maximum of a tabulated or RG 1.60 spectrum is exact).
+          frequencies of the band of the ensemble-mean PSV (``damping``), after scaling the
+          ensemble to mean PGA ``agx`` if given. With ``agx`` = a body's A_gx at 50 % this is S_v1.
+        * :class:`~rocking.motions.response.ResponseSpectrum`: the maximum of its (mean) PSV at
+          its own frequencies inside the band; its damping must equal ``damping``.
+        * :class:`~rocking.motions.targets.TargetSpectrum`: the maximum of its PSV on the
+          log-spaced grid plus its table frequencies inside the band (PSV is monotonic between
+          the knots of a log-log-linear table, so the maximum of a tabulated or RG 1.60
+          spectrum is exact).
     band_hz : (float, float)
         Band [Hz], 0 < lower < upper; default the paper's 0.04–0.6 Hz.
     damping : float
@@ -307,7 +304,9 @@ def grid_table(ds: xr.Dataset, name: str) -> pd.DataFrame:
         Variable name, e.g. ``"sv_required"``, ``"sv1"``, ``"ratio"``.
     """
     if name not in ds.data_vars:
-        raise InputError(f"no variable {name!r}; the dataset has {', '.join(ds.data_vars)}")
+        raise InputError(
+            f"no variable {name!r}; the dataset has {', '.join(map(str, ds.data_vars))}"
+        )
     if not forms_grid(ds):
         raise InputError("the bodies do not form an R × gamma grid (each pair once)")
     values = ds[name].values

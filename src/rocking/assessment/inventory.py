@@ -94,7 +94,9 @@ class Item:
     @property
     def location(self) -> str:
         """ "ground" or "floor N of FRAME" (as a floor ensemble's ``meta["location"]``)."""
-        return "ground" if self.floor == 0 else f"floor {self.floor} of {self.frame.name}"
+        if self.floor == 0 or self.frame is None:  # (an item on a floor always has its frame)
+            return "ground"
+        return f"floor {self.floor} of {self.frame.name}"
 
     @property
     def may_slide(self) -> bool:
@@ -177,13 +179,18 @@ def read_inventory(path, *, frame=None) -> Inventory:
     else:
         rows, defined, default = _csv_rows(path), {}, None
     frames = _Frames(defined, path.parent)
-    default = frame if frame is not None else default
-    if isinstance(default, str):
-        default = _frame_or_error(frames, default, f"{path}: default frame")
-    items, errors, seen = [], [], {}
+    named = frame if frame is not None else default
+    default_frame = (
+        _frame_or_error(frames, named, f"{path}: default frame")
+        if isinstance(named, str)
+        else named
+    )
+    items: list[Item] = []
+    errors: list[str] = []
+    seen: dict[str, str] = {}
     for where, fields in rows:
         try:
-            item = _item(fields, f"{path}: {where}", frames, default)
+            item = _item(fields, f"{path}: {where}", frames, default_frame)
             if item.name in seen:
                 raise InputError(f"name {item.name!r} repeats that of {seen[item.name]}")
             seen[item.name] = where
@@ -312,7 +319,7 @@ def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None)
     floor, frame = check(_location, fields, frames, default) or (None, None)
     e = check(_restitution, fields.get("e"), block) if block is not None else None
     mu = check(_optional_positive, "mu", fields.get("mu"))
-    if problems:
+    if problems or block is None or floor is None or e is None:
         raise InputError(f"item {name!r}: " + "; ".join(problems))
     return Item(name, block, floor, frame, e, mu, where)
 

@@ -26,6 +26,7 @@ import platform
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 from ..defaults import CSV_FLOAT_FORMAT
 from ..errors import InputError
@@ -56,7 +57,7 @@ class RunFolder:
         self.params = dict(params)
         self.outputs: list[str] = []
         self.info: dict = {}
-        self._lock = None
+        self._lock: Any = None  # a filelock lock while the folder is claimed
         self._start = 0.0
 
     # ---- claim and status ----------------------------------------------------------------------

@@ -104,14 +104,14 @@ def simulate_reference(
             # so that only the return to θ = 0 counts as a crossing, never the start itself.
             return yy[0] if t > t_seg else side
 
-        hit_zero.terminal = True
-        hit_zero.direction = -side
+        hit_zero.terminal = True  # type: ignore[attr-defined]
+        hit_zero.direction = -side  # type: ignore[attr-defined]
 
         def hit_overturn(t, yy):
             return abs(yy[0]) - th_ov
 
-        hit_overturn.terminal = True
-        hit_overturn.direction = 1.0
+        hit_overturn.terminal = True  # type: ignore[attr-defined]
+        hit_overturn.direction = 1.0  # type: ignore[attr-defined]
 
         def turn_back(t, yy):
             # Minima of side·θ. Events are seen only as sign changes between the ends of a step,
@@ -119,7 +119,7 @@ def simulate_reference(
             # minimum, where side·θ < 0 and side·θ' changes sign, is seen.
             return side * yy[1]
 
-        turn_back.direction = 1.0
+        turn_back.direction = 1.0  # type: ignore[attr-defined]
 
         def solve(t_stop):
             return solve_ivp(

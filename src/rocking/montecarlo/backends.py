@@ -125,7 +125,7 @@ class DaskBackend:
         #: Numba threads per task: the worker's share of this machine's cores (local cluster).
         self.threads = None if address else max(1, (os.cpu_count() or 1) // n_workers)
         self._client = None
-        self._finalizer = None
+        self._finalizer: weakref.finalize | None = None
 
     @property
     def client(self):

@@ -15,6 +15,7 @@ from __future__ import annotations
 import hashlib
 import math
 from contextlib import ExitStack
+from typing import Any
 
 import numpy as np
 
@@ -87,9 +88,9 @@ class Engine:
         self.store = None if out is None else ChunkStore(out, self._params())
         self.reporter = resolve_progress(progress)
         self.desc = desc
-        self._handle = None
-        self._stage = None
-        self._exit = None
+        self._handle: Any = None  # the scattered data, on first use
+        self._stage: Any = None  # the progress stage, while open
+        self._exit: Any = None  # the ExitStack that __exit__ closes
 
     def __enter__(self) -> Engine:
         with ExitStack() as stack:
@@ -118,6 +119,8 @@ class Engine:
         }
 
     def _load(self) -> None:
+        if self.store is None:
+            return
         for _key, a in self.store.load_all():
             try:
                 c = int(a["case"])

@@ -10,6 +10,7 @@ and :func:`agx_50` searches the A_gx of 50 % probability adaptively (paper Secti
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -25,6 +26,7 @@ from .statistics import wilson_interval
 
 def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
     """(case labels or None, ensembles) from an Ensemble or a dict label -> Ensemble."""
+    items: list[tuple[str | None, Ensemble]]
     if isinstance(ensemble, Ensemble):
         items = [(None, ensemble)]
     elif isinstance(ensemble, dict) and ensemble:
@@ -40,7 +42,7 @@ def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
             raise InputError(f"{where} must be a rocking Ensemble, got {type(ens).__name__}")
         if ens.agx == 0.0:
             raise InputError(f"{where} has only zero motions: it cannot be scaled to an agx")
-    labels = None if items[0][0] is None else [label for label, _ in items]
+    labels = None if items[0][0] is None else [str(label) for label, _ in items]
     return labels, [ens for _, ens in items]
 
 
@@ -163,14 +165,16 @@ def overturning_probability(
     n = np.broadcast_to(np.array([ens.n for ens in cases])[:, None, None], count.shape).copy()
     low, high = wilson_interval(count, n, confidence)
     dims = ("body", "agx")
-    data_vars = {
+    data_vars: dict[str, Any] = {
         "probability": (dims, count / n, {"units": "1", "long_name": "overturning probability"}),
         "count": (dims, count, {"long_name": "motions that overturn the body"}),
         "n": (dims, n, {"long_name": "motions"}),
         "ci_low": (dims, low, {"units": "1", "long_name": f"Wilson {confidence:g} lower bound"}),
         "ci_high": (dims, high, {"units": "1", "long_name": f"Wilson {confidence:g} upper bound"}),
     }
-    coords = {"agx": ("agx", agx, {"units": "g", "long_name": "mean PGA of the ensemble"})}
+    coords: dict[str, Any] = {
+        "agx": ("agx", agx, {"units": "g", "long_name": "mean PGA of the ensemble"})
+    }
     if members:
         flags, peaks = (
             np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys])
@@ -277,7 +281,8 @@ def agx_50(
     bodies = [(c, b) for c in range(len(cases)) for b in range(nb)]
     grid = sorted({math.ceil(K * i / coarse) for i in range(1, coarse + 1)})
     scan = dict.fromkeys(bodies, 0)  # bracketing: index in grid of the next coarse level
-    lo, hi = {}, {}  # bisection: P(lo) < 0.5 <= P(hi)
+    lo: dict[tuple[int, int], int] = {}  # bisection: P(lo) < 0.5 <= P(hi)
+    hi: dict[tuple[int, int], int] = {}
     step = max(b - a for a, b in zip([0, *grid], grid))
     rounds = len(grid) // 2 + math.ceil(math.log2(step))  # a guess, for the progress display
     engine.require_memory(nb * (len(grid) + math.ceil(math.log2(step)) + 1), "resolution")

@@ -27,6 +27,7 @@ import zipfile
 from functools import cache
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -90,7 +91,7 @@ class ChunkStore:
         self.folder = Path(folder)
         self.params = params
         self.fingerprint = fingerprint({"params": params, **code_version()})
-        self._lock = None
+        self._lock: Any = None  # a filelock lock while the folder is claimed
 
     def __enter__(self) -> ChunkStore:
         import filelock

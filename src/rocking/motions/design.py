@@ -101,7 +101,7 @@ class ASCE7(TargetSpectrum):
             raise InputError(f"TL ({self.TL:g} s) must exceed Ts = SD1/SDS ({self.Ts:g} s)")
 
     @property
-    def name(self) -> str:
+    def name(self) -> str:  # type: ignore[override]
         return f"ASCE 7 (SDS {self.SDS:g} g, SD1 {self.SD1:g} g, TL {self.TL:g} s)"
 
     @property
@@ -199,7 +199,7 @@ class EC8(TargetSpectrum):
         object.__setattr__(self, "type", int(str(self.type).strip()))
 
     @property
-    def name(self) -> str:
+    def name(self) -> str:  # type: ignore[override]
         imp = f", γI {self.importance:g}" if self.importance != 1.0 else ""
         return (
             f"EC8 Type {self.type}, ground {self.ground} (agR {self.ag:g} g{imp}, "
@@ -313,7 +313,7 @@ def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpe
     kind, sep, args = text.partition(":")
     if sep and kind.strip().lower() in _KINDS:
         cls, keys, positional = _KINDS[kind.strip().lower()]
-        kwargs = {}
+        kwargs: dict[str, str | float] = {}
         for part in filter(None, (p.strip() for p in args.split(","))):
             key, eq, value = part.partition("=")
             if not eq and positional and not kwargs:

@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Final
 
 import numpy as np
 import xarray as xr
@@ -26,7 +28,7 @@ from .targets import StoredTarget
 
 #: xarray engine for ensemble files: "scipy" writes netCDF-3 (64-bit offset) with SciPy alone.
 #: netCDF-4 (engine "h5netcdf") would add h5py and HDF5 to the install for no gain here.
-NETCDF_ENGINE = "scipy"
+NETCDF_ENGINE: Final = "scipy"
 #: Meta entries that hold one value per member (kept in step by :meth:`Ensemble.subset`).
 PER_MEMBER = ("members", "sources", "record_dt")
 
@@ -56,7 +58,7 @@ class Ensemble:
 
     acc: np.ndarray
     dt: float
-    labels: tuple = ()
+    labels: Sequence[str] = ()
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -196,7 +198,7 @@ class Ensemble:
             coords={"member": list(self.labels), "time": ("time", self.t, {"units": "s"})},
             attrs=attrs,
         )
-        atomic_write(path, bytes(ds.to_netcdf(None, engine=NETCDF_ENGINE)))
+        atomic_write(path, bytes(ds.to_netcdf(engine=NETCDF_ENGINE)))
         return path
 
     @classmethod

@@ -47,6 +47,8 @@ class TargetSpectrum(ABC):
     and ``damping`` (the oscillator damping ratio the spectrum is meant for [-]).
     """
 
+    # (subclasses made from parameters compute their name: a read-only property overriding the
+    # attribute, which mypy reports as [override])
     name: str
     damping: float
 
@@ -125,14 +127,15 @@ class RG160(TargetSpectrum):
         object.__setattr__(self, "pga", positive("pga", self.pga, "g"))
 
     @property
-    def name(self) -> str:
+    def name(self) -> str:  # type: ignore[override]
         return f"RG 1.60 ({100 * self.damping:g} %, {self.pga:g} g)"
 
     def factors(self) -> tuple[float, float, float]:
         """Amplification factors (B, C, D) [-] at this damping (see class notes)."""
         x = np.log(RG160_DAMPINGS)
         table = np.array([RG160_FACTORS[z] for z in RG160_DAMPINGS])
-        return tuple(float(np.interp(math.log(self.damping), x, col)) for col in table.T)
+        b, c, d = (float(np.interp(math.log(self.damping), x, col)) for col in table.T)
+        return b, c, d
 
     def control_points(self) -> tuple[np.ndarray, np.ndarray]:
         """Frequencies of D, C, B, A [Hz] (increasing) and the PSA there [g]."""
@@ -273,15 +276,18 @@ class TabulatedSpectrum(TargetSpectrum):
         spectra = cols.spectra([cells for _, cells in rows[1:]])
         key = _select_spectrum(spectra, select, path)
         label, group = key
-        xcol, ycol, factor = cols.x, *cols.groups[group]
+        xcol = cols.x
+        ycol, factor = cols.groups[group]
         needed = max(xcol, ycol, -1 if cols.label is None else cols.label) + 1
-        x, a, where = [], [], []
+        xs: list[float] = []
+        ys: list[float] = []
+        where: list[str] = []
         for lineno, cells in rows[1:]:
             if len(cells) < needed:
                 raise InputError(f"{path}: line {lineno}: need {needed} values, got {len(cells)}")
             if cols.label is not None and cells[cols.label] != label:
                 continue
-            for column, out in ((xcol, x), (ycol, a)):
+            for column, out in ((xcol, xs), (ycol, ys)):
                 try:
                     out.append(float(cells[column]))
                 except ValueError:
@@ -289,7 +295,7 @@ class TabulatedSpectrum(TargetSpectrum):
                         f"{path}: line {lineno}: not a number: {cells[column]!r}"
                     ) from None
             where.append(f"{path}: line {lineno}")
-        x, a = np.array(x), np.array(a)
+        x, a = np.array(xs), np.array(ys)
         xname = ("period", "s") if cols.is_period else ("frequency", "Hz")
         yname = ("PSA", "g") if factor is None else ("PSV", head[ycol])
         _check_table(x, a, where, str(path), *xname, *yname)
@@ -368,7 +374,9 @@ class _SpectrumColumns:
     """
 
     def __init__(self, head: list[str], where: str):
-        self.x, self.is_period, self.label = None, False, None
+        x: int | None = None
+        self.is_period = False
+        self.label: int | None = None
         found: dict[str, dict[str, tuple[int, float | None]]] = {}
         for i, header in enumerate(head):
             words = _words(header)
@@ -385,18 +393,18 @@ class _SpectrumColumns:
                         ((k, r) for unit, k in _PSV_UNITS if (r := _take(words, unit)) is not None),
                         (None, None),
                     )
-                    if factor is None:
+                    if factor is None or rest is None:
                         raise InputError(
                             f"{where}: column {header!r}: state the unit of PSV, "
                             "cm/s or m/s (e.g. 'PSV [cm/s]')"
                         )
                     words = rest
                 found.setdefault(" ".join(words), {})[quantity] = (i, factor)
-            elif self.x is None and (_is_frequency(header) or _is_period(header)):
-                self.x, self.is_period = i, not _is_frequency(header)
+            elif x is None and (_is_frequency(header) or _is_period(header)):
+                x, self.is_period = i, not _is_frequency(header)
             elif self.label is None and header.strip().lower() in _LABEL_HEADERS:
                 self.label = i
-        if self.x is None:
+        if x is None:
             raise InputError(
                 f"{where}: first column header {head[0]!r} names neither a "
                 "frequency ('freq', 'Hz') nor a period ('period', 'T', '(s)'), nor "
@@ -407,7 +415,10 @@ class _SpectrumColumns:
                 f"{where}: need a column of PSA [g] or PSV [cm/s or m/s] (headers "
                 f"such as 'psa_g', 'PSV [cm/s]'), got {','.join(head)!r}"
             )
-        self.groups = {loc: q.get("psa", q.get("psv")) for loc, q in found.items()}
+        self.x: int = x
+        self.groups: dict[str, tuple[int, float | None]] = {
+            loc: q["psa"] if "psa" in q else q["psv"] for loc, q in found.items()
+        }
 
     def spectra(self, data: list[list[str]]) -> dict[tuple[str, str], str]:
         """(label, location) -> display name of every spectrum in the file, in file order."""
