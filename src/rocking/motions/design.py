@@ -18,9 +18,12 @@ balance.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from abc import abstractmethod
 from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar, Self
 
 import numpy as np
 
@@ -64,8 +67,33 @@ def _check_periods(periods_s) -> tuple[np.ndarray, tuple]:
     return t, shape
 
 
+class CodeSpectrum(TargetSpectrum):
+    """A building-code spectrum: defined by its spectral acceleration S_a(T) [g] at periods
+    T [s], and scaled by multiplying its intensity parameters (those named in
+    ``SCALED_FIELDS``), so that a scaled spectrum is again the code's spectrum of other
+    parameters (e.g. S_DS and S_D1 for ASCE 7, with T_L unchanged)."""
+
+    #: Names of the fields that :meth:`scaled` multiplies.
+    SCALED_FIELDS: ClassVar[tuple[str, ...]] = ()
+
+    @abstractmethod
+    def sa(self, periods_s) -> np.ndarray:
+        """Spectral acceleration [g] at periods [s] (> 0; any shape)."""
+
+    def psa(self, freqs_hz) -> np.ndarray:
+        """PSA [g] at ``freqs_hz`` [Hz]: S_a at T = 1/f."""
+        t, shape = _periods(freqs_hz)
+        return self.sa(t).reshape(shape)
+
+    def scaled(self, factor: float) -> Self:
+        """The spectrum with the fields of ``SCALED_FIELDS`` times ``factor`` [-] (> 0)."""
+        factor = positive("factor", factor, "-")
+        changes = {name: getattr(self, name) * factor for name in self.SCALED_FIELDS}
+        return dataclasses.replace(self, **changes)  # type: ignore[type-var]
+
+
 @dataclass(frozen=True)
-class ASCE7(TargetSpectrum):
+class ASCE7(CodeSpectrum):
     """ASCE/SEI 7 design response spectrum (ASCE 7-16 §11.4.6, Fig. 11.4-1; ASCE 7-22 §11.4.5.2).
 
     With T_0 = 0.2·S_D1/S_DS and T_s = S_D1/S_DS, the spectral acceleration S_a [g] is
@@ -87,6 +115,8 @@ class ASCE7(TargetSpectrum):
     TL : float
         Long-period transition period T_L [s] (ASCE 7 Chapter 22 maps), > T_s.
     """
+
+    SCALED_FIELDS = ("SDS", "SD1")  # T_L unchanged (T_0 and T_s too)
 
     SDS: float
     SD1: float
@@ -133,19 +163,9 @@ class ASCE7(TargetSpectrum):
         )  # Eq. 11.4-8
         return sa.reshape(shape)
 
-    def psa(self, freqs_hz) -> np.ndarray:
-        """PSA [g] at ``freqs_hz`` [Hz] (S_a at T = 1/f)."""
-        t, shape = _periods(freqs_hz)
-        return self.sa(t).reshape(shape)
-
-    def scaled(self, factor: float) -> ASCE7:
-        """S_DS and S_D1 times ``factor`` [-] (> 0); T_L unchanged (T_0, T_s too)."""
-        factor = positive("factor", factor, "-")
-        return ASCE7(self.SDS * factor, self.SD1 * factor, self.TL)
-
 
 @dataclass(frozen=True)
-class EC8(TargetSpectrum):
+class EC8(CodeSpectrum):
     """Eurocode 8 horizontal elastic response spectrum (EN 1998-1:2004 §3.2.2.2).
 
     With a_g = γ_I·a_gR (§3.2.1(3)), soil factor S and corner periods T_B, T_C, T_D from
@@ -175,6 +195,8 @@ class EC8(TargetSpectrum):
     damping : float
         Viscous damping ratio ξ [-] (0.05 gives η = 1), in (0, 1).
     """
+
+    SCALED_FIELDS = ("ag",)  # a_gR: the same ground type, type and importance
 
     ag: float
     ground: str = "A"
@@ -241,16 +263,6 @@ class EC8(TargetSpectrum):
             plateau * tc * td / t**2,
         )  # Eq. 3.5 (continued beyond 4 s, see class notes)
         return se.reshape(shape)
-
-    def psa(self, freqs_hz) -> np.ndarray:
-        """PSA [g] at ``freqs_hz`` [Hz] (S_e at T = 1/f)."""
-        t, shape = _periods(freqs_hz)
-        return self.sa(t).reshape(shape)
-
-    def scaled(self, factor: float) -> EC8:
-        """The spectrum for a_gR times ``factor`` [-] (> 0)."""
-        factor = positive("factor", factor, "-")
-        return EC8(self.ag * factor, self.ground, self.type, self.importance, self.damping)
 
 
 #: Frequency [Hz] at which :func:`design_pga` reads the ZPA of a spectrum without a ``pga``
