@@ -10,7 +10,7 @@ import xarray as xr
 
 from rocking.dynamics.body import Block
 from rocking.errors import InputError
-from rocking.montecarlo.backends import DaskBackend, LocalBackend, get_backend
+from rocking.montecarlo.backends import Backend, DaskBackend, LocalBackend, get_backend
 from rocking.montecarlo.probability import agx_50, overturning_probability
 from rocking.motions.synthesis import generate
 
@@ -92,15 +92,18 @@ def test_dask_cluster_gives_identical_results(ensemble, dask_backend):
     )
 
 
-class KillWorkerAfterFirstChunk:
+class KillWorkerAfterFirstChunk(Backend):
     """Runs on the cluster of ``backend`` and kills (-9) a worker that is computing a task as
     soon as the first result has been handed over: the engine writes that chunk to ``out``
     before it asks for the next result, so the kill follows an event, not a guess of timing."""
 
     def __init__(self, backend, out):
         self.backend, self.out = backend, out
-        self.workers = backend.workers
         self.killed = []  # (worker address, its tasks at the kill, chunk files on disk then)
+
+    @property
+    def workers(self):
+        return self.backend.workers
 
     def scatter(self, data):
         return self.backend.scatter(data)

@@ -1,8 +1,8 @@
 """Where the chunks of a Monte Carlo run are computed (issue 5, part 4).
 
-A backend does two things for the engine of :mod:`rocking.montecarlo.probability` (and says, as
-``workers``,
-how many tasks it runs at the same time):
+A backend (a :class:`Backend`) does two things for the engine of
+:mod:`rocking.montecarlo.engine` (and says, as ``workers``, how many tasks it runs at the same
+time):
 
 ``scatter(data)``
     make the run's shared, read-only inputs (motions, block constants) available to the workers
@@ -25,6 +25,9 @@ from __future__ import annotations
 
 import os
 import weakref
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
 
 import numba
 
@@ -43,7 +46,36 @@ def _call(func, threads, handle, task):
         numba.set_num_threads(before)
 
 
-class LocalBackend:
+class Backend(ABC):
+    """Where the chunks of a Monte Carlo run are computed: the interface the engine uses (see
+    the module notes). A context manager: leaving it calls :meth:`close`."""
+
+    @property
+    @abstractmethod
+    def workers(self) -> int:
+        """Tasks that run at the same time."""
+
+    @abstractmethod
+    def scatter(self, data: Any) -> Any:
+        """Make the run's shared, read-only ``data`` available to the workers; return a handle."""
+
+    @abstractmethod
+    def map(
+        self, func: Callable[[Any, Any], Any], handle: Any, tasks: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(i, func(data, tasks[i]))`` for every task, in any order."""
+
+    def close(self) -> None:  # noqa: B027 (a backend holding nothing has nothing to release)
+        """Release what the backend holds (a cluster, connections)."""
+
+    def __enter__(self) -> Backend:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+class LocalBackend(Backend):
     """Compute tasks in this process, each with Numba's threads.
 
     Parameters
@@ -58,8 +90,10 @@ class LocalBackend:
             raise InputError(f"n_threads must be an integer in [1, {limit}], got {n_threads!r}")
         self.n_threads = n_threads
 
-    #: Tasks that run at the same time (one; each uses all the Numba threads).
-    workers = 1
+    @property
+    def workers(self) -> int:
+        """Tasks that run at the same time (one; each uses all the Numba threads)."""
+        return 1
 
     def scatter(self, data):
         """Nothing to send: the handle is ``data`` itself."""
@@ -69,15 +103,6 @@ class LocalBackend:
         """Yield ``(i, func(handle, tasks[i]))`` in task order."""
         for i, task in enumerate(tasks):
             yield i, _call(func, self.n_threads, handle, task)
-
-    def close(self) -> None:
-        """Nothing to release."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self) -> str:
         return f"LocalBackend(n_threads={self.n_threads})"
@@ -89,7 +114,7 @@ def _close(client, cluster) -> None:
         cluster.close()
 
 
-class DaskBackend:
+class DaskBackend(Backend):
     """Compute tasks on a Dask distributed cluster.
 
     Parameters
@@ -201,12 +226,6 @@ class DaskBackend:
             self._finalizer()
         self._client = None
         self._finalizer = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self) -> str:
         where = self.address or f"local cluster, {self.n_workers} workers"

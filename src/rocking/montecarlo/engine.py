@@ -24,7 +24,7 @@ from ..core.progress import resolve as resolve_progress
 from ..dynamics.batch import BlockTable, block_list, motion_peaks, run_cases
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
-from .backends import LocalBackend
+from .backends import Backend, LocalBackend
 from .store import ChunkStore, array_digest
 
 #: Default simulations (pairs × motions) per chunk.
@@ -76,7 +76,7 @@ class Engine:
         self.cases = cases
         self.agx0 = [ens.agx for ens in cases]  # (computed from all samples: once)
         self.backend = LocalBackend() if backend is None else backend
-        if not all(hasattr(self.backend, a) for a in ("map", "scatter", "workers")):
+        if not isinstance(self.backend, Backend):
             raise InputError(f"backend must come from rocking.montecarlo.backends, got {backend!r}")
         chunk = CHUNK_SIMULATIONS if chunk_size is None else chunk_size
         if not (isinstance(chunk, int) and chunk >= 1):
