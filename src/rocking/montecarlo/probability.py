@@ -21,6 +21,7 @@ from ..dynamics.batch import BlockTable, block_list
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
+from .search import CrossingSearch
 from .statistics import wilson_interval
 
 
@@ -214,7 +215,8 @@ def agx_50(
 
     The search runs on the grid A_k = k·resolution (k = 1 … K, K = ⌊agx_max/resolution⌋, values
     rounded to 12 decimals) with P(A_0 = 0) = 0.  With the counts of a finite ensemble, P(A) need
-    not be monotone, so the result is defined by the search itself:
+    not be monotone, so the result is defined by the search itself
+    (:class:`rocking.montecarlo.search.CrossingSearch`):
 
     1. bracket: P is computed at ``coarse`` evenly spread levels (the last is K) in increasing
        order until P ≥ 0.5; the bracket is (previous coarse level or 0, that level).  If
@@ -256,9 +258,8 @@ def agx_50(
     K = math.floor(agx_max / resolution * (1.0 + 1e-12))
     if K < 1:
         raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
-    if not (isinstance(coarse, int) and coarse >= 1):
-        raise InputError(f"coarse must be an integer >= 1, got {coarse!r}")
     nb = len(block_list(blocks))
+    search = CrossingSearch([(c, b) for c in range(len(cases)) for b in range(nb)], K, coarse)
     engine = Engine(
         blocks,
         cases,
@@ -278,35 +279,13 @@ def agx_50(
     def above(c, b, k):  # P(A_k) >= 0.5, exactly in integers
         return 2 * engine.count(*key(c, b, k)) >= cases[c].n
 
-    bodies = [(c, b) for c in range(len(cases)) for b in range(nb)]
-    grid = sorted({math.ceil(K * i / coarse) for i in range(1, coarse + 1)})
-    scan = dict.fromkeys(bodies, 0)  # bracketing: index in grid of the next coarse level
-    lo: dict[tuple[int, int], int] = {}  # bisection: P(lo) < 0.5 <= P(hi)
-    hi: dict[tuple[int, int], int] = {}
-    step = max(b - a for a, b in zip([0, *grid], grid))
-    rounds = len(grid) // 2 + math.ceil(math.log2(step))  # a guess, for the progress display
-    engine.require_memory(nb * (len(grid) + math.ceil(math.log2(step)) + 1), "resolution")
+    engine.require_memory(nb * search.max_levels, "resolution")
     with engine:
-        engine.expect(rounds * nb * sum(ens.n for ens in cases))
-        while True:
-            level = {cb: grid[i] for cb, i in scan.items()}
-            level.update({cb: (lo[cb] + hi[cb]) // 2 for cb in hi if hi[cb] - lo[cb] > 1})
-            if not level:
-                break
+        engine.expect(search.typical_rounds * nb * sum(ens.n for ens in cases))
+        while level := search.pending():
             engine.run([key(c, b, k) for (c, b), k in level.items()])  # one batch per round
-            for cb, k in level.items():
-                if cb in scan:
-                    if above(*cb, k):
-                        i = scan.pop(cb)
-                        lo[cb], hi[cb] = (grid[i - 1] if i else 0), k
-                    elif scan[cb] + 1 < len(grid):
-                        scan[cb] += 1
-                    else:
-                        del scan[cb]  # P < 0.5 at every coarse level: NaN
-                elif above(*cb, k):
-                    hi[cb] = k
-                else:
-                    lo[cb] = k
+            search.update({(c, b): above(c, b, k) for (c, b), k in level.items()})
+    hi = search.crossings()
     shape = (len(cases), nb)
     agx50 = np.full(shape, np.nan)
     p_at = np.full(shape, np.nan)
