@@ -1,9 +1,13 @@
-"""The Monte Carlo engine: (case, body, A_gx level) triples simulated under all motions of a case,
-in chunks on a backend, optionally kept in a resumable folder.
+"""The Monte Carlo engine: (case, body, intensity level) triples simulated under all motions of a
+case, in chunks on a backend, optionally kept in a resumable folder.
 
-The work is a list of (body, A_gx) pairs, each simulated under all motions of an ensemble.  The
-pairs are cut into chunks that a backend (:mod:`rocking.montecarlo.backends`) computes with the
-batched kernel (:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
+The work is a list of (body, level) pairs, each simulated under all motions of an ensemble, every
+motion scaled to the level.  A level is a value of an intensity measure (IM): by default the
+paper's A_gx, the mean PGA of the ensemble [g] (one factor for all motions); with a per-motion
+``basis`` (the IM of each unscaled motion, e.g. its PGV), each motion is scaled on its own so that
+its IM equals the level (incremental dynamic analysis).  The pairs are cut into chunks that a
+backend (:mod:`rocking.montecarlo.backends`) computes with the batched kernel
+(:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
 (:mod:`rocking.montecarlo.store`) so that an interrupted run resumes where it stopped.  Every
 chunk result is keyed by its (case, body, level) triples, never by position or arrival order, so
 the results are bit for bit the same for every backend, worker count, chunk size and interruption
@@ -29,22 +33,33 @@ from .store import ChunkStore, array_digest
 
 #: Default simulations (pairs × motions) per chunk.
 CHUNK_SIMULATIONS = 4096
-#: A_gx levels are keyed by integers: A_gx in units of LEVEL_UNIT [g] (never by a float, whose
-#: last bits depend on how it was computed: 0.1 + 0.2 and 0.3 are one level).
+#: Levels are keyed by integers: the level in units of LEVEL_UNIT (of the IM's unit, g for
+#: A_gx; never by a float, whose last bits depend on how it was computed: 0.1 + 0.2 and 0.3 are
+#: one level).
 LEVEL_UNIT = 1e-9
 #: Bytes kept per (body, A_gx) pair beyond its 9 bytes per motion (dictionary entry, key, arrays).
 _PAIR_OVERHEAD = 400
 
 
 def level_key(agx: float) -> int:
-    """The integer key of the A_gx level ``agx`` [g] (A_gx in units of :data:`LEVEL_UNIT`)."""
+    """The integer key of the level ``agx`` (A_gx [g], or any IM in its unit): the level in units
+    of :data:`LEVEL_UNIT`."""
     return round(agx / LEVEL_UNIT)
 
 
 def level_agx(key: int) -> float:
-    """A_gx [g] of a level key; for a decimal A_gx with at most 9 decimals, exactly that decimal's
-    float (the key divided by 1e9, rounded once)."""
+    """The level (A_gx [g], or any IM in its unit) of a level key; for a decimal with at most 9
+    decimals, exactly that decimal's float (the key divided by 1e9, rounded once)."""
     return key / round(1.0 / LEVEL_UNIT)
+
+
+def scale_factors(level: float, basis: np.ndarray, exponent: float) -> np.ndarray:
+    """Factors that scale motions whose IM is ``basis`` (per motion, > 0) to the IM ``level``
+    when the IM grows as factor**``exponent`` (1 for amplitudes such as PGA, PGV, Sa; 2 for
+    Arias intensity): (level/basis)**(1/exponent), without a power for exponent 1 (so that
+    the A_gx factor is exactly that of :meth:`rocking.Ensemble.scaled`)."""
+    ratio = level / basis
+    return ratio if exponent == 1.0 else ratio ** (1.0 / exponent)
 
 
 def _chunk_key(c: int, body: np.ndarray, level: np.ndarray) -> str:
@@ -70,11 +85,23 @@ class Engine:
         progress,
         chunk_size,
         desc,
+        basis: list[np.ndarray] | None = None,
+        exponent: float = 1.0,
     ):
         self.blocks = block_list(blocks)
         self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle, g=g)
         self.cases = cases
-        self.agx0 = [ens.agx for ens in cases]  # (computed from all samples: once)
+        if basis is None:  # A_gx: one factor for all motions (computed from all samples: once)
+            basis = [np.full(ens.n, ens.agx) for ens in cases]
+        if len(basis) != len(cases) or any(np.shape(b) != (ens.n,) for b, ens in zip(basis, cases)):
+            raise InputError("basis must give one intensity per motion of every case")
+        if not all(np.all(np.isfinite(b) & (b > 0.0)) for b in basis):
+            raise InputError(
+                "every motion needs an intensity > 0 to be scaled to a level "
+                "(a motion of zero intensity cannot be scaled)"
+            )
+        self.basis = [np.asarray(b, dtype=float) for b in basis]
+        self.exponent = float(exponent)
         self.backend = LocalBackend() if backend is None else backend
         if not isinstance(self.backend, Backend):
             raise InputError(f"backend must come from rocking.montecarlo.backends, got {backend!r}")
@@ -116,6 +143,10 @@ class Engine:
                 {"dt": ens.dt, "shape": list(ens.acc.shape), "sha256": array_digest(ens.acc)}
                 for ens in self.cases
             ],
+            "scaling": {
+                "exponent": self.exponent,
+                "basis_sha256": [array_digest(b) for b in self.basis],
+            },
         }
 
     def _load(self) -> None:
@@ -160,8 +191,12 @@ class Engine:
             for i in range(0, len(mine), per):
                 body = np.array([b for b, _ in mine[i : i + per]], dtype=np.int64)
                 level = np.array([k for _, k in mine[i : i + per]], dtype=np.int64)
-                # the factor of Ensemble.scaled: A_gx / A_gx of the ensemble
-                scale = np.array([level_agx(k) / self.agx0[c] for k in level.tolist()])
+                scale = np.array(
+                    [
+                        scale_factors(level_agx(k), self.basis[c], self.exponent)
+                        for k in level.tolist()
+                    ]
+                )
                 tasks.append((c, body, scale))
                 levels.append(level)
         self._stage.expect(sum(t[1].size * self.cases[t[0]].n for t in tasks))
@@ -211,7 +246,7 @@ def run_chunk(data: dict, task: tuple):
     is why it
     lives in this light module.  ``data`` = {"table": BlockTable, "cases": [(acc, amax, dt), …]}
     (one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
-    indices (n_pairs,) int64, scale factors (n_pairs,) float64).
+    indices (n_pairs,) int64, scale factors of every motion (n_pairs, n_motions) float64).
 
     Returns (overturned, peak), shape (n_pairs, n_motions).
     """
@@ -225,6 +260,6 @@ def run_chunk(data: dict, task: tuple):
         dt,
         np.repeat(body, n_m),
         np.tile(np.arange(n_m, dtype=np.int64), body.size),
-        np.repeat(scale, n_m),
+        scale.ravel(),
     )
     return overturned.reshape(body.size, n_m), peak.reshape(body.size, n_m)
