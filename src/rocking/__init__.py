@@ -65,6 +65,10 @@ _EXPORTS = {
     "screen": "assessment.screen",
     "RG160": "motions.targets",
     "ResponseSpectrum": "motions.response",
+    "IntensityMeasure": "motions.intensity",
+    "im_scaling_exponent": "motions.intensity",
+    "intensity_measures": "motions.intensity",
+    "parse_im": "motions.intensity",
     "TabulatedSpectrum": "motions.targets",
     "TargetSpectrum": "motions.targets",
     "response_spectrum": "motions.response",
@@ -111,6 +115,12 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .motions.baseline import baseline_correct
     from .motions.design import ASCE7, EC8, design_pga, parse_spectrum
     from .motions.ensemble import Ensemble
+    from .motions.intensity import (
+        IntensityMeasure,
+        im_scaling_exponent,
+        intensity_measures,
+        parse_im,
+    )
     from .motions.records import Record, read_record, read_records
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit
