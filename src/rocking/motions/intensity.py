@@ -295,14 +295,10 @@ def intensity_measures(ensemble: Ensemble, ims) -> pd.DataFrame:
 
 def _values(ens: Ensemble, ims: list[IntensityMeasure]) -> list[np.ndarray]:
     a, dt = ens.acc, ens.dt
-    kinds = {im.kind for im in ims}
-    v = d = None
-    if kinds & {"pgv", "pgd", "pgv/pga"}:
-        v = cumulative_trapezoid(a, dx=dt, axis=1, initial=0.0)
-    if "pgd" in kinds:
-        # exact integral of the piecewise-quadratic v: trapezoid − dt²·(a_{i+1} − a_i)/12 per
-        # step, which telescopes to − dt²·(a_j − a_0)/12 at sample j
-        d = cumulative_trapezoid(v, dx=dt, axis=1, initial=0.0) - dt**2 / 12.0 * (a - a[:, :1])
+    v = cumulative_trapezoid(a, dx=dt, axis=1, initial=0.0)
+    # exact integral of the piecewise-quadratic v: trapezoid − dt²·(a_{i+1} − a_i)/12 per step,
+    # which telescopes to − dt²·(a_j − a_0)/12 at sample j
+    d = cumulative_trapezoid(v, dx=dt, axis=1, initial=0.0) - dt**2 / 12.0 * (a - a[:, :1])
     sa = _spectral_accelerations(a, dt, ims)
     a0, a1 = a[:, :-1], a[:, 1:]
     out = []
