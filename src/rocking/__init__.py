@@ -39,6 +39,8 @@ _EXPORTS = {
     "InputError": "errors",
     "RockingError": "errors",
     "LognormalFit": "montecarlo.statistics",
+    "FragilityFit": "montecarlo.statistics",
+    "bootstrap_fragility": "montecarlo.statistics",
     "agx_50": "montecarlo.probability",
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
@@ -111,7 +113,13 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
     from .montecarlo.probability import agx_50, overturning_probability
-    from .montecarlo.statistics import LognormalFit, fit_lognormal, wilson_interval
+    from .montecarlo.statistics import (
+        FragilityFit,
+        LognormalFit,
+        bootstrap_fragility,
+        fit_lognormal,
+        wilson_interval,
+    )
     from .motions.baseline import baseline_correct
     from .motions.design import ASCE7, EC8, design_pga, parse_spectrum
     from .motions.ensemble import Ensemble
