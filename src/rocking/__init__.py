@@ -22,6 +22,10 @@ _EXPORTS = {
     "NamedBody": "assessment.bodies",
     "read_bodies": "assessment.bodies",
     "read_bodies_table": "assessment.bodies",
+    "HazardCurve": "assessment.risk",
+    "RiskResult": "assessment.risk",
+    "annual_rate": "assessment.risk",
+    "check_hazard_im": "assessment.risk",
     "FOOT": "dynamics.body",
     "G": "dynamics.body",
     "Block": "dynamics.body",
@@ -105,6 +109,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .assessment.bodies import NamedBody, read_bodies, read_bodies_table
     from .assessment.energy import assess, available_sv, energy_balance
     from .assessment.inventory import Inventory, Item, SlidingWarning, read_inventory
+    from .assessment.risk import HazardCurve, RiskResult, annual_rate, check_hazard_im
     from .assessment.screen import results_table, screen
     from .core.runs import provenance
     from .dynamics.batch import overturn_batch, overturn_cases
