@@ -3,25 +3,25 @@
 An intensity measure (IM) is named by a short string (the command line's ``--im``), in any case
 and with any spaces; the forms are those of :data:`rocking.defaults.IM_SYNTAX`:
 
-============================  =======  =========================================================
-form                          unit     what
-============================  =======  =========================================================
-``pga``                       g        peak ground acceleration, max abs(a)
-``pgv``                       m/s      peak ground velocity, max abs(v)
-``pgd``                       m        peak ground displacement, max abs(d)
-``sa(T)``, ``sa(T,zeta)``     g        pseudo-spectral acceleration at period T [s], damping
-                                       zeta [-] (default 0.05)
-``psv(T)``, ``psv(T,zeta)``   m/s      pseudo-spectral velocity
-``saavg(T1:T2)``,             g        geometric mean of Sa at n periods log-spaced from T1 to
-``saavg(T1:T2:n)``,                    T2 [s], both included (default n = 10; Eads et al. 2015,
-``saavg(T1:T2:n,zeta)``                "An efficient method for estimating the collapse risk of
-                                       structures in seismic regions")
-``arias``                     m/s      Arias intensity, I_A = π/(2g)·∫a² dt
-``cav``                       m/s      cumulative absolute velocity, ∫abs(a) dt over the whole
-                                       record (no threshold: not the "standardized" CAV of
-                                       EPRI 1991)
-``pgv/pga``                   s        PGV [m/s] over PGA [m/s²]
-============================  =======  =========================================================
+============================  =====  ============================================================
+form                          unit   what
+============================  =====  ============================================================
+``pga``                       g      peak ground acceleration, max abs(a)
+``pgv``                       m/s    peak ground velocity, max abs(v)
+``pgd``                       m      peak ground displacement, max abs(d)
+``sa(T)``, ``sa(T,zeta)``     g      pseudo-spectral acceleration at period T [s], damping ratio
+                                     zeta [-] (default 0.05)
+``psv(T)``, ``psv(T,zeta)``   m/s    pseudo-spectral velocity, Sa·g·T/(2π)
+``saavg(T1:T2:n,zeta)``       g      geometric mean of Sa at n periods log-spaced from T1 to T2
+                                     [s], both included; ``:n`` (default 10) and ``,zeta``
+                                     (default 0.05) may be left out: ``saavg(0.2:2)`` (Eads et
+                                     al. 2015, "An efficient method for estimating the collapse
+                                     risk of structures in seismic regions")
+``arias``                     m/s    Arias intensity, I_A = π/(2g)·∫a² dt
+``cav``                       m/s    cumulative absolute velocity, ∫abs(a) dt over the whole
+                                     record (no threshold: not the "standardized" CAV of EPRI 1991)
+``pgv/pga``                   s      PGV [m/s] over PGA [m/s²]
+============================  =====  ============================================================
 
 A name may carry its unit in brackets, which must then be the one above (``"pgv [m/s]"``); the
 columns of :func:`intensity_measures` and the headers of hazard files are written that way.
