@@ -22,6 +22,10 @@ _EXPORTS = {
     "NamedBody": "assessment.bodies",
     "read_bodies": "assessment.bodies",
     "read_bodies_table": "assessment.bodies",
+    "HazardCurve": "assessment.risk",
+    "RiskResult": "assessment.risk",
+    "annual_rate": "assessment.risk",
+    "check_hazard_im": "assessment.risk",
     "FOOT": "dynamics.body",
     "G": "dynamics.body",
     "Block": "dynamics.body",
@@ -39,6 +43,8 @@ _EXPORTS = {
     "InputError": "errors",
     "RockingError": "errors",
     "LognormalFit": "montecarlo.statistics",
+    "FragilityFit": "montecarlo.statistics",
+    "bootstrap_fragility": "montecarlo.statistics",
     "agx_50": "montecarlo.probability",
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
@@ -65,6 +71,10 @@ _EXPORTS = {
     "screen": "assessment.screen",
     "RG160": "motions.targets",
     "ResponseSpectrum": "motions.response",
+    "IntensityMeasure": "motions.intensity",
+    "im_scaling_exponent": "motions.intensity",
+    "intensity_measures": "motions.intensity",
+    "parse_im": "motions.intensity",
     "TabulatedSpectrum": "motions.targets",
     "TargetSpectrum": "motions.targets",
     "response_spectrum": "motions.response",
@@ -99,6 +109,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .assessment.bodies import NamedBody, read_bodies, read_bodies_table
     from .assessment.energy import assess, available_sv, energy_balance
     from .assessment.inventory import Inventory, Item, SlidingWarning, read_inventory
+    from .assessment.risk import HazardCurve, RiskResult, annual_rate, check_hazard_im
     from .assessment.screen import results_table, screen
     from .core.runs import provenance
     from .dynamics.batch import overturn_batch, overturn_cases
@@ -107,10 +118,22 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
     from .montecarlo.probability import agx_50, overturning_probability
-    from .montecarlo.statistics import LognormalFit, fit_lognormal, wilson_interval
+    from .montecarlo.statistics import (
+        FragilityFit,
+        LognormalFit,
+        bootstrap_fragility,
+        fit_lognormal,
+        wilson_interval,
+    )
     from .motions.baseline import baseline_correct
     from .motions.design import ASCE7, EC8, design_pga, parse_spectrum
     from .motions.ensemble import Ensemble
+    from .motions.intensity import (
+        IntensityMeasure,
+        im_scaling_exponent,
+        intensity_measures,
+        parse_im,
+    )
     from .motions.records import Record, read_record, read_records
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit

@@ -48,3 +48,13 @@ SPECTRUM_SYNTAX = (
     "spectra --csv'), FILE:NAME choosing one spectrum of a file that holds several (a record, "
     "a floor)"
 )
+#: Damping ratio of Sa, PSV and Sa_avg when an intensity measure names none [-].
+IM_DAMPING = 0.05
+#: Periods, log-spaced over the range, whose geometric mean is Sa_avg when none is named [-].
+SAAVG_PERIODS = 10
+#: The forms of an intensity measure (:func:`rocking.motions.intensity.parse_im`).
+IM_SYNTAX = (
+    "pga [g], pgv [m/s], pgd [m], sa(T) or sa(T,zeta) [g], psv(T) or psv(T,zeta) [m/s], "
+    "saavg(T1:T2), saavg(T1:T2:n) or saavg(T1:T2:n,zeta) [g], arias [m/s], cav [m/s], "
+    "pgv/pga [s] (T in s, zeta a fraction, default 0.05; n periods, default 10)"
+)

@@ -3,5 +3,6 @@
 * :mod:`~rocking.assessment.energy` — required against available S_v (Section 8, Tables 1–3);
 * :mod:`~rocking.assessment.bodies` — lists of bodies read from CSV;
 * :mod:`~rocking.assessment.inventory` — inventories of equipment (CSV, TOML);
-* :mod:`~rocking.assessment.screen` — screening an inventory against a design spectrum.
+* :mod:`~rocking.assessment.screen` — screening an inventory against a design spectrum;
+* :mod:`~rocking.assessment.risk` — hazard curves and the annual rate of overturning.
 """

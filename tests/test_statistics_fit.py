@@ -1,0 +1,185 @@
+"""Lognormal fragility fits by maximum likelihood (Baker 2015) and their bootstrap intervals
+(issue 16, part 2): recovery of known parameters within the sampling error, agreement with an
+independent maximisation, the separation convention, the bootstrap's width and reproducibility."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import optimize, stats
+
+import rocking
+from rocking.errors import InputError
+from rocking.montecarlo.statistics import (
+    BETA_BOUNDS,
+    FragilityFit,
+    LognormalFit,
+    bootstrap_fragility,
+    fit_lognormal,
+)
+
+TRUE = LognormalFit(median=0.45, beta=0.4)  # e.g. PGV [m/s]
+
+
+def _standard_errors(x, m, fit):
+    """Standard errors of (ln median, beta) from the Fisher information of the binomial probit
+    model: I = Σ m·φ(z)²/(P(1 − P))·∇z∇zᵀ with z = (ln x − ln median)/β,
+    ∇z = (−1/β, −z/β) (Baker 2015, Eq. 11's likelihood; standard GLM theory)."""
+    z = (np.log(x) - math.log(fit.median)) / fit.beta
+    p = stats.norm.cdf(z)
+    w = m * stats.norm.pdf(z) ** 2 / (p * (1 - p))
+    grad = np.stack([-np.ones_like(z), -z]) / fit.beta
+    info = (w * grad) @ grad.T
+    return np.sqrt(np.diag(np.linalg.inv(info)))
+
+
+def _cloud(n, seed):
+    """A cloud analysis: n motions with lognormal IMs around the median (log-sd 0.6), each
+    overturning with the true probability."""
+    rng = np.random.default_rng(seed)
+    im = np.exp(rng.normal(math.log(TRUE.median), 0.6, n))
+    return im, rng.random(n) < TRUE.probability(im)
+
+
+def _independent_mle(x, k, n):
+    """Maximise Σ ln Binom(k; n, Φ(a + b·ln x)) over the probit coefficients (a, b) with
+    Nelder–Mead on scipy.stats.binom.logpmf: another parametrisation, optimiser and
+    expression of the same likelihood; median = exp(−a/b), β = 1/b."""
+
+    def nll(q):
+        return -stats.binom.logpmf(k, n, stats.norm.cdf(q[0] + q[1] * np.log(x))).sum()
+
+    opts = {"xatol": 1e-12, "fatol": 1e-13, "maxiter": 40_000, "maxfev": 80_000}
+    res = optimize.minimize(nll, [0.0, 1.0], method="Nelder-Mead", options=opts)
+    res = optimize.minimize(nll, res.x, method="Nelder-Mead", options=opts)  # restart
+    a, b = res.x
+    return math.exp(-a / b), 1.0 / b
+
+
+def test_fit_recovers_known_parameters_of_a_cloud():
+    im, y = _cloud(3000, seed=11)
+    fit = fit_lognormal(im, y.astype(int), 1)
+    se_mu, se_beta = _standard_errors(im, 1, TRUE)
+    # within 4 standard errors (Fisher information at the truth; se ≈ 0.011 on ln median and
+    # 0.017 on β here): a false failure has probability < 1e-4
+    assert abs(math.log(fit.median / TRUE.median)) < 4 * se_mu
+    assert abs(fit.beta - TRUE.beta) < 4 * se_beta
+
+
+@pytest.mark.parametrize("layout", ["stripes", "cloud"])
+def test_fit_equals_an_independent_maximisation_of_the_likelihood(layout):
+    rng = np.random.default_rng(3)
+    if layout == "stripes":  # multiple-stripe analysis: 12 levels of 15 motions each
+        x = np.geomspace(0.1, 1.5, 12)
+        n = np.full(x.size, 15)
+        k = rng.binomial(n, TRUE.probability(x))
+    else:
+        x, y = _cloud(60, seed=4)
+        n, k = np.ones(x.size, int), y.astype(int)
+    fit = fit_lognormal(x, k, n)
+    median, beta = _independent_mle(x, k, n)
+    # both optimisers stop far below 1e-6 of the optimum of a smooth, log-concave problem
+    assert fit.median == pytest.approx(median, rel=1e-6)
+    assert fit.beta == pytest.approx(beta, rel=1e-6)
+
+
+def test_separated_outcomes_follow_the_documented_convention():
+    # No motion below 0.4 overturns, every one above 0.5 does: the likelihood rises to its
+    # supremum 0 (log) as β → 0, so the fit is β at its lower bound with the median at the
+    # geometric middle of the gap sqrt(0.4·0.5), where the log-likelihood is within 1e-9 of 0.
+    x = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8])
+    k = np.array([0, 0, 0, 0, 1, 1, 1])
+    fit = fit_lognormal(x, k, 1)
+    assert fit.beta == BETA_BOUNDS[0]
+    assert fit.median == pytest.approx(math.sqrt(0.4 * 0.5), rel=1e-12)
+    p = fit.probability(x)
+    assert np.sum(stats.binom.logpmf(k, 1, p)) > -1e-9
+
+
+def test_bootstrap_interval_width_matches_the_sampling_error():
+    # A large cloud: the 95 % percentile intervals hold the point fit and their half-widths are
+    # 1.96 standard errors of the Fisher information, to within 25 % (300 resamples estimate a
+    # 2.5 % quantile to about ±10 % of the width; the information is an asymptotic value).
+    im, y = _cloud(800, seed=21)
+    res = bootstrap_fragility(im, y, n_boot=300, seed=5)
+    assert isinstance(res, FragilityFit) and res.n_boot == 300 and res.n_unfitted == 0
+    assert res.fit == fit_lognormal(im, y.astype(int), 1)
+    assert res.median_ci.low < res.median < res.median_ci.high
+    assert res.beta_ci.low < res.beta < res.beta_ci.high
+    se_mu, se_beta = _standard_errors(im, 1, res.fit)
+    half_mu = math.log(res.median_ci.high / res.median_ci.low) / 2
+    half_beta = (res.beta_ci.high - res.beta_ci.low) / 2
+    assert half_mu == pytest.approx(1.96 * se_mu, rel=0.25)
+    assert half_beta == pytest.approx(1.96 * se_beta, rel=0.25)
+
+
+def test_bootstrap_intervals_cover_the_truth():
+    # Coverage: 20 independent clouds of 100 motions, 95 % intervals of 100 resamples each. The
+    # count holding the true median is Binomial(20, ~0.95); at least 16 fails with probability
+    # 0.003 at 95 % coverage and 0.016 at 93 % (100 resamples make the percentiles a little
+    # narrow), while intervals of the wrong width (e.g. resampling nothing) would cover far less.
+    covered = 0
+    for seed in range(20):
+        im, y = _cloud(100, seed=100 + seed)
+        res = bootstrap_fragility(im, y, n_boot=100, seed=seed)
+        covered += res.median_ci.low < TRUE.median < res.median_ci.high
+    assert covered >= 16
+
+
+def test_bootstrap_of_an_ida_resamples_whole_motions():
+    # IDA: motion j overturns at every level at or above its capacity c_j, c_j lognormal. On a
+    # fine grid of levels the fit estimates ln median by about the mean of ln c_j, whose
+    # standard error is β/sqrt(n) (the motions, not the 120 × 150 cells, are the sample): the
+    # half-width of the 90 % interval must be 1.645·β/sqrt(n) to within 25 %.
+    rng = np.random.default_rng(8)
+    n = 150
+    capacity = np.exp(rng.normal(math.log(TRUE.median), TRUE.beta, n))
+    levels = np.geomspace(0.1, 2.0, 120)
+    outcomes = levels[:, None] >= capacity[None, :]
+    res = bootstrap_fragility(levels, outcomes, n_boot=200, confidence=0.9, seed=1)
+    half = math.log(res.median_ci.high / res.median_ci.low) / 2
+    assert half == pytest.approx(1.645 * TRUE.beta / math.sqrt(n), rel=0.25)
+    assert res.median_ci.low < TRUE.median < res.median_ci.high
+    assert res.beta_ci.low < TRUE.beta < res.beta_ci.high
+
+
+def test_same_seed_same_numbers_and_other_seed_other_numbers():
+    im, y = _cloud(80, seed=2)
+    a = bootstrap_fragility(im, y, n_boot=60, seed=7)
+    assert a == bootstrap_fragility(im, y, n_boot=60, seed=7)
+    b = bootstrap_fragility(im, y, n_boot=60, seed=8)
+    assert b.fit == a.fit and b.median_ci != a.median_ci and b.seed == 8
+
+
+def test_unfittable_resamples_are_counted_and_left_out():
+    # 6 motions of which one overturned: a resample misses it with probability (5/6)^6 = 0.335,
+    # so of 300 resamples 100.5 ± 8.2 (binomial sd) cannot be fitted; 5 sd either side. The
+    # others are separated (one overturn above all survivors) and counted as such.
+    im = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6])
+    y = np.array([False, False, False, False, False, True])
+    res = bootstrap_fragility(im, y, n_boot=300, seed=3)
+    assert 60 <= res.n_unfitted <= 141
+    assert res.n_separated == 300 - res.n_unfitted
+    assert res.beta_ci.high == BETA_BOUNDS[0]
+
+
+def test_top_level_names_and_bad_input():
+    assert rocking.bootstrap_fragility is bootstrap_fragility
+    assert rocking.FragilityFit is FragilityFit
+    im = np.array([0.1, 0.2, 0.3])
+    with pytest.raises(InputError, match="never overturned"):
+        bootstrap_fragility(im, np.zeros((3, 4), bool))
+    with pytest.raises(InputError, match="every case"):
+        bootstrap_fragility(im, np.ones(3, bool))
+    with pytest.raises(InputError, match=r"shape \(n_levels, n_motions\)"):
+        bootstrap_fragility(im, np.zeros((4, 3), bool))
+    with pytest.raises(InputError, match="booleans"):
+        bootstrap_fragility(im, np.array([0, 2, 1]))
+    with pytest.raises(InputError, match="n_boot"):
+        bootstrap_fragility(im, np.array([0, 1, 1]), n_boot=0)
+    with pytest.raises(InputError, match="im"):
+        bootstrap_fragility([0.1, -0.2, 0.3], np.array([0, 1, 1]))
+    with pytest.raises(InputError, match="2 distinct"):
+        bootstrap_fragility([0.2, 0.2], np.array([0, 1]))
