@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -441,6 +442,7 @@ def import_cmd(
         raise InputError("name at least one RECORD or give --manifest")
     writable_file(out, "--out")
     from ..motions.ensemble import Ensemble
+    from ..motions.records import RATIO_RTOL
 
     ens = Ensemble.from_records(
         records,
@@ -452,7 +454,7 @@ def import_cmd(
     )
     ens.save(out)
     m = ens.meta
-    resampled = m["resampling"].get("members", 0)
+    resampled = sum(not math.isclose(d, ens.dt, rel_tol=RATIO_RTOL) for d in m["record_dt"])
     padded = sum(
         (n - 1) * d < ens.duration - ens.dt / 2 for n, d in zip(m["record_npts"], m["record_dt"])
     )
@@ -460,7 +462,7 @@ def import_cmd(
     if ens.av is not None:
         notes.append(f"{sum(bool(v) for v in m['vertical_sources'])} with a vertical component")
     if resampled:
-        notes.append(f"{resampled} resampled from their own step (scipy.signal.resample_poly)")
+        notes.append(f"{resampled} resampled to dt (scipy.signal.resample_poly, anti-alias FIR)")
     if padded:
         notes.append(f"{padded} padded with zeros at the end")
     click.echo(f"wrote {out}: {'; '.join(notes)}; A_gx = {ens.agx:.4g} g")

@@ -330,8 +330,8 @@ class Ensemble:
         -------
         Ensemble
             ``meta``: ``kind`` ("recorded", or "mixed" when generated members were appended),
-            ``location``, ``resampling`` (method, filter and number of members resampled, or
-            method "none"), ``padding``,
+            ``location``, ``resampling`` (method and filter, or method "none" when no member's
+            ``record_dt`` differs from ``dt``), ``padding``,
             and per member (in step with the members through :meth:`subset`): ``sources``,
             ``vertical_sources``, ``kinds``, ``events``, ``dates``, ``stations``,
             ``components``, ``record_dt`` [s], ``record_npts``, ``record_units`` and
@@ -361,15 +361,11 @@ class Ensemble:
             if v is not None and av is not None:
                 av[i, : len(v)] = v * m.scale
         entries = {key: [m.info[key] for m in members] for key in RECORD_ENTRIES}
-        resampled = sum(not math.isclose(d, step, rel_tol=RATIO_RTOL) for d in entries["record_dt"])
+        resampled = any(not math.isclose(d, step, rel_tol=RATIO_RTOL) for d in entries["record_dt"])
         meta = {
             "kind": "recorded" if set(entries["kinds"]) == {"recorded"} else "mixed",
             "location": location,
-            "resampling": (
-                {"dt": step, "members": resampled, **RESAMPLING}
-                if resampled
-                else {"method": "none"}
-            ),
+            "resampling": ({"dt": step, **RESAMPLING} if resampled else {"method": "none"}),
             "padding": "zeros at the end, to the longest member",
             **entries,
         }
