@@ -135,7 +135,7 @@ class Ensemble:
 
     @property
     def pga(self) -> np.ndarray:
-        """Peak ground acceleration of each member, max |a| [g], shape (n,)."""
+        """Peak ground acceleration of each member, max abs(a) [g], shape (n,)."""
         return np.abs(self.acc).max(axis=1) / G
 
     @property

@@ -141,7 +141,7 @@ class Record:
 
     @property
     def pga(self) -> float:
-        """Peak ground acceleration max |acc| [g]."""
+        """Peak ground acceleration max abs(acc) [g]."""
         return float(np.abs(self.acc).max()) / G
 
 
