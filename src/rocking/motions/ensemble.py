@@ -330,11 +330,11 @@ class Ensemble:
         -------
         Ensemble
             ``meta``: ``kind`` ("recorded", or "mixed" when generated members were appended),
-            ``location``, ``resampling`` (method and filter, or method "none" when no member's
-            ``record_dt`` differs from ``dt``), ``padding``,
-            and per member (in step with the members through :meth:`subset`): ``sources``,
-            ``vertical_sources``, ``kinds``, ``events``, ``dates``, ``stations``,
-            ``components``, ``record_dt`` [s], ``record_npts``, ``record_units`` and
+            ``location``, ``resampling`` (method and filter, or method "none" when no
+            component was resampled), ``padding``, and per member (in step with the members
+            through :meth:`subset`): ``sources`` and ``vertical_sources`` (files), ``kinds``,
+            ``events``, ``dates``, ``stations``, ``components``, ``record_dt`` [s],
+            ``record_npts`` and ``record_units`` (of the horizontal record) and
             ``record_scale`` [-]. Labels are the file names without suffix (a repeated label
             gets "-2", "-3", …).
         """
@@ -361,7 +361,8 @@ class Ensemble:
             if v is not None and av is not None:
                 av[i, : len(v)] = v * m.scale
         entries = {key: [m.info[key] for m in members] for key in RECORD_ENTRIES}
-        resampled = any(not math.isclose(d, step, rel_tol=RATIO_RTOL) for d in entries["record_dt"])
+        own_steps = [*entries["record_dt"], *(m.dt_v for m in members)]
+        resampled = any(not math.isclose(d, step, rel_tol=RATIO_RTOL) for d in own_steps)
         meta = {
             "kind": "recorded" if set(entries["kinds"]) == {"recorded"} else "mixed",
             "location": location,
