@@ -228,3 +228,31 @@ def test_binary_files_are_refused_for_what_they_are(tmp_path):
             read_record(tmp_path / name)
     with pytest.raises(InputError, match=r"x\.AT2: a binary file, not a ground-motion record"):
         read_record(tmp_path / "x.AT2")
+
+
+def test_records_carry_their_peer_title_and_units(tmp_path):
+    # The second header line of _at2 is the PEER NGA documentation's example title line
+    # (written by _at2): event, date, station, component.
+    path = tmp_path / "rec.AT2"
+    path.write_text(_at2("NPTS= 7, DT= .01 SEC", units_line="ACCELERATION IN UNITS OF CM/S/S"))
+    rec = read_record(path)
+    assert (rec.event, rec.date, rec.station, rec.component) == (
+        "Helena Montana-01",
+        "10/31/1935",
+        "Carroll College",
+        "180",
+    )
+    assert rec.units == "cm/s2" and read_record(path, units="gal").units == "cm/s2"
+    # Chino Hills in the NGA-West2 layout (tests/data/README.md): event 14383980, 7/29/2008,
+    # Anaheim - Lakeview & Riverdale, 360°; El Centro's header has no such line.
+    ch = read_record(CHINO_HILLS)
+    assert (ch.event, ch.date, ch.station, ch.component) == (
+        "14383980",
+        "7/29/2008",
+        "Anaheim - Lakeview & Riverdale",
+        "360",
+    )
+    assert read_record(EL_CENTRO).event == "" and read_record(EL_CENTRO).units == "g"
+    plain = tmp_path / "plain.txt"
+    plain.write_text("0 0.1\n0.01 0.2\n")
+    assert read_record(plain).units == "g" and read_record(plain).station == ""

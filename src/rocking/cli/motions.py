@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 import click
 
 from ..defaults import DT, ENVELOPE_NAMES, FIT_BAND
+from ..errors import InputError
 from ._options import options, quiet_option, reporter, writable_file
+from .spectrum import UNIT_NAMES
 
 if TYPE_CHECKING:
     import numpy as np
@@ -375,6 +378,94 @@ def fit_cmd(
             f"A_gx = {ens.agx:.3f} g (std {ens.pga.std():.3f} g)"
         )
     click.echo(f"wrote {run.path / 'fit.png'}, {run.path / 'fit.csv'}")
+
+
+@motions.command("import")
+@click.argument("records", nargs=-1, metavar="[RECORD]...")
+@click.option(
+    "--manifest",
+    type=click.Path(exists=True, dir_okay=False),
+    help="CSV with one row per motion: columns horizontal (file), vertical (file, optional) "
+    "and scale (factor > 0, optional); paths relative to the manifest's folder.",
+)
+@click.option(
+    "--dt",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    help="Common time step [s]: every record is resampled to it (scipy.signal.resample_poly, "
+    "Kaiser-window FIR anti-alias filter). Required when the records' steps differ.",
+)
+@click.option(
+    "--units",
+    type=click.Choice(UNIT_NAMES),
+    default=None,
+    help="Units of the values in the record files (default: as each file states, else g).",
+)
+@click.option(
+    "--record-dt",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    help="Time step [s] of one-column text files (which do not state it).",
+)
+@click.option(
+    "--location",
+    default="ground",
+    show_default=True,
+    help='Where the motions act, e.g. "floor 3" for floor acceleration histories exported '
+    "from a structural model.",
+)
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    required=True,
+    help="Output netCDF file, e.g. suite.nc (the ensemble file --motions options take).",
+)
+def import_cmd(
+    records: tuple[str, ...],
+    manifest: str | None,
+    dt: float | None,
+    units: str | None,
+    record_dt: float | None,
+    location: str,
+    out: str,
+) -> None:
+    """Import recorded motions as an ensemble file.
+
+    RECORD: PEER .AT2 files, text or CSV files (time [s], acceleration; units from the header,
+    e.g. "acc [cm/s2]", or --units), folders of them (their .AT2, .txt, .csv and .nc files,
+    sorted by name), existing ensemble files (.nc: their members are appended) or the word
+    'example' (El Centro 1940 NS). Members shorter than the longest are padded with zeros at
+    the end. Each member keeps its file, event, station and component (from a PEER header),
+    original time step and units.
+    """
+    if not records and manifest is None:
+        raise InputError("name at least one RECORD or give --manifest")
+    writable_file(out, "--out")
+    from ..motions.ensemble import Ensemble
+    from ..motions.records import RATIO_RTOL
+
+    ens = Ensemble.from_records(
+        records,
+        dt,
+        units=units,
+        manifest=manifest,
+        location=location,
+        record_dt=record_dt,
+    )
+    ens.save(out)
+    m = ens.meta
+    resampled = sum(not math.isclose(d, ens.dt, rel_tol=RATIO_RTOL) for d in m["record_dt"])
+    padded = sum(
+        (n - 1) * d < ens.duration - ens.dt / 2 for n, d in zip(m["record_npts"], m["record_dt"])
+    )
+    notes = [f"{ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s at {m['location']}"]
+    if ens.av is not None:
+        notes.append(f"{sum(bool(v) for v in m['vertical_sources'])} with a vertical component")
+    if resampled:
+        notes.append(f"{resampled} resampled to dt (scipy.signal.resample_poly, anti-alias FIR)")
+    if padded:
+        notes.append(f"{padded} padded with zeros at the end")
+    click.echo(f"wrote {out}: {'; '.join(notes)}; A_gx = {ens.agx:.4g} g")
 
 
 COMMANDS = [motions]

@@ -2,9 +2,10 @@
 :class:`Ensemble`.
 
 Simulated ensembles (:func:`rocking.generate`) remember how they were made and can be rebuilt
-(:meth:`Ensemble.regenerate`); recorded ones (:meth:`Ensemble.from_records`) name their sources.
+(:meth:`Ensemble.regenerate`); recorded ones (:meth:`Ensemble.from_records`) name their sources
+(file, event, station, component, original time step and units of each member).
 :meth:`Ensemble.scaled` rescales all members by one factor to a chosen A_gx (mean PGA [g], paper
-Section 3).
+Section 3). A member may have a vertical component ``av`` [m/s², up positive], scaled with it.
 """
 
 from __future__ import annotations
@@ -23,14 +24,44 @@ from ..core.checks import finite_array, positive
 from ..core.files import atomic_write
 from ..defaults import G
 from ..errors import InputError
-from .records import read_record
+from .records import (
+    _NETCDF_MAGIC,
+    RATIO_RTOL,
+    RECORD_SUFFIXES,
+    RESAMPLING,
+    Record,
+    read_manifest,
+    read_record,
+    record_path,
+    record_paths,
+    resample,
+)
 from .targets import StoredTarget
 
 #: xarray engine for ensemble files: "scipy" writes netCDF-3 (64-bit offset) with SciPy alone.
 #: netCDF-4 (engine "h5netcdf") would add h5py and HDF5 to the install for no gain here.
 NETCDF_ENGINE: Final = "scipy"
+#: Meta entries of :meth:`Ensemble.from_records` that hold one value per member, with the value
+#: given to members of an ensemble file that has none (its generated motions): file, vertical
+#: file, kind, PEER title fields, original time step [s], samples and units, import scale [-].
+RECORD_ENTRIES = {
+    "sources": "",
+    "vertical_sources": "",
+    "kinds": "",
+    "events": "",
+    "dates": "",
+    "stations": "",
+    "components": "",
+    "record_dt": 0.0,
+    "record_npts": 0,
+    "record_units": "m/s2",
+    "record_scale": 1.0,
+}
 #: Meta entries that hold one value per member (kept in step by :meth:`Ensemble.subset`).
-PER_MEMBER = ("members", "sources", "record_dt")
+PER_MEMBER = ("members", *RECORD_ENTRIES)
+#: Suffixes of the files :meth:`Ensemble.from_records` takes from a folder: records and
+#: ensemble files.
+IMPORT_SUFFIXES = (*RECORD_SUFFIXES, ".nc")
 
 
 def _n_samples(duration: float, dt: float) -> int:
@@ -54,22 +85,32 @@ class Ensemble:
         JSON-serialisable description: generation parameters of simulated ensembles, record
         sources of recorded ones, ``kind`` ("simulated", "recorded", …), ``location``
         ("ground" or e.g. "floor 3 of paper-2.0") and ``scale`` (factor applied since).
+    av : array_like, shape (n, n_t) or (n_t,), optional
+        Vertical accelerations [m/s², up positive] of the members, same shape as ``acc``
+        (stored read-only, 2-D); None (default) when the motions have no vertical component.
     """
 
     acc: np.ndarray
     dt: float
     labels: Sequence[str] = ()
     meta: dict = field(default_factory=dict)
+    av: np.ndarray | None = None
 
     def __post_init__(self):
-        acc = finite_array("acc", self.acc, ndim=(1, 2), min_len=2)
-        acc = np.array(acc, ndmin=2, copy=acc is self.acc)
-        acc.setflags(write=False)
-        object.__setattr__(self, "acc", acc)
+        object.__setattr__(self, "acc", _read_only("acc", self.acc))
+        if self.av is not None:
+            av = _read_only("av", self.av)
+            if av.shape != self.acc.shape:
+                raise InputError(
+                    f"av has shape {av.shape}, acc {self.acc.shape}: one vertical "
+                    "acceleration per horizontal one, sample for sample"
+                )
+            object.__setattr__(self, "av", av)
         object.__setattr__(self, "dt", positive("dt", self.dt, "s"))
-        labels = tuple(str(s) for s in self.labels) or tuple(f"m-{i:04d}" for i in range(len(acc)))
-        if len(labels) != len(acc):
-            raise InputError(f"labels has {len(labels)} names for {len(acc)} members")
+        n = len(self.acc)
+        labels = tuple(str(s) for s in self.labels) or tuple(f"m-{i:04d}" for i in range(n))
+        if len(labels) != n:
+            raise InputError(f"labels has {len(labels)} names for {n} members")
         object.__setattr__(self, "labels", labels)
         object.__setattr__(self, "meta", {"location": "ground", "scale": 1.0, **self.meta})
 
@@ -95,7 +136,7 @@ class Ensemble:
 
     @property
     def pga(self) -> np.ndarray:
-        """Peak ground acceleration of each member, max |a| [g], shape (n,)."""
+        """Peak ground acceleration of each member, max abs(a) [g], shape (n,)."""
         return np.abs(self.acc).max(axis=1) / G
 
     @property
@@ -127,7 +168,8 @@ class Ensemble:
         if idx.size and not (-self.n <= idx.min() and idx.max() < self.n):
             raise InputError(f"indices must lie in [0, {self.n}), got {idx.tolist()}")
         meta = {k: ([v[i] for i in idx] if k in PER_MEMBER else v) for k, v in self.meta.items()}
-        return Ensemble(self.acc[idx], self.dt, [self.labels[i] for i in idx], meta)
+        av = None if self.av is None else self.av[idx]
+        return Ensemble(self.acc[idx], self.dt, [self.labels[i] for i in idx], meta, av)
 
     def regenerate(self, **overrides) -> Ensemble:
         """Simulate this ensemble again from its metadata (same members, phases and scale).
@@ -171,30 +213,40 @@ class Ensemble:
         )
 
     def scaled_by(self, factor: float) -> Ensemble:
-        """The ensemble with every member multiplied by ``factor`` [-] (> 0)."""
+        """The ensemble with every member multiplied by ``factor`` [-] (> 0), its vertical
+        component too (the components of a record are scaled together)."""
         factor = positive("factor", factor)
         meta = {**self.meta, "scale": self.meta["scale"] * factor}
-        return Ensemble(self.acc * factor, self.dt, self.labels, meta)
+        av = None if self.av is None else self.av * factor
+        return Ensemble(self.acc * factor, self.dt, self.labels, meta, av)
 
     def save(self, path) -> Path:
         """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`) atomically (no
         half-written file ever has the name); return the path.
 
-        Variable ``acc`` [m/s²] on dimensions (member, time); coordinates ``member`` (labels)
-        and ``time`` [s]. The metadata go to attribute ``meta_json`` as JSON (exact, read back
+        Variable ``acc`` [m/s²] on dimensions (member, time), and ``av`` [m/s², up positive]
+        when the ensemble has vertical components; coordinates ``member`` (labels) and ``time``
+        [s]. The metadata go to attribute ``meta_json`` as JSON (exact, read back
         by :meth:`load`) and, for other readers of the file, to plain attributes: scalars,
         numeric lists and dictionary entries as ``<key>_<entry>`` (booleans as 0/1).
         """
         path = Path(path)
         attrs = {**_flat_attrs(self.meta), "dt": self.dt, "meta_json": json.dumps(self.meta)}
+        variables = {
+            "acc": (
+                ("member", "time"),
+                self.acc,
+                {"units": "m s-2", "long_name": "ground acceleration"},
+            )
+        }
+        if self.av is not None:
+            variables["av"] = (
+                ("member", "time"),
+                self.av,
+                {"units": "m s-2", "long_name": "vertical ground acceleration, up positive"},
+            )
         ds = xr.Dataset(
-            {
-                "acc": (
-                    ("member", "time"),
-                    self.acc,
-                    {"units": "m s-2", "long_name": "ground acceleration"},
-                )
-            },
+            variables,
             coords={"member": list(self.labels), "time": ("time", self.t, {"units": "s"})},
             attrs=attrs,
         )
@@ -208,6 +260,7 @@ class Ensemble:
         try:
             with xr.open_dataset(path, engine=NETCDF_ENGINE) as ds:
                 acc = ds["acc"].values
+                av = ds["av"].values if "av" in ds else None
                 labels = [str(s) for s in ds["member"].values]
                 dt = float(ds.attrs["dt"])
                 meta = json.loads(ds.attrs["meta_json"])
@@ -217,46 +270,308 @@ class Ensemble:
             raise InputError(
                 f"{path}: not a netCDF ensemble file ({' '.join(str(exc).split()[:12])})"
             ) from None
-        return cls(acc, dt, labels, meta)
+        return cls(acc, dt, labels, meta, av)
 
     @classmethod
-    def from_records(cls, records, dt: float | None = None) -> Ensemble:
-        """Ensemble of real records (``rocking.motions.records.Record`` objects or file paths).
+    def from_records(
+        cls,
+        records: Sequence[Record | Ensemble | str | Path] = (),
+        dt: float | None = None,
+        *,
+        vertical: Sequence[Record | str | Path | None] | None = None,
+        scale: float | Sequence[float] | None = None,
+        units: str | None = None,
+        manifest: str | Path | None = None,
+        location: str = "ground",
+        record_dt: float | None = None,
+    ) -> Ensemble:
+        """Ensemble of recorded motions: record files, folders of them, ensemble files and a
+        manifest (``rocking motions import`` on the command line).
 
-        Records at another time step than ``dt`` (default: the smallest of the records) are
-        resampled by linear interpolation over their own length (downsampling this way does not
-        filter: pass a ``dt`` no larger than the records' for an alias-free result). Records
-        shorter than the longest are padded with zeros at the end (ground at rest). The
-        records are used as given (no baseline correction).
+        Every member is used as recorded (no baseline correction). Members at another time
+        step than ``dt`` are resampled to it with :func:`rocking.motions.records.resample`
+        (:func:`scipy.signal.resample_poly`, a Kaiser-window FIR anti-alias filter; meta
+        ``resampling`` says so). Without ``dt`` the members must share one step: records at
+        different steps are refused with a message listing them, so that choosing the step
+        (and the cost of the simulations, which grows with 1/dt) stays the user's decision.
+        Members shorter than the longest are padded with zeros at the end (the ground at
+        rest; meta ``record_npts`` keeps each one's own length).
 
         Parameters
         ----------
-        records : sequence of Record or path
-            At least one.
+        records : sequence of Record, Ensemble, str or Path
+            Records (:class:`~rocking.motions.records.Record`), record files (PEER .AT2, text
+            or CSV, see :func:`~rocking.motions.records.read_record`), folders (their .AT2,
+            .txt, .csv and .nc files sorted by name), ensembles or ensemble files (.nc, written
+            by :meth:`save`: their members are appended, with their vertical components and
+            metadata). The word ``example`` stands for the shipped record.
         dt : float, optional
             Common time step [s], > 0.
+        vertical : sequence of Record, str, Path or None, optional
+            One per entry of ``records``: the vertical record [up positive] of the same motion,
+            or None. Members without one get a zero vertical acceleration when others have one.
+        scale : float or sequence of float, optional
+            Factor [-] (> 0) applied to both components: one for all or one per entry of
+            ``records`` (default 1).
+        units : {"g", "m/s2", "cm/s2"}, optional
+            Units of the values in the record files, overriding what they state.
+        manifest : str or Path, optional
+            A CSV with one row per motion (columns ``horizontal``, ``vertical``, ``scale``;
+            :func:`~rocking.motions.records.read_manifest`), its members after ``records``.
+            Errors in its records name the row.
+        location : str, optional
+            Where the motions act, e.g. "floor 3" for floor acceleration histories exported from
+            a structural model (meta ``location``, default "ground"). Appended ensembles must be
+            at the same location.
+        record_dt : float, optional
+            Time step [s] of one-column text files (which do not state it); checked against the
+            step of the others.
+
+        Returns
+        -------
+        Ensemble
+            ``meta``: ``kind`` ("recorded", or "mixed" when generated members were appended),
+            ``location``, ``resampling`` (method and filter, or method "none" when no
+            component was resampled), ``padding``, and per member (in step with the members
+            through :meth:`subset`): ``sources`` and ``vertical_sources`` (files), ``kinds``,
+            ``events``, ``dates``, ``stations``, ``components``, ``record_dt`` [s],
+            ``record_npts`` and ``record_units`` (of the horizontal record) and
+            ``record_scale`` [-]. Labels are the file names without suffix (a repeated label
+            gets "-2", "-3", …).
         """
-        recs = [r if hasattr(r, "acc") else read_record(r) for r in records]
-        if not recs:
-            raise InputError("records must name at least one record")
-        step = min(r.dt for r in recs) if dt is None else positive("dt", dt, "s")
-        rows = []
-        for r in recs:
-            t_end = (len(r.acc) - 1) * r.dt
-            t = np.arange(_n_samples(t_end, step)) * step
-            rows.append(
-                r.acc if r.dt == step else np.interp(t, np.arange(len(r.acc)) * r.dt, r.acc)
-            )
-        acc = np.zeros((len(rows), max(len(x) for x in rows)))
-        for i, x in enumerate(rows):
-            acc[i, : len(x)] = x
-        meta = {
-            "kind": "recorded",
-            "location": "ground",
-            "sources": [str(r.source) for r in recs],
-            "record_dt": [r.dt for r in recs],
+        location = str(location).strip()
+        if not location:
+            raise InputError("location must name where the motions act, e.g. ground or floor 3")
+        read = {
+            "units": units,
+            "dt": None if record_dt is None else positive("record_dt", record_dt, "s"),
         }
-        return cls(acc, step, [r.name for r in recs], meta)
+        members = _members(records, vertical, scale, read, location)
+        if manifest is not None:
+            members += _manifest_members(Path(manifest), read)
+        if not members:
+            raise InputError("no motions: give records (files, folders, ensembles) or a manifest")
+        step = _common_step(members) if dt is None else positive("dt", dt, "s")
+        rows_h = [_resampled(m.h, m.dt_h, step, m) for m in members]
+        rows_v = [None if m.v is None else _resampled(m.v, m.dt_v, step, m) for m in members]
+        n_t = max(len(x) for x in rows_h + rows_v if x is not None)
+        acc = np.zeros((len(members), n_t))
+        av = None if all(x is None for x in rows_v) else np.zeros((len(members), n_t))
+        for i, (m, h, v) in enumerate(zip(members, rows_h, rows_v)):
+            acc[i, : len(h)] = h * m.scale
+            if v is not None and av is not None:
+                av[i, : len(v)] = v * m.scale
+        entries = {key: [m.info[key] for m in members] for key in RECORD_ENTRIES}
+        own_steps = [*entries["record_dt"], *(m.dt_v for m in members)]
+        resampled = any(not math.isclose(d, step, rel_tol=RATIO_RTOL) for d in own_steps)
+        meta = {
+            "kind": "recorded" if set(entries["kinds"]) == {"recorded"} else "mixed",
+            "location": location,
+            "resampling": ({"dt": step, **RESAMPLING} if resampled else {"method": "none"}),
+            "padding": "zeros at the end, to the longest member",
+            **entries,
+        }
+        return cls(acc, step, _unique([m.label for m in members]), meta, av)
+
+
+@dataclass(frozen=True)
+class _Member:
+    """One motion on its way into :meth:`Ensemble.from_records`: horizontal and vertical
+    accelerations [m/s²] at their own steps [s], the factor still to apply, its label and its
+    per-member metadata (:data:`RECORD_ENTRIES`)."""
+
+    h: np.ndarray
+    dt_h: float
+    v: np.ndarray | None
+    dt_v: float
+    scale: float
+    label: str
+    info: dict
+
+
+def _record_member(h: Record, v: Record | None, scale: float) -> _Member:
+    info = {
+        **RECORD_ENTRIES,
+        "sources": h.source,
+        "vertical_sources": "" if v is None else v.source,
+        "kinds": "recorded",
+        "events": h.event,
+        "dates": h.date,
+        "stations": h.station,
+        "components": h.component,
+        "record_dt": h.dt,
+        "record_npts": int(h.acc.size),
+        "record_units": h.units,
+        "record_scale": scale,
+    }
+    dt_v = h.dt if v is None else v.dt
+    return _Member(h.acc, h.dt, None if v is None else v.acc, dt_v, scale, h.name, info)
+
+
+def _ensemble_members(ens: Ensemble, source: str, scale: float, location: str) -> list[_Member]:
+    """The members of an ensemble appended by :meth:`Ensemble.from_records` (from the file
+    ``source``), with their stored per-member metadata or, for generated members, defaults."""
+    if ens.meta["location"] != location:
+        raise InputError(
+            f"{source or 'ensemble'}: its motions are at {ens.meta['location']!r}, not at "
+            f"{location!r} (location)"
+        )
+    defaults = {
+        **RECORD_ENTRIES,
+        "sources": source,
+        "kinds": ens.meta.get("kind", ""),
+        "record_dt": ens.dt,
+        "record_npts": ens.n_t,
+    }
+    stored: dict[str, list] = {}
+    for key, value in defaults.items():
+        given = ens.meta.get(key)
+        stored[key] = given if isinstance(given, list) and len(given) == ens.n else [value] * ens.n
+    factor = ens.meta["scale"] * scale
+    return [
+        _Member(
+            ens.acc[i],
+            ens.dt,
+            None if ens.av is None else ens.av[i],
+            ens.dt,
+            scale,
+            ens.labels[i],
+            {
+                **{key: stored[key][i] for key in RECORD_ENTRIES},
+                "record_scale": stored["record_scale"][i] * factor,
+            },
+        )
+        for i in range(ens.n)
+    ]
+
+
+def _per_entry(name: str, values, n: int, default) -> list:
+    """``values`` as one value per entry of ``records`` (a scalar repeated)."""
+    if values is None or isinstance(values, (int, float, str, Path, Record)):
+        return [default if values is None else values] * n
+    values = list(values)
+    if len(values) != n:
+        raise InputError(f"{name} has {len(values)} entries for {n} entries of records")
+    return values
+
+
+def _members(records, vertical, scale, read: dict, location: str) -> list[_Member]:
+    """The motions of the ``records`` argument of :meth:`Ensemble.from_records`."""
+    if isinstance(records, (str, Path, Record, Ensemble)):
+        records = [records]
+    records = list(records)
+    verticals = _per_entry("vertical", vertical, len(records), None)
+    scales = [positive("scale", f) for f in _per_entry("scale", scale, len(records), 1.0)]
+    out: list[_Member] = []
+    for entry, v, f in zip(records, verticals, scales):
+        if isinstance(entry, (Ensemble, Record)):
+            items: list[tuple[Ensemble | Record, str]] = [(entry, "")]
+        else:
+            items = [(_read_path(p, read), str(p)) for p in _import_paths(entry)]
+        if v is not None and (len(items) != 1 or isinstance(items[0][0], Ensemble)):
+            raise InputError(f"{entry}: a vertical record goes with one horizontal record")
+        for item, source in items:
+            if isinstance(item, Ensemble):
+                out += _ensemble_members(item, source, f, location)
+            else:
+                vert = None if v is None else _read_one(v, read)
+                out.append(_record_member(item, vert, f))
+    return out
+
+
+def _import_paths(entry: str | Path) -> list[Path]:
+    """The files of one path argument: itself, a folder's records and ensemble files, or the
+    shipped record for ``example``."""
+    paths = record_paths(entry, IMPORT_SUFFIXES)
+    for p in paths:
+        if not p.exists():
+            raise InputError(f"{p}: no such file or folder")
+    return paths
+
+
+def _is_netcdf(path: Path) -> bool:
+    with path.open("rb") as f:
+        return f.read(8).startswith(_NETCDF_MAGIC)
+
+
+def _read_path(path: Path, read: dict) -> Ensemble | Record:
+    """An ensemble file or a record file."""
+    return Ensemble.load(path) if _is_netcdf(path) else read_record(path, **read)
+
+
+def _read_one(spec: Record | str | Path, read: dict) -> Record:
+    """A vertical record given to :meth:`Ensemble.from_records`."""
+    if isinstance(spec, Record):
+        return spec
+    path = record_path(spec)
+    if not path.is_file():
+        raise InputError(f"vertical record {path}: no such file")
+    return read_record(path, **read)
+
+
+def _manifest_members(manifest: Path, read: dict) -> list[_Member]:
+    """The motions of a manifest; errors name its row."""
+    out = []
+    for row in read_manifest(manifest):
+        try:
+            h = read_record(row.horizontal, **read)
+            v = None if row.vertical is None else read_record(row.vertical, **read)
+        except InputError as exc:
+            raise InputError(f"{manifest}: row {row.row} (line {row.line}): {exc}") from None
+        out.append(_record_member(h, v, row.scale))
+    return out
+
+
+def _common_step(members: list[_Member]) -> float:
+    """The one time step [s] of every component, or an InputError listing the steps."""
+    steps: dict[float, list[str]] = {}
+    for m in members:
+        for d in (m.dt_h, m.dt_v):
+            known = next((s for s in steps if math.isclose(s, d, rel_tol=RATIO_RTOL)), d)
+            names = steps.setdefault(known, [])
+            if m.label not in names:
+                names.append(m.label)
+    if len(steps) == 1:
+        return next(iter(steps))
+    listed = "; ".join(
+        f"{d:g} s: {', '.join(names[:3])}{', …' if len(names) > 3 else ''}"
+        for d, names in sorted(steps.items())
+    )
+    raise InputError(
+        f"the records have different time steps ({listed}); give the common step dt [s] "
+        f"(--dt), e.g. {min(steps):g} to upsample all without loss"
+    )
+
+
+def _resampled(x: np.ndarray, dt: float, step: float, member: _Member) -> np.ndarray:
+    """One component of ``member`` at ``step`` [s]; errors name the member."""
+    try:
+        return resample(x, dt, step)
+    except InputError as exc:
+        raise InputError(f"{member.info['sources'] or member.label}: {exc}") from None
+
+
+def _unique(labels: list[str]) -> tuple[str, ...]:
+    """``labels`` with repeated ones numbered: a, a → a, a-2."""
+    seen: set[str] = set()
+    out = []
+    for label in labels:
+        name, k = label, 1
+        while name in seen:
+            k += 1
+            name = f"{label}-{k}"
+        seen.add(name)
+        out.append(name)
+    return tuple(out)
+
+
+def _read_only(name: str, values) -> np.ndarray:
+    """``values`` as a finite 2-D float array that cannot be written (a copy unless it is one
+    already)."""
+    a = finite_array(name, values, ndim=(1, 2), min_len=2)
+    a = np.array(a, ndmin=2, copy=a is values)
+    a.setflags(write=False)
+    return a
 
 
 def _flat_attrs(meta: dict) -> dict:

@@ -20,8 +20,35 @@ Plain text (any file without an NPTS/DT line)
     used, otherwise accelerations are in g. Times must be equally spaced (to 0.1 % of the step);
     the first sample is taken as t = 0.
 
-Every reader returns accelerations in m/s² (g = 9.80665 m/s²). Binary files (a netCDF ensemble
-of motions, say) are refused with an :class:`~rocking.errors.InputError` that says so.
+Every reader returns accelerations in m/s² (g = 9.80665 m/s²) and the units the file was read in.
+Binary files (a netCDF ensemble of motions, say) are refused with an
+:class:`~rocking.errors.InputError` that says so.
+
+Metadata
+--------
+The second header line of a PEER file names the record: ``EVENT, DATE, STATION, COMPONENT``,
+e.g. "Helena Montana-01, 10/31/1935, Carroll College, 180" or, in NGA-West2 files,
+"14383980, 7/29/2008, Anaheim - Lakeview & Riverdale, 360" (the event as its network number).
+The date (month/day/year) anchors the split, so an event or station with commas in its name
+("Chi-Chi, Taiwan") is kept whole; a line without a date gives no metadata
+(:func:`peer_title`).
+
+Resampling
+----------
+:func:`resample` changes the time step with :func:`scipy.signal.resample_poly`: the record is
+upsampled by ``up``, low-pass filtered and downsampled by ``down``, where dt / new_dt =
+up / down exactly (to 1e-9) with both at most :data:`MAX_RESAMPLING_FACTOR`. The filter is
+SciPy's default: a linear-phase FIR filter of 20·max(up, down) + 1 taps designed with a Kaiser
+window (β = 5, stop-band attenuation about 54 dB, pass-band ripple about 0.2 %), its cut-off at
+the lower of the two Nyquist frequencies, so downsampling removes what the new step cannot
+carry instead of folding it back (aliasing). Ratios that are no such fraction are refused.
+
+Manifests
+---------
+A manifest (:func:`read_manifest`) is a CSV file with one row per motion: column
+``horizontal`` (required: its record file), ``vertical`` (optional: the vertical record of the
+same motion) and ``scale`` (optional factor > 0 applied to both, default 1). Paths are relative
+to the manifest's folder.
 
 Example record
 --------------
@@ -33,13 +60,16 @@ unless a file of that name exists.
 
 from __future__ import annotations
 
+import csv
 import math
 import re
 from dataclasses import dataclass
+from fractions import Fraction
 from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
+from scipy.signal import resample_poly
 
 from ..core.checks import positive
 from ..dynamics.body import G
@@ -87,12 +117,22 @@ class Record:
         Label (the file name without suffix).
     source : str
         Path of the file it was read from.
+    units : str
+        Units of the values in the file ("g", "m/s2" or "cm/s2"; "" when not read from a file).
+    event, date, station, component : str
+        From a PEER header's second line (see :func:`peer_title`); "" when the file does not
+        say.
     """
 
     acc: np.ndarray
     dt: float
     name: str
     source: str
+    units: str = ""
+    event: str = ""
+    date: str = ""
+    station: str = ""
+    component: str = ""
 
     @property
     def t(self) -> np.ndarray:
@@ -101,17 +141,23 @@ class Record:
 
     @property
     def pga(self) -> float:
-        """Peak ground acceleration max |acc| [g]."""
+        """Peak ground acceleration max abs(acc) [g]."""
         return float(np.abs(self.acc).max()) / G
 
 
-def unit_factor(units: str) -> float:
-    """Factor [m/s² per unit] for a unit name: "g", "m/s2" or "cm/s2" (also "m/s/s", "gal", ...)."""
+def unit_name(units: str) -> str:
+    """The name in :data:`UNITS` ("g", "m/s2" or "cm/s2") of a unit name as a user writes it
+    ("m/s/s", "gal", "CM/S^2", ...)."""
     key = str(units).strip().lower().replace(" ", "")
     key = _UNIT_ALIASES.get(key, key)
     if key not in UNITS:
         raise InputError(f"units must be one of g, m/s2, cm/s2, got {units!r}")
-    return UNITS[key]
+    return key
+
+
+def unit_factor(units: str) -> float:
+    """Factor [m/s² per unit] for a unit name: "g", "m/s2" or "cm/s2" (also "m/s/s", "gal", ...)."""
+    return UNITS[unit_name(units)]
 
 
 def _stated_units(text: str) -> str | None:
@@ -140,8 +186,42 @@ def _npts_dt(line: str) -> tuple[str, str] | None:
     return None
 
 
+#: A date of a PEER title line: month/day/year.
+_DATE = re.compile(r"\d{1,2}/\d{1,2}/\d{2,4}")
+#: Fields of a PEER title line, in the order of :func:`peer_title`'s result.
+TITLE_FIELDS = ("event", "date", "station", "component")
+
+
+def peer_title(line: str) -> dict[str, str]:
+    """Event, date, station and component of a PEER header's second line.
+
+    Parameters
+    ----------
+    line : str
+        E.g. "Helena Montana-01, 10/31/1935, Carroll College, 180".
+
+    Returns
+    -------
+    dict
+        Keys ``event``, ``date``, ``station`` and ``component`` (text as written, stripped): the
+        fields before the date, the date, the fields between the date and the last one, and the
+        last field. Empty (every value "") when the line has no date field followed by at least
+        two more fields.
+    """
+    parts = [p.strip() for p in line.split(",")]
+    at = next((i for i, p in enumerate(parts) if _DATE.fullmatch(p)), None)
+    if at is None or at == 0 or len(parts) - at < 3:
+        return dict.fromkeys(TITLE_FIELDS, "")
+    return {
+        "event": ", ".join(parts[:at]),
+        "date": parts[at],
+        "station": ", ".join(parts[at + 1 : -1]),
+        "component": parts[-1],
+    }
+
+
 def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
-    """Values, dt and units of a PEER file whose NPTS/DT line is ``lines[head]``."""
+    """Values, dt, units and title of a PEER file whose NPTS/DT line is ``lines[head]``."""
     lineno = head + 1
     try:
         npts = int(found[0])
@@ -167,7 +247,8 @@ def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
         raise InputError(
             f"{path}: the header announces NPTS = {npts} values, the file holds {len(values)}"
         )
-    return np.array(values), dt, _stated_units(header) or "g"
+    title = peer_title(lines[1]) if head > 1 else dict.fromkeys(TITLE_FIELDS, "")
+    return np.array(values), dt, _stated_units(header) or "g", title
 
 
 def _read_text(path: Path, lines: list[str], dt: float | None):
@@ -264,10 +345,11 @@ def read_record(path, *, dt: float | None = None, units: str | None = None) -> R
     Returns
     -------
     Record
-        Acceleration [m/s²], time step [s], name (file stem) and source path.
+        Acceleration [m/s²], time step [s], name (file stem), source path, the units the values
+        were read in and, for PEER files, event, date, station and component.
     """
     path = Path(path)
-    factor = None if units is None else unit_factor(units)
+    given = None if units is None else unit_name(units)
     dt_arg = None if dt is None else positive("dt", dt, "s")
     data = path.read_bytes()
     _refuse_binary(path, data[:_SNIFF_BYTES])
@@ -283,8 +365,9 @@ def read_record(path, *, dt: float | None = None, units: str | None = None) -> R
         ),
         None,
     )
+    title = dict.fromkeys(TITLE_FIELDS, "")
     if head is not None:
-        values, step, stated = _read_at2(path, lines, *head)
+        values, step, stated, title = _read_at2(path, lines, *head)
     elif path.suffix.lower() == ".at2":
         raise InputError(f"{path}: no 'NPTS=..., DT=...' line in the first {_HEADER_LINES} lines")
     else:
@@ -293,8 +376,9 @@ def read_record(path, *, dt: float | None = None, units: str | None = None) -> R
         raise InputError(f"{path}: dt = {dt_arg:g} s disagrees with the file's step {step:g} s")
     if values.size < 2:
         raise InputError(f"{path}: a record needs at least 2 samples, got {values.size}")
-    acc = values * (factor if factor is not None else UNITS[stated])
-    return Record(acc=acc, dt=float(step), name=path.stem, source=str(path))
+    used = given or stated
+    acc = values * UNITS[used]
+    return Record(acc=acc, dt=float(step), name=path.stem, source=str(path), units=used, **title)
 
 
 #: The word that stands for the shipped example record.
@@ -314,24 +398,27 @@ def record_path(spec) -> Path:
     return example_record_path() if str(spec) == EXAMPLE and not path.exists() else path
 
 
-#: File suffixes picked up when a folder is given to :func:`read_records`.
-RECORD_SUFFIXES = (".at2", ".txt", ".csv")
+#: File suffixes picked up when a folder is given to :func:`read_records` (any case).
+RECORD_SUFFIXES = (".AT2", ".txt", ".csv")
 
 
-def record_paths(paths) -> list[Path]:
-    """Expand a path or a list of paths: a folder gives its .AT2/.txt/.csv files sorted by name,
-    the word ``example`` the shipped example record (see :func:`record_path`)."""
+def record_paths(paths, suffixes: tuple[str, ...] = RECORD_SUFFIXES) -> list[Path]:
+    """Expand a path or a list of paths: a folder gives its files with one of ``suffixes``
+    (any case; default .AT2, .txt and .csv) sorted by name, the word ``example`` the shipped
+    example record (see :func:`record_path`)."""
     if isinstance(paths, (str, Path)):
         paths = [paths]
+    wanted = {s.lower() for s in suffixes}
     out: list[Path] = []
     for p in map(record_path, paths):
         if p.is_dir():
             found = sorted(
-                (q for q in p.iterdir() if q.is_file() and q.suffix.lower() in RECORD_SUFFIXES),
+                (q for q in p.iterdir() if q.is_file() and q.suffix.lower() in wanted),
                 key=lambda q: q.name,
             )
             if not found:
-                raise InputError(f"{p}: folder holds no .AT2, .txt or .csv files")
+                listed = f"{', '.join(suffixes[:-1])} or {suffixes[-1]}"
+                raise InputError(f"{p}: folder holds no {listed} files")
             out.extend(found)
         else:
             out.append(p)
@@ -345,3 +432,173 @@ def read_records(paths, *, dt: float | None = None, units: str | None = None) ->
     .AT2/.txt/.csv files sorted by name and the word ``example`` for the shipped example record.
     ``dt`` [s] and ``units`` as in :func:`read_record`."""
     return [read_record(p, dt=dt, units=units) for p in record_paths(paths)]
+
+
+#: Largest up- and down-sampling factors of :func:`resample` (its filter has 20·max + 1 taps).
+MAX_RESAMPLING_FACTOR = 1000
+#: Relative tolerance within which dt / new_dt must equal a fraction up / down.
+RATIO_RTOL = 1e-9
+#: Window of the anti-alias filter of :func:`scipy.signal.resample_poly` (SciPy's default).
+RESAMPLING_WINDOW = ("kaiser", 5.0)
+#: How :func:`resample` resamples, for the metadata of ensembles.
+RESAMPLING = {
+    "method": "scipy.signal.resample_poly (polyphase, up by p then down by q, dt/new_dt = p/q)",
+    "filter": "linear-phase FIR low-pass, Kaiser window beta = 5.0, 20*max(p, q) + 1 taps, "
+    "cut-off at the lower Nyquist frequency (anti-alias when downsampling)",
+}
+
+
+def resampling_factors(dt: float, new_dt: float) -> tuple[int, int]:
+    """Whole numbers (up, down) with dt / new_dt = up / down (to :data:`RATIO_RTOL`).
+
+    Parameters
+    ----------
+    dt, new_dt : float
+        Time step of a record and the step wanted [s], > 0.
+
+    Returns
+    -------
+    tuple of int
+        (up, down), coprime, each at most :data:`MAX_RESAMPLING_FACTOR`; (1, 1) when the steps
+        are equal.
+    """
+    ratio = positive("dt", dt, "s") / positive("new_dt", new_dt, "s")
+    frac = Fraction(ratio).limit_denominator(MAX_RESAMPLING_FACTOR)
+    if (
+        frac.numerator > MAX_RESAMPLING_FACTOR
+        or abs(frac.numerator - ratio * frac.denominator) > RATIO_RTOL * frac.numerator
+    ):
+        raise InputError(
+            f"dt = {new_dt:g} s: the record step {dt:g} s is not p/q times it with whole "
+            f"p, q <= {MAX_RESAMPLING_FACTOR}; choose a step such as {dt:g} s times or "
+            f"divided by a whole number"
+        )
+    return frac.numerator, frac.denominator
+
+
+def resample(acc, dt: float, new_dt: float) -> np.ndarray:
+    """A record at another time step, alias-free (see the module notes, "Resampling").
+
+    Parameters
+    ----------
+    acc : array_like, shape (n_t,)
+        Acceleration [any unit, returned in the same] sampled at ``dt`` from t = 0.
+    dt : float
+        Its time step [s].
+    new_dt : float
+        The time step wanted [s]; dt / new_dt must be a fraction p/q with p, q at most
+        :data:`MAX_RESAMPLING_FACTOR` (e.g. 0.02 → 0.005, 0.005 → 0.0025, 0.0025 → 0.005).
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        Samples at t = 0, new_dt, … up to the last time of the record, (n_t - 1)·dt (a copy
+        when the steps are equal). Outside the record the signal is taken as zero (the ground
+        at rest), so samples within the filter's half length (10·max(p, q) input samples) of
+        either end feel the start and the end.
+    """
+    x = np.asarray(acc, dtype=np.float64)
+    up, down = resampling_factors(dt, new_dt)
+    if up == down:
+        return x.copy()
+    n = math.floor((x.size - 1) * up / down + 1e-9) + 1
+    return resample_poly(x, up, down, window=RESAMPLING_WINDOW)[:n]
+
+
+@dataclass(frozen=True)
+class ManifestRow:
+    """One motion of a manifest (see :func:`read_manifest`).
+
+    Attributes
+    ----------
+    horizontal : Path
+        Its horizontal record.
+    vertical : Path or None
+        Its vertical record, if any.
+    scale : float
+        Factor applied to both components [-].
+    row, line : int
+        Its row (1 = the first after the header) and line in the file (for messages).
+    """
+
+    horizontal: Path
+    vertical: Path | None
+    scale: float
+    row: int
+    line: int
+
+
+#: Columns of a manifest: the first is required.
+MANIFEST_COLUMNS = ("horizontal", "vertical", "scale")
+
+
+def _manifest_path(folder: Path, spec: str) -> Path:
+    """A record named in a manifest: relative to its folder; ``example`` as in
+    :func:`record_path` (when no file of that name is in the folder)."""
+    path = folder / spec
+    return example_record_path() if spec == EXAMPLE and not path.exists() else path
+
+
+def read_manifest(path) -> list[ManifestRow]:
+    """Read a manifest of motions: a CSV with one row per motion (see the module notes).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file: a header row naming columns ``horizontal`` (required), ``vertical`` and
+        ``scale`` (any case, any order), then one row per motion. Blank lines and lines
+        starting with ``#`` are skipped; an empty ``vertical`` means none, an empty ``scale``
+        1.
+
+    Returns
+    -------
+    list of ManifestRow
+        In file order; the files are checked to exist, not read.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InputError(f"manifest {path}: no such file") from None
+    numbered = [
+        (n, line)
+        for n, line in enumerate(text.splitlines(), start=1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    if not numbered:
+        raise InputError(f"{path}: empty manifest")
+    table = list(csv.reader(line for _, line in numbered))
+    header = [h.strip().lower() for h in table[0]]
+    unknown = [h for h in header if h not in MANIFEST_COLUMNS]
+    if unknown or "horizontal" not in header or len(set(header)) < len(header):
+        raise InputError(
+            f"{path}: line {numbered[0][0]}: the header must name the columns horizontal "
+            f"(required), vertical and scale, once each; got {', '.join(table[0])}"
+        )
+    rows = []
+    folder = path.parent
+    for i, ((lineno, _), cells) in enumerate(zip(numbered[1:], table[1:]), start=1):
+        where = f"{path}: row {i} (line {lineno})"
+        if len(cells) > len(header):
+            raise InputError(f"{where}: {len(cells)} cells for {len(header)} columns")
+        entry = dict(zip(header, (c.strip() for c in cells)))
+        if not entry.get("horizontal"):
+            raise InputError(f"{where}: no horizontal record")
+        try:
+            scale = float(entry.get("scale") or 1.0)
+        except ValueError:
+            scale = math.nan
+        if not (math.isfinite(scale) and scale > 0.0):
+            raise InputError(f"{where}: scale must be a number > 0, got {entry['scale']!r}")
+        files = {
+            key: _manifest_path(folder, entry[key])
+            for key in ("horizontal", "vertical")
+            if entry.get(key)
+        }
+        for key, file in files.items():
+            if not file.is_file():
+                raise InputError(f"{where}: {key} record {file}: no such file")
+        rows.append(ManifestRow(files["horizontal"], files.get("vertical"), scale, i, lineno))
+    if not rows:
+        raise InputError(f"{path}: the manifest names no motions (a header and no rows)")
+    return rows
