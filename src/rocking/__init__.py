@@ -46,6 +46,8 @@ _EXPORTS = {
     "FragilityFit": "montecarlo.statistics",
     "bootstrap_fragility": "montecarlo.statistics",
     "agx_50": "montecarlo.probability",
+    "fragility_analysis": "montecarlo.fragility",
+    "im_efficiency": "montecarlo.fragility",
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
     "wilson_interval": "montecarlo.statistics",
@@ -117,6 +119,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
+    from .montecarlo.fragility import fragility_analysis, im_efficiency
     from .montecarlo.probability import agx_50, overturning_probability
     from .montecarlo.statistics import (
         FragilityFit,

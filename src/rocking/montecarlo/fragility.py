@@ -1,0 +1,477 @@
+"""Fragility of bodies against any intensity measure, from any suite of motions (issue 16, part 2):
+incremental dynamic analysis (IDA), multiple-stripe analysis (MSA) and cloud analysis, each with a
+lognormal fragility fitted by maximum likelihood (Baker 2015) and bootstrap confidence intervals
+(:func:`rocking.bootstrap_fragility`), and the ranking of intensity measures by how well they
+predict overturning (:func:`im_efficiency`).
+
+* IDA: every motion is scaled, on its own, so that its IM equals each level in turn
+  (:mod:`rocking.montecarlo.engine`: per-motion scale factors (level/IM)^(1/k), k the IM's
+  scaling exponent); the paper's A_gx (``im="agx"``) scales all motions by one factor instead,
+  to the ensemble's mean PGA (:func:`rocking.overturning_probability`).
+* MSA: stripes given as (IM level, motion, scale factor) rows; each stripe's motions scaled by
+  their factors, the outcome counted at the stripe's level.
+* Cloud: the motions as they are, each motion's outcome against its own IM; the probabilities
+  shown for cloud analysis are those of bins of equal count (the fit uses every motion).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from ..core.checks import finite_array, in_range
+from ..defaults import DEFAULT_E, G
+from ..dynamics.batch import block_list
+from ..errors import InputError
+from ..motions.ensemble import Ensemble
+from ..motions.intensity import IntensityMeasure, intensity_measures, parse_im
+from .engine import LEVEL_UNIT, Engine, level_agx, level_key
+from .statistics import FragilityFit, bootstrap_fragility, fit_lognormal, wilson_interval
+
+#: Methods of :func:`fragility_analysis`.
+METHODS = ("ida", "msa", "cloud")
+#: The paper's intensity: the ensemble's mean PGA [g], one scale factor for all motions.
+AGX = "agx"
+
+
+@dataclass(frozen=True)
+class _Im:
+    """The intensity measure of an analysis: A_gx or one of :func:`rocking.intensity_measures`."""
+
+    name: str
+    label: str
+    unit: str
+    exponent: int
+    measure: IntensityMeasure | None
+
+    @classmethod
+    def parse(cls, im) -> _Im:
+        if isinstance(im, str) and im.strip().lower() == AGX:
+            return cls(AGX, "A_gx (mean PGA of the ensemble) [g]", "g", 1, None)
+        m = parse_im(im)
+        return cls(m.name, m.label, m.unit, m.scaling_exponent, m)
+
+    def of_motions(self, ensemble: Ensemble) -> np.ndarray:
+        """The IM of every motion as it is (A_gx: the PGA of each motion) [unit]."""
+        if self.measure is None:
+            return ensemble.pga
+        return intensity_measures(ensemble, [self.measure]).iloc[:, 0].to_numpy()
+
+
+def _checked_levels(levels, unit: str) -> np.ndarray:
+    x = finite_array("levels", np.atleast_1d(levels), ndim=(1,))
+    if np.any(x < LEVEL_UNIT):
+        raise InputError(f"levels must be >= {LEVEL_UNIT:g} {unit}, got {x[x < LEVEL_UNIT][0]}")
+    return np.array([level_agx(level_key(v)) for v in x.tolist()])
+
+
+def read_stripes(stripes, ensemble: Ensemble) -> pd.DataFrame:
+    """The stripes of a multiple-stripe analysis, checked against the ensemble.
+
+    Parameters
+    ----------
+    stripes : DataFrame, str or Path
+        Rows (``level``, ``motion``, ``scale``): the stripe's IM level [the IM's unit], a motion
+        of the ensemble (its label, or its position 0 … n − 1) and the factor that scales it in
+        that stripe [-]; a CSV file with that header.  Every stripe holds the same number of
+        motions (so that the bootstrap resamples whole motions of equal weight).
+    ensemble : Ensemble
+
+    Returns
+    -------
+    DataFrame
+        Columns ``level`` (float), ``member`` (position in the ensemble, int), ``scale``.
+    """
+    if isinstance(stripes, pd.DataFrame):
+        table, where = stripes.copy(), "stripes"
+    else:
+        where = str(stripes)
+        try:
+            table = pd.read_csv(stripes, dtype={"motion": str}, comment="#", skipinitialspace=True)
+        except (OSError, ValueError, pd.errors.ParserError) as exc:
+            raise InputError(f"{where}: cannot read the stripes ({exc})") from None
+    table.columns = [str(c).strip().lower() for c in table.columns]
+    missing = {"level", "motion", "scale"} - set(table.columns)
+    if missing:
+        raise InputError(f"{where}: need columns level, motion, scale; missing {sorted(missing)}")
+    if table.empty:
+        raise InputError(f"{where}: no stripes")
+    position = {label: i for i, label in enumerate(ensemble.labels)}
+    members = []
+    for row, (motion, level, scale) in enumerate(
+        zip(table["motion"], table["level"], table["scale"]), start=1
+    ):
+        text = str(motion).strip()
+        if text in position:
+            members.append(position[text])
+        elif text.isdigit() and int(text) < ensemble.n:
+            members.append(int(text))
+        else:
+            raise InputError(f"{where}: row {row}: no motion {text!r} in the ensemble")
+        for name, value in (("level", level), ("scale", scale)):
+            try:
+                ok = math.isfinite(float(value)) and float(value) > 0.0
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise InputError(f"{where}: row {row}: {name} must be a number > 0, got {value!r}")
+    out = pd.DataFrame(
+        {
+            "level": table["level"].astype(float),
+            "member": members,
+            "scale": table["scale"].astype(float),
+        }
+    )
+    sizes = out.groupby("level").size()
+    if sizes.nunique() > 1:
+        raise InputError(
+            f"{where}: every stripe must hold the same number of motions, got "
+            + ", ".join(f"{n} at {lv:g}" for lv, n in sizes.items())
+        )
+    return out
+
+
+def fragility_analysis(
+    blocks,
+    ensemble: Ensemble,
+    *,
+    im="agx",
+    method: str = "ida",
+    levels=None,
+    stripes=None,
+    e=DEFAULT_E,
+    overturn_angle=math.pi / 2,
+    g: float = G,
+    backend=None,
+    out=None,
+    progress=None,
+    confidence: float = 0.95,
+    chunk_size: int | None = None,
+    n_boot: int = 1000,
+    seed: int = 0,
+) -> xr.Dataset:
+    """Fragility curves of bodies against an intensity measure, from IDA, MSA or cloud analysis.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+        The bodies.
+    ensemble : Ensemble
+        The motions [m/s²]: generated (:func:`rocking.generate`) or imported records
+        (:meth:`rocking.Ensemble.from_records`, ``rocking motions import``).
+    im : str
+        ``"agx"`` (the paper's A_gx [g], default) or any form of :func:`rocking.parse_im`, e.g.
+        ``"pgv"`` [m/s], ``"sa(1.0)"`` [g].
+    method : {"ida", "msa", "cloud"}
+        Incremental dynamic analysis (``levels``), multiple-stripe analysis (``stripes``) or
+        cloud analysis (the motions as they are).
+    levels : array_like, optional
+        IDA: IM levels [the IM's unit], > 0.
+    stripes : DataFrame, str or Path, optional
+        MSA: (level, motion, scale) rows (:func:`read_stripes`).
+    e, overturn_angle, g, backend, out, progress, chunk_size :
+        As for :func:`rocking.overturning_probability`.
+    confidence : float
+        Level of the Wilson intervals and of the bootstrap intervals, in (0, 1) [-].
+    n_boot : int
+        Bootstrap resamples of the motions for the intervals of median and β (≥ 1).
+    seed : int
+        Seed of the bootstrap (the simulations draw nothing at random).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions (body, level[, member]): ``probability``, ``count``, ``n``, ``ci_low``,
+        ``ci_high`` (Wilson) and, for IDA and MSA, ``overturned`` (body, level, member); for
+        cloud, ``overturned`` and ``im_value`` per (body, member) / member.  Per body: the
+        lognormal fit ``median`` [the IM's unit] and ``beta`` [-] with their bootstrap intervals
+        ``median_low``, ``median_high``, ``beta_low``, ``beta_high`` (NaN where no motion or
+        every motion overturned: nothing to fit).  Attributes ``im``, ``im_label``, ``im_unit``,
+        ``method``, ``confidence``, ``n_boot``, ``seed``.
+    """
+    if not isinstance(ensemble, Ensemble):
+        raise InputError(f"ensemble must be a rocking Ensemble, got {type(ensemble).__name__}")
+    measure = _Im.parse(im)
+    method = str(method).strip().lower()
+    if method not in METHODS:
+        raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
+    options: dict[str, Any] = dict(
+        e=e,
+        overturn_angle=overturn_angle,
+        g=g,
+        backend=backend,
+        out=out,
+        progress=progress,
+        chunk_size=chunk_size,
+    )
+    if method == "ida":
+        if levels is None:
+            raise InputError("method 'ida' needs levels (the IM values to scale the motions to)")
+        if stripes is not None:
+            raise InputError("stripes belong to method 'msa', not 'ida'")
+        ds = _ida(blocks, ensemble, measure, _checked_levels(levels, measure.unit), options)
+    elif method == "msa":
+        if stripes is None:
+            raise InputError("method 'msa' needs stripes (level, motion, scale rows)")
+        if levels is not None:
+            raise InputError("method 'msa' takes its levels from the stripes, not from levels")
+        ds = _msa(blocks, ensemble, measure, read_stripes(stripes, ensemble), options)
+    else:
+        if levels is not None or stripes is not None:
+            raise InputError("method 'cloud' uses the motions as they are: no levels or stripes")
+        ds = _cloud(blocks, ensemble, measure, options, confidence)
+    if "count" in ds:
+        low, high = wilson_interval(ds["count"].values, ds["n"].values, confidence)
+        ds["probability"] = ds["count"] / ds["n"]
+        ds["ci_low"] = (("body", "level"), low, {"units": "1"})
+        ds["ci_high"] = (("body", "level"), high, {"units": "1"})
+    _add_fits(ds, method, n_boot, confidence, seed)
+    ds["level"].attrs.update(units=measure.unit, long_name=measure.label)
+    ds.attrs.update(
+        im=measure.name,
+        im_label=measure.label,
+        im_unit=measure.unit,
+        method=method,
+        confidence=confidence,
+        n_boot=n_boot,
+        seed=seed,
+        g=g,
+    )
+    return ds
+
+
+def _coords(blocks, table) -> dict:
+    return {
+        "body": ("body", [b.label for b in blocks]),
+        "R": ("body", [b.R for b in blocks], {"units": "m"}),
+        "gamma": ("body", [b.gamma for b in blocks], {"units": "1"}),
+        "e": ("body", table.e, {"units": "1", "long_name": "coefficient of restitution"}),
+    }
+
+
+def _outcomes(engine: Engine, keys: list[tuple[int, int]], nb: int) -> np.ndarray:
+    """(body, len(keys), motions) overturned flags of (case, level key) pairs."""
+    return np.array([[engine.results[(c, b, k)][0] for c, k in keys] for b in range(nb)])
+
+
+def _ida(blocks, ensemble, measure: _Im, levels: np.ndarray, options: dict) -> xr.Dataset:
+    blocks = block_list(blocks)
+    nb = len(blocks)
+    if measure.exponent == 0:
+        raise InputError(
+            f"{measure.name} does not change when a motion is scaled, so motions cannot be "
+            "scaled to its levels: use method 'cloud' for it"
+        )
+    basis = None if measure.measure is None else [measure.of_motions(ensemble)]
+    if basis is not None and not np.all(basis[0] > 0.0):
+        zero = [ensemble.labels[i] for i in np.flatnonzero(~(basis[0] > 0.0))]
+        raise InputError(f"motions with {measure.name} = 0 cannot be scaled: {zero[:5]}")
+    engine = Engine(
+        blocks, [ensemble], desc="IDA", basis=basis, exponent=measure.exponent, **options
+    )
+    engine.require_memory(nb * levels.size * 2, "levels")
+    keys = [(0, level_key(v)) for v in levels.tolist()]
+    with engine:
+        engine.run([(0, b, k) for b in range(nb) for _, k in keys])
+    flags = _outcomes(engine, keys, nb)
+    return _outcome_dataset(blocks, engine, levels, flags, list(ensemble.labels))
+
+
+def _msa(blocks, ensemble, measure: _Im, stripes: pd.DataFrame, options: dict) -> xr.Dataset:
+    blocks = block_list(blocks)
+    nb = len(blocks)
+    groups = list(stripes.groupby("level", sort=True))
+    cases = [ensemble.subset(rows["member"].to_numpy()) for _, rows in groups]
+    # level 1 of a case whose basis is 1/scale gives each motion exactly its factor
+    basis = [1.0 / rows["scale"].to_numpy() for _, rows in groups]
+    engine = Engine(blocks, cases, desc="MSA", basis=basis, exponent=1, **options)
+    engine.require_memory(nb * len(cases) * 2, "stripes")
+    one = level_key(1.0)
+    with engine:
+        engine.run([(c, b, one) for c in range(len(cases)) for b in range(nb)])
+    flags = _outcomes(engine, [(c, one) for c in range(len(cases))], nb)
+    levels = np.array([level for level, _ in groups], dtype=float)
+    return _outcome_dataset(blocks, engine, levels, flags, list(range(flags.shape[2])))
+
+
+def _outcome_dataset(blocks, engine, levels, flags, members) -> xr.Dataset:
+    count = flags.sum(axis=2).astype(np.int64)
+    return xr.Dataset(
+        {
+            "overturned": (("body", "level", "member"), flags),
+            "count": (("body", "level"), count, {"long_name": "motions that overturn the body"}),
+            "n": (("body", "level"), np.full(count.shape, flags.shape[2], dtype=np.int64)),
+        },
+        coords={**_coords(blocks, engine.table), "level": levels, "member": members},
+        attrs=dict(engine.stats),
+    )
+
+
+def _cloud(blocks, ensemble, measure: _Im, options: dict, confidence: float) -> xr.Dataset:
+    blocks = block_list(blocks)
+    nb = len(blocks)
+    values = measure.of_motions(ensemble)
+    engine = Engine(
+        blocks, [ensemble], desc="cloud", basis=[np.ones(ensemble.n)], exponent=1, **options
+    )
+    one = level_key(1.0)
+    with engine:
+        engine.run([(0, b, one) for b in range(nb)])
+    flags = _outcomes(engine, [(0, one)], nb)[:, 0, :]
+    # probabilities shown in bins of about equal count (ten motions or more each), at the
+    # geometric mean IM of the bin; the fit uses every motion
+    order = np.argsort(values, kind="stable")
+    bins = np.array_split(order, max(1, min(10, ensemble.n // 10)))
+    positive = values > 0.0
+    levels = np.array([math.exp(np.mean(np.log(values[i][positive[i]]))) for i in bins])
+    count = np.array([[int(flags[b, i].sum()) for i in bins] for b in range(nb)], dtype=np.int64)
+    n = np.broadcast_to(np.array([i.size for i in bins], dtype=np.int64), count.shape).copy()
+    return xr.Dataset(
+        {
+            "overturned_motion": (("body", "member"), flags),
+            "im_value": ("member", values, {"long_name": f"{measure.label} of each motion"}),
+            "count": (("body", "level"), count),
+            "n": (("body", "level"), n),
+        },
+        coords={
+            **_coords(blocks, engine.table),
+            "level": levels,
+            "member": list(ensemble.labels),
+        },
+        attrs=dict(engine.stats),
+    )
+
+
+def _add_fits(ds: xr.Dataset, method: str, n_boot: int, confidence: float, seed: int) -> None:
+    names = ("median", "beta", "median_low", "median_high", "beta_low", "beta_high")
+    table = np.full((ds.sizes["body"], len(names)), np.nan)
+    unfitted = np.zeros(ds.sizes["body"], dtype=np.int64)
+    for b in range(ds.sizes["body"]):
+        fit = _fit_one(ds, b, method, n_boot, confidence, seed)
+        if fit is not None:
+            table[b] = (fit.median, fit.beta, *fit.median_ci, *fit.beta_ci)
+            unfitted[b] = fit.n_unfitted
+    for j, name in enumerate(names):
+        unit = "1" if name.startswith("beta") else ds.attrs.get("im_unit", "")
+        ds[name] = ("body", table[:, j], {"units": unit})
+    ds["n_unfitted"] = ("body", unfitted, {"long_name": "bootstrap resamples with nothing to fit"})
+
+
+def _fit_one(ds, b: int, method: str, n_boot, confidence, seed) -> FragilityFit | None:
+    """The bootstrap fit of body ``b``, or None when the outcomes hold no information on the
+    median (no motion or every motion overturned)."""
+    if method == "cloud":
+        x, y = ds["im_value"].values, ds["overturned_motion"].values[b]
+        keep = x > 0.0  # (a motion of zero intensity has no logarithm; it cannot overturn)
+        x, y = x[keep], y[keep]
+    else:
+        x, y = ds["level"].values, ds["overturned"].values[b]
+    if not y.any() or y.all() or np.unique(x).size < 2:
+        return None
+    return bootstrap_fragility(x, y, n_boot=n_boot, confidence=confidence, seed=seed)
+
+
+def im_efficiency(
+    blocks,
+    ensemble: Ensemble,
+    ims,
+    *,
+    levels,
+    scale_im="pga",
+    n_boot: int = 200,
+    seed: int = 0,
+    confidence: float = 0.95,
+    **options,
+) -> pd.DataFrame:
+    """Rank intensity measures by how well they predict overturning: the dispersion β of the
+    lognormal fragility fitted against each of them (smaller: more efficient).
+
+    One IDA scales every motion to each of ``levels`` of ``scale_im``; every (motion, scale)
+    run is then a point of a cloud whose intensity, for each IM of ``ims``, is
+    factor^k·IM(motion) (k its scaling exponent; an IM that does not scale, such as PGV/PGA, is
+    refused: compare it by cloud analysis of unscaled records).  A lognormal fitted by maximum
+    likelihood to each cloud (:func:`rocking.fit_lognormal`, one trial per point) gives β; its
+    bootstrap interval resamples whole motions.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+    ensemble : Ensemble
+    ims : sequence of str
+        The IMs compared (forms of :func:`rocking.parse_im`).
+    levels : array_like
+        Levels of ``scale_im`` [its unit] that span the bodies' fragility.
+    scale_im : str
+        The IM the motions are scaled by (default PGA).
+    n_boot, seed, confidence :
+        Bootstrap of the β intervals.
+    **options :
+        As for :func:`fragility_analysis` (e, backend, out, progress, …).
+
+    Returns
+    -------
+    DataFrame
+        One row per (body, IM), sorted by body then β: ``body``, ``im``, ``label``, ``median``
+        [the IM's unit], ``beta``, ``beta_low``, ``beta_high``.
+    """
+    parsed = [_Im.parse(i) for i in ([ims] if isinstance(ims, str) else list(ims))]
+    if not parsed:
+        raise InputError("ims must name at least one intensity measure")
+    for measure in parsed:
+        if measure.exponent == 0:
+            # every scaled copy of a motion has the motion's own value: the cloud of scaled
+            # runs would mix outcomes of many intensities at one value of this IM
+            raise InputError(
+                f"{measure.name} does not change when a motion is scaled, so its efficiency "
+                "cannot be measured on scaled motions: compare it by cloud analysis of the "
+                "unscaled records (fragility_analysis(..., method='cloud'))"
+            )
+    ida = fragility_analysis(
+        blocks, ensemble, im=scale_im, method="ida", levels=levels, n_boot=1, **options
+    )
+    base = _Im.parse(scale_im).of_motions(ensemble)
+    factors = ida["level"].values[:, None] / base[None, :]  # (level, motion)
+    if _Im.parse(scale_im).exponent == 2:
+        factors = np.sqrt(factors)
+    rng = np.random.default_rng(seed)
+    resamples = [rng.integers(0, ensemble.n, ensemble.n) for _ in range(n_boot)]
+    rows = []
+    for b, body in enumerate(ida["body"].values):
+        y = ida["overturned"].values[b]  # (level, motion)
+        for measure in parsed:
+            x = measure.of_motions(ensemble)[None, :] * factors**measure.exponent
+            fit = _cloud_fit(x, y)
+            betas = [_cloud_fit(x[:, j], y[:, j]) for j in resamples]
+            betas_ok = [f.beta for f in betas if f is not None]
+            q = ((1 - confidence) / 2, (1 + confidence) / 2)
+            low, high = np.quantile(betas_ok, q) if betas_ok else (math.nan, math.nan)
+            rows.append(
+                {
+                    "body": body,
+                    "im": measure.name,
+                    "label": measure.label,
+                    "median": math.nan if fit is None else fit.median,
+                    "beta": math.nan if fit is None else fit.beta,
+                    "beta_low": low,
+                    "beta_high": high,
+                }
+            )
+    table = pd.DataFrame(rows)
+    return table.sort_values(["body", "beta"], kind="stable", ignore_index=True)
+
+
+def _cloud_fit(x: np.ndarray, y: np.ndarray):
+    """Maximum-likelihood lognormal of (intensity, outcome) points, one trial each (None: no
+    information on the median)."""
+    x, y = x.ravel(), y.ravel()
+    keep = x > 0.0
+    x, y = x[keep], y[keep]
+    if not y.any() or y.all():
+        return None
+    return fit_lognormal(x, y.astype(np.int64), 1)

@@ -1,0 +1,145 @@
+"""IDA, multiple-stripe and cloud analysis (rocking.fragility_analysis) and the ranking of
+intensity measures (rocking.im_efficiency).
+
+The batched kernel is checked elsewhere against the scalar rocking.simulate and SciPy; here the
+question is whether each motion is scaled as the method says.  The reference for every outcome
+is an independent path: the motion scaled by hand with NumPy and integrated by rocking.simulate
+(the scalar integrator, not the batched kernel the analyses use), its IM computed from the scaled
+motion by rocking.intensity_measures."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import rocking
+from rocking.errors import InputError
+from rocking.montecarlo.engine import scale_factors
+
+BLOCKS = [rocking.Block(1.0, 4.0), rocking.Block(2.0, 3.0)]
+
+
+@pytest.fixture(scope="module")
+def ens():
+    return rocking.generate(8, duration=10.0, dt=1 / 200, seed=5)
+
+
+def by_hand(block, ens, factors):
+    """Overturned flags of every motion scaled by ``factors`` (one per motion), by simulate."""
+    return np.array(
+        [rocking.simulate(block, f * a, ens.dt).overturned for f, a in zip(factors, ens.acc)]
+    )
+
+
+def test_ida_scales_every_motion_to_its_own_im_level(ens):
+    levels = np.array([0.3, 0.6, 0.9])
+    ds = rocking.fragility_analysis(
+        BLOCKS, ens, im="pgv", method="ida", levels=levels, n_boot=20, progress=False
+    )
+    pgv = rocking.intensity_measures(ens, "pgv").iloc[:, 0].to_numpy()
+    for b, block in enumerate(BLOCKS):
+        for i, level in enumerate(levels):
+            factors = level / pgv
+            # the scaled motions have the level as their PGV (to rounding)
+            scaled = rocking.Ensemble(ens.acc * factors[:, None], ens.dt)
+            np.testing.assert_allclose(
+                rocking.intensity_measures(scaled, "pgv").iloc[:, 0], level, rtol=1e-12
+            )
+            np.testing.assert_array_equal(
+                ds["overturned"].values[b, i], by_hand(block, ens, factors)
+            )
+    assert (ds["count"].values == ds["overturned"].values.sum(axis=2)).all()
+    assert ds.attrs["im"] == "pgv" and ds["level"].attrs["units"] == "m/s"
+
+
+def test_arias_levels_scale_by_the_square_root(ens):
+    # Arias intensity grows as the square of the scale factor: a motion scaled by
+    # (level/I_A)^(1/2) has Arias intensity = level
+    ia = rocking.intensity_measures(ens, "arias").iloc[:, 0].to_numpy()
+    factors = scale_factors(0.5, ia, 2)
+    scaled = rocking.Ensemble(ens.acc * factors[:, None], ens.dt)
+    np.testing.assert_allclose(rocking.intensity_measures(scaled, "arias").iloc[:, 0], 0.5)
+
+
+def test_agx_ida_is_the_papers_overturning_probability(ens):
+    levels = [0.2, 0.5, 0.8]
+    ds = rocking.fragility_analysis(BLOCKS, ens, method="ida", levels=levels, progress=False)
+    ref = rocking.overturning_probability(BLOCKS, ens, levels, progress=False)
+    np.testing.assert_array_equal(ds["count"].values, ref["count"].values)
+
+
+def test_msa_uses_each_stripes_factors_and_levels(ens):
+    rows = [
+        {"level": 0.25 * k, "motion": ens.labels[j], "scale": 0.5 + 0.3 * k + 0.05 * j}
+        for k in (1, 2, 3)
+        for j in range(ens.n)
+    ]
+    stripes = pd.DataFrame(rows)
+    ds = rocking.fragility_analysis(
+        BLOCKS, ens, im="pga", method="msa", stripes=stripes, n_boot=20, progress=False
+    )
+    np.testing.assert_allclose(ds["level"].values, [0.25, 0.5, 0.75])
+    for b, block in enumerate(BLOCKS):
+        for i, (_, stripe) in enumerate(stripes.groupby("level")):
+            expected = by_hand(block, ens, stripe["scale"].to_numpy())
+            np.testing.assert_array_equal(ds["overturned"].values[b, i], expected)
+
+
+def test_cloud_takes_the_motions_as_they_are(ens):
+    strong = rocking.Ensemble(ens.acc * 3.0, ens.dt, ens.labels)  # some overturn, some not
+    ds = rocking.fragility_analysis(BLOCKS, strong, im="pgv", method="cloud", progress=False)
+    np.testing.assert_allclose(
+        ds["im_value"].values, rocking.intensity_measures(strong, "pgv").iloc[:, 0]
+    )
+    for b, block in enumerate(BLOCKS):
+        np.testing.assert_array_equal(
+            ds["overturned_motion"].values[b], by_hand(block, strong, np.ones(strong.n))
+        )
+    assert ds["n"].values.sum(axis=1).tolist() == [strong.n] * len(BLOCKS)
+
+
+def test_bad_requests_are_refused_with_the_reason(ens):
+    with pytest.raises(InputError, match="does not change when a motion is scaled"):
+        rocking.fragility_analysis(BLOCKS, ens, im="pgv/pga", levels=[1.0], progress=False)
+    with pytest.raises(InputError, match="needs levels"):
+        rocking.fragility_analysis(BLOCKS, ens, im="pgv", progress=False)
+    with pytest.raises(InputError, match="needs stripes"):
+        rocking.fragility_analysis(BLOCKS, ens, method="msa", progress=False)
+    with pytest.raises(InputError, match="method must be one of"):
+        rocking.fragility_analysis(BLOCKS, ens, method="bogus", levels=[1.0], progress=False)
+    with pytest.raises(InputError, match="row 1: no motion 'nope'"):
+        rocking.fragility_analysis(
+            BLOCKS,
+            ens,
+            method="msa",
+            stripes=pd.DataFrame({"level": [0.1], "motion": ["nope"], "scale": [1.0]}),
+            progress=False,
+        )
+    with pytest.raises(InputError, match="same number of motions"):
+        rocking.fragility_analysis(
+            BLOCKS,
+            ens,
+            method="msa",
+            stripes=pd.DataFrame({"level": [0.1, 0.2, 0.2], "motion": [0, 1, 2], "scale": 1.0}),
+            progress=False,
+        )
+    with pytest.raises(InputError, match="pgv/pga does not change"):
+        rocking.im_efficiency(BLOCKS, ens, ["pgv", "pgv/pga"], levels=[0.5], progress=False)
+
+
+def test_im_efficiency_of_the_scaling_im_is_the_ida_fit(ens):
+    # Two likelihoods, two code paths: binomial counts per level (fragility_analysis) and one
+    # Bernoulli point per (motion, level) run (im_efficiency); they are the same function of
+    # (median, beta), so the maximum-likelihood fits agree to the optimiser's tolerance.
+    levels = np.round(np.arange(0.1, 1.55, 0.1), 12)
+    table = rocking.im_efficiency(
+        BLOCKS, ens, ["pga", "pgv"], levels=levels, n_boot=20, progress=False
+    )
+    ida = rocking.fragility_analysis(BLOCKS, ens, im="pga", levels=levels, n_boot=1, progress=False)
+    for b in range(len(BLOCKS)):
+        row = table[(table["body"] == ida["body"].values[b]) & (table["im"] == "pga")].iloc[0]
+        assert row["median"] == pytest.approx(float(ida["median"][b]), rel=1e-5)
+        assert row["beta"] == pytest.approx(float(ida["beta"][b]), rel=1e-4)
+        assert row["beta_low"] <= row["beta"] <= row["beta_high"]
+    # sorted by body, then from the most efficient IM (smallest beta)
+    for _, rows in table.groupby("body", sort=False):
+        assert rows["beta"].is_monotonic_increasing
