@@ -41,6 +41,7 @@ COMMAND_MODULES = {
     "frame": "frame",
     "motions": "motions",
     "reproduce": "reproduce",
+    "risk": "risk",
     "screen": "screen",
     "simulate": "simulate",
     "spectrum": "spectrum",

@@ -10,7 +10,7 @@ file written atomically; the Monte Carlo chunks in ``chunks/`` let the same comm
 from __future__ import annotations
 
 import json
-import math
+from collections.abc import Hashable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -39,7 +39,6 @@ if TYPE_CHECKING:
 
     from ..assessment.bodies import NamedBody
     from ..montecarlo.backends import DaskBackend, LocalBackend
-    from ..montecarlo.statistics import LognormalFit
     from ..motions.ensemble import Ensemble
     from ..motions.targets import TargetSpectrum
     from ..structures.frames import ShearFrame
@@ -113,19 +112,6 @@ def _run_params(
     }
 
 
-def _fit(agx: np.ndarray, one_body: xr.Dataset) -> LognormalFit:
-    """Lognormal fit of one body's counts; NaN median and beta when the counts carry no
-    information on the median (all 0 or all n: fit_lognormal refuses those)."""
-    import numpy as np
-
-    from ..montecarlo.statistics import LognormalFit, fit_lognormal
-
-    count, n = one_body["count"].values, one_body["n"].values
-    if np.all(count == 0) or np.all(count == n):
-        return LognormalFit(math.nan, math.nan)
-    return fit_lognormal(agx, count, n)
-
-
 _motions_option = click.option(
     "--motions",
     "motions_path",
@@ -167,10 +153,60 @@ _run_options = options(
 @click.option(
     "--agx",
     "agx_text",
-    default="0.1:1.5:0.05",
-    show_default=True,
+    default=None,
     metavar="START:STOP:STEP",
-    help="A_gx levels [g] (ensemble mean PGA) as start:stop:step, stop included.",
+    help="A_gx levels [g] (ensemble mean PGA) as start:stop:step, stop included "
+    "[default: 0.1:1.5:0.05 when --im is agx and no --levels].",
+)
+@click.option(
+    "--im",
+    "im_text",
+    default="agx",
+    show_default=True,
+    help="Intensity measure of the levels: agx (the paper's ensemble mean PGA [g]) or pga [g], "
+    "pgv [m/s], pgd [m], sa(T[,zeta]) [g], psv(T[,zeta]) [m/s], saavg(T1:T2[:N]) [g], "
+    "arias [m/s], cav [m/s], pgv/pga [s].",
+)
+@click.option(
+    "--method",
+    type=click.Choice(["ida", "msa", "cloud"]),
+    default="ida",
+    show_default=True,
+    help="ida: every motion scaled to each level of --im; msa: the stripes of --stripes; "
+    "cloud: the motions as they are, each against its own IM.",
+)
+@click.option(
+    "--levels",
+    "levels_text",
+    default=None,
+    metavar="START:STOP:STEP",
+    help="IDA levels of --im [its unit] as start:stop:step, stop included.",
+)
+@click.option(
+    "--stripes",
+    "stripes_path",
+    default=None,
+    type=click.Path(dir_okay=False),
+    help="MSA stripes: CSV with columns level (of --im), motion (label or position in "
+    "--motions), scale (factor of that motion in that stripe).",
+)
+@click.option(
+    "--n-boot",
+    type=click.IntRange(0),
+    default=None,
+    help="Bootstrap resamples of the motions for the intervals of median and beta "
+    "[default: 200; 0 for A_gx levels, as the paper reads its curves].",
+)
+@click.option(
+    "--seed", type=click.IntRange(0), default=0, show_default=True, help="Bootstrap seed."
+)
+@click.option(
+    "--im-efficiency",
+    "compare_text",
+    default=None,
+    metavar="IM,IM,...",
+    help="Also rank these IMs (e.g. 'pga,pgv,sa(1.0)') by the dispersion beta of the fragility "
+    "fitted to the same IDA runs (--method ida only).",
 )
 def fragility_cmd(
     bodies_spec: str,
@@ -181,79 +217,204 @@ def fragility_cmd(
     scheduler: str | None,
     e_text: str,
     quiet: bool,
-    agx_text: str,
+    agx_text: str | None,
+    im_text: str,
+    method: str,
+    levels_text: str | None,
+    stripes_path: str | None,
+    n_boot: int | None,
+    seed: int,
+    compare_text: str | None,
 ) -> None:
-    """Overturning probability of each body against A_gx (paper Figs. 9-11, 13).
+    """Overturning probability of each body against an intensity measure: A_gx as in the
+    paper (Figs. 9-11, 13), or PGV, Sa(T), ... of recorded or generated motions by IDA,
+    multiple-stripe or cloud analysis.
 
-    Writes to --out: probabilities.csv (one row per body and A_gx, with the count of overturned
-    motions and the Wilson 95 % interval), probabilities.nc (the same, netCDF), lognormal.csv
-    (maximum-likelihood median [g] and dispersion beta [-] per body), fragility.png and
-    run.json (parameters and status).
+    Writes to --out: probabilities.csv (one row per body and level, with the count of
+    overturned motions and the Wilson 95 % interval), probabilities.nc (the same, netCDF, with
+    every motion's outcome), lognormal.csv (maximum-likelihood median and dispersion beta per
+    body, with bootstrap 95 % intervals), fragility.png, im_efficiency.csv with
+    --im-efficiency, report.html and run.json (parameters and status).
     """
-    agx = parse_range(agx_text)
+    from ..montecarlo.fragility import AGX, AnalysisIM
+
+    measure = AnalysisIM.parse(im_text)
+    levels = _levels(measure.name, method, agx_text, levels_text, stripes_path)
+    compare = _im_list(compare_text) if compare_text is not None else None
+    if compare is not None and method != "ida":
+        raise click.UsageError("--im-efficiency needs --method ida")
+    if n_boot is None:
+        n_boot = 0 if measure.name == AGX else 200
     bodies, ensemble, e, backend = _prepare(
         bodies_spec, motions_path, floor, frame_name, e_text, scheduler
     )
-    import pandas as pd
-
     from ..core.runs import RunFolder
-    from ..montecarlo.probability import overturning_probability
-    from ..plots.fragility import plot_fragility
+    from ..montecarlo.fragility import fragility_analysis, im_efficiency
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
-    params = _run_params(bodies, motions_path, ensemble, e, agx_g=agx.tolist())
+    params = _run_params(
+        bodies,
+        motions_path,
+        ensemble,
+        e,
+        im=measure.name,
+        im_unit=measure.unit,
+        method=method,
+        levels=None if levels is None else levels.tolist(),
+        stripes=stripes_path,
+        n_boot=n_boot,
+        seed=seed,
+        im_efficiency=compare,
+    )
+    if measure.name == AGX:
+        params["agx_g"] = params["levels"]
     with RunFolder(out, command="fragility", params=params) as run, progress:
+        n_levels = (
+            "stripes" if method == "msa" else f"{0 if levels is None else levels.size} levels"
+        )
         progress.write(
-            f"fragility: {len(blocks)} bodies x {agx.size} A_gx levels x "
-            f"{ensemble.n} motions ({ensemble.meta.get('location', 'ground')})"
+            f"fragility ({method}, {measure.name}): {len(blocks)} bodies x "
+            f"{n_levels if method != 'cloud' else 'as recorded'} x {ensemble.n} motions "
+            f"({ensemble.meta.get('location', 'ground')})"
         )
         with backend:
-            ds = overturning_probability(
+            ds = fragility_analysis(
                 blocks,
                 ensemble,
-                agx,
+                im=measure.name,
+                method=method,
+                levels=levels,
+                stripes=stripes_path,
                 e=e,
                 backend=backend,
                 out=run.path / "chunks" / "fragility",
                 progress=progress,
+                n_boot=n_boot,
+                seed=seed,
+            )
+            efficiency = (
+                None
+                if compare is None
+                else im_efficiency(
+                    blocks,
+                    ensemble,
+                    compare,
+                    levels=levels,
+                    scale_im=measure.name if measure.name != AGX else "pga",
+                    names=[b.name for b in bodies],
+                    e=e,
+                    backend=backend,
+                    out=run.path / "chunks" / "im-efficiency",
+                    progress=progress,
+                    seed=seed,
+                )
             )
         ds = _names(ds, bodies)
-        fits = {name: _fit(agx, ds.sel(body=name)) for name in ds["body"].values}
-        ds["lognormal_median"] = (
-            "body",
-            [fits[k].median for k in ds["body"].values],
-            {"units": "g", "long_name": "lognormal fit: median A_gx"},
-        )
-        ds["lognormal_beta"] = (
-            "body",
-            [fits[k].beta for k in ds["body"].values],
-            {"units": "1", "long_name": "lognormal fit: dispersion"},
-        )
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
-        tidy = (
-            ds[["probability", "count", "n", "ci_low", "ci_high"]]
-            .to_dataframe()
-            .reset_index()[
-                ["body", "R", "gamma", "agx", "probability", "count", "n", "ci_low", "ci_high"]
-            ]
-        )
-        run.write_csv("probabilities.csv", tidy)  # 12 significant digits: no float noise
-        run.write_netcdf("probabilities.nc", ds)
-        fit_table = pd.DataFrame(
-            {
-                "body": ds["body"].values,
-                "R": ds["R"].values,
-                "gamma": ds["gamma"].values,
-                "median_g": ds["lognormal_median"].values,
-                "beta": ds["lognormal_beta"].values,
-            }
-        )
-        run.write_csv("lognormal.csv", fit_table, float_format="%.6g")
-        title = f"{ensemble.n} motions, {ensemble.meta.get('location', 'ground')}, e = {e}"
-        run.write_figure("fragility.png", plot_fragility(ds, fits=fits, title=title))
+        _write_fragility(run, ds, measure, efficiency, ensemble, e)
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
+
+
+def _levels(
+    im: str, method: str, agx_text: str | None, levels_text: str | None, stripes: str | None
+) -> np.ndarray | None:
+    """The IDA levels of the options (None for MSA and cloud), checked before any work."""
+    if agx_text is not None and im != "agx":
+        raise click.UsageError(f"--agx gives A_gx levels; for --im {im} give --levels")
+    if agx_text is not None and levels_text is not None:
+        raise click.UsageError("give the levels once: --agx or --levels")
+    if method != "ida":
+        if agx_text is not None or levels_text is not None:
+            raise click.UsageError(f"--method {method} takes no --levels or --agx")
+        if (stripes is None) == (method == "msa"):
+            raise click.UsageError("--stripes goes with --method msa, and it needs them")
+        return None
+    if stripes is not None:
+        raise click.UsageError("--stripes goes with --method msa")
+    if im == "agx":
+        return parse_range(agx_text or levels_text or "0.1:1.5:0.05")
+    if levels_text is None:
+        raise click.UsageError(f"--method ida needs --levels of {im}")
+    return parse_range(levels_text, "--levels", unit="of the IM's unit")
+
+
+def _im_list(text: str) -> list[str]:
+    """IMs of a comma-separated list; commas inside parentheses belong to an IM (sa(1.0,0.02))."""
+    items, depth, current = [], 0, ""
+    for ch in text:
+        depth += (ch == "(") - (ch == ")")
+        if ch == "," and depth == 0:
+            items.append(current.strip())
+            current = ""
+        else:
+            current += ch
+    items.append(current.strip())
+    if not all(items):
+        raise click.UsageError(f"--im-efficiency must list IMs separated by commas, got {text!r}")
+    return items
+
+
+def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensemble, e) -> None:
+    """probabilities.csv/.nc, lognormal.csv, fragility.png, im_efficiency.csv and report.html
+    of a fragility run."""
+    import pandas as pd
+
+    from ..montecarlo.statistics import LognormalFit
+    from ..plots.fragility import plot_fragility
+    from ..report import Report
+
+    agx = measure.name == "agx"
+    column = "agx" if agx else f"{measure.name} [{measure.unit}]"
+    curves = ds[["probability", "count", "n", "ci_low", "ci_high"]].rename(level="agx")
+    tidy = curves.to_dataframe().reset_index()
+    tidy = tidy[["body", "R", "gamma", "agx", "probability", "count", "n", "ci_low", "ci_high"]]
+    run.write_csv("probabilities.csv", tidy.rename(columns={"agx": column}))
+    run.write_netcdf("probabilities.nc", ds.rename(level="agx") if agx else ds)
+    fits: dict[Hashable, LognormalFit] = {
+        str(body): LognormalFit(float(m), float(b))
+        for body, m, b in zip(ds["body"].values, ds["median"].values, ds["beta"].values)
+    }
+    fit_table = pd.DataFrame(
+        {
+            "body": ds["body"].values,
+            "R": ds["R"].values,
+            "gamma": ds["gamma"].values,
+            "im": f"{measure.name} [{measure.unit}]",
+            **{name: ds[name].values for name in _FIT_COLUMNS},
+        }
+    )
+    run.write_csv("lognormal.csv", fit_table)
+    where = ensemble.meta.get("location", "ground")
+    title = f"{ensemble.n} motions, {where}, e = {e}, {ds.attrs['method'].upper()}"
+    figure = plot_fragility(curves, fits=fits, title=title, xlabel=measure.label)
+    run.write_figure("fragility.png", figure)
+    report = Report(f"Fragility of {ds.sizes['body']} bodies against {measure.label}", run.path)
+    report.text(
+        f"{ensemble.n} motions ({where}) from `{ds.attrs['motions']}`, method "
+        f"{ds.attrs['method'].upper()}, restitution e = {e}. Lognormal fragility fitted by "
+        "maximum likelihood (Baker 2015); intervals: Wilson 95 % for the probabilities, "
+        f"bootstrap over motions ({ds.attrs['n_boot']} resamples, seed {ds.attrs['seed']}) "
+        "for the median and β (NaN: none drawn, or nothing to fit)."
+    )
+    report.figure(figure, "fragility", f"Overturning probability against {measure.label}.")
+    report.table(fit_table.drop(columns=["im"]), f"Fitted median [{measure.unit}] and β.", "fit")
+    if efficiency is not None:
+        run.write_csv("im_efficiency.csv", efficiency)
+        report.heading("Efficiency of intensity measures")
+        report.text(
+            "Dispersion β of the lognormal fragility fitted to the same IDA runs, each run "
+            "placed at its motion's value of each IM (smaller β: the IM predicts overturning "
+            "better), with bootstrap 95 % intervals over motions."
+        )
+        report.table(efficiency.drop(columns=["label"]), "IMs ranked by β per body.", "im")
+    report.write()
+    for name in report.files:
+        run.file(name)
+
+
+_FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta_high")
 
 
 @click.command("agx50")

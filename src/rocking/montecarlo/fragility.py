@@ -31,7 +31,13 @@ from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from ..motions.intensity import IntensityMeasure, intensity_measures, parse_im
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
-from .statistics import FragilityFit, bootstrap_fragility, fit_lognormal, wilson_interval
+from .statistics import (
+    FragilityFit,
+    Interval,
+    bootstrap_fragility,
+    fit_lognormal,
+    wilson_interval,
+)
 
 #: Methods of :func:`fragility_analysis`.
 METHODS = ("ida", "msa", "cloud")
@@ -40,8 +46,10 @@ AGX = "agx"
 
 
 @dataclass(frozen=True)
-class _Im:
-    """The intensity measure of an analysis: A_gx or one of :func:`rocking.intensity_measures`."""
+class AnalysisIM:
+    """The intensity measure of an analysis: A_gx (``name`` "agx", the ensemble's mean PGA [g],
+    ``measure`` None) or one of :func:`rocking.intensity_measures` (``measure``); ``label``
+    names it with its unit, ``exponent`` is how it grows with a scale factor."""
 
     name: str
     label: str
@@ -50,7 +58,8 @@ class _Im:
     measure: IntensityMeasure | None
 
     @classmethod
-    def parse(cls, im) -> _Im:
+    def parse(cls, im) -> AnalysisIM:
+        """From ``"agx"`` or any form of :func:`rocking.parse_im`."""
         if isinstance(im, str) and im.strip().lower() == AGX:
             return cls(AGX, "A_gx (mean PGA of the ensemble) [g]", "g", 1, None)
         m = parse_im(im)
@@ -179,7 +188,8 @@ def fragility_analysis(
     confidence : float
         Level of the Wilson intervals and of the bootstrap intervals, in (0, 1) [-].
     n_boot : int
-        Bootstrap resamples of the motions for the intervals of median and β (≥ 1).
+        Bootstrap resamples of the motions for the intervals of median and β (≥ 0; 0: the
+        point fit only, intervals NaN).
     seed : int
         Seed of the bootstrap (the simulations draw nothing at random).
 
@@ -196,11 +206,13 @@ def fragility_analysis(
     """
     if not isinstance(ensemble, Ensemble):
         raise InputError(f"ensemble must be a rocking Ensemble, got {type(ensemble).__name__}")
-    measure = _Im.parse(im)
+    measure = AnalysisIM.parse(im)
     method = str(method).strip().lower()
     if method not in METHODS:
         raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
+    if not (isinstance(n_boot, int) and n_boot >= 0):
+        raise InputError(f"n_boot must be an integer >= 0, got {n_boot!r}")
     options: dict[str, Any] = dict(
         e=e,
         overturn_angle=overturn_angle,
@@ -260,7 +272,7 @@ def _outcomes(engine: Engine, keys: list[tuple[int, int]], nb: int) -> np.ndarra
     return np.array([[engine.results[(c, b, k)][0] for c, k in keys] for b in range(nb)])
 
 
-def _ida(blocks, ensemble, measure: _Im, levels: np.ndarray, options: dict) -> xr.Dataset:
+def _ida(blocks, ensemble, measure: AnalysisIM, levels: np.ndarray, options: dict) -> xr.Dataset:
     blocks = block_list(blocks)
     nb = len(blocks)
     if measure.exponent == 0:
@@ -283,7 +295,7 @@ def _ida(blocks, ensemble, measure: _Im, levels: np.ndarray, options: dict) -> x
     return _outcome_dataset(blocks, engine, levels, flags, list(ensemble.labels))
 
 
-def _msa(blocks, ensemble, measure: _Im, stripes: pd.DataFrame, options: dict) -> xr.Dataset:
+def _msa(blocks, ensemble, measure: AnalysisIM, stripes: pd.DataFrame, options: dict) -> xr.Dataset:
     blocks = block_list(blocks)
     nb = len(blocks)
     groups = list(stripes.groupby("level", sort=True))
@@ -313,7 +325,7 @@ def _outcome_dataset(blocks, engine, levels, flags, members) -> xr.Dataset:
     )
 
 
-def _cloud(blocks, ensemble, measure: _Im, options: dict, confidence: float) -> xr.Dataset:
+def _cloud(blocks, ensemble, measure: AnalysisIM, options: dict, confidence: float) -> xr.Dataset:
     blocks = block_list(blocks)
     nb = len(blocks)
     values = measure.of_motions(ensemble)
@@ -374,6 +386,11 @@ def _fit_one(ds, b: int, method: str, n_boot, confidence, seed) -> FragilityFit 
         x, y = ds["level"].values, ds["overturned"].values[b]
     if not y.any() or y.all() or np.unique(x).size < 2:
         return None
+    if n_boot == 0:  # the point fit only
+        counts = y.sum(axis=-1) if y.ndim == 2 else y
+        fit = fit_lognormal(x, counts.astype(np.int64), y.shape[-1] if y.ndim == 2 else 1)
+        nan = Interval(math.nan, math.nan)
+        return FragilityFit(fit, nan, nan, confidence, 0, seed, 0, 0)
     return bootstrap_fragility(x, y, n_boot=n_boot, confidence=confidence, seed=seed)
 
 
@@ -384,6 +401,7 @@ def im_efficiency(
     *,
     levels,
     scale_im="pga",
+    names=None,
     n_boot: int = 200,
     seed: int = 0,
     confidence: float = 0.95,
@@ -409,6 +427,8 @@ def im_efficiency(
         Levels of ``scale_im`` [its unit] that span the bodies' fragility.
     scale_im : str
         The IM the motions are scaled by (default PGA).
+    names : sequence of str, optional
+        Names of the bodies in the table (default: their labels, e.g. "R=1.22 m, γ=4").
     n_boot, seed, confidence :
         Bootstrap of the β intervals.
     **options :
@@ -420,7 +440,7 @@ def im_efficiency(
         One row per (body, IM), sorted by body then β: ``body``, ``im``, ``label``, ``median``
         [the IM's unit], ``beta``, ``beta_low``, ``beta_high``.
     """
-    parsed = [_Im.parse(i) for i in ([ims] if isinstance(ims, str) else list(ims))]
+    parsed = [AnalysisIM.parse(i) for i in ([ims] if isinstance(ims, str) else list(ims))]
     if not parsed:
         raise InputError("ims must name at least one intensity measure")
     for measure in parsed:
@@ -435,14 +455,17 @@ def im_efficiency(
     ida = fragility_analysis(
         blocks, ensemble, im=scale_im, method="ida", levels=levels, n_boot=1, **options
     )
-    base = _Im.parse(scale_im).of_motions(ensemble)
+    base = AnalysisIM.parse(scale_im).of_motions(ensemble)
     factors = ida["level"].values[:, None] / base[None, :]  # (level, motion)
-    if _Im.parse(scale_im).exponent == 2:
+    if AnalysisIM.parse(scale_im).exponent == 2:
         factors = np.sqrt(factors)
     rng = np.random.default_rng(seed)
     resamples = [rng.integers(0, ensemble.n, ensemble.n) for _ in range(n_boot)]
     rows = []
-    for b, body in enumerate(ida["body"].values):
+    bodies = list(ida["body"].values) if names is None else [str(n) for n in names]
+    if len(bodies) != ida.sizes["body"]:
+        raise InputError(f"names has {len(bodies)} names for {ida.sizes['body']} bodies")
+    for b, body in enumerate(bodies):
         y = ida["overturned"].values[b]  # (level, motion)
         for measure in parsed:
             x = measure.of_motions(ensemble)[None, :] * factors**measure.exponent

@@ -27,8 +27,16 @@ MAX_LEGEND = 12
 PANEL_COLUMNS = 4
 
 
+#: Label of the intensity axis of the paper's fragility curves.
+AGX_LABEL = "ensemble mean peak acceleration A_gx [g]"
+
+
 def plot_fragility(
-    ds: xr.Dataset, *, fits: Mapping[Hashable, LognormalFit] | None = None, title: str = ""
+    ds: xr.Dataset,
+    *,
+    fits: Mapping[Hashable, LognormalFit] | None = None,
+    title: str = "",
+    xlabel: str = AGX_LABEL,
 ) -> Figure:
     """Overturning probability against A_gx, one curve per body (paper Figs. 9–11, 13).
 
@@ -55,10 +63,13 @@ def plot_fragility(
         ``ds`` has a ``case`` dimension.
     title : str
         Figure title.
+    xlabel : str
+        Label of the intensity axis (another IM than A_gx: its name and unit; the values are
+        still those of the ``agx`` coordinate).
     """
     fits = fits or {}
     if "case" not in ds.dims and ds.sizes["body"] > MAX_LEGEND:
-        return _plot_by_size(ds, fits, title)
+        return _plot_by_size(ds, fits, title, xlabel)
     agx = ds["agx"].values
     fig = Figure(figsize=(6.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
@@ -68,7 +79,7 @@ def plot_fragility(
             ax, agx, sel, fits.get(key), f"C{k % 10}", label=label if k < MAX_LEGEND else None
         )
     _probability_axes(ax)
-    ax.set_xlabel("ensemble mean peak acceleration A_gx [g]")
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("probability of overturning [-]")
     extra = f" ({len(curves) - MAX_LEGEND} more not listed)" if len(curves) > MAX_LEGEND else ""
     ax.legend(fontsize="small", title=_key_text(ds, fits) + extra, title_fontsize="small")
@@ -77,7 +88,9 @@ def plot_fragility(
     return fig
 
 
-def _plot_by_size(ds: xr.Dataset, fits: Mapping[Hashable, LognormalFit], title: str) -> Figure:
+def _plot_by_size(
+    ds: xr.Dataset, fits: Mapping[Hashable, LognormalFit], title: str, xlabel: str
+) -> Figure:
     """Small multiples of :func:`plot_fragility`: one panel per R, one curve per γ."""
     agx = ds["agx"].values
     r_mm = np.round(1000.0 * ds["R"].values)  # bodies of one size share a panel
@@ -108,7 +121,7 @@ def _plot_by_size(ds: xr.Dataset, fits: Mapping[Hashable, LognormalFit], title: 
         ax.tick_params(labelsize="small")
     for ax in axes[sizes.size :]:
         ax.remove()
-    fig.supxlabel("ensemble mean peak acceleration A_gx [g]", fontsize="medium")
+    fig.supxlabel(xlabel, fontsize="medium")
     fig.supylabel("probability of overturning [-]", fontsize="medium")
     key = _key_text(ds, fits).replace("; ", "\n")
     if gammas.size <= MAX_LEGEND:

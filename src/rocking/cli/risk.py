@@ -1,0 +1,206 @@
+"""``rocking risk``: the mean annual rate of overturning of the bodies of a fragility run at a site
+(the risk integral of :func:`rocking.annual_rate`), with the report that brings the fragility,
+the efficiency of intensity measures and the rates together."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+from ..errors import InputError
+from ._options import quiet_option, reporter
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ..assessment.risk import HazardCurve
+
+
+def _fragility_run(folder: Path) -> tuple[dict, pd.DataFrame]:
+    """The record (run.json: parameters and status) and the fitted curves (lognormal.csv) of a
+    completed ``rocking fragility`` run."""
+    import pandas as pd
+
+    run_json = folder / "run.json"
+    try:
+        run = json.loads(run_json.read_text())
+    except FileNotFoundError:
+        raise InputError(
+            f"--fragility {folder}: no run.json (not a rocking fragility folder)"
+        ) from None
+    except (OSError, ValueError) as exc:
+        raise InputError(f"--fragility {run_json}: cannot read it ({exc})") from None
+    if run.get("command") != "fragility":
+        raise InputError(f"--fragility {folder}: a folder of 'rocking {run.get('command')}'")
+    if run.get("status") != "completed":
+        raise InputError(
+            f"--fragility {folder}: the run is {run.get('status')!r}, not completed; run the "
+            "same fragility command again to finish it"
+        )
+    if run.get("im", "agx") == "agx":
+        raise InputError(
+            f"--fragility {folder}: its curves are against A_gx, the mean PGA of an ensemble, "
+            "which no site hazard curve gives; run fragility with --im pga (or the IM of your "
+            "hazard curve)"
+        )
+    return run, pd.read_csv(folder / "lognormal.csv")
+
+
+@click.command("risk")
+@click.option(
+    "--fragility",
+    "fragility_dir",
+    required=True,
+    type=click.Path(file_okay=False, exists=True),
+    help="Folder of a completed 'rocking fragility --im IM' run.",
+)
+@click.option(
+    "--hazard",
+    "hazard_text",
+    required=True,
+    metavar="FILE",
+    help="Hazard curve CSV: header 'IM [unit],annual_rate', one row per intensity, rates "
+    "decreasing; its IM must be the fragility's. 'example': the shipped illustrative PGV "
+    "curve (not a real site).",
+)
+@click.option(
+    "--years",
+    type=click.FloatRange(0.0, min_open=True),
+    default=50.0,
+    show_default=True,
+    help="Exposure time [yr] of the probability of at least one overturning (Poisson).",
+)
+@click.option(
+    "--out",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Output folder: risk.csv, disaggregation.png, report.html, run.json.",
+)
+@quiet_option
+def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet: bool) -> None:
+    """Mean annual rate of overturning of each body of a fragility run, and the probability
+    of at least one overturning in --years, from a site hazard curve.
+
+    The rate integrates the fitted lognormal fragility against the hazard curve,
+    log-log interpolated between its points. Above the last point the curve is extrapolated
+    (the table shows that part and its bounds). Below the first point nothing is added (the
+    table shows an estimate of what is left out).
+    """
+    import numpy as np
+    import pandas as pd
+
+    from ..assessment.risk import HazardCurve, annual_rate, check_hazard_im, example_hazard_path
+    from ..core.runs import RunFolder
+    from ..montecarlo.statistics import LognormalFit
+
+    folder = Path(fragility_dir)
+    params, fits = _fragility_run(folder)
+    path = example_hazard_path() if hazard_text.strip().lower() == "example" else hazard_text
+    hazard = HazardCurve.from_csv(path)
+    im = check_hazard_im(hazard, params["im"])
+    progress = reporter(quiet)
+    run_params = {"fragility": str(folder), "hazard": str(path), "years": years, "im": im.name}
+    with RunFolder(out, command="risk", params=run_params) as run, progress:
+        rows = []
+        for _, fit in fits.iterrows():
+            if not (np.isfinite(fit["median"]) and np.isfinite(fit["beta"])):
+                rows.append({"body": fit["body"], "annual_rate": np.nan})
+                continue
+            result = annual_rate(LognormalFit(fit["median"], fit["beta"]), hazard, im=im)
+            rows.append(
+                {
+                    "body": fit["body"],
+                    "median": fit["median"],
+                    "beta": fit["beta"],
+                    "annual_rate": result.annual_rate,
+                    "return_period_yr": result.return_period,
+                    f"p_in_{years:g}_yr": float(result.probability_in(years)),
+                    "upper_tail": result.upper_tail,
+                    "upper_tail_bound": result.upper_tail_bounds[1],
+                    "lower_tail_left_out": result.lower_tail,
+                    "p_at_first_point": result.p_first,
+                    "p_at_last_point": result.p_last,
+                    "_result": result,
+                }
+            )
+        table = pd.DataFrame(rows)
+        results = table.pop("_result") if "_result" in table else pd.Series(dtype=object)
+        run.write_csv("risk.csv", table)
+        figure = _plot_disaggregation(results.dropna().tolist(), table, hazard)
+        run.write_figure("disaggregation.png", figure)
+        _report(run, folder, params, table, figure, hazard, years)
+    for name in run.outputs:
+        click.echo(f"wrote {run.path / name}")
+
+
+def _plot_disaggregation(results: list, table: pd.DataFrame, hazard: HazardCurve):
+    """Hazard curve and, per body, the density of the overturning rate over ln IM."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.5, 4.0), layout="constrained")
+    left, right = fig.subplots(1, 2)
+    left.loglog(hazard.values, hazard.rates, "o-", color="k", ms=3)
+    left.set_xlabel(hazard.im.label)
+    left.set_ylabel("annual rate of exceedance [1/yr]")
+    left.grid(True, which="both", alpha=0.3)
+    names = table.loc[table["annual_rate"].notna(), "body"].tolist()
+    for name, result in zip(names, results):
+        x, density = result.disaggregation()
+        right.semilogx(x, x * density, label=f"{name}: {result.annual_rate:.2e}/yr")
+    right.set_xlabel(hazard.im.label)
+    right.set_ylabel("x·dλ_f/dx [1/yr per unit of ln x]")
+    right.grid(True, which="both", alpha=0.3)
+    if names:
+        right.legend(fontsize="x-small")
+    return fig
+
+
+def _report(run, folder: Path, params: dict, table, figure, hazard, years: float) -> None:
+    """report.html: the fragility, the efficiency of IMs (if the run ranked them) and the
+    annual rates."""
+    import pandas as pd
+    from matplotlib.image import imread
+
+    from ..report import Report
+
+    report = Report(f"Annual rate of overturning ({hazard.im.label})", run.path)
+    report.text(
+        f"Fragility from `{folder}` ({params.get('method', 'ida').upper()} on "
+        f"{params.get('n_motions')} motions from `{params.get('motions')}`), hazard from "
+        f"`{hazard.source}`. Rate λ_f = ∫ P_f(x)·|dλ/dx| dx with the hazard interpolated "
+        "log-log; above the last tabulated intensity the last segment is extrapolated (its "
+        "share and the model-free bound are in the table); below the first point nothing is "
+        f"added (the estimate left out is in the table). Probability in {years:g} years: "
+        "1 − exp(−λ_f·years) (Poisson)."
+    )
+    fragility_png = folder / "fragility.png"
+    if fragility_png.exists():
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+        ax = fig.add_subplot()
+        ax.imshow(imread(fragility_png))
+        ax.set_axis_off()
+        report.figure(fig, "fragility", "Fragility curves of the fragility run.")
+    efficiency = folder / "im_efficiency.csv"
+    if efficiency.exists():
+        report.heading("Efficiency of intensity measures")
+        report.table(
+            pd.read_csv(efficiency).drop(columns=["label"], errors="ignore"),
+            "Dispersion β of the fragility against each IM (smaller: more efficient).",
+            "im",
+        )
+    report.heading("Annual rate of overturning")
+    report.figure(
+        figure, "disaggregation", "Hazard curve (left) and contributions to the rate (right)."
+    )
+    report.table(table, "Rate per body.", "risk", floatfmt=".3g")
+    report.write()
+    for name in report.files:
+        run.file(name)
+
+
+COMMANDS = [risk_cmd]
