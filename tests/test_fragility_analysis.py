@@ -7,6 +7,8 @@ is an independent path: the motion scaled by hand with NumPy and integrated by r
 (the scalar integrator, not the batched kernel the analyses use), its IM computed from the scaled
 motion by rocking.intensity_measures."""
 
+import math
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -143,3 +145,65 @@ def test_im_efficiency_of_the_scaling_im_is_the_ida_fit(ens):
     # sorted by body, then from the most efficient IM (smallest beta)
     for _, rows in table.groupby("body", sort=False):
         assert rows["beta"].is_monotonic_increasing
+
+
+def test_floor_fragility_against_the_ground_im_is_the_buildings_response(ens):
+    # A floor motion of a linear frame scales with its ground motion: the IDA of the floor
+    # motions with the ground motions' PGV as im_values must count what the frame gives when
+    # each GROUND motion is scaled to the level first and then filtered (ShearFrame and
+    # simulate, no per-motion factor on the floor).
+    frame = rocking.ShearFrame.preset("paper-1.0")
+    floor = frame.floor_ensemble(ens, 2)
+    ground_pgv = rocking.intensity_measures(ens, "pgv").iloc[:, 0].to_numpy()
+    level = 0.4
+    ds = rocking.fragility_analysis(
+        BLOCKS, floor, im="pgv", levels=[level], im_values=ground_pgv, n_boot=0, progress=False
+    )
+    scaled_ground = rocking.Ensemble(ens.acc * (level / ground_pgv)[:, None], ens.dt)
+    by_frame = frame.floor_ensemble(scaled_ground, 2)
+    for b, block in enumerate(BLOCKS):
+        expected = [rocking.simulate(block, a, ens.dt).overturned for a in by_frame.acc]
+        np.testing.assert_array_equal(ds["overturned"].values[b, 0], expected)
+
+
+def test_screen_with_a_hazard_curve_gives_each_item_its_annual_rate(tmp_path):
+    # Under a power-law PGV hazard, each item's rate must be Cornell's closed form for the
+    # lognormal the screening fitted (Cornell et al. 2002): the hazard table spans 1e-3 to
+    # 1e2 m/s, far beyond the fragility, so the tails are below 1e-9 of the rate.
+    k0, k = 1e-4, 2.0
+    x = np.geomspace(1e-3, 1e2, 41)
+    hazard = tmp_path / "pgv.csv"
+    pd.DataFrame({"pgv [m/s]": x, "annual_rate": k0 * x**-k}).to_csv(hazard, index=False)
+    inventory = tmp_path / "inv.csv"
+    inventory.write_text("name,R,gamma,location\nslim,0.8,5,ground\nup,0.8,4,floor 2\n")
+    ds = rocking.screen(
+        inventory,
+        "asce7:SDS=1.0,SD1=0.6,TL=8",
+        frame="paper-1.0",
+        n=8,
+        duration=8.0,
+        dt=1 / 200,
+        hazard=hazard,
+        years=10.0,
+        progress=False,
+    )
+    # The levels of the fits span the hazard table, so its extremes never overturn or always do:
+    # the fits must still be finite
+    assert np.isfinite(ds["fragility_median"]).all()
+    for item in ds["item"].values:
+        row = ds.sel(item=item)
+        median, beta = float(row["fragility_median"]), float(row["fragility_beta"])
+        exact = k0 * median**-k * math.exp(k**2 * beta**2 / 2)
+        assert float(row["annual_rate"]) == pytest.approx(exact, rel=1e-6)
+        assert float(row["p_years"]) == pytest.approx(-math.expm1(-10 * exact), rel=1e-9)
+    with pytest.raises(InputError, match="floor_motions='building'"):
+        rocking.screen(
+            inventory,
+            "asce7:SDS=1.0,SD1=0.6,TL=8",
+            frame="paper-1.0",
+            n=4,
+            duration=4.0,
+            hazard=hazard,
+            floor_motions="paper",
+            progress=False,
+        )

@@ -31,15 +31,20 @@ import os
 import numpy as np
 import xarray as xr
 
+from ..core.checks import positive
 from ..errors import InputError
+from ..montecarlo.fragility import fragility_analysis
 from ..montecarlo.probability import agx_50, overturning_probability
+from ..montecarlo.statistics import LognormalFit
 from ..motions.design import design_pga, parse_spectrum
 from ..motions.ensemble import Ensemble
+from ..motions.intensity import intensity_measures
 from ..motions.response import ResponseSpectrum, response_spectrum
 from ..motions.synthesis import generate
 from ..motions.targets import TargetSpectrum
 from .energy import BAND_HZ, SAFE, assess, band_frequencies
 from .inventory import Inventory, Item, read_inventory
+from .risk import HazardCurve, annual_rate, example_hazard_path
 
 #: Oscillator frequencies of the floor spectra in the band of the available S_v [-]: 100
 #: log-spaced frequencies in 0.04–0.6 Hz find the band maximum of the mean PSV of the floors of
@@ -67,6 +72,8 @@ def screen(
     floor_motions: str = "building",
     backend=None,
     progress=None,
+    hazard=None,
+    years: float = 50.0,
 ) -> xr.Dataset:
     """Screen every item of an inventory against a design spectrum.
 
@@ -106,6 +113,15 @@ def screen(
         local.
     progress : optional
         Passed on to :func:`rocking.montecarlo.probability.overturning_probability` and ``agx_50``.
+    hazard : HazardCurve, str or Path, optional
+        A site hazard curve (:class:`rocking.HazardCurve`, a CSV file of one, or ``"example"``):
+        then every item also gets a fragility curve against the hazard's IM of the *ground*
+        motion (IDA of the design-level motions at 20 levels spanning the hazard table; on a
+        floor, the floor's response to each ground motion scaled to the level, exact for the
+        linear frame) and its mean annual rate of overturning (:func:`rocking.annual_rate`).
+        Needs ``floor_motions="building"``.
+    years : float
+        Exposure time [yr] of the probability of at least one overturning (Poisson), > 0.
 
     Returns
     -------
@@ -117,7 +133,9 @@ def screen(
         and ``sv_available`` [m/s], ``margin`` [-] (> 0: safe by Eq. 11), ``verdict``,
         ``probability``, ``ci_low``, ``ci_high`` [-], ``overturned`` and ``n_motions`` (counts),
         ``agx50`` [g] (ground A_gx; with ``floor_motions="paper"`` the floor's own), ``at_risk``
-        (probability ≥ 0.5 or margin ≤ 0). Attributes:
+        (probability ≥ 0.5 or margin ≤ 0); with ``hazard``: ``fragility_median`` [the IM's
+        unit], ``fragility_beta`` [-], ``annual_rate`` [1/yr] (NaN: no overturning up to the
+        hazard's largest IM, so below its upper-tail bound) and ``p_years`` [-]. Attributes:
         ``spectrum``, ``design_agx`` [g], the settings and the ensemble's generation
         parameters.
     """
@@ -148,6 +166,9 @@ def screen(
         )
     if not isinstance(spectrum, TargetSpectrum):
         spectrum = parse_spectrum(spectrum)
+    if hazard is not None:
+        hazard = _hazard_curve(hazard, floor_motions)
+        years = positive("years", years, "yr")
     agx = design_pga(spectrum)
     if ensemble is None:
         ensemble = generate(n, duration=duration, dt=dt, target=spectrum, seed=seed)
@@ -166,6 +187,7 @@ def screen(
             confidence=confidence,
             backend=backend,
             progress=progress,
+            risk=None if hazard is None else (hazard, years, ground),
         )
         for items, source, motions, ratio in _locations(
             inventory, spectrum, ground, band_hz, floor_motions
@@ -194,6 +216,8 @@ def screen(
         agx_max=agx_max,
         floor_motions=floor_motions,
         n_motions=ensemble.n,
+        years=years,
+        hazard="" if hazard is None else hazard.source,
         duration=ensemble.duration,
         dt=ensemble.dt,
         seed=ensemble.meta.get("seed", ""),
@@ -252,13 +276,15 @@ def _screen_location(
     confidence,
     backend,
     progress,
+    risk: tuple[HazardCurve, float, Ensemble] | None = None,
 ) -> xr.Dataset:
     """The screening dataset (dimension ``item``) of the items at one location: Eq. (11)
     against ``source`` (TargetSpectrum or ResponseSpectrum), Monte Carlo with ``motions``, which
     are at the design level: their mean PGA is ``ratio`` × the design A_gx [g]. The
     motions scale linearly with the ground (linear frame), so the A_gx50 search runs on the
     motions' own A_gx with resolution and upper end × ``ratio`` and is reported in ground
-    A_gx."""
+    A_gx. ``risk`` = (hazard curve, years, the design-level ground motions) adds the annual rate
+    of overturning (:func:`_annual_rates`)."""
     blocks = [it.block for it in items]
     names = [it.name for it in items]
     energy = assess(
@@ -313,6 +339,8 @@ def _screen_location(
         "n_motions": (mc["n"].values, "", "motions"),
         "agx50": (a50, "g", "ground A_gx at 50 % overturning probability"),
     }
+    if risk is not None:
+        variables.update(_annual_rates(blocks, e, motions, *risk, backend, progress))
     return xr.Dataset(
         {
             k: ("item", np.asarray(v), {"units": u, "long_name": ln} if u else {"long_name": ln})
@@ -320,6 +348,55 @@ def _screen_location(
         },
         coords={"item": names},
     )
+
+
+#: IM levels of the fragility curves of a screening with a hazard curve [-].
+N_RISK_LEVELS = 20
+
+
+def _hazard_curve(hazard, floor_motions: str) -> HazardCurve:
+    """The hazard curve of ``screen(hazard=...)``, checked."""
+    if floor_motions != "building":
+        raise InputError(
+            "hazard needs floor_motions='building': the paper's rescaled floor motions are "
+            "not the response of the building to the site's ground motions"
+        )
+    if isinstance(hazard, HazardCurve):
+        return hazard
+    if isinstance(hazard, str) and hazard.strip().lower() == "example":
+        return HazardCurve.from_csv(example_hazard_path())
+    return HazardCurve.from_csv(hazard)
+
+
+def _annual_rates(blocks, e, motions: Ensemble, hazard, years, ground, backend, progress) -> dict:
+    """Fragility against the hazard's IM of the ground motion and the annual rate of every item
+    at one location (``motions``: the location's motions at the design level, member i the
+    response to ``ground`` member i)."""
+    im = hazard.im.name
+    levels = np.geomspace(hazard.values[0], hazard.values[-1], N_RISK_LEVELS)
+    curves = fragility_analysis(
+        blocks,
+        motions,
+        im=im,
+        levels=np.array([float(f"{x:.6g}") for x in levels]),
+        im_values=intensity_measures(ground, im).iloc[:, 0].to_numpy(),
+        e=e,
+        backend=backend,
+        progress=progress,
+        n_boot=0,
+    )
+    rate = np.full(len(blocks), np.nan)
+    for b in range(len(blocks)):
+        median, beta = float(curves["median"][b]), float(curves["beta"][b])
+        if math.isfinite(median) and math.isfinite(beta):
+            rate[b] = annual_rate(LognormalFit(median, beta), hazard).annual_rate
+    unit = hazard.im.unit
+    return {
+        "fragility_median": (curves["median"].values, unit, f"median {hazard.im.label}"),
+        "fragility_beta": (curves["beta"].values, "1", "lognormal dispersion"),
+        "annual_rate": (rate, "yr-1", "mean annual rate of overturning"),
+        "p_years": (-np.expm1(-rate * years), "1", f"P(overturning in {years:g} years)"),
+    }
 
 
 def _restitution(items):
@@ -395,7 +472,7 @@ def results_table(ds: xr.Dataset):
     files and reports."""
     import pandas as pd
 
-    return pd.DataFrame(
+    table = pd.DataFrame(
         {
             "item": ds["item"].values,
             "location": ds["location"].values,
@@ -424,6 +501,13 @@ def results_table(ds: xr.Dataset):
             "Agx50 [g]": ds["agx50"].values,
         }
     )
+    if "annual_rate" in ds:
+        unit = ds["fragility_median"].attrs.get("units", "")
+        table[f"fragility median [{unit}]"] = ds["fragility_median"].values
+        table["fragility beta [-]"] = ds["fragility_beta"].values
+        table["annual rate [1/yr]"] = ds["annual_rate"].values
+        table[f"P in {ds.attrs['years']:g} yr [-]"] = ds["p_years"].values
+    return table
 
 
 __all__ = ["eq11_vs_monte_carlo", "eq11_vs_monte_carlo_note", "results_table", "screen"]

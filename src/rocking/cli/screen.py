@@ -94,6 +94,31 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
     help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
     "address tcp://HOST:PORT.",
 )
+@click.option(
+    "--motions",
+    "motions_path",
+    default=None,
+    type=click.Path(dir_okay=False, exists=True),
+    help="Ground motions to use instead of generating --n of them: an ensemble file from "
+    "'rocking motions generate' or 'rocking motions import' (with vertical components if it "
+    "has them), scaled to the design A_gx; they should be compatible with --spectrum.",
+)
+@click.option(
+    "--hazard",
+    "hazard_text",
+    default=None,
+    metavar="FILE",
+    help="Site hazard curve (CSV: 'IM [unit],annual_rate'; 'example': the shipped "
+    "illustrative PGV curve): adds each item's fragility against that IM of the ground "
+    "motion and its mean annual rate of overturning.",
+)
+@click.option(
+    "--years",
+    type=click.FloatRange(0.0, min_open=True),
+    default=50.0,
+    show_default=True,
+    help="Exposure time [yr] of the probability of overturning with --hazard.",
+)
 @quiet_option
 def screen_command(
     inventory: str,
@@ -107,6 +132,9 @@ def screen_command(
     agx_max: float,
     floor_motions: str,
     scheduler: str | None,
+    motions_path: str | None,
+    hazard_text: str | None,
+    years: float,
     quiet: bool,
 ) -> None:
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
@@ -158,6 +186,17 @@ def screen_command(
     notes = [str(w.message) for w in caught]
     for note in notes:
         click.echo(f"warning: {note}", err=True)
+    hazard = None
+    if hazard_text is not None:
+        from ..assessment.risk import HazardCurve, example_hazard_path
+
+        example = hazard_text.strip().lower() == "example" and not Path(hazard_text).exists()
+        hazard = HazardCurve.from_csv(example_hazard_path() if example else hazard_text)
+    ensemble = None
+    if motions_path is not None:
+        from ..motions.ensemble import Ensemble
+
+        ensemble = Ensemble.load(motions_path)
     backend = get_backend(scheduler)
     params = {
         "inventory": str(inv_path),
@@ -172,6 +211,9 @@ def screen_command(
         "agx_max": agx_max,
         "floor_motions": floor_motions,
         "scheduler": scheduler or "local",
+        "motions": motions_path,
+        "hazard": None if hazard is None else hazard.source,
+        "years": years,
     }
     progress = reporter(quiet)
     with RunFolder(out, command="screen", params=params) as run, progress:
@@ -191,6 +233,9 @@ def screen_command(
                 floor_motions=floor_motions,
                 backend=backend,
                 progress=progress,
+                ensemble=ensemble,
+                hazard=hazard,
+                years=years,
             )
         table = results_table(ds)
         report = Report(f"Screening of {inv_path.name}", out)

@@ -163,6 +163,7 @@ def fragility_analysis(
     chunk_size: int | None = None,
     n_boot: int = 1000,
     seed: int = 0,
+    im_values=None,
 ) -> xr.Dataset:
     """Fragility curves of bodies against an intensity measure, from IDA, MSA or cloud analysis.
 
@@ -192,6 +193,12 @@ def fragility_analysis(
         point fit only, intervals NaN).
     seed : int
         Seed of the bootstrap (the simulations draw nothing at random).
+    im_values : array_like, optional
+        IDA and cloud: the IM of each motion as given [the IM's unit], instead of the IM
+        computed from the motions themselves. For floor motions, give the IM of the ground
+        motions they respond to: a linear building's floor motion scales with its ground
+        motion, so the curves are then against the ground's IM (what a site hazard curve
+        gives).
 
     Returns
     -------
@@ -227,7 +234,8 @@ def fragility_analysis(
             raise InputError("method 'ida' needs levels (the IM values to scale the motions to)")
         if stripes is not None:
             raise InputError("stripes belong to method 'msa', not 'ida'")
-        ds = _ida(blocks, ensemble, measure, _checked_levels(levels, measure.unit), options)
+        own = _im_values(ensemble, measure, im_values)
+        ds = _ida(blocks, ensemble, measure, _checked_levels(levels, measure.unit), own, options)
     elif method == "msa":
         if stripes is None:
             raise InputError("method 'msa' needs stripes (level, motion, scale rows)")
@@ -237,7 +245,7 @@ def fragility_analysis(
     else:
         if levels is not None or stripes is not None:
             raise InputError("method 'cloud' uses the motions as they are: no levels or stripes")
-        ds = _cloud(blocks, ensemble, measure, options, confidence)
+        ds = _cloud(blocks, ensemble, measure, _im_values(ensemble, measure, im_values), options)
     if "count" in ds:
         low, high = wilson_interval(ds["count"].values, ds["n"].values, confidence)
         ds["probability"] = ds["count"] / ds["n"]
@@ -272,7 +280,22 @@ def _outcomes(engine: Engine, keys: list[tuple[int, int]], nb: int) -> np.ndarra
     return np.array([[engine.results[(c, b, k)][0] for c, k in keys] for b in range(nb)])
 
 
-def _ida(blocks, ensemble, measure: AnalysisIM, levels: np.ndarray, options: dict) -> xr.Dataset:
+def _im_values(ensemble: Ensemble, measure: AnalysisIM, given) -> np.ndarray | None:
+    """The IM of each motion: ``given`` (checked), else computed (None for A_gx, whose
+    motions are all scaled by one factor)."""
+    if given is None:
+        return None if measure.measure is None else measure.of_motions(ensemble)
+    if measure.measure is None:
+        raise InputError("im_values are IMs of single motions; A_gx is the ensemble's mean PGA")
+    values = finite_array("im_values", given, ndim=(1,))
+    if values.shape != (ensemble.n,):
+        raise InputError(f"im_values must give one value per motion ({ensemble.n})")
+    return values
+
+
+def _ida(
+    blocks, ensemble, measure: AnalysisIM, levels: np.ndarray, own, options: dict
+) -> xr.Dataset:
     blocks = block_list(blocks)
     nb = len(blocks)
     if measure.exponent == 0:
@@ -280,7 +303,7 @@ def _ida(blocks, ensemble, measure: AnalysisIM, levels: np.ndarray, options: dic
             f"{measure.name} does not change when a motion is scaled, so motions cannot be "
             "scaled to its levels: use method 'cloud' for it"
         )
-    basis = None if measure.measure is None else [measure.of_motions(ensemble)]
+    basis = None if own is None else [own]
     if basis is not None and not np.all(basis[0] > 0.0):
         zero = [ensemble.labels[i] for i in np.flatnonzero(~(basis[0] > 0.0))]
         raise InputError(f"motions with {measure.name} = 0 cannot be scaled: {zero[:5]}")
@@ -325,10 +348,10 @@ def _outcome_dataset(blocks, engine, levels, flags, members) -> xr.Dataset:
     )
 
 
-def _cloud(blocks, ensemble, measure: AnalysisIM, options: dict, confidence: float) -> xr.Dataset:
+def _cloud(blocks, ensemble, measure: AnalysisIM, own, options: dict) -> xr.Dataset:
     blocks = block_list(blocks)
     nb = len(blocks)
-    values = measure.of_motions(ensemble)
+    values = ensemble.pga if own is None else own
     engine = Engine(
         blocks, [ensemble], desc="cloud", basis=[np.ones(ensemble.n)], exponent=1, **options
     )
