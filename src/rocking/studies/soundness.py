@@ -340,7 +340,7 @@ def run_strength(ctx: RunContext, done: dict) -> pd.DataFrame:
                 "95 % CI low": 100 * np.nanquantile(boots[-1], 0.025),
                 "95 % CI high": 100 * np.nanquantile(boots[-1], 0.975),
                 "at [Hz]": float(freqs[np.argmax(psv.mean(axis=0))]),
-                # the variants share their phases (same seed and members): paired differences
+                # same seed and members: the phases are shared when the frequencies are
                 "change [cm/s]": 100 * (_band_strength(psv, ens.pga) - rows[0]["_s"])
                 if rows
                 else 0.0,
@@ -539,8 +539,10 @@ def report_strength(table: pd.DataFrame, rep: Report, lab: str, paper_per_g: flo
         f"Ours as run: {base['S per g [cm/s]']:.1f} cm/s per g "
         f"({100 * (base['S per g [cm/s]'] / paper_per_g - 1):+.1f} % against the paper's), "
         f"maximum at {base['at [Hz]']:.2f} Hz; the gap to the paper is {gap:+.1f} cm/s per g. "
-        "The variants share their motions' phases, so their changes are paired (bootstrap "
-        "intervals of the difference, same resamples). Choices whose change is compatible with "
+        "Variants with the same frequencies share their motions' phases, so their changes "
+        "are paired (bootstrap intervals of the difference, same resamples); those that change "
+        "the frequencies (200 frequencies, fmin) draw other motions, so their intervals also "
+        "hold the ensemble's sampling error. Choices whose change is compatible with "
         f"the gap (its 95 % interval contains it): {', '.join(close) if close else 'none'}. "
         "A constant factor on the "
         "motions (amplitude convention, any normalisation of the intensity function) cancels "
