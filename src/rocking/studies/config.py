@@ -428,14 +428,23 @@ def validate(cfg: dict) -> None:
             f"sec5: motion numbers must lie in 1..n = {p['n']} (the ensemble "
             f"size); got {sorted(numbers)}"
         )
-    dts = sorted(cfg["soundness"]["dts"])
-    if len(dts) < 3 or dts[0] <= 0 or any(abs(d / dts[0] - round(d / dts[0])) > 1e-9 for d in dts):
+    dts, duration = sorted(cfg["soundness"]["dts"]), c["duration"]
+    if (
+        len(dts) < 3
+        or dts[0] <= 0
+        or not all(_whole(d / dts[0]) and _whole(duration / d) for d in dts)
+    ):
         raise InputError(
             "soundness.dts: give at least three positive time steps, each a whole multiple "
-            f"of the smallest, got {cfg['soundness']['dts']}"
+            f"of the smallest and dividing the duration ({duration:g} s) into whole steps, "
+            f"got {cfg['soundness']['dts']}"
         )
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
+
+
+def _whole(x: float) -> bool:
+    return abs(x - round(x)) <= 1e-9 * max(1.0, abs(x))
 
 
 @dataclass(frozen=True)

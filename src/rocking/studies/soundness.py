@@ -197,9 +197,24 @@ def _band_strength(psv: np.ndarray, pga: np.ndarray, counts: np.ndarray | None =
     return (counts @ psv).max(axis=1) / n / ((counts @ pga) / n)
 
 
-def _generate_with_te(ctx: RunContext, n: int, te: float) -> Ensemble:
+def motions_with_te(ctx: RunContext, n: int, te: float) -> Ensemble:
     """The study motions with the PSD of Eqs. (5)–(8) fitted for the equivalent duration ``te``
-    [s] instead of Eq. (7) of the intensity function (everything else as generate() does)."""
+    instead of Eq. (7) of the intensity function (everything else as generate() does).
+
+    Parameters
+    ----------
+    ctx : RunContext
+        Gives the common motion settings and the ``soundness`` seed.
+    n : int
+        Number of motions (members 0 … n − 1).
+    te : float
+        Equivalent duration T_e of the peak factor of Eq. (6) [s].
+
+    Returns
+    -------
+    Ensemble
+        Accelerations [m/s²], baseline corrected.
+    """
     c, seed = ctx.cfg["common"], ctx.cfg["soundness"]["seed"]
     env = make_envelope(c["envelope"], c["duration"], **c["envelope_params"])
     freqs = log_frequencies()
@@ -235,7 +250,7 @@ VARIANTS: dict[str, tuple[str, dict]] = {
 
 def _variant(ctx: RunContext, n: int, how: dict) -> Ensemble:
     if how.get("te") == "duration":
-        return _generate_with_te(ctx, n, ctx.cfg["common"]["duration"])
+        return motions_with_te(ctx, n, ctx.cfg["common"]["duration"])
     return ctx.motions("soundness", n, **how)
 
 
