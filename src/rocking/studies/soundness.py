@@ -140,11 +140,11 @@ def bootstrap_agx50(
 ) -> np.ndarray:
     """A_gx50 of one body in bootstrap resamples of the motions [g].
 
-    A resample scales its motions to its own mean PGA m*, so grid level A of the original
-    ensemble (mean PGA m) is level A·m*/m of the resample, with the same outcome per motion. In
-    each resample P*(A) is the mean outcome over the drawn motions; A_gx50* is the first upward
-    crossing of 0.5 on the grid (as :func:`rocking.montecarlo.probability.agx_50` defines it),
-    interpolated linearly between the two grid levels around it.
+    A resample scales its motions to its own mean PGA m_r, so grid level A of the original
+    ensemble (mean PGA m) is level A·m_r/m of the resample, with the same outcome per motion. In
+    each resample P_r(A) is the mean outcome over the drawn motions; its A_gx50 is the first
+    upward crossing of 0.5 on the grid (as :func:`rocking.montecarlo.probability.agx_50`
+    defines it), interpolated linearly between the two grid levels around it.
 
     Parameters
     ----------
@@ -160,8 +160,8 @@ def bootstrap_agx50(
     Returns
     -------
     ndarray, shape (n_boot,)
-        A_gx50* [g]; NaN where the resample's P stays below 0.5 on the grid or is already ≥ 0.5
-        at its lowest level (the grid is too narrow there).
+        A_gx50 of each resample [g]; NaN where the resample's P stays below 0.5 on the grid or
+        is already ≥ 0.5 at its lowest level (the grid is too narrow there).
     """
     ov = np.asarray(overturned, dtype=float)
     a = np.asarray(levels, dtype=float)
