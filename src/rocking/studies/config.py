@@ -195,10 +195,10 @@ QUICK["sec8"].update(
     fig13_agx=_grid(0.6, 1.4, 0.2),
 )
 QUICK["soundness"].update(
-    n=30,
+    n=40,
     bodies=[[r, g] for r in _ft(4, 10) for g in (2.0, 4.0)],
-    convergence_n=20,
-    convergence_bodies=[[_R4, 2.0], [_ft(10)[0], 4.0]],
+    convergence_n=40,
+    convergence_bodies=[[_R4, 2.0], [_R4, 4.0], [_ft(10)[0], 4.0]],
     convergence_resolution=0.005,
     bootstrap=200,
     grid_span=0.4,

@@ -264,8 +264,8 @@ def run_convergence(ctx: RunContext, done: dict) -> xr.Dataset:
     blocks = resolve_bodies(p["convergence_bodies"], "soundness.convergence_bodies")
     fine = ctx.motions("soundness", p["convergence_n"], dt=dts[-1])
     rows = []
-    for dt in dts:
-        ens = decimate(fine, round(dt / dts[-1]))
+    ensembles = [decimate(fine, round(dt / dts[-1])) for dt in dts]
+    for dt, ens in zip(dts, ensembles):
         a50 = agx_50(
             blocks,
             ens,
@@ -278,6 +278,21 @@ def run_convergence(ctx: RunContext, done: dict) -> xr.Dataset:
         )
         rows.append(energy_balance(blocks, ens, a50, band_hz=p["band_hz"]))
     ds = xr.concat(rows, pd.Index(dts, name="dt"))
+    # outcome of every motion at each body's A_gx50 of the finest step, at every step
+    levels = ds["agx50"].values[-1]
+    flags = np.zeros((len(dts), len(blocks), fine.n), bool)
+    for i, ens in enumerate(ensembles):
+        for b, (block, level) in enumerate(zip(blocks, levels)):
+            if np.isfinite(level):
+                flags[i, b] = overturning_probability(
+                    [block], ens, [level], e=e, backend=ctx.backend, members=True
+                )["overturned"].values[0, 0]
+    done_bodies = np.isfinite(levels)
+    ds["flipped"] = (
+        "dt",
+        (flags[:, done_bodies] != flags[-1, done_bodies]).mean(axis=(1, 2)),
+        {"units": "1", "long_name": "share of outcomes unlike the finest step's"},
+    )
     ds.attrs.update(n=fine.n, resolution=p["convergence_resolution"])
     return ds
 
@@ -479,6 +494,13 @@ def report_convergence(res: xr.Dataset, rep: Report, lab: str) -> None:
         f"[{lab}]",
         name="soundness-convergence",
         floatfmt=".4f",
+    )
+    flipped = res["flipped"].values
+    rep.text(
+        "Outcomes (overturned or not) of every (body, motion) pair at the body's A_gx50 of the "
+        "finest step that differ from the finest step's: "
+        + ", ".join(f"{_dt_label(d)}: {f:.2%}" for d, f in zip(dts[:-1], flipped[:-1]))
+        + f" ({res.sizes['body']} bodies × {res.attrs['n']} motions)."
     )
     table = pd.DataFrame(
         res["agx50"].values.T,
