@@ -609,7 +609,10 @@ def report_floor(res: dict, rep: Report, lab: str) -> None:
     rep.text(f"Frames giving {target:.2f} cm/s (interpolated in T1): {found}.")
     frame = res["frame"]
     if frame is None:
-        rep.text("No frame with the stated damping matches: Fig. 16 was not recomputed.")
+        rep.text(
+            "No frame with the stated frame's damping matches (or that damping was not "
+            "scanned): Fig. 16 was not recomputed."
+        )
         return
     floor = res["balance"].isel(location=1)
     s = ratio_stats(floor["ratio"].values)
@@ -633,8 +636,9 @@ def report_floor(res: dict, rep: Report, lab: str) -> None:
 # --------------------------------------------------------------------------- section
 
 
-#: The parts of the section: name -> (run(ctx, done) -> result, title). Each part's report
-#: is :func:`report` 's dispatch on the name.
+#: The parts of the section, run in this order: name -> (run(ctx, done) -> result, title);
+#: ``done`` holds the results of the parts before. Each part's report is chosen by name in
+#: :func:`report`.
 PARTS: dict[str, tuple[Callable[[RunContext, dict], Any], str]] = {
     "convergence": (run_convergence, "Convergence with the time step"),
     "ensemble": (run_ensemble, "Ensemble size: bootstrap intervals"),
