@@ -116,6 +116,7 @@ SMALL = [
     "soundness.bodies=[[1.2192, 2.0], [1.2192, 4.0]]",
     "soundness.convergence_n=6",
     "soundness.convergence_bodies=[[1.2192, 4.0]]",
+    "soundness.convergence_resolution=0.02",
     "soundness.bootstrap=50",
     "soundness.grid_levels=9",
     "soundness.variant_bodies=[[1.2192, 4.0]]",

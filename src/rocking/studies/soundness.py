@@ -674,7 +674,7 @@ def _sizes(ctx: RunContext, name: str) -> str:
         "strength": f"{len(VARIANTS)} variants, {p['bootstrap']} resamples",
         "floor": f"{len(p['floor_periods'])} periods × {len(p['floor_dampings'])} dampings",
     }[name]
-    return f"{n} motions, {nb} bodies, {extra}"
+    return f"{n} motions, {nb} bod{'y' if nb == 1 else 'ies'}, {extra}"
 
 
 def run(ctx: RunContext) -> SoundnessResult:
