@@ -33,11 +33,12 @@ STUDIES = {
     "6": "sec6_duration",
     "7": "sec7_floors",
     "8": "sec8_energy",
+    "soundness": "soundness",
 }
 
 
 def study(section: str) -> ModuleType:
-    """The module of the study of ``section`` ("4"–"8")."""
+    """The module of the study of ``section`` ("4"–"8" or "soundness")."""
     return importlib.import_module(f".{STUDIES[section]}", __name__)
 
 
@@ -57,7 +58,7 @@ def reproduce(
     Parameters
     ----------
     sections : iterable of str
-        Section numbers "4"–"8".
+        Section numbers "4"–"8", or "soundness" (:mod:`.soundness`).
     fidelity : str
         "quick" or "paper" (:data:`rocking.studies.config.PRESETS`).
     out_dir : str or Path
@@ -151,7 +152,7 @@ def _write_report(out: Path, ctx: RunContext, results: dict) -> list[str]:
         out,
     )
     _introduction(rep, ctx, sections, ctx.fidelity, ctx.modified)
-    _conclusions(rep, conclusions.evaluate(results), ctx.label())
+    _conclusions(rep, conclusions.evaluate(results), conclusions.robustness(results), ctx.label())
     for s in sections:
         study(s).report(results[s], rep, ctx)
     rep.heading("Known disagreements with the paper and likely reasons")
@@ -179,7 +180,7 @@ def _introduction(
     )
 
 
-def _conclusions(rep: Report, verdicts: list[Verdict], label: str) -> None:
+def _conclusions(rep: Report, verdicts: list[Verdict], robust: list[str], label: str) -> None:
     import pandas as pd
 
     rep.heading("The paper's nine conclusions")
@@ -189,6 +190,7 @@ def _conclusions(rep: Report, verdicts: list[Verdict], label: str) -> None:
             "verdict": [v.verdict for v in verdicts],
             "sections": [v.sections for v in verdicts],
             "conclusion (paper, Section 9)": [v.statement for v in verdicts],
+            "robust to integrator and ensemble size?": robust,
         }
     )
     rep.table(

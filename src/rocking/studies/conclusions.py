@@ -440,6 +440,18 @@ def evaluate(results: dict) -> list[Verdict]:
     return out
 
 
+def robustness(results: dict) -> list[str]:
+    """For each of the nine conclusions, whether the section "soundness" found it robust to
+    the time step and the ensemble size (:func:`rocking.studies.soundness.robust_9`), or "not
+    assessed" (that section measures Tables 2-3, which only conclusion 9 rests on)."""
+    from .soundness import robust_9
+
+    sound = results.get("soundness")
+    if sound is None:
+        return ["not assessed (section soundness not run)"] * 9
+    return ["not assessed"] * 8 + [robust_9(sound)]
+
+
 # --------------------------------------------------------------------------- disagreements
 
 

@@ -40,6 +40,15 @@ of a CSV file read by :func:`rocking.assessment.bodies.read_bodies`; frames are 
     ``floor``; ``resolution`` [g] and ``agx_max`` [g] of the A_gx50 search; ``fig13_agx`` [g]
     grid of the Fig. 13 curve; ``examples`` (bodies of the worked examples); ``example_agx`` [g];
     ``band_hz`` [Hz].
+``[soundness]`` numerical and statistical soundness (issue 17, :mod:`.soundness`): ``seed``;
+    ``n`` (ground motions of the bootstrap, strength and floor parts); ``bodies``;
+    ``resolution`` and ``agx_max`` [g] of the A_gx50 searches; ``band_hz`` [Hz];
+    ``dts`` [s] (time steps of the convergence part, each a whole multiple of the smallest);
+    ``convergence_n``, ``convergence_bodies``, ``convergence_resolution`` [g];
+    ``bootstrap`` (resamples), ``bootstrap_seed``, ``grid_span`` [-] and ``grid_levels`` (the
+    A_gx grid of the bootstrap, (1 ± span)·A_gx50), ``target_g`` [g] (half-width asked of
+    A_gx50); ``variant_bodies`` (bodies of the strength part); ``floor_frame``,
+    ``floor_periods`` [s], ``floor_dampings`` [-], ``floor_agx`` [g] (the frame scan).
 """
 
 from __future__ import annotations
@@ -146,6 +155,28 @@ PAPER: dict = {
         "example_agx": 0.6,
         "band_hz": [0.04, 0.6],
     },
+    "soundness": {
+        "seed": 8,
+        "n": 200,
+        "bodies": "paper",
+        "resolution": 0.01,
+        "agx_max": 5.0,
+        "band_hz": [0.04, 0.6],
+        "dts": [1 / 200, 1 / 400, 1 / 800, 1 / 1600],
+        "convergence_n": 200,
+        "convergence_bodies": "paper",
+        "convergence_resolution": 0.001,
+        "bootstrap": 1000,
+        "bootstrap_seed": 17,
+        "grid_span": 0.3,
+        "grid_levels": 61,
+        "target_g": 0.01,
+        "variant_bodies": [[r, g] for r in _ft(4, 7, 10) for g in (2.0, 4.0, 6.0)],
+        "floor_frame": "paper-2.0",
+        "floor_periods": [0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0],
+        "floor_dampings": [0.02, 0.05, 0.1, 0.2],
+        "floor_agx": 0.6,
+    },
 }
 
 QUICK: dict = copy.deepcopy(PAPER)
@@ -162,6 +193,19 @@ QUICK["sec8"].update(
     bodies=[[r, g] for r in _ft(4, 7, 10) for g in (2.0, 4.0, 6.0)],
     resolution=0.02,
     fig13_agx=_grid(0.6, 1.4, 0.2),
+)
+QUICK["soundness"].update(
+    n=40,
+    bodies=[[r, g] for r in _ft(4, 10) for g in (2.0, 4.0)],
+    convergence_n=40,
+    convergence_bodies=[[_R4, 2.0], [_R4, 4.0], [_ft(10)[0], 4.0]],
+    convergence_resolution=0.005,
+    bootstrap=200,
+    grid_span=0.4,
+    grid_levels=21,
+    variant_bodies=[[_R4, 2.0], [_R4, 4.0]],
+    floor_periods=[0.75, 1.0, 1.5, 2.0],
+    floor_dampings=[0.05, 0.2],
 )
 
 #: Fidelity presets by name.
@@ -348,6 +392,7 @@ def validate(cfg: dict) -> None:
         ],
         "sec7.frames": lambda: [resolve_frame(f) for f in cfg["sec7"]["frames"]],
         "sec8.frame": lambda: resolve_frame(cfg["sec8"]["frame"]),
+        "soundness.floor_frame": lambda: resolve_frame(cfg["soundness"]["floor_frame"]),
         "sec7.fig11_body": lambda: Block(*cfg["sec7"]["fig11_body"]),
     }
     checks.update(
@@ -358,6 +403,9 @@ def validate(cfg: dict) -> None:
                 ("sec7", "bodies"),
                 ("sec8", "bodies"),
                 ("sec8", "examples"),
+                ("soundness", "bodies"),
+                ("soundness", "convergence_bodies"),
+                ("soundness", "variant_bodies"),
             )
         }
     )
@@ -380,8 +428,23 @@ def validate(cfg: dict) -> None:
             f"sec5: motion numbers must lie in 1..n = {p['n']} (the ensemble "
             f"size); got {sorted(numbers)}"
         )
+    dts, duration = sorted(cfg["soundness"]["dts"]), c["duration"]
+    if (
+        len(dts) < 3
+        or dts[0] <= 0
+        or not all(_whole(d / dts[0]) and _whole(duration / d) for d in dts)
+    ):
+        raise InputError(
+            "soundness.dts: give at least three positive time steps, each a whole multiple "
+            f"of the smallest and dividing the duration ({duration:g} s) into whole steps, "
+            f"got {cfg['soundness']['dts']}"
+        )
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
+
+
+def _whole(x: float) -> bool:
+    return abs(x - round(x)) <= 1e-9 * max(1.0, abs(x))
 
 
 @dataclass(frozen=True)
