@@ -16,11 +16,11 @@ from rocking.studies import reproduce
 from rocking.studies.config import RunContext, load_config
 from rocking.studies.soundness import (
     bootstrap_agx50,
-    decimate,
     ensemble_size_for,
     frame_variant,
     motions_with_te,
     observed_order,
+    refine,
     resample_counts,
 )
 
@@ -77,15 +77,17 @@ def test_ensemble_size_scales_as_one_over_sqrt_n():
     assert ensemble_size_for(0.005, 200, 0.01) == 50
 
 
-def test_decimated_motions_are_the_coarse_motions():
-    # Eq. (9) is a sum of sinusoids: with the same seed the motions at 1/200 s are the samples of
-    # those at 1/400 s (without the baseline correction, which is fitted on each grid); to
-    # rounding of the sums, 1e-9 of the PGA.
-    fine = generate(2, dt=1 / 400, seed=5, baseline=False)
-    coarse = generate(2, dt=1 / 200, seed=5, baseline=False)
-    dec = decimate(fine, 2)
-    assert dec.dt == coarse.dt and dec.n_t == coarse.n_t
-    assert np.abs(dec.acc - coarse.acc).max() < 1e-9 * np.abs(coarse.acc).max()
+def test_refined_motions_are_the_same_piecewise_linear_motions():
+    # The integrator takes the ground acceleration as linear between samples: the refined
+    # motion must be that function at the finer instants (np.interp, independently), with the
+    # original samples kept exactly (so PGA and A_gx do not change).
+    coarse = generate(2, duration=4.0, dt=1 / 200, seed=5)
+    fine = refine(coarse, 4)
+    assert fine.dt == coarse.dt / 4 and fine.n_t == 4 * (coarse.n_t - 1) + 1
+    for a, b in zip(coarse.acc, fine.acc):
+        np.testing.assert_allclose(b, np.interp(fine.t, coarse.t, a), rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(fine.acc[:, ::4], coarse.acc)
+    assert fine.agx == coarse.agx
 
 
 def test_te_variant_changes_only_te():
