@@ -51,7 +51,10 @@ def simulate_reference(
     samples; ``e`` [-]; ``overturn_angle`` [rad]; ``g`` [m/s²]; ``av`` [m/s², up positive] the
     vertical ground acceleration at the same samples, above −g (None: zero); ``rtol``/``atol``
     are the integrator's tolerances; ``max_step`` [s] caps its step (default: none, a step never
-    crosses a sample of the ground motion anyway).
+    crosses a sample of the ground motion anyway).  Events are found from the values at the
+    ends of the integrator's steps, so a bounce much shorter than a step can go unseen (a
+    minimum of θ inside a step is looked for, but a chatter of tiny bounces may still be
+    missed); ``max_step = dt/2`` guards against it at twice the cost.
     """
     dt = positive("dt", dt, "s")
     g = positive("g", g, "m/s²")
