@@ -47,11 +47,11 @@ import numpy as np
 
 from ..core.checks import finite_array, positive
 from ..core.compile import highest_bit, kernel, parallel_kernel, prange
-from ..defaults import DEFAULT_E
+from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .equation import _gv_sample, _gv_slope, _plain_step, _uplifts
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events
+from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events, resolve_impacts
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -241,6 +241,7 @@ def _lane_machine(
     tan_a,
     e,
     th_ov,
+    located,
     alpha,
     body,
     motion,
@@ -341,6 +342,7 @@ def _lane_machine(
                     W[_OM1 * L + j],
                     (state[j] == _ROCKING) & (W[_VAL * L + j] != 0.0),
                     True,
+                    located,
                 )
                 if deferred:  # the rest of the interval, from tau, in the next SIMD round
                     W[_TH * L + j] = th
@@ -463,6 +465,7 @@ def _cases_kernel(
     tan_a,
     e,
     th_ov,
+    located,
     alpha,
     body,
     motion,
@@ -478,7 +481,8 @@ def _cases_kernel(
     ``acc`` (n_motions, n_t) [m/s²], ``av`` the vertical accelerations like it or None,
     ``amax`` = max|acc| per motion [m/s²], ``avmin`` = min ``av`` per motion or None, ``dt``
     [s], ``g`` [m/s²]; per-block constants p² [1/s²], sin α, cos α, tan α, e, overturning angle
-    [rad], α [rad].  Writes ``overturned[i]`` and ``peak[i]`` = max|θ|/α at the samples [-].
+    [rad], the impact scheme (``located``: bool), α [rad].  Writes ``overturned[i]`` and
+    ``peak[i]`` = max|θ|/α at the samples [-].
     """
     n = body.shape[0]
     for q in prange((n + group - 1) // group):
@@ -495,6 +499,7 @@ def _cases_kernel(
             tan_a,
             e,
             th_ov,
+            located,
             alpha,
             body,
             motion,
@@ -601,15 +606,17 @@ def run_cases(
     motion: np.ndarray,
     scale: np.ndarray,
     av: np.ndarray | None = None,
+    impacts: str = IMPACT_SCHEMES[0],
 ):
     """Kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
     ``amax`` is :func:`motion_peaks` of ``acc``.  ``av``: vertical ground accelerations [m/s², up
     positive], finite, shape and samples as ``acc``, or None (no vertical motion: exactly the
     results without it); case i scales it by abs(scale[i]) (a negative scale mirrors the
-    horizontal motion only).  The one check made here: a scaled ``av`` that reaches −g raises
-    :class:`~rocking.errors.InputError`.  Returns (overturned bool, peak float), shape like
-    ``body``.
+    horizontal motion only).  ``impacts``: "located" (default) or "step-end", as in
+    :func:`rocking.simulate`.  The checks made here: a scaled ``av`` that reaches −g, and an
+    unknown ``impacts``, raise :class:`~rocking.errors.InputError`.  Returns (overturned bool,
+    peak float), shape like ``body``.
     """
     avmin = None
     if av is not None:
@@ -647,6 +654,7 @@ def run_cases(
             table.tan_a,
             table.e,
             table.theta_ov,
+            resolve_impacts(impacts),
             table.alpha,
             body,
             motion,
@@ -689,6 +697,7 @@ def overturn_cases(
     overturn_angle=math.pi / 2,
     g: float = G,
     av=None,
+    impacts: str = IMPACT_SCHEMES[0],
 ):
     """Overturning of an explicit list of cases (block, motion, scale), each from rest.
 
@@ -713,6 +722,8 @@ def overturn_cases(
     av : array_like, shape like ``acc``, optional
         Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
         abs(scale) for each case; above −g after scaling.  None: no vertical motion.
+    impacts : {"located", "step-end"}
+        Impact handling, as in :func:`rocking.simulate` ("located" by default).
 
     Returns
     -------
@@ -732,7 +743,7 @@ def overturn_cases(
             f"body_index, motion_index and scales must have the same length, got "
             f"{body.size}, {motion.size} and {scale.size}"
         )
-    return run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale, av)
+    return run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale, av, impacts)
 
 
 def _index(name: str, values, n: int) -> np.ndarray:
@@ -754,6 +765,7 @@ def overturn_batch(
     overturn_angle=math.pi / 2,
     g: float = G,
     av=None,
+    impacts: str = IMPACT_SCHEMES[0],
 ):
     """Overturning of every block under every motion at every scale factor, each from rest.
 
@@ -779,6 +791,8 @@ def overturn_batch(
     av : array_like, shape like ``acc``, optional
         Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
         abs(scale); above −g after scaling.  None: no vertical motion.
+    impacts : {"located", "step-end"}
+        Impact handling, as in :func:`rocking.simulate` ("located" by default).
 
     Returns
     -------
@@ -793,5 +807,7 @@ def overturn_batch(
     scales = finite_array("scales", scales, ndim=(1,), min_len=1)
     shape = (len(table), scales.size, acc.shape[0])
     body, level, motion = (np.ascontiguousarray(i.ravel()) for i in np.indices(shape))
-    overturned, peak = run_cases(table, acc, motion_peaks(acc), dt, body, motion, scales[level], av)
+    overturned, peak = run_cases(
+        table, acc, motion_peaks(acc), dt, body, motion, scales[level], av, impacts
+    )
     return overturned.reshape(shape), peak.reshape(shape)

@@ -23,6 +23,13 @@ is below it throughout).  |θ| in such a chatter stays below |θ''|·(CHATTER_FR
 rad for the paper's bodies at dt = 1/400 s), so the bracket of Eq. (1) is sin α ± u·cos α to that
 relative accuracy.
 
+A second, selectable impact scheme (issue 17; never the default): ``impacts="step-end"``, a
+straightforward reading of "fixed-step RK4": when a step ends on the other side of θ = 0, the
+block is put at θ = 0 on the other pivot with θ' ← e·θ' (θ' of the step's end), at the step's end;
+no impact is located inside the step and no return to θ = 0 inside a step that ends on the same
+side is looked for.  Everything else is as in the default ("located"): uplift from rest and
+overturning are located, a bounce shorter than the Zeno time ends at rest.
+
 The same compiled functions serve :func:`rocking.simulate` and the batched kernel, so they agree
 bit for bit.  Pure compiled functions of scalars; no state.
 """
@@ -32,6 +39,8 @@ from __future__ import annotations
 import math
 
 from ..core.compile import fma, kernel
+from ..defaults import IMPACT_SCHEMES
+from ..errors import InputError
 from .equation import (
     _accel,
     _angle_terms,
@@ -62,6 +71,17 @@ _MAX_EVENTS_PER_STEP = 10_000
 _REST = 0
 _ROCKING = 1
 _OVERTURNED = 2
+
+
+def resolve_impacts(impacts) -> bool:
+    """Whether an impact scheme named by the user (:data:`rocking.defaults.IMPACT_SCHEMES`:
+    "located", the default, or "step-end") locates the impacts inside the step."""
+    name = impacts.strip().lower() if isinstance(impacts, str) else impacts
+    if name not in IMPACT_SCHEMES:
+        raise InputError(
+            f"impacts must be one of {', '.join(map(repr, IMPACT_SCHEMES))}, got {impacts!r}"
+        )
+    return name == IMPACT_SCHEMES[0]
 
 
 @kernel(inline="always")
@@ -243,9 +263,10 @@ def _chatter_impacts(t0, e, dt):
 
 
 @kernel
-def _advance(theta, omega, s, state, u0, u1, g0, g1, dt, p2, sa, ca, tan_a, e, th_ov):
+def _advance(theta, omega, s, state, u0, u1, g0, g1, dt, p2, sa, ca, tan_a, e, th_ov, located):
     """Advance a block over one sample interval [0, dt] of linear ground acceleration u0 → u1 (in
-    g) and vertical factor g0 → g1 (1 + a_v/g; both None: no vertical motion).
+    g) and vertical factor g0 → g1 (1 + a_v/g; both None: no vertical motion); impacts located
+    inside the step, or (``located`` False) at the end of a step that changes side.
 
     Returns (theta, omega, s, state, n_impacts, t_event): ``t_event`` is the local time of
     overturning within the interval [s], or −1.
@@ -283,6 +304,7 @@ def _advance(theta, omega, s, state, u0, u1, g0, g1, dt, p2, sa, ca, tan_a, e, t
         om1,
         valid,
         False,
+        located,
     )
     return r[0], r[1], r[2], r[3], r[4], r[5]
 
@@ -311,9 +333,11 @@ def _advance_events(
     om_step,
     have_step,
     defer,
+    located,
 ):
     """:func:`_advance` of the part [tau, dt] of an interval whose next step is not plain (see
-    :func:`_plain_step`): impacts, uplift, coming to rest, overturning.
+    :func:`_plain_step`): impacts, uplift, coming to rest, overturning.  ``located``: the impact
+    scheme (False: "step-end", see the module docstring).
 
     ``t_start``: local time of the last start from rest in this interval (−1: none);
     ``false_side``: sign of u of a start that landed at once (no restart on that side; 0: none).
@@ -373,14 +397,17 @@ def _advance_events(
         th_hi = th1
         if s * th1 < 0.0 or (th1 == 0.0 and s * om1 < 0.0):
             hit = h
-        else:
+        elif located:
             lo, hit, th_lo, th_hi = _interior_touch(
                 theta, omega, th1, om1, s, u0, du, g0, dg, tau, h, p2, sa, ca
             )
         if hit > 0.0:
-            hz, thz, omz = _locate(
-                theta, omega, s, u0, du, g0, dg, tau, lo, hit, th_lo, th_hi, 0.0, -s, p2, sa, ca
-            )
+            if located:
+                hz, thz, omz = _locate(
+                    theta, omega, s, u0, du, g0, dg, tau, lo, hit, th_lo, th_hi, 0.0, -s, p2, sa, ca
+                )
+            else:  # "step-end": the impact is taken at the end of the step, with its θ'
+                hz, omz = h, om1
             tau += hz
             if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
                 # Back at θ = 0 within the Zeno time of starting: |a_g| fell below gv·g·tan α

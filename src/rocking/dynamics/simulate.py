@@ -13,14 +13,16 @@ import numpy as np
 
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import kernel
-from ..defaults import DEFAULT_E
+from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance
+from .impacts import _OVERTURNED, _REST, _ROCKING, _advance, resolve_impacts
 
 
 @kernel
-def _simulate_kernel(u, gv, dt, p2, sa, ca, tan_a, e, th_ov, theta0, omega0, theta_out, omega_out):
+def _simulate_kernel(
+    u, gv, dt, p2, sa, ca, tan_a, e, th_ov, located, theta0, omega0, theta_out, omega_out
+):
     """Integrate one block over the whole motion ``u`` = a_g/g [-] sampled at dt [s], with the
     vertical factor ``gv`` = 1 + a_v/g [-] at the same samples (None: no vertical motion).
 
@@ -56,7 +58,7 @@ def _simulate_kernel(u, gv, dt, p2, sa, ca, tan_a, e, th_ov, theta0, omega0, the
         g0 = None if gv is None else gv[k]
         g1 = None if gv is None else gv[k + 1]
         theta, omega, s, state, ni, tev = _advance(
-            theta, omega, s, state, u[k], u[k + 1], g0, g1, dt, p2, sa, ca, tan_a, e, th_ov
+            theta, omega, s, state, u[k], u[k + 1], g0, g1, dt, p2, sa, ca, tan_a, e, th_ov, located
         )
         n_imp += ni
         if state == _OVERTURNED:
@@ -155,6 +157,7 @@ def simulate(
     omega0: float = 0.0,
     g: float = G,
     av=None,
+    impacts: str = IMPACT_SCHEMES[0],
 ) -> RockingResponse:
     """Rocking response of ``block`` to the ground acceleration history ``ag``.
 
@@ -183,6 +186,11 @@ def simulate(
         between), which adds to gravity: the block lifts from rest when abs(a_g) > (g + a_v)·tan α.
         Every sample must exceed −g (at −g the block would leave the ground, which is not
         modelled).  None (default): no vertical motion, exactly as without it.
+    impacts : {"located", "step-end"}
+        Impact handling: "located" (default) finds the instant of each impact inside the
+        Runge–Kutta step; "step-end", a plain fixed-step scheme kept for comparison (issue 17),
+        puts θ = 0 and θ' ← e·θ' at the end of a step that ends on the other side of θ = 0
+        (:mod:`rocking.dynamics.impacts`).
 
     Returns
     -------
@@ -194,6 +202,7 @@ def simulate(
     g = positive("g", g, "m/s²")
     ag = finite_array("ag", ag, ndim=(1,), min_len=1)
     gv = None if av is None else _vertical_factor(av, ag.size, g)
+    located = resolve_impacts(impacts)
     e_val = resolve_e(e, block)
     th_ov = resolve_overturn_angle(overturn_angle, block)
     theta0 = in_range("theta0", theta0, -math.pi / 2, math.pi / 2, unit="rad")
@@ -216,6 +225,7 @@ def simulate(
         math.tan(alpha),
         e_val,
         th_ov,
+        located,
         theta0,
         omega0,
         theta,
