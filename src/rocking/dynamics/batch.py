@@ -22,7 +22,7 @@ over live lanes.  Work that cannot change the answer is skipped:
 
 * a case whose scaled motion never lifts the block (|scale·a_g|·cos α ≤ g·sin α at every sample;
   the ground acceleration is linear between samples, so the samples bound it; with a vertical
-  acceleration, max|scale·a_g|·cos α ≤ (g + abs(scale)·min a_v)·sin α, a conservative bound):
+  acceleration, max abs(scale·a_g)·cos α ≤ (g + abs(scale)·min a_v)·sin α, a conservative bound):
   not overturned, peak 0, no integration at all;
 * intervals at rest: the lane jumps to the next sample at which the block lifts;
 * everything after overturning.

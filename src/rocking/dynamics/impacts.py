@@ -2,7 +2,7 @@
 
 Impact at θ = 0: the pivot switches (s → −s) and θ' ← e·θ' (paper Section 2).  From rest the block
 starts to rock only when |a_g| > g·tan α, tipping to θ > 0 under a negative ground acceleration;
-with a vertical ground acceleration a_v, when |a_g| > (g + a_v)·tan α (every "g·tan α" below is
+with a vertical ground acceleration a_v, when abs(a_g) > (g + a_v)·tan α (every "g·tan α" below is
 (g + a_v)·tan α then, and the vertical factor gv = 1 + a_v/g is linear in the interval like u;
 see :mod:`rocking.dynamics.equation`).
 
