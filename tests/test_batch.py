@@ -20,12 +20,14 @@ def _random_blocks(rng, n):
     return [Block(float(rng.uniform(0.3, 3.0)), float(rng.uniform(1.5, 6.0))) for _ in range(n)]
 
 
-def _check_against_simulate(blocks, acc, dt, body, motion, scale, overturned, peak, **kw):
-    """Every case equals simulate(); returns the kinds of cases seen (to prove coverage)."""
+def _check_against_simulate(blocks, acc, dt, body, motion, scale, overturned, peak, av=None, **kw):
+    """Every case equals simulate(); returns the kinds of cases seen (to prove coverage).
+    ``av``: vertical motions like ``acc``, scaled by abs(scale) (a mirror flips only a_g)."""
     kinds = set()
     for i in range(len(body)):
         blk = blocks[body[i]]
-        r = simulate(blk, scale[i] * acc[motion[i]], dt, **kw)
+        vert = None if av is None else abs(scale[i]) * av[motion[i]]
+        r = simulate(blk, scale[i] * acc[motion[i]], dt, av=vert, **kw)
         assert overturned[i] == r.overturned, i
         # the kernel runs the same floating-point operations as simulate, so the values are
         # expected to be equal; 1e-12 relative only allows for compiler reordering
@@ -61,6 +63,30 @@ def test_per_case_entry_with_housner_e_and_alpha_angle(ensemble):
         blocks, ensemble.acc, ensemble.dt, body, motion, scale, overturned, peak, **kw
     )
     assert "overturned" in kinds and "rest" in kinds
+
+
+def test_batch_with_vertical_motion_and_general_bodies_equals_simulate(ensemble):
+    # the vertical component: another motion of the ensemble at 0.2–0.5 of its size (down to
+    # about −0.8 g with the largest scale: above −g, as it must be)
+    rng = np.random.default_rng(13)
+    av = ensemble.acc[::-1] * rng.uniform(0.2, 0.5, (ensemble.n, 1))
+    blocks = [
+        *_random_blocks(rng, 2),
+        Block.from_mass_properties(0.8, 0.2, radius_of_gyration=0.35),
+        Block(1.5, 4.0, r_g=1.2),
+    ]
+    n = 80
+    body = rng.integers(0, len(blocks), n)
+    motion = rng.integers(0, ensemble.n, n)
+    scale = rng.uniform(-1.5, 1.5, n) / ensemble.agx
+    for kw in ({}, dict(e="housner", overturn_angle="alpha")):
+        overturned, peak = overturn_cases(
+            blocks, ensemble.acc, ensemble.dt, body, motion, scale, av=av, **kw
+        )
+        kinds = _check_against_simulate(
+            blocks, ensemble.acc, ensemble.dt, body, motion, scale, overturned, peak, av=av, **kw
+        )
+        assert kinds == {"overturned", "rest", "rocked"}
 
 
 def test_mirrored_motion_gives_the_same_flags_and_peaks(ensemble):

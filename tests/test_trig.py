@@ -94,10 +94,11 @@ def test_rotation_formula_matches_extended_precision():
 def test_fast_step_equals_the_step_with_trig_at_every_stage(seed):
     # The two evaluate the same RK4 formula; only the way sin and cos of the stage angles are
     # obtained differs, so their steps differ by round-off only (a few ulp of θ'' at each
-    # stage, times h).  Random states cover both pivots, all angles up to π/2, fast swings and
-    # ground accelerations above the uplift threshold.
+    # stage, times h).  Random states cover both pivots, all angles up to π/2, fast swings,
+    # ground accelerations above the uplift threshold and, every other state, a vertical ground
+    # acceleration (gv = 1 + a_v/g from 0.3 to 1.8, linear in the step; None: without one).
     rng = np.random.default_rng(seed)
-    for _ in range(2000):
+    for i in range(2000):
         R, gamma = rng.uniform(0.3, 5.0), rng.uniform(1.5, 8.0)
         alpha = math.atan(1.0 / gamma)
         p2 = 3 * 9.80665 / (4 * R)
@@ -106,11 +107,13 @@ def test_fast_step_equals_the_step_with_trig_at_every_stage(seed):
         h = rng.choice([1 / 400, 1 / 200, 1 / 100]) * rng.uniform(0.01, 1.0)
         omega = rng.uniform(-1.0, 1.0) * ROTATION_DMAX / h  # all offsets within the fast range
         u0, du = rng.uniform(-2.0, 2.0), rng.uniform(-200.0, 200.0)
-        args = (theta, omega, s, u0, du, 0.0, h, p2, math.sin(alpha), math.cos(alpha))
+        g0, dg = (rng.uniform(0.5, 1.6), rng.uniform(-20.0, 20.0)) if i % 2 else (None, None)
+        args = (theta, omega, s, u0, du, g0, dg, 0.0, h, p2, math.sin(alpha), math.cos(alpha))
         th, om, dmax = _rk4_fast(*args)
         th_ref, om_ref = _rk4_stages(*args)
         if dmax > ROTATION_DMAX:
             continue  # _rk4 would use _rk4_stages itself
-        accel_scale = p2 * (1.0 + abs(u0) + abs(du) * h)  # bound of |θ''| over the step
+        gmax = 1.0 if g0 is None else g0 + abs(dg) * h
+        accel_scale = p2 * (gmax + abs(u0) + abs(du) * h)  # bound of |θ''| over the step
         assert abs(om - om_ref) <= 8 * ULP1 * (abs(omega) + accel_scale * h)
         assert abs(th - th_ref) <= 8 * ULP1 * (abs(theta) + abs(omega) * h + accel_scale * h * h)

@@ -18,6 +18,10 @@ R_RANGE_M = (1e-3, 1e3)
 GAMMA_RANGE = (1e-2, 1e2)
 #: The paper's time step of the motions and of the Runge–Kutta integration [s].
 DT = 1.0 / 400.0
+#: Impact schemes of the rocking kernels: "located" (the default: the impact instant found
+#: inside the step) and "step-end" (θ = 0 and θ' × e at the end of a step that changes side;
+#: issue 17). :func:`rocking.dynamics.impacts.resolve_impacts` reads them.
+IMPACT_SCHEMES = ("located", "step-end")
 #: The paper's band of the available pseudo-velocity S_v [Hz] (Section 8).
 BAND_HZ = (0.04, 0.6)
 #: Band over which the fit of simulated motions to their target is summarised [Hz].

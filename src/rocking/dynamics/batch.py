@@ -21,8 +21,9 @@ of its group; when none is left, the last lane moves into its place, so the SIMD
 over live lanes.  Work that cannot change the answer is skipped:
 
 * a case whose scaled motion never lifts the block (|scale·a_g|·cos α ≤ g·sin α at every sample;
-  the ground acceleration is linear between samples, so the samples bound it): not overturned,
-  peak 0, no integration at all;
+  the ground acceleration is linear between samples, so the samples bound it; with a vertical
+  acceleration, max abs(scale·a_g)·cos α ≤ (g + abs(scale)·min a_v)·sin α, a conservative bound):
+  not overturned, peak 0, no integration at all;
 * intervals at rest: the lane jumps to the next sample at which the block lifts;
 * everything after overturning.
 
@@ -46,11 +47,11 @@ import numpy as np
 
 from ..core.checks import finite_array, positive
 from ..core.compile import highest_bit, kernel, parallel_kernel, prange
-from ..defaults import DEFAULT_E
+from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
-from .equation import _plain_step, _uplifts
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events
+from .equation import _gv_sample, _gv_slope, _plain_step, _uplifts
+from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events, resolve_impacts
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -78,25 +79,31 @@ _TAU = 15  # local time [s] from which the interval is still to be integrated (0
 _H = 16  # dt − tau [s]
 _TST = 17  # _advance_events' t_start and false_side in this interval
 _FS = 18
-_ROWS = 19
+_G0 = 19  # vertical factor gv = 1 + a_v/g at the start of the interval (with a_v only)
+_G1 = 20  # gv at its end
+_ROWS = 21
 
 
 @kernel
-def _lane_steps(W, acc1, nxt, base, n, dt, g, n_t):
+def _lane_steps(W, acc1, av1, nxt, base, n, dt, g, n_t):
     """One sample interval of lanes 0 … n−1 (a SIMD loop): the RK4 step, kept where it is all
     that happens in the interval (:func:`rocking.dynamics.equation._plain_step`).
 
-    ``acc1``: each lane's ground acceleration at the end of the interval [m/s²], ``nxt``: index of
-    that sample in the motions end to end (advanced where the interval is done), ``base``: index
-    of the lane's motion there, ``n_t``: samples per motion.  Returns the lanes that need
-    attention (an event, or the end of the motion) as bit masks: lanes 0 … 63, lanes 64 … 127.
+    ``acc1``: each lane's ground acceleration at the end of the interval [m/s²], ``av1``: the
+    vertical one [m/s²] or None, ``nxt``: index of that sample in the motions end to end
+    (advanced where the interval is done), ``base``: index of the lane's motion there, ``n_t``:
+    samples per motion.  Returns the lanes that need attention (an event, or the end of the
+    motion) as bit masks: lanes 0 … 63, lanes 64 … 127.
     """
     L = _LANES
     low = np.uint64(0)
     high = np.uint64(0)
     for j in range(n):
         u0 = W[_U0 * L + j]
-        u1 = W[_SC * L + j] * acc1[j] / g  # as simulate(block, scale * acc, dt)
+        sc = W[_SC * L + j]
+        u1 = sc * acc1[j] / g  # as simulate(block, scale * acc, dt)
+        g0 = None if av1 is None else W[_G0 * L + j]
+        g1 = _gv_sample(av1, j, sc, g)  # as simulate(..., av=abs(scale) * av)
         theta = W[_TH * L + j]
         omega = W[_OM * L + j]
         th1, om1, valid, plain = _plain_step(
@@ -105,6 +112,8 @@ def _lane_steps(W, acc1, nxt, base, n, dt, g, n_t):
             W[_SG * L + j],
             u0,
             (u1 - u0) / dt,
+            g0,
+            _gv_slope(g0, g1, dt),
             W[_TAU * L + j],
             W[_H * L + j],
             W[_P2 * L + j],
@@ -123,6 +132,9 @@ def _lane_steps(W, acc1, nxt, base, n, dt, g, n_t):
         W[_TAU * L + j] = 0.0 if plain else W[_TAU * L + j]
         W[_H * L + j] = dt if plain else W[_H * L + j]
         W[_U1 * L + j] = u1
+        if av1 is not None:
+            W[_G0 * L + j] = g1 if plain else g0
+            W[_G1 * L + j] = g1
         W[_TH1 * L + j] = th1
         W[_OM1 * L + j] = om1
         W[_VAL * L + j] = 1.0 if valid else 0.0
@@ -143,22 +155,57 @@ def _gather_acc(acc1, nxt, n, flat):
 
 @kernel
 def _start_case(
-    W, j, i, base, nxt_sample, state, acc, amax, dt, g, p2, sa, ca, th_ov, body, motion, scale
+    W,
+    j,
+    i,
+    base,
+    nxt_sample,
+    state,
+    acc,
+    av,
+    amax,
+    avmin,
+    dt,
+    g,
+    p2,
+    sa,
+    ca,
+    th_ov,
+    body,
+    motion,
+    scale,
 ):
     """Put case i in lane j at the first interval in which its block may lift; False (lane left
     as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
-    peak 0)."""
+    peak 0).  ``av`` (like ``acc``) and ``avmin`` (its least value per motion) [m/s²], or
+    None."""
     L = _LANES
     n_t = acc.shape[1]
     b = body[i]
     m = motion[i]
     sc = scale[i]
-    if not _uplifts(abs(sc * amax[m]) / g, sa[b], ca[b]):
+    # gv ≥ 1 + abs(sc)·min a_v/g throughout the motion (conservative: it may lift only if ...)
+    if not _uplifts(abs(sc * amax[m]) / g, _gv_sample(avmin, m, sc, g), sa[b], ca[b]):
         return False  # no need to look at the samples
     flat = acc.reshape(-1)
-    k, u0 = _rest_until_uplift(flat, m * n_t, 0, n_t, sc * flat[m * n_t] / g, sc, g, sa[b], ca[b])
+    avflat = None if av is None else av.reshape(-1)
+    k, u0, g0 = _rest_until_uplift(
+        flat,
+        avflat,
+        m * n_t,
+        0,
+        n_t,
+        sc * flat[m * n_t] / g,
+        _gv_sample(avflat, m * n_t, sc, g),
+        sc,
+        g,
+        sa[b],
+        ca[b],
+    )
     if k >= n_t - 1:
         return False
+    if av is not None:
+        W[_G0 * L + j] = g0
     base[j] = m * n_t
     nxt_sample[j] = m * n_t + k + 1
     state[j] = _REST
@@ -183,7 +230,9 @@ def _start_case(
 @kernel
 def _lane_machine(
     acc,
+    av,
     amax,
+    avmin,
     dt,
     g,
     p2,
@@ -192,6 +241,7 @@ def _lane_machine(
     tan_a,
     e,
     th_ov,
+    located,
     alpha,
     body,
     motion,
@@ -207,8 +257,10 @@ def _lane_machine(
     L = _LANES
     n_t = acc.shape[1]
     flat = acc.reshape(-1)
+    avflat = None if av is None else av.reshape(-1)
     W = np.zeros(_ROWS * L)
     acc1 = np.zeros(L)  # ground acceleration at the end of each lane's interval [m/s²]
+    av1 = None if av is None else np.zeros(L)  # vertical one [m/s²]
     nxt_sample = np.zeros(L, np.int64)  # index in flat of that sample
     case = np.full(L, -1, np.int64)
     base = np.zeros(L, np.int64)  # offset of the case's motion in flat
@@ -226,7 +278,9 @@ def _lane_machine(
             nxt_sample,
             state,
             acc,
+            av,
             amax,
+            avmin,
             dt,
             g,
             p2,
@@ -244,7 +298,9 @@ def _lane_machine(
             peak[i] = 0.0
     while live > 0:
         _gather_acc(acc1, nxt_sample, live, flat)
-        low, high = _lane_steps(W, acc1, nxt_sample, base, live, dt, g, n_t)
+        if av is not None:
+            _gather_acc(av1, nxt_sample, live, avflat)
+        low, high = _lane_steps(W, acc1, av1, nxt_sample, base, live, dt, g, n_t)
         # the lanes that need attention, from the highest down: an event, or the end of a case
         # (then the lane takes the next case, or the last live lane, handled already, moves
         # into it)
@@ -262,6 +318,7 @@ def _lane_machine(
             ov = False
             if not done:
                 u1 = W[_U1 * L + j]
+                g1 = None if av is None else W[_G1 * L + j]
                 th, om, sg, st, _ni, _te, tau, tst, fs, deferred = _advance_events(
                     W[_TH * L + j],
                     W[_OM * L + j],
@@ -269,6 +326,8 @@ def _lane_machine(
                     state[j],
                     W[_U0 * L + j],
                     u1,
+                    None if av is None else W[_G0 * L + j],
+                    g1,
                     dt,
                     W[_P2 * L + j],
                     W[_SA * L + j],
@@ -283,6 +342,7 @@ def _lane_machine(
                     W[_OM1 * L + j],
                     (state[j] == _ROCKING) & (W[_VAL * L + j] != 0.0),
                     True,
+                    located,
                 )
                 if deferred:  # the rest of the interval, from tau, in the next SIMD round
                     W[_TH * L + j] = th
@@ -307,12 +367,14 @@ def _lane_machine(
                     if abs(th) > W[_PK * L + j]:
                         W[_PK * L + j] = abs(th)
                     if st == _REST:
-                        k, u1 = _rest_until_uplift(
+                        k, u1, g1 = _rest_until_uplift(
                             flat,
+                            avflat,
                             base[j],
                             k,
                             n_t,
                             u1,
+                            g1,
                             W[_SC * L + j],
                             g,
                             W[_SA * L + j],
@@ -322,6 +384,8 @@ def _lane_machine(
                     W[_OM * L + j] = om
                     W[_SG * L + j] = sg
                     W[_U0 * L + j] = u1
+                    if av is not None:
+                        W[_G0 * L + j] = g1
                     W[_RK * L + j] = 1.0 if st == _ROCKING else 0.0
                     nxt_sample[j] = base[j] + k + 1
                     state[j] = st
@@ -341,7 +405,9 @@ def _lane_machine(
                         nxt_sample,
                         state,
                         acc,
+                        av,
                         amax,
+                        avmin,
                         dt,
                         g,
                         p2,
@@ -369,23 +435,28 @@ def _lane_machine(
 
 
 @kernel
-def _rest_until_uplift(flat, base, k, n_t, u, sc, g, sa, ca):
-    """First interval k' ≥ k of a block at rest in which it may lift (u at its start), or
-    (n_t − 1, u) if none: the intervals skipped are those where _advance leaves it at rest
-    (no uplift at either end, u linear in between)."""
+def _rest_until_uplift(flat, avflat, base, k, n_t, u, gv, sc, g, sa, ca):
+    """First interval k' ≥ k of a block at rest in which it may lift (u and gv at its start), or
+    (n_t − 1, u, gv) if none: the intervals skipped are those where _advance leaves it at rest
+    (no uplift at either end; u and gv linear in between, abs(u)·cos α − gv·sin α convex).
+    ``avflat``: the vertical accelerations end to end [m/s²], or None (then gv is None)."""
     while k < n_t - 1:
         u_next = sc * flat[base + k + 1] / g
-        if _uplifts(u, sa, ca) or _uplifts(u_next, sa, ca):
+        g_next = _gv_sample(avflat, base + k + 1, sc, g)
+        if _uplifts(u, gv, sa, ca) or _uplifts(u_next, g_next, sa, ca):
             break
         u = u_next
+        gv = g_next
         k += 1
-    return k, u
+    return k, u, gv
 
 
 @parallel_kernel
 def _cases_kernel(
     acc,
+    av,
     amax,
+    avmin,
     dt,
     g,
     p2,
@@ -394,6 +465,7 @@ def _cases_kernel(
     tan_a,
     e,
     th_ov,
+    located,
     alpha,
     body,
     motion,
@@ -406,15 +478,19 @@ def _cases_kernel(
     """Integrate the cases i = (body[i], motion[i], scale[i]) from rest, in the order ``order``
     (a permutation of the cases), ``group`` consecutive ones per lane machine.
 
-    ``acc`` (n_motions, n_t) [m/s²], ``amax`` = max|acc| per motion [m/s²], ``dt`` [s],
-    ``g`` [m/s²]; per-block constants p² [1/s²], sin α, cos α, tan α, e, overturning angle [rad],
-    α [rad].  Writes ``overturned[i]`` and ``peak[i]`` = max|θ|/α at the samples [-].
+    ``acc`` (n_motions, n_t) [m/s²], ``av`` the vertical accelerations like it or None,
+    ``amax`` = max|acc| per motion [m/s²], ``avmin`` = min ``av`` per motion or None, ``dt``
+    [s], ``g`` [m/s²]; per-block constants p² [1/s²], sin α, cos α, tan α, e, overturning angle
+    [rad], the impact scheme (``located``: bool), α [rad].  Writes ``overturned[i]`` and
+    ``peak[i]`` = max|θ|/α at the samples [-].
     """
     n = body.shape[0]
     for q in prange((n + group - 1) // group):
         _lane_machine(
             acc,
+            av,
             amax,
+            avmin,
             dt,
             g,
             p2,
@@ -423,6 +499,7 @@ def _cases_kernel(
             tan_a,
             e,
             th_ov,
+            located,
             alpha,
             body,
             motion,
@@ -442,7 +519,7 @@ class BlockTable:
     Attributes
     ----------
     p2 : ndarray
-        p² = 3g/(4R) [1/s²].
+        p² = g·R/(r_g² + R²) [1/s²] (3g/(4R) for a uniform block; :meth:`Block.p_squared`).
     sin_a, cos_a, tan_a : ndarray
         sin α, cos α, tan α of the critical angle [-].
     e : ndarray
@@ -528,12 +605,30 @@ def run_cases(
     body: np.ndarray,
     motion: np.ndarray,
     scale: np.ndarray,
+    av: np.ndarray | None = None,
+    impacts: str = IMPACT_SCHEMES[0],
 ):
-    """Unchecked kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
+    """Kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
-    ``amax`` is :func:`motion_peaks` of ``acc``.  Returns (overturned bool, peak float), shape
-    like ``body``.
+    ``amax`` is :func:`motion_peaks` of ``acc``.  ``av``: vertical ground accelerations [m/s², up
+    positive], finite, shape and samples as ``acc``, or None (no vertical motion: exactly the
+    results without it); case i scales it by abs(scale[i]) (a negative scale mirrors the
+    horizontal motion only).  ``impacts``: "located" (default) or "step-end", as in
+    :func:`rocking.simulate`.  The checks made here: a scaled ``av`` that reaches −g, and an
+    unknown ``impacts``, raise :class:`~rocking.errors.InputError`.  Returns (overturned bool,
+    peak float), shape like ``body``.
     """
+    avmin = None
+    if av is not None:
+        avmin = av.min(axis=1)
+        low = np.abs(scale) * avmin[motion]
+        if low.size and low.min() <= -table.g:
+            i = int(np.argmin(low))
+            raise InputError(
+                f"av scaled by {abs(scale[i]):g} (case {i}, motion {motion[i]}) reaches "
+                f"{low[i]:g} m/s², at or below -g = {-table.g:g} m/s²: the block would leave "
+                "the ground, which is not modelled"
+            )
     overturned = np.empty(body.shape, dtype=np.bool_)
     peak = np.empty(body.shape, dtype=np.float64)
     # about four groups per thread (dynamic scheduling), of at least _LANES cases so that the
@@ -548,7 +643,9 @@ def run_cases(
     with numba.parallel_chunksize(1):
         _cases_kernel(
             acc,
+            av,
             amax,
+            avmin,
             dt,
             table.g,
             table.p2,
@@ -557,6 +654,7 @@ def run_cases(
             table.tan_a,
             table.e,
             table.theta_ov,
+            resolve_impacts(impacts),
             table.alpha,
             body,
             motion,
@@ -569,9 +667,22 @@ def run_cases(
     return overturned, peak
 
 
-def _acc2d(acc) -> np.ndarray:
-    a = finite_array("acc", acc, ndim=(1, 2), min_len=1)
+def _acc2d(acc, name: str = "acc") -> np.ndarray:
+    a = finite_array(name, acc, ndim=(1, 2), min_len=1)
     return np.ascontiguousarray(a.reshape(1, -1) if a.ndim == 1 else a)
+
+
+def _av2d(av, acc: np.ndarray) -> np.ndarray | None:
+    """``av`` as a C-contiguous array shaped like ``acc`` (None stays None)."""
+    if av is None:
+        return None
+    a = _acc2d(av, "av")
+    if a.shape != acc.shape:
+        raise InputError(
+            f"av must have the shape of acc, {acc.shape}, got {a.shape} (one vertical "
+            "acceleration per horizontal one, at the same samples)"
+        )
+    return a
 
 
 def overturn_cases(
@@ -585,6 +696,8 @@ def overturn_cases(
     e=DEFAULT_E,
     overturn_angle=math.pi / 2,
     g: float = G,
+    av=None,
+    impacts: str = IMPACT_SCHEMES[0],
 ):
     """Overturning of an explicit list of cases (block, motion, scale), each from rest.
 
@@ -606,6 +719,11 @@ def overturn_cases(
         |θ| [rad] that counts as overturning, one for all blocks or one per block.
     g : float
         Gravity [m/s²].
+    av : array_like, shape like ``acc``, optional
+        Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
+        abs(scale) for each case; above −g after scaling.  None: no vertical motion.
+    impacts : {"located", "step-end"}
+        Impact handling, as in :func:`rocking.simulate` ("located" by default).
 
     Returns
     -------
@@ -615,6 +733,7 @@ def overturn_cases(
     """
     table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
     acc = _acc2d(acc)
+    av = _av2d(av, acc)
     dt = positive("dt", dt, "s")
     body = _index("body_index", body_index, len(table))
     motion = _index("motion_index", motion_index, acc.shape[0])
@@ -624,7 +743,7 @@ def overturn_cases(
             f"body_index, motion_index and scales must have the same length, got "
             f"{body.size}, {motion.size} and {scale.size}"
         )
-    return run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale)
+    return run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale, av, impacts)
 
 
 def _index(name: str, values, n: int) -> np.ndarray:
@@ -637,12 +756,21 @@ def _index(name: str, values, n: int) -> np.ndarray:
 
 
 def overturn_batch(
-    blocks, acc, dt: float, scales, *, e=DEFAULT_E, overturn_angle=math.pi / 2, g: float = G
+    blocks,
+    acc,
+    dt: float,
+    scales,
+    *,
+    e=DEFAULT_E,
+    overturn_angle=math.pi / 2,
+    g: float = G,
+    av=None,
+    impacts: str = IMPACT_SCHEMES[0],
 ):
     """Overturning of every block under every motion at every scale factor, each from rest.
 
-    The same answers as :func:`rocking.simulate` ``(block, scale * acc[m], dt, ...)`` case by case,
-    computed in parallel.
+    The same answers as :func:`rocking.simulate` ``(block, scale * acc[m], dt, ...)`` case by case
+    (with ``av=abs(scale) * av[m]``), computed in parallel.
 
     Parameters
     ----------
@@ -660,6 +788,11 @@ def overturn_batch(
         |θ| [rad] that counts as overturning (π/2 in the paper), one for all or one per block.
     g : float
         Gravity [m/s²].
+    av : array_like, shape like ``acc``, optional
+        Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
+        abs(scale); above −g after scaling.  None: no vertical motion.
+    impacts : {"located", "step-end"}
+        Impact handling, as in :func:`rocking.simulate` ("located" by default).
 
     Returns
     -------
@@ -669,9 +802,12 @@ def overturn_batch(
     """
     table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
     acc = _acc2d(acc)
+    av = _av2d(av, acc)
     dt = positive("dt", dt, "s")
     scales = finite_array("scales", scales, ndim=(1,), min_len=1)
     shape = (len(table), scales.size, acc.shape[0])
     body, level, motion = (np.ascontiguousarray(i.ravel()) for i in np.indices(shape))
-    overturned, peak = run_cases(table, acc, motion_peaks(acc), dt, body, motion, scales[level])
+    overturned, peak = run_cases(
+        table, acc, motion_peaks(acc), dt, body, motion, scales[level], av, impacts
+    )
     return overturned.reshape(shape), peak.reshape(shape)

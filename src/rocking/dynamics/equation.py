@@ -5,6 +5,21 @@ the response to −a_g is exactly −θ; reference.md §2):
 
     θ'' = −p²·[ sin(s·α − θ) + (a_g/g)·cos(s·α − θ) ],   s = sgn θ,   p² = 3g/(4R)      (Eq. 1)
 
+General bodies and vertical ground motion (issue 16).  For a body with I_O = M·(r_g² + R²)
+(:class:`rocking.Block` with ``r_g``) and a vertical ground acceleration a_v [m/s², up positive],
+which adds to gravity in the frame of the ground (I_O·θ'' = −M·(g + a_v)·R·sin(sα − θ) −
+M·a_g·R·cos(sα − θ)):
+
+    θ'' = −(R/(r_g² + R²))·[ (g + a_v)·sin(s·α − θ) + a_g·cos(s·α − θ) ]
+        = −p²·[ (1 + a_v/g)·sin(s·α − θ) + (a_g/g)·cos(s·α − θ) ],   p² = g·R/(r_g² + R²)  (Eq. 1)
+
+so the kernels integrate u = a_g/g and the vertical factor gv = 1 + a_v/g, both linear between
+samples; a block at rest lifts when abs(a_g) > (g + a_v)·tan α.  Without vertical motion gv is
+``None`` rather than 1.0: the ``_gv_*`` helpers below are compiled per type and, given ``None``,
+leave the horizontal-only arithmetic untouched, so such a run executes exactly the operations
+(and gives exactly the bits) of Eq. (1) without a_v, at its speed.  With a_v the same source is
+compiled a second time, with the factor.
+
 Integration (the paper's scheme): classical fourth-order Runge–Kutta with a fixed step equal to the
 motion's sample interval dt, the ground acceleration being linear between samples; within a step
 the pivot is frozen (impacts: :mod:`rocking.dynamics.impacts`).
@@ -59,6 +74,71 @@ ROTATION_DMAX = 1.0 / 32.0
 # δ⁹/9! ≤ 8e-20 and δ⁸/8! ≤ 2.3e-17 for |δ| ≤ ROTATION_DMAX.
 _T1, _T2, _T3 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0
 _K1, _K2 = 1.0 / 24.0, -1.0 / 720.0
+
+
+# --------------------------------------------------------------- the vertical factor gv = 1 + a_v/g
+# Each takes gv (or its slope) as a float, or None for no vertical motion.  They are not
+# inline="always": Numba settles their `is None` by the argument's type only in a function
+# compiled on its own (LLVM inlines them afterwards).
+
+
+@kernel
+def _gv_times(gv, x):
+    """gv·x, or x without vertical motion (gv None)."""
+    if gv is None:
+        return x
+    return gv * x
+
+
+@kernel
+def _gv_fnms(dg, x, y):
+    """y − dg·x (one fused multiply–add), or y without vertical motion (dg None)."""
+    if dg is None:
+        return y
+    return fma(-dg, x, y)
+
+
+@kernel
+def _gv_at(g0, dg, tau):
+    """gv at local time tau of a step, g0 + dg·tau (as u), or None."""
+    if g0 is None:
+        return None
+    return fma(dg, tau, g0)
+
+
+@kernel
+def _gv_ends(g0, dg, tau, h):
+    """gv at the start, middle and end of a step from tau to tau + h (as :func:`_u_ends` and
+    :func:`_rk4_rotated` compute u there), or Nones."""
+    if g0 is None:
+        return None, None, None
+    ga = fma(dg, tau, g0)
+    return ga, fma(dg * 0.5, h, ga), fma(dg, h, ga)
+
+
+@kernel
+def _gv_slope(g0, g1, dt):
+    """Slope (g1 − g0)/dt [1/s] of gv over a sample interval, or None."""
+    if g0 is None:
+        return None
+    return (g1 - g0) / dt
+
+
+@kernel
+def _gv_max(ga, gb):
+    """The larger of gv at the two ends of a step, or None."""
+    if ga is None:
+        return None
+    return ga if ga > gb else gb
+
+
+@kernel
+def _gv_sample(av, k, sc, g):
+    """gv = 1 + abs(sc)·a_v/g at sample k of ``av`` [m/s²] scaled by abs(sc) (a negative scale
+    mirrors the horizontal motion only), or None when ``av`` is None."""
+    if av is None:
+        return None
+    return 1.0 + abs(sc) * av[k] / g
 
 
 @kernel(inline="always")
@@ -126,48 +206,52 @@ def _sin_cos_terms(theta, s, sa, ca):
 
 
 @kernel(inline="always")
-def _accel(theta, s, u, p2, sa, ca):
-    """θ'' of Eq. (1) on pivot side ``s`` for ground acceleration ``u`` = a_g/g [-]."""
+def _accel(theta, s, u, gv, p2, sa, ca):
+    """θ'' of Eq. (1) on pivot side ``s`` for ground acceleration ``u`` = a_g/g [-] and vertical
+    factor ``gv`` = 1 + a_v/g [-] (or None)."""
     S, C = _sin_cos_terms(theta, s, sa, ca)
-    return -p2 * fma(u, C, S)
+    return -p2 * fma(u, C, _gv_times(gv, S))
 
 
 @kernel(inline="always")
-def _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca):
-    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second).
+def _rk4_fast(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
+    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second), and
+    gv(τ) = g0 + dg·τ (or None: no vertical motion).
     Branch-free (the batched kernel runs it in SIMD lanes): see :func:`_rk4_rotated`."""
     st, ct = _sincos(theta)
-    return _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+    return _rk4_rotated(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
 
 
 @kernel(inline="always")
-def _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca):
+def _rk4_rotated(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
     """The RK4 step of :func:`_rk4_fast` given st, ct = sin θ, cos θ.
 
     Trigonometry: the stage angles are θ + δ with small δ (δ = h/2·θ'_1, h/2·θ'_2, h·θ'_3), so
     with S = sin(sα − θ), C = cos(sα − θ) (one :func:`_sincos` of θ per step) the bracket of
-    Eq. (1) at θ + δ and ground acceleration u is
+    Eq. (1) at θ + δ, ground acceleration u and vertical factor gv is
 
-        sin(sα − θ − δ) + u·cos(sα − θ − δ) = cos δ·(S + u·C) + sin δ·(u·S − C),
+        gv·sin(sα − θ − δ) + u·cos(sα − θ − δ) = cos δ·(gv·S + u·C) + sin δ·(u·S − gv·C),
 
-    evaluated by :func:`_rot`.  Valid when |θ| ≤ SINCOS_XMAX and every |δ| ≤ ROTATION_DMAX;
-    returns (θ, θ', max|δ|) so that the caller can check the second condition.
+    evaluated by :func:`_rot` (gv·S is S when gv is None).  Valid when |θ| ≤ SINCOS_XMAX and
+    every |δ| ≤ ROTATION_DMAX; returns (θ, θ', max|δ|) so that the caller can check the second
+    condition.
     """
     ua, ub = _u_ends(u0, du, tau, h)
     um = fma(du * 0.5, h, ua)
+    ga, gm, gb = _gv_ends(g0, dg, tau, h)
     S, C = _angle_terms(st, ct, s, sa, ca)
     hh = 0.5 * h
-    # stage 1 at θ: −p²·(S + u·C); at θ = 0 its sign is that of s·sin α + u·cos α, exactly the
-    # uplift test of _advance
-    k1w = -p2 * fma(ua, C, S)
-    Pm = fma(um, C, S)
-    Qm = fma(um, S, -C)
+    # stage 1 at θ: −p²·(gv·S + u·C); at θ = 0 its sign is that of gv·s·sin α + u·cos α,
+    # exactly the uplift test of _advance
+    k1w = -p2 * fma(ua, C, _gv_times(ga, S))
+    Pm = fma(um, C, _gv_times(gm, S))
+    Qm = fma(um, S, -_gv_times(gm, C))
     d2 = hh * omega
     k2w = -p2 * _rot(Pm, Qm, d2)
     d3 = hh * fma(hh, k1w, omega)
     k3w = -p2 * _rot(Pm, Qm, d3)
     d4 = h * fma(hh, k2w, omega)
-    k4w = -p2 * _rot(fma(ub, C, S), fma(ub, S, -C), d4)
+    k4w = -p2 * _rot(fma(ub, C, _gv_times(gb, S)), fma(ub, S, -_gv_times(gb, C)), d4)
     # θ_1 = θ + h/6·(θ'_1 + 2θ'_2 + 2θ'_3 + θ'_4) = θ + h·(θ' + h/6·(θ''_1 + θ''_2 + θ''_3))
     th = fma(h, fma(h / 6.0, k1w + k2w + k3w, omega), theta)
     om = fma(h / 6.0, (k1w + k4w) + 2.0 * (k2w + k3w), omega)
@@ -186,54 +270,57 @@ def _fast_valid(theta, dmax):
 
 
 @kernel
-def _rk4_stages(theta, omega, s, u0, du, tau, h, p2, sa, ca):
+def _rk4_stages(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
     """The RK4 step of :func:`_rk4_fast` with θ'' evaluated afresh at every stage angle
     (:func:`_accel`): valid for any step, and the reference for the fast one's accuracy."""
     ua, ub = _u_ends(u0, du, tau, h)
     um = fma(du * 0.5, h, ua)
+    ga, gm, gb = _gv_ends(g0, dg, tau, h)
     hh = 0.5 * h
-    k1w = _accel(theta, s, ua, p2, sa, ca)
-    k2w = _accel(theta + hh * omega, s, um, p2, sa, ca)
-    k3w = _accel(theta + hh * fma(hh, k1w, omega), s, um, p2, sa, ca)
-    k4w = _accel(theta + h * fma(hh, k2w, omega), s, ub, p2, sa, ca)
+    k1w = _accel(theta, s, ua, ga, p2, sa, ca)
+    k2w = _accel(theta + hh * omega, s, um, gm, p2, sa, ca)
+    k3w = _accel(theta + hh * fma(hh, k1w, omega), s, um, gm, p2, sa, ca)
+    k4w = _accel(theta + h * fma(hh, k2w, omega), s, ub, gb, p2, sa, ca)
     th = fma(h, fma(h / 6.0, k1w + k2w + k3w, omega), theta)
     om = fma(h / 6.0, (k1w + k4w) + 2.0 * (k2w + k3w), omega)
     return th, om
 
 
 @kernel
-def _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca):
-    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second).
+def _rk4(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
+    """One RK4 step of length h from local time tau; u(τ) = u0 + du·τ (du per second), gv(τ) =
+    g0 + dg·τ (or None).
 
     :func:`_rk4_fast` where it is valid (nearly always), else :func:`_rk4_stages` (a very fast
     block: |θ'|·h > ROTATION_DMAX).
     """
     st, ct = _sincos_any(theta)
-    return _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+    return _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
 
 
 @kernel
-def _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca):
+def _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
     """:func:`_rk4` given st, ct = sin θ, cos θ (partial steps from one state share them)."""
-    th, om, dmax = _rk4_rotated(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+    th, om, dmax = _rk4_rotated(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
     if _fast_valid(theta, dmax):
         return th, om
-    return _rk4_stages(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+    return _rk4_stages(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
 
 
 @kernel(inline="always")
-def _no_touch(theta, omega, s, ua, ub, h, p2, sa):
+def _no_touch(theta, omega, s, ua, ub, ga, gb, h, p2, sa):
     """True when the block, at s·θ ≥ 0 on side s, cannot reach θ = 0 within a step of length h.
 
-    While 0 ≤ s·θ ≤ π/2, Eq. (1) gives −s·θ'' = p²·[sin(α − sθ) + s·u·cos(α − sθ)] ≤
-    p²·(sin α + max(0, s·u)) = a⁺ (u is linear in the step: its largest s·u is at an end), so
-    s·θ(τ) ≥ s·θ + s·θ'·τ − ½a⁺τ², a concave bound whose minimum over [0, h] is at an end:
-    s·θ ≥ 0 at τ = 0, and the test at τ = h.  ``ua``, ``ub``: u at the ends of the step.
+    While 0 ≤ s·θ ≤ π/2, Eq. (1) gives −s·θ'' = p²·[gv·sin(α − sθ) + s·u·cos(α − sθ)] ≤
+    p²·(max gv·sin α + max(0, s·u)) = a⁺ (gv > 0; u and gv are linear in the step: their largest
+    values are at an end), so s·θ(τ) ≥ s·θ + s·θ'·τ − ½a⁺τ², a concave bound whose minimum over
+    [0, h] is at an end: s·θ ≥ 0 at τ = 0, and the test at τ = h.  ``ua``, ``ub``: u at the
+    ends of the step; ``ga``, ``gb``: gv there (or None: gv = 1).
     """
     sua = _signed(s, ua)
     sub = _signed(s, ub)
     push = sua if sua > sub else sub  # ground acceleration towards θ = 0, if positive
-    amax = p2 * (sa + (push if push > 0.0 else 0.0))
+    amax = p2 * (_gv_times(_gv_max(ga, gb), sa) + (push if push > 0.0 else 0.0))
     return _signed(s, fma(omega, h, theta)) > (0.5 * h) * h * amax
 
 
@@ -245,28 +332,29 @@ def _u_ends(u0, du, tau, h):
 
 
 @kernel(inline="always")
-def _uplifts(u, sa, ca):
-    """Whether ground acceleration u = a_g/g [-] lifts a block at rest: |u|·cos α > sin α, rounded
-    once, i.e. exactly the sign of θ'' at θ = 0 in the RK4 stages (never a start with an
-    acceleration of the wrong sign)."""
-    return fma(abs(u), ca, -sa) > 0.0
+def _uplifts(u, gv, sa, ca):
+    """Whether ground acceleration u = a_g/g [-] lifts a block at rest under the vertical factor
+    gv = 1 + a_v/g (None: 1): |u|·cos α > gv·sin α, rounded once, i.e. exactly the sign of θ''
+    at θ = 0 in the RK4 stages (never a start with an acceleration of the wrong sign)."""
+    return fma(abs(u), ca, -_gv_times(gv, sa)) > 0.0
 
 
 @kernel(inline="always")
-def _plain_step(theta, omega, s, u0, du, tau, h, p2, sa, ca, th_ov):
+def _plain_step(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca, th_ov):
     """The RK4 step of a rocking block from local time tau to the end of its interval (h =
     dt − tau) and whether it is all that happens in it: no impact, no touch of θ = 0, no
     overturning, and the fast trigonometry valid.  Returns (θ_1, θ'_1, fast_valid, plain); the
     step equals :func:`_rk4`'s when fast_valid.  Branch-free (SIMD lanes of the batched kernel);
     :func:`_advance` takes the same decision with it, so both paths agree bit for bit.
     """
-    th1, om1, dmax = _rk4_fast(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+    th1, om1, dmax = _rk4_fast(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
     valid = _fast_valid(theta, dmax)
     ua, ub = _u_ends(u0, du, tau, h)
+    ga, _gm, gb = _gv_ends(g0, dg, tau, h)
     plain = (
         valid
         & (_signed(s, th1) > 0.0)
-        & _no_touch(theta, omega, s, ua, ub, h, p2, sa)
+        & _no_touch(theta, omega, s, ua, ub, ga, gb, h, p2, sa)
         & (abs(th1) < th_ov)
     )
     return th1, om1, valid, plain

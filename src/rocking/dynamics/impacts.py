@@ -1,7 +1,10 @@
 """Impacts, uplift, coming to rest and overturning: one sample interval of a rocking block.
 
 Impact at θ = 0: the pivot switches (s → −s) and θ' ← e·θ' (paper Section 2).  From rest the block
-starts to rock only when |a_g| > g·tan α, tipping to θ > 0 under a negative ground acceleration.
+starts to rock only when |a_g| > g·tan α, tipping to θ > 0 under a negative ground acceleration;
+with a vertical ground acceleration a_v, when abs(a_g) > (g + a_v)·tan α (every "g·tan α" below is
+(g + a_v)·tan α then, and the vertical factor gv = 1 + a_v/g is linear in the interval like u;
+see :mod:`rocking.dynamics.equation`).
 
 When a Runge–Kutta step (:mod:`rocking.dynamics.equation`) ends on the other side of θ = 0, or
 turns round inside the step far enough to touch it, the impact instant is located by safeguarded
@@ -20,6 +23,13 @@ is below it throughout).  |θ| in such a chatter stays below |θ''|·(CHATTER_FR
 rad for the paper's bodies at dt = 1/400 s), so the bracket of Eq. (1) is sin α ± u·cos α to that
 relative accuracy.
 
+A second, selectable impact scheme (issue 17; never the default): ``impacts="step-end"``, a
+straightforward reading of "fixed-step RK4": when a step ends on the other side of θ = 0, the
+block is put at θ = 0 on the other pivot with θ' ← e·θ' (θ' of the step's end), at the step's end;
+no impact is located inside the step and no return to θ = 0 inside a step that ends on the same
+side is looked for.  Everything else is as in the default ("located"): uplift from rest and
+overturning are located, a bounce shorter than the Zeno time ends at rest.
+
 The same compiled functions serve :func:`rocking.simulate` and the batched kernel, so they agree
 bit for bit.  Pure compiled functions of scalars; no state.
 """
@@ -29,9 +39,16 @@ from __future__ import annotations
 import math
 
 from ..core.compile import fma, kernel
+from ..defaults import IMPACT_SCHEMES
+from ..errors import InputError
 from .equation import (
     _accel,
     _angle_terms,
+    _gv_at,
+    _gv_ends,
+    _gv_fnms,
+    _gv_slope,
+    _gv_times,
     _no_touch,
     _plain_step,
     _rk4,
@@ -56,8 +73,19 @@ _ROCKING = 1
 _OVERTURNED = 2
 
 
+def resolve_impacts(impacts) -> bool:
+    """Whether an impact scheme named by the user (:data:`rocking.defaults.IMPACT_SCHEMES`:
+    "located", the default, or "step-end") locates the impacts inside the step."""
+    name = impacts.strip().lower() if isinstance(impacts, str) else impacts
+    if name not in IMPACT_SCHEMES:
+        raise InputError(
+            f"impacts must be one of {', '.join(map(repr, IMPACT_SCHEMES))}, got {impacts!r}"
+        )
+    return name == IMPACT_SCHEMES[0]
+
+
 @kernel(inline="always")
-def _locate(theta, omega, s, u0, du, tau, lo, hi, th_lo, th_hi, target, sgn, p2, sa, ca):
+def _locate(theta, omega, s, u0, du, g0, dg, tau, lo, hi, th_lo, th_hi, target, sgn, p2, sa, ca):
     """Partial step length h in [lo, hi] where the RK4 solution from (theta, omega) hits ``target``.
 
     ``th_lo``, ``th_hi``: that solution at lo and hi.  With f(h) = sgn·(θ_RK4(h) − target), the
@@ -75,14 +103,16 @@ def _locate(theta, omega, s, u0, du, tau, lo, hi, th_lo, th_hi, target, sgn, p2,
     h = -1.0
     if lo == 0.0:
         S, C = _angle_terms(st, ct, s, sa, ca)
-        h = _taylor_root(theta, S, C, omega, fma(du, tau, u0), du, hi, target, p2)
+        h = _taylor_root(
+            theta, S, C, omega, fma(du, tau, u0), du, _gv_at(g0, dg, tau), dg, hi, target, p2
+        )
     if h < 0.0:
         flo = sgn * (th_lo - target)
         fhi = sgn * (th_hi - target)
         h = lo - (hi - lo) * flo / (fhi - flo) if fhi > flo else 0.5 * (lo + hi)
         if not (lo < h < hi):
             h = 0.5 * (lo + hi)
-    th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+    th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
     for _ in range(100):
         f = sgn * (th - target)
         if f == 0.0:
@@ -95,27 +125,28 @@ def _locate(theta, omega, s, u0, du, tau, lo, hi, th_lo, th_hi, target, sgn, p2,
         if om != 0.0:
             step = (th - target) / om
             # the error left by this Newton correction is about θ''·step²/(2θ') [s]
-            acc = _accel(th, s, fma(du, tau + h, u0), p2, sa, ca)
+            acc = _accel(th, s, fma(du, tau + h, u0), _gv_at(g0, dg, tau + h), p2, sa, ca)
             if abs(acc) * step * step <= 2e-15 * abs(om) and lo <= h - step <= hi:
                 return h - step, target, fma(-acc, step, om)
             if lo < h - step < hi:
                 hn = h - step
         h = hn
-        th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, h, p2, sa, ca)
+        th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
     return h, th, om
 
 
 @kernel(inline="always")
-def _taylor_root(theta, S, C, omega, u, du, hi, target, p2):
+def _taylor_root(theta, S, C, omega, u, du, gv, dg, hi, target, p2):
     """First root in (0, hi) of θ + θ'·τ + θ''·τ²/2 + θ'''·τ³/6 = target, the Taylor cubic of
-    Eq. (1) at the state (theta, omega) with ground acceleration u + du·τ; −1 if none is found.
+    Eq. (1) at the state (theta, omega) with ground acceleration u + du·τ and vertical factor
+    gv + dg·τ (None: 1); −1 if none is found.
 
-    θ'' = −p²·(S + u·C) with S = sin(sα − θ), C = cos(sα − θ), hence
-    θ''' = p²·((C − u·S)·θ' − C·du) (S and C given).  From the first root of the quadratic, one
-    Newton step.
+    θ'' = −p²·(gv·S + u·C) with S = sin(sα − θ), C = cos(sα − θ), hence
+    θ''' = p²·((gv·C − u·S)·θ' − C·du − S·dg) (S and C given).  From the first root of the
+    quadratic, one Newton step.
     """
-    a = -p2 * fma(u, C, S)
-    jerk = p2 * (fma(-u, S, C) * omega - C * du)
+    a = -p2 * fma(u, C, _gv_times(gv, S))
+    jerk = p2 * _gv_fnms(dg, S, fma(-u, S, _gv_times(gv, C)) * omega - C * du)
     c0 = theta - target
     qa = 0.5 * a
     disc = omega * omega - 4.0 * qa * c0
@@ -171,7 +202,7 @@ def _hermite_min(theta, omega, th1, om1, s, h):
 
 
 @kernel(inline="always")
-def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
+def _interior_touch(theta, omega, th1, om1, s, u0, du, g0, dg, tau, h, p2, sa, ca):
     """Bracket (lo, hi, θ(lo), θ(hi)) of partial step lengths around the first return to θ = 0
     inside a step that ends on the same side (s·θ > 0 at lo, ≤ 0 at hi), or lo = hi = −1 if none
     is found.
@@ -182,12 +213,13 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
     the cubic's error exceeds θ itself).
     """
     ua, ub = _u_ends(u0, du, tau, h)
-    if _no_touch(theta, omega, s, ua, ub, h, p2, sa):
+    ga, _gm, gb = _gv_ends(g0, dg, tau, h)
+    if _no_touch(theta, omega, s, ua, ub, ga, gb, h, p2, sa):
         return -1.0, -1.0, 0.0, 0.0
     st, ct = _sincos_any(theta)
     hm = _hermite_min(theta, omega, th1, om1, s, h)
     if hm > 0.0:
-        tm, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, hm, p2, sa, ca)
+        tm, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, hm, p2, sa, ca)
         if s * tm <= 0.0:
             return 0.0, hm, theta, tm
     # all probes are computed (independent: the CPU overlaps them), the first touch is kept
@@ -199,7 +231,7 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca):
     th_prev = theta
     for j in range(1, _N_PROBES):
         hj = h * j / _N_PROBES
-        tj, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, tau, hj, p2, sa, ca)
+        tj, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, hj, p2, sa, ca)
         if hi < 0.0:
             if s * tj <= 0.0:
                 lo = prev
@@ -231,9 +263,10 @@ def _chatter_impacts(t0, e, dt):
 
 
 @kernel
-def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
+def _advance(theta, omega, s, state, u0, u1, g0, g1, dt, p2, sa, ca, tan_a, e, th_ov, located):
     """Advance a block over one sample interval [0, dt] of linear ground acceleration u0 → u1 (in
-    g).
+    g) and vertical factor g0 → g1 (1 + a_v/g; both None: no vertical motion); impacts located
+    inside the step, or (``located`` False) at the end of a step that changes side.
 
     Returns (theta, omega, s, state, n_impacts, t_event): ``t_event`` is the local time of
     overturning within the interval [s], or −1.
@@ -242,8 +275,9 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
     om1 = 0.0
     valid = False
     if state == _ROCKING:
+        dg = _gv_slope(g0, g1, dt)
         th1, om1, valid, plain = _plain_step(
-            theta, omega, s, u0, (u1 - u0) / dt, 0.0, dt, p2, sa, ca, th_ov
+            theta, omega, s, u0, (u1 - u0) / dt, g0, dg, 0.0, dt, p2, sa, ca, th_ov
         )
         if plain:
             return th1, om1, s, state, 0, -1.0
@@ -254,6 +288,8 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
         state,
         u0,
         u1,
+        g0,
+        g1,
         dt,
         p2,
         sa,
@@ -268,6 +304,7 @@ def _advance(theta, omega, s, state, u0, u1, dt, p2, sa, ca, tan_a, e, th_ov):
         om1,
         valid,
         False,
+        located,
     )
     return r[0], r[1], r[2], r[3], r[4], r[5]
 
@@ -280,6 +317,8 @@ def _advance_events(
     state,
     u0,
     u1,
+    g0,
+    g1,
     dt,
     p2,
     sa,
@@ -294,9 +333,11 @@ def _advance_events(
     om_step,
     have_step,
     defer,
+    located,
 ):
     """:func:`_advance` of the part [tau, dt] of an interval whose next step is not plain (see
-    :func:`_plain_step`): impacts, uplift, coming to rest, overturning.
+    :func:`_plain_step`): impacts, uplift, coming to rest, overturning.  ``located``: the impact
+    scheme (False: "step-end", see the module docstring).
 
     ``t_start``: local time of the last start from rest in this interval (−1: none);
     ``false_side``: sign of u of a start that landed at once (no restart on that side; 0: none).
@@ -311,18 +352,19 @@ def _advance_events(
     goes on from tau' < dt (else it is done).
     """
     du = (u1 - u0) / dt
+    dg = _gv_slope(g0, g1, dt)
     n_imp = 0
     t_event = -1.0
     hand_over = False  # with defer: the next step is likely plain, leave it to the caller
     for _ in range(_MAX_EVENTS_PER_STEP):
         if state == _REST:
             ua = fma(du, tau, u0)
-            if _uplifts(ua, sa, ca) and ua * false_side <= 0.0:
+            if _uplifts(ua, _gv_at(g0, dg, tau), sa, ca) and ua * false_side <= 0.0:
                 tstart = tau
-            elif _uplifts(u1, sa, ca) and u1 * false_side <= 0.0:
-                # linear u crosses ±tan α inside the rest of the interval
+            elif _uplifts(u1, g1, sa, ca) and u1 * false_side <= 0.0:
+                # linear u crosses ±gv·tan α (gv linear too) inside the rest of the interval
                 thr = tan_a if u1 > 0.0 else -tan_a
-                tstart = (thr - u0) / du
+                tstart = (_gv_times(g0, thr) - u0) / _gv_fnms(dg, thr, du)
                 if tstart < tau:
                     tstart = tau
             else:
@@ -348,24 +390,27 @@ def _advance_events(
         elif hand_over:
             return theta, omega, s, state, n_imp, t_event, tau, t_start, false_side, True
         else:
-            th1, om1 = _rk4(theta, omega, s, u0, du, tau, h, p2, sa, ca)
+            th1, om1 = _rk4(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
         lo = 0.0
         hit = -1.0
         th_lo = theta
         th_hi = th1
         if s * th1 < 0.0 or (th1 == 0.0 and s * om1 < 0.0):
             hit = h
-        else:
+        elif located:
             lo, hit, th_lo, th_hi = _interior_touch(
-                theta, omega, th1, om1, s, u0, du, tau, h, p2, sa, ca
+                theta, omega, th1, om1, s, u0, du, g0, dg, tau, h, p2, sa, ca
             )
         if hit > 0.0:
-            hz, thz, omz = _locate(
-                theta, omega, s, u0, du, tau, lo, hit, th_lo, th_hi, 0.0, -s, p2, sa, ca
-            )
+            if located:
+                hz, thz, omz = _locate(
+                    theta, omega, s, u0, du, g0, dg, tau, lo, hit, th_lo, th_hi, 0.0, -s, p2, sa, ca
+                )
+            else:  # "step-end": the impact is taken at the end of the step, with its θ'
+                hz, omz = h, om1
             tau += hz
             if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
-                # Back at θ = 0 within the Zeno time of starting: |a_g| fell below g·tan α
+                # Back at θ = 0 within the Zeno time of starting: |a_g| fell below gv·g·tan α
                 # again at once (it exceeded it by a few ulps). The block never left the
                 # ground. u is linear in the interval, so |u| keeps falling on this side: a
                 # restart on it would land again at the same instant, forever; only a
@@ -381,7 +426,8 @@ def _advance_events(
             theta = 0.0
             # Zeno check: how long would the next free flight last?
             ua, ub = _u_ends(u0, du, tau, dt - tau)
-            acc0 = -p2 * fma(ua, ca, s * sa)  # θ'' at θ = 0 on the new side
+            ga, _gm, gb = _gv_ends(g0, dg, tau, dt - tau)
+            acc0 = -p2 * fma(ua, ca, _gv_times(ga, s * sa))  # θ'' at θ = 0 on the new side
             if omega == 0.0 or (
                 acc0 * omega < 0.0 and 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)
             ):
@@ -391,23 +437,26 @@ def _advance_events(
                 e < 1.0
                 and acc0 * omega < 0.0
                 and 2.0 * abs(omega) < CHATTER_FRACTION * dt * abs(acc0)
-                and fma(abs(ua), ca, -sa) < 0.0
+                and fma(abs(ua), ca, -_gv_times(ga, sa)) < 0.0
             ):
-                # a chatter that cannot lift off (no uplift at either end, u linear): summed
-                t_end = tau + _chatter_time(omega, acc0, -p2 * fma(ua, ca, -s * sa), e)
-                if t_end < dt and fma(abs(fma(du, t_end, u0)), ca, -sa) < 0.0:
+                # a chatter that cannot lift off (no uplift at either end; u and gv linear, so
+                # abs(u)·cos α − gv·sin α is convex in between): summed
+                acc_o = -p2 * fma(ua, ca, _gv_times(ga, -s * sa))
+                t_end = tau + _chatter_time(omega, acc0, acc_o, e)
+                sa_end = _gv_times(_gv_at(g0, dg, t_end), sa)
+                if t_end < dt and fma(abs(fma(du, t_end, u0)), ca, -sa_end) < 0.0:
                     n_imp += _chatter_impacts(2.0 * abs(omega / acc0), e, dt)
                     tau = t_end
                     omega = 0.0
                     state = _REST
                     continue
             # a block that cannot come back to θ = 0 before dt (not a bounce of a chatter)
-            hand_over = defer and _no_touch(0.0, omega, s, ua, ub, dt - tau, p2, sa)
+            hand_over = defer and _no_touch(0.0, omega, s, ua, ub, ga, gb, dt - tau, p2, sa)
             continue
         if abs(th1) >= th_ov:
             target = th_ov if th1 > 0.0 else -th_ov
             hz, thz, omz = _locate(
-                theta, omega, s, u0, du, tau, 0.0, h, theta, th1, target, s, p2, sa, ca
+                theta, omega, s, u0, du, g0, dg, tau, 0.0, h, theta, th1, target, s, p2, sa, ca
             )
             t_event = tau + hz
             theta = thz

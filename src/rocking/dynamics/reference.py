@@ -9,6 +9,10 @@ keeps its full order (steps across a kink would be rejected again and again).  T
 the impact (θ = 0) and for overturning (|θ| = overturn angle); uplift from rest located exactly on
 the linearly interpolated ground acceleration.  It is slow (about 0.1 s per 4 s of motion at
 1/100 s) and meant for verification, not for production runs.
+
+Eq. (1) is written here from its physical form, I_O·θ'' = −M·R·[(g + a_v)·sin(sα − θ) +
+a_g·cos(sα − θ)] with I_O = M·(r_g² + R²) (:meth:`rocking.Block.radius_of_gyration`), libm
+trigonometry and no other shortcut; uplift from rest when abs(a_g) > (g + a_v)·tan α.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from scipy.integrate import solve_ivp
 
 from ..core.checks import finite_array, positive
 from ..defaults import DEFAULT_E
+from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .simulate import RockingResponse
 
@@ -35,6 +40,7 @@ def simulate_reference(
     e=DEFAULT_E,
     overturn_angle=math.pi / 2,
     g: float = G,
+    av=None,
     rtol: float = 1e-10,
     atol: float = 1e-12,
     max_step: float | None = None,
@@ -42,24 +48,50 @@ def simulate_reference(
     """Rocking response by ``solve_ivp`` (DOP853) with event location; starts from rest.
 
     Parameters as :func:`rocking.simulate`: ``ag`` [m/s²] sampled at ``dt`` [s], linear between
-    samples; ``e`` [-]; ``overturn_angle`` [rad]; ``g`` [m/s²]; ``rtol``/``atol`` are the
-    integrator's tolerances; ``max_step`` [s] caps its step (default: none, a step never crosses
-    a sample of the ground motion anyway).
+    samples; ``e`` [-]; ``overturn_angle`` [rad]; ``g`` [m/s²]; ``av`` [m/s², up positive] the
+    vertical ground acceleration at the same samples, above −g (None: zero); ``rtol``/``atol``
+    are the integrator's tolerances; ``max_step`` [s] caps its step (default: none, a step never
+    crosses a sample of the ground motion anyway).  Events are found from the values at the
+    ends of the integrator's steps, so a bounce much shorter than a step can go unseen (a
+    minimum of θ inside a step is looked for, but a chatter of tiny bounces may still be
+    missed); ``max_step = dt/2`` guards against it at twice the cost.
     """
     dt = positive("dt", dt, "s")
-    u = finite_array("ag", ag) / positive("g", g, "m/s²")
+    g = positive("g", g, "m/s²")
+    a_g = finite_array("ag", ag)
+    n = a_g.size
+    a_v = np.zeros(n) if av is None else finite_array("av", av)
+    if a_v.size != n or a_v.min() <= -g:
+        raise InputError("av must have the samples of ag, all above -g")
     e_val = resolve_e(e, block)
     th_ov = resolve_overturn_angle(overturn_angle, block)
     alpha = block.alpha
-    sa, ca, tan_a = math.sin(alpha), math.cos(alpha), math.tan(alpha)
-    p2 = block.p_squared(g)
-    n = u.size
+    tan_a = math.tan(alpha)
+    # M·R/I_O [1/m]
+    k_mr = block.R / (block.radius_of_gyration**2 + block.R**2)
     times = np.arange(n) * dt
     cap = math.inf if max_step is None else positive("max_step", max_step, "s")
 
-    def u_at(j, t):
-        """u at time t of interval j (from sample j to sample j + 1)."""
-        return u[j] + (u[j + 1] - u[j]) * ((t - times[j]) / dt)
+    def at(x, j, t):
+        """x (a_g or a_v) at time t of interval j (from sample j to sample j + 1) [m/s²]."""
+        return x[j] + (x[j + 1] - x[j]) * ((t - times[j]) / dt)
+
+    def excess(j, t):
+        """abs(a_g) − (g + a_v)·tan α at time t of interval j: > 0 lifts a block at rest."""
+        return abs(at(a_g, j, t)) - (g + at(a_v, j, t)) * tan_a
+
+    def equation(side, j):
+        """Right-hand side of Eq. (1) as a first-order system, (θ, θ') → (θ', θ''), on pivot
+        side ``side`` in interval j (a_g and a_v linear in it)."""
+        tj, gj, aj = times[j], g + a_v[j], a_g[j]
+        dgj, daj = (a_v[j + 1] - a_v[j]) / dt, (a_g[j + 1] - a_g[j]) / dt
+
+        def rhs(t, yy):
+            c = side * alpha - yy[0]
+            tt = t - tj
+            return [yy[1], -k_mr * ((gj + dgj * tt) * math.sin(c) + (aj + daj * tt) * math.cos(c))]
+
+        return rhs
 
     theta_out = np.zeros(n)
     omega_out = np.zeros(n)
@@ -74,17 +106,22 @@ def simulate_reference(
 
     while j < n - 1:
         if rest:
-            # first time from t_cur on at which |u| exceeds tan α (u linear between samples)
-            if abs(u_at(j, t_cur)) <= tan_a:
-                idx = np.nonzero(np.abs(u[j + 1 :]) > tan_a)[0]
+            # first time from t_cur on at which abs(a_g) exceeds (g + a_v)·tan α (both linear
+            # between samples: on the side of a_g at the first sample beyond, a_g ∓ (g + a_v)·tan α
+            # is linear in the interval before it and changes sign there)
+            if excess(j, t_cur) <= 0.0:
+                over = np.abs(a_g[j + 1 :]) - (g + a_v[j + 1 :]) * tan_a
+                idx = np.nonzero(over > 0.0)[0]
                 if idx.size == 0:
                     break
                 k = j + 1 + idx[0]
-                thr = math.copysign(tan_a, u[k])
-                t_start = (k - 1) * dt + (thr - u[k - 1]) / (u[k] - u[k - 1]) * dt
+                sgn = math.copysign(1.0, a_g[k])
+                f0 = sgn * a_g[k - 1] - (g + a_v[k - 1]) * tan_a
+                f1 = sgn * a_g[k] - (g + a_v[k]) * tan_a
+                t_start = (k - 1) * dt + f0 / (f0 - f1) * dt
                 if t_start > t_cur:
                     j, t_cur = k - 1, t_start  # the block stays at rest (θ = 0) until then
-            s = -1.0 if u_at(j, t_cur) > 0.0 else 1.0
+            s = -1.0 if at(a_g, j, t_cur) > 0.0 else 1.0
             y = np.zeros(2)
             t_seg = t_cur
             rest = False
@@ -93,11 +130,8 @@ def simulate_reference(
             theta_out[j + 1], omega_out[j + 1] = y
             j += 1
             continue
-        side, uj, du, tj = s, u[j], (u[j + 1] - u[j]) / dt, times[j]
-
-        def rhs(t, yy):
-            c = side * alpha - yy[0]
-            return [yy[1], -p2 * (math.sin(c) + (uj + du * (t - tj)) * math.cos(c))]
+        side = s
+        rhs = equation(side, j)
 
         def hit_zero(t, yy):
             # At the flight's start θ = 0 exactly (impact or uplift); report the side's sign there
@@ -154,7 +188,7 @@ def simulate_reference(
             n_imp += 1
             s = -s
             t_seg = t_cur
-            acc0 = -p2 * (s * sa + u_at(j, t_cur) * ca)
+            acc0 = equation(s, j)(t_cur, (0.0, 0.0))[1]
             if w == 0.0 or (acc0 * w < 0.0 and 2.0 * abs(w) / abs(acc0) < REST_FLIGHT_TIME):
                 rest = True  # samples while at rest keep θ = θ' = 0
             y = np.array([0.0, w])

@@ -13,15 +13,18 @@ import numpy as np
 
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import kernel
-from ..defaults import DEFAULT_E
+from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance
+from .impacts import _OVERTURNED, _REST, _ROCKING, _advance, resolve_impacts
 
 
 @kernel
-def _simulate_kernel(u, dt, p2, sa, ca, tan_a, e, th_ov, theta0, omega0, theta_out, omega_out):
-    """Integrate one block over the whole motion ``u`` = a_g/g [-] sampled at dt [s].
+def _simulate_kernel(
+    u, gv, dt, p2, sa, ca, tan_a, e, th_ov, located, theta0, omega0, theta_out, omega_out
+):
+    """Integrate one block over the whole motion ``u`` = a_g/g [-] sampled at dt [s], with the
+    vertical factor ``gv`` = 1 + a_v/g [-] at the same samples (None: no vertical motion).
 
     Writes θ [rad] and θ' [rad/s] at every sample into the output arrays (NaN after overturning).
     Returns (overturned, t_overturn [s] or NaN, n_impacts, max|θ| [rad]).
@@ -52,8 +55,10 @@ def _simulate_kernel(u, dt, p2, sa, ca, tan_a, e, th_ov, theta0, omega0, theta_o
             theta_out[k + 1] = math.nan
             omega_out[k + 1] = math.nan
             continue
+        g0 = None if gv is None else gv[k]
+        g1 = None if gv is None else gv[k + 1]
         theta, omega, s, state, ni, tev = _advance(
-            theta, omega, s, state, u[k], u[k + 1], dt, p2, sa, ca, tan_a, e, th_ov
+            theta, omega, s, state, u[k], u[k + 1], g0, g1, dt, p2, sa, ca, tan_a, e, th_ov, located
         )
         n_imp += ni
         if state == _OVERTURNED:
@@ -126,6 +131,21 @@ class RockingResponse:
         }
 
 
+def _vertical_factor(av, n_t: int, g: float) -> np.ndarray:
+    """gv = 1 + a_v/g [-] at the samples of the vertical ground acceleration ``av`` [m/s²], after
+    checking that it has ``n_t`` finite samples, all above −g [m/s²]."""
+    av = finite_array("av", av, ndim=(1,), min_len=1)
+    if av.size != n_t:
+        raise InputError(f"av has {av.size} samples but ag has {n_t}: give both at the same times")
+    low = float(av.min())
+    if low <= -g:
+        raise InputError(
+            f"av reaches {low:g} m/s², at or below -g = {-g:g} m/s²: the block would leave "
+            "the ground, which is not modelled"
+        )
+    return 1.0 + av / g
+
+
 def simulate(
     block: Block,
     ag,
@@ -136,8 +156,13 @@ def simulate(
     theta0: float = 0.0,
     omega0: float = 0.0,
     g: float = G,
+    av=None,
+    impacts: str = IMPACT_SCHEMES[0],
 ) -> RockingResponse:
     """Rocking response of ``block`` to the ground acceleration history ``ag``.
+
+    Eq. (1) of :mod:`rocking.dynamics.equation`: θ'' = −p²·[(1 + a_v/g)·sin(sα − θ) +
+    (a_g/g)·cos(sα − θ)] with p² = g·R/(r_g² + R²) (3g/(4R) for a uniform block).
 
     Parameters
     ----------
@@ -149,13 +174,23 @@ def simulate(
         Sample interval [s]; also the Runge–Kutta step (the paper uses 1/400 s).
     e : float or "housner"
         Coefficient of restitution θ'⁺/θ'⁻ [-] in (0, 1]; the paper's 0.925 by default;
-        ``"housner"`` gives 1 − 1.5·sin²α.
+        ``"housner"`` gives 1 − 1.5·sin²α (:meth:`Block.housner_e` for a general body).
     overturn_angle : float or "alpha"
         |θ| [rad] at which the block counts as overturned: π/2 (the paper) or ``"alpha"``.
     theta0, omega0 : float
         Initial rotation [rad] and angular velocity [rad/s]; rest by default.
     g : float
         Gravity [m/s²].
+    av : array_like, shape (n_t,), optional
+        Vertical ground acceleration [m/s², up positive] at the samples of ``ag`` (linear in
+        between), which adds to gravity: the block lifts from rest when abs(a_g) > (g + a_v)·tan α.
+        Every sample must exceed −g (at −g the block would leave the ground, which is not
+        modelled).  None (default): no vertical motion, exactly as without it.
+    impacts : {"located", "step-end"}
+        Impact handling: "located" (default) finds the instant of each impact inside the
+        Runge–Kutta step; "step-end", a plain fixed-step scheme kept for comparison (issue 17),
+        puts θ = 0 and θ' ← e·θ' at the end of a step that ends on the other side of θ = 0
+        (:mod:`rocking.dynamics.impacts`).
 
     Returns
     -------
@@ -166,6 +201,8 @@ def simulate(
     dt = positive("dt", dt, "s")
     g = positive("g", g, "m/s²")
     ag = finite_array("ag", ag, ndim=(1,), min_len=1)
+    gv = None if av is None else _vertical_factor(av, ag.size, g)
+    located = resolve_impacts(impacts)
     e_val = resolve_e(e, block)
     th_ov = resolve_overturn_angle(overturn_angle, block)
     theta0 = in_range("theta0", theta0, -math.pi / 2, math.pi / 2, unit="rad")
@@ -180,6 +217,7 @@ def simulate(
     omega = np.empty_like(ag)
     overturned, t_ov, n_imp, peak = _simulate_kernel(
         ag / g,
+        gv,
         dt,
         block.p_squared(g),
         math.sin(alpha),
@@ -187,6 +225,7 @@ def simulate(
         math.tan(alpha),
         e_val,
         th_ov,
+        located,
         theta0,
         omega0,
         theta,
