@@ -207,3 +207,26 @@ def test_screen_with_a_hazard_curve_gives_each_item_its_annual_rate(tmp_path):
             floor_motions="paper",
             progress=False,
         )
+
+
+def test_vertical_components_go_with_their_motions(ens):
+    # Each motion's vertical component is scaled with it: the IDA counts what simulate gives
+    # with (f·a_g, f·a_v) for the motion's own factor f (the batched kernel and the scalar
+    # integrator, each with a_v, are compared bit for bit in tests/test_vertical.py).
+    av = ens.acc[::-1]  # another motion of the ensemble as the vertical: as strong as a_g
+    both = rocking.Ensemble(ens.acc, ens.dt, ens.labels, av=av)
+    levels = [0.3, 0.5, 0.7]
+    ds = rocking.fragility_analysis(BLOCKS, both, im="pga", levels=levels, n_boot=0, progress=False)
+    for i, level in enumerate(levels):
+        factors = level / both.pga
+        for b, block in enumerate(BLOCKS):
+            expected = [
+                rocking.simulate(block, f * a, both.dt, av=f * v).overturned
+                for f, a, v in zip(factors, both.acc, av)
+            ]
+            np.testing.assert_array_equal(ds["overturned"].values[b, i], expected)
+    # and the vertical motion matters here (else the test could not tell)
+    flat = rocking.fragility_analysis(
+        BLOCKS, ens, im="pga", levels=levels, n_boot=0, progress=False
+    )
+    assert not np.array_equal(flat["overturned"].values, ds["overturned"].values)

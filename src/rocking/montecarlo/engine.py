@@ -134,13 +134,19 @@ class Engine:
     def _params(self) -> dict:
         t = self.table
         return {
-            "bodies": [[b.R, b.gamma] for b in self.blocks],
+            "bodies": [[b.R, b.gamma, b.r_g] for b in self.blocks],
+            "p2": t.p2.tolist(),
             "e": t.e.tolist(),
             "overturn_angle": t.theta_ov.tolist(),
             "g": t.g,
             "level_unit_g": LEVEL_UNIT,
             "motions": [
-                {"dt": ens.dt, "shape": list(ens.acc.shape), "sha256": array_digest(ens.acc)}
+                {
+                    "dt": ens.dt,
+                    "shape": list(ens.acc.shape),
+                    "sha256": array_digest(ens.acc),
+                    "vertical_sha256": None if ens.av is None else array_digest(ens.av),
+                }
                 for ens in self.cases
             ],
             "scaling": {
@@ -171,7 +177,13 @@ class Engine:
     def _data(self):
         if self._handle is None:
             cases = [
-                (np.ascontiguousarray(ens.acc), motion_peaks(ens.acc), ens.dt) for ens in self.cases
+                (
+                    np.ascontiguousarray(ens.acc),
+                    motion_peaks(ens.acc),
+                    ens.dt,
+                    None if ens.av is None else np.ascontiguousarray(ens.av),
+                )
+                for ens in self.cases
             ]
             self._handle = self.backend.scatter({"table": self.table, "cases": cases})
         return self._handle
@@ -244,14 +256,15 @@ def run_chunk(data: dict, task: tuple):
 
     Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process, which
     is why it
-    lives in this light module.  ``data`` = {"table": BlockTable, "cases": [(acc, amax, dt), …]}
+    lives in this light module.  ``data`` = {"table": BlockTable, "cases": [(acc, amax, dt, av),
+    …]} (``av``: the vertical accelerations, or None)
     (one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
     indices (n_pairs,) int64, scale factors of every motion (n_pairs, n_motions) float64).
 
     Returns (overturned, peak), shape (n_pairs, n_motions).
     """
     c, body, scale = task
-    acc, amax, dt = data["cases"][c]
+    acc, amax, dt, av = data["cases"][c]
     n_m = acc.shape[0]
     overturned, peak = run_cases(
         data["table"],
@@ -261,5 +274,6 @@ def run_chunk(data: dict, task: tuple):
         np.repeat(body, n_m),
         np.tile(np.arange(n_m, dtype=np.int64), body.size),
         scale.ravel(),
+        av=av,
     )
     return overturned.reshape(body.size, n_m), peak.reshape(body.size, n_m)
