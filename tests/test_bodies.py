@@ -5,8 +5,9 @@ import math
 
 import pytest
 
+import rocking
 from rocking.assessment.bodies import NamedBody, read_bodies, read_bodies_table
-from rocking.dynamics.body import Block
+from rocking.dynamics.body import Block, G
 from rocking.errors import InputError
 
 
@@ -70,3 +71,27 @@ def test_errors_name_file_row_and_problem(tmp_path, text, where, problem):
 def test_missing_file_is_an_input_error(tmp_path):
     with pytest.raises(InputError, match="nope.csv: cannot read"):
         read_bodies(tmp_path / "nope.csv")
+
+
+def test_general_bodies_from_mass_properties(tmp_path):
+    # A cabinet whose mass sits low: h_cg = 0.6 m, b = 0.3 m, r_g = 0.5 m; p² = g·R/(r_g² + R²)
+    # with R = sqrt(h_cg² + b²) (rigid body about the pivot, parallel-axis theorem)
+    path = _write(tmp_path, "name,h_cg [m],b [m],r_g [m]\ncabinet,0.6,0.3,0.5\n")
+    (body,) = read_bodies_table(path)
+    R = math.hypot(0.6, 0.3)
+    assert math.isclose(body.block.R, R, rel_tol=1e-15)
+    assert math.isclose(body.block.gamma, 2.0, rel_tol=1e-15)
+    assert math.isclose(body.block.p_squared(), G * R / (0.25 + R**2), rel_tol=1e-14)
+    with pytest.raises(InputError, match="missing column"):
+        read_bodies(_write(tmp_path, "h_cg,b\n0.6,0.3\n"))
+    with pytest.raises(InputError, match="not a mix"):
+        read_bodies(_write(tmp_path, "h_cg,b,r_g,R\n0.6,0.3,0.5,1\n"))
+    inventory = tmp_path / "inv.csv"
+    inventory.write_text(
+        "name,h_cg,b,r_g,location\ncabinet,0.6,0.3,0.5,ground\nrack,1,0.2,,ground\n"
+    )
+    with pytest.raises(InputError, match="rack.*r_g"):
+        rocking.read_inventory(inventory)
+    inventory.write_text("name,h_cg,b,r_g,location\ncabinet,0.6,0.3,0.5,ground\n")
+    (item,) = rocking.read_inventory(inventory)
+    assert item.block == body.block

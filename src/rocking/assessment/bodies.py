@@ -1,7 +1,11 @@
 """Lists of bodies read from CSV files.
 
 Format: a header row, then one body per row. Either columns ``R`` [m] and ``gamma`` [-], or
-``H`` [m] and ``B`` [m] (height and width); an optional ``name`` column. Headers are matched
+``H`` [m] and ``B`` [m] (height and width), or, for a body whose mass is not uniform, ``h_cg``
+[m] (height of the centre of mass), ``b`` [m] (horizontal distance from the centre of mass to
+each pivot edge: in a file with ``h_cg``, ``b`` is that distance, not the width) and ``r_g``
+[m] (radius of gyration about the centre of mass; :meth:`rocking.Block.from_mass_properties`);
+an optional ``name`` column. Headers are matched
 without regard to case or spaces and may carry a unit in brackets (``R [m]``, ``H (m)``);
 ``γ`` is accepted for ``gamma``. Blank lines and lines starting with ``#`` are skipped. Example::
 
@@ -27,8 +31,20 @@ from ..dynamics.body import Block
 from ..errors import InputError
 
 #: Accepted column names (lower case, without units) and the canonical name they stand for.
-_ALIASES = {"r": "R", "gamma": "gamma", "γ": "gamma", "h": "H", "b": "B", "name": "name"}
-_UNITS = {"R": "m", "gamma": "-", "H": "m", "B": "m"}
+_ALIASES = {
+    "r": "R",
+    "gamma": "gamma",
+    "γ": "gamma",
+    "h": "H",
+    "b": "B",
+    "h_cg": "h_cg",
+    "r_g": "r_g",
+    "radius_of_gyration": "r_g",
+    "name": "name",
+}
+_UNITS = {"R": "m", "gamma": "-", "H": "m", "B": "m", "h_cg": "m", "b": "m", "r_g": "m"}
+#: The sets of size columns, one of which a file gives.
+_SIZES = ({"R", "gamma"}, {"H", "B"}, {"h_cg", "b", "r_g"})
 
 
 @dataclass(frozen=True)
@@ -95,11 +111,14 @@ def read_bodies_table(path) -> list[NamedBody]:
             )
         values = dict(zip(columns, cells))
         size = {k: _number(where, k, v) for k, v in values.items() if k != "name"}
-        block = (
-            Block(size["R"], size["gamma"])
-            if "R" in size
-            else Block.from_dimensions(size["H"], size["B"])
-        )
+        if "R" in size:
+            block = Block(size["R"], size["gamma"])
+        elif "h_cg" in size:
+            block = Block.from_mass_properties(
+                size["h_cg"], size["b"], radius_of_gyration=size["r_g"]
+            )
+        else:
+            block = Block.from_dimensions(size["H"], size["B"])
         name = values.get("name") or block.label
         if name in seen:
             raise InputError(f"{where}: name {name!r} repeats that of row {seen[name]}")
@@ -116,24 +135,22 @@ def _columns(path: Path, lineno: int, header: list[str]) -> list[str]:
         if key not in _ALIASES:
             raise InputError(
                 f"{path}: line {lineno}: unknown column {cell!r} (expected R and "
-                "gamma, or H and B, and optionally name)"
+                "gamma, or H and B, or h_cg, b and r_g, and optionally name)"
             )
         if _ALIASES[key] in columns:
             raise InputError(f"{path}: line {lineno}: column {cell!r} appears twice")
         columns.append(_ALIASES[key])
-    has_rg = {"R", "gamma"} <= set(columns)
-    has_hb = {"H", "B"} <= set(columns)
-    sizes = [c for c in columns if c != "name"]
-    if len(sizes) > 2:
-        raise InputError(
-            f"{path}: line {lineno}: give R and gamma, or H and B, not a mix "
-            f"(got {', '.join(header)})"
-        )
-    if not (has_rg or has_hb):
-        raise InputError(
-            f"{path}: line {lineno}: missing column: need R and gamma, or H and B "
-            f"(got {', '.join(header)})"
-        )
+    if "h_cg" in columns:  # with h_cg, b is the distance to the pivot edge, not the width
+        columns = ["b" if c == "B" else c for c in columns]
+    sizes = {c for c in columns if c != "name"}
+    if sizes not in _SIZES:
+        # fewer columns than one whole set and none of another: a set is incomplete
+        whole = "R and gamma, or H and B, or h_cg, b and r_g"
+        if len(sizes) < 3 and not any(sizes > s for s in _SIZES):
+            problem = f"missing column: need {whole}"
+        else:
+            problem = f"give {whole}, one of them, not a mix"
+        raise InputError(f"{path}: line {lineno}: {problem} (got {', '.join(header)})")
     return columns
 
 

@@ -12,7 +12,10 @@ columns, e.g. notes, are ignored)::
     battery rack,2.2,0.6,floor 3,paper-2.0,0.35
     statue,1.8,0.45,ground,,
 
-Columns: ``name``; ``height`` and ``width`` [m], or ``R`` [m] and ``gamma`` [-]; ``location``:
+Columns: ``name``; ``height`` and ``width`` [m], or ``R`` [m] and ``gamma`` [-], or, for equipment
+whose mass is not uniform, ``h_cg`` (height of the centre of mass), ``b`` (horizontal distance
+from the centre of mass to each pivot edge) and ``r_g`` (radius of gyration about the centre of
+mass), all [m] (:meth:`rocking.Block.from_mass_properties`); ``location``:
 ``ground`` or ``floor N`` (N = 1 … number of stories; ``floor 0`` is the ground); ``frame``
 (optional): a preset (``paper-2.0`` …), a frame defined in a TOML inventory, or a frame TOML file
 (relative to the inventory; see :meth:`rocking.structures.frames.ShearFrame.from_toml`); empty: the
@@ -46,7 +49,10 @@ from ..dynamics.body import Block, resolve_e
 from ..errors import InputError
 from ..structures.frames import PRESETS, ShearFrame
 
-_FIELDS = ("name", "height", "width", "r", "gamma", "location", "frame", "e", "mu")
+_FIELDS = (
+    *("name", "height", "width", "r", "gamma", "h_cg", "b", "r_g"),
+    *("location", "frame", "e", "mu"),
+)
 _ALIASES = {
     "h": "height",
     "b": "width",
@@ -242,6 +248,14 @@ def _key(header: str) -> str:
     return _ALIASES.get(h, h)
 
 
+def _keys(headers) -> list[str]:
+    """:func:`_key` of every header; beside ``h_cg``, ``b`` is the distance from the centre of
+    mass to the pivot edge (a general body), not the width."""
+    plain = [re.sub(r"[\[(].*?[\])]", "", str(h)).strip().lower() for h in headers]
+    general = "h_cg" in plain
+    return ["b" if general and p == "b" else _key(h) for p, h in zip(plain, headers)]
+
+
 def _csv_rows(path: Path) -> list[tuple[str, dict]]:
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
@@ -253,7 +267,7 @@ def _csv_rows(path: Path) -> list[tuple[str, dict]]:
     if not lines:
         raise InputError(f"{path}: empty inventory file")
     head_row, head = lines[0]
-    keys = [_key(h) for h in head]
+    keys = _keys(head)
     if "name" not in keys or "location" not in keys:
         raise InputError(
             f"{path}: row {head_row}: the header must name the columns name, "
@@ -289,9 +303,7 @@ def _toml_rows(path: Path) -> tuple[list[tuple[str, dict]], dict, str | None]:
     default = data.get("frame")
     if default is not None and not isinstance(default, str):
         raise InputError(f"{path}: frame must be the name of a frame, got {default!r}")
-    rows = [
-        (f"item {i}", {_key(k): v for k, v in it.items()}) for i, it in enumerate(items, start=1)
-    ]
+    rows = [(f"item {i}", dict(zip(_keys(it), it.values()))) for i, it in enumerate(items, start=1)]
     for _where, fields in rows:
         extra = set(fields) - set(_FIELDS)
         if extra:
@@ -327,8 +339,18 @@ def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None)
 def _block(fields: dict) -> Block:
     dims = [k for k in ("height", "width") if k in fields]
     shape = [k for k in ("r", "gamma") if k in fields]
-    if dims and shape:
-        raise InputError("give height and width, or R and gamma, not both")
+    mass = [k for k in ("h_cg", "b", "r_g") if k in fields]
+    if sum(map(bool, (dims, shape, mass))) > 1:
+        raise InputError("give height and width, or R and gamma, or h_cg, b and r_g: one of them")
+    if mass:
+        missing = [k for k in ("h_cg", "b", "r_g") if k not in fields]
+        if missing:
+            raise InputError(f"missing {' and '.join(missing)} (a general body needs h_cg, b, r_g)")
+        return Block.from_mass_properties(
+            positive("h_cg", fields["h_cg"], "m"),
+            positive("b", fields["b"], "m"),
+            radius_of_gyration=positive("r_g", fields["r_g"], "m"),
+        )
     if len(dims) == 2:
         return Block.from_dimensions(
             positive("height", fields["height"], "m"), positive("width", fields["width"], "m")
