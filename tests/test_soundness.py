@@ -149,8 +149,12 @@ def test_soundness_section_quick(tmp_path):
     assert np.isfinite(conv.values).all()
     boot = pd.read_csv(out / "tables" / "soundness-bootstrap.csv", index_col="body")
     assert len(boot) == 2 and (boot["half-width [g]"] > 0).all()
+    impacts = pd.read_csv(out / "tables" / "soundness-impacts.csv", index_col="dt")
+    assert list(impacts.index) == ["1/200 s", "1/400 s", "1/800 s", "1/1600 s"]
+    shares = impacts["outcomes flipped [-]"]
+    assert ((shares >= 0) & (shares <= 1)).all()
     prov = pd.read_csv(out / "tables" / "soundness-provenance.csv", index_col="part")
-    assert list(prov.index) == ["convergence", "ensemble", "strength", "floor"]
+    assert list(prov.index) == ["convergence", "impacts", "ensemble", "strength", "floor"]
     assert (prov["wall time [s]"] > 0).all() and "10 motions" in prov.loc["ensemble", "sizes"]
     run = json.loads((out / "run.json").read_text())
     assert run["status"] == "completed" and "soundness" in run["wall_time_s"]

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..core.checks import require_memory
 from ..core.progress import resolve as resolve_progress
+from ..defaults import IMPACT_SCHEMES
 from ..dynamics.batch import BlockTable, block_list, motion_peaks, run_cases
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
@@ -87,6 +88,7 @@ class Engine:
         desc,
         basis: list[np.ndarray] | None = None,
         exponent: float = 1.0,
+        impacts: str = IMPACT_SCHEMES[0],
     ):
         self.blocks = block_list(blocks)
         self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle, g=g)
@@ -102,6 +104,9 @@ class Engine:
             )
         self.basis = [np.asarray(b, dtype=float) for b in basis]
         self.exponent = float(exponent)
+        if impacts not in IMPACT_SCHEMES:
+            raise InputError(f"impacts must be one of {', '.join(IMPACT_SCHEMES)}, got {impacts!r}")
+        self.impacts = impacts
         self.backend = LocalBackend() if backend is None else backend
         if not isinstance(self.backend, Backend):
             raise InputError(f"backend must come from rocking.montecarlo.backends, got {backend!r}")
@@ -140,6 +145,7 @@ class Engine:
             "overturn_angle": t.theta_ov.tolist(),
             "g": t.g,
             "level_unit_g": LEVEL_UNIT,
+            "impacts": self.impacts,
             "motions": [
                 {
                     "dt": ens.dt,
@@ -185,7 +191,8 @@ class Engine:
                 )
                 for ens in self.cases
             ]
-            self._handle = self.backend.scatter({"table": self.table, "cases": cases})
+            data = {"table": self.table, "cases": cases, "impacts": self.impacts}
+            self._handle = self.backend.scatter(data)
         return self._handle
 
     def run(self, keys: list[tuple[int, int, int]]) -> None:
@@ -275,5 +282,6 @@ def run_chunk(data: dict, task: tuple):
         np.tile(np.arange(n_m, dtype=np.int64), body.size),
         scale.ravel(),
         av=av,
+        impacts=data["impacts"],
     )
     return overturned.reshape(body.size, n_m), peak.reshape(body.size, n_m)

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ..core.checks import finite_array, in_range, positive
-from ..defaults import DEFAULT_E, G
+from ..defaults import DEFAULT_E, IMPACT_SCHEMES, G
 from ..dynamics.batch import BlockTable, block_list
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
@@ -83,6 +83,7 @@ def overturning_probability(
     confidence: float = 0.95,
     chunk_size: int | None = None,
     members: bool = False,
+    impacts: str = IMPACT_SCHEMES[0],
 ) -> xr.Dataset:
     """Probability that each body overturns, as a function of the ensemble intensity A_gx.
 
@@ -119,6 +120,9 @@ def overturning_probability(
         Largest number of simulations per chunk (default :data:`CHUNK_SIMULATIONS`; chunks are
         smaller when needed to give each worker of the backend about four); chunks hold whole
         (body, A_gx) pairs.  Does not change the results.
+    impacts : {"located", "step-end"}
+        How impacts are handled (:func:`rocking.simulate`): located inside the step (default)
+        or, for studies of the paper's integrator only, at the end of the step.
     members : bool
         Also return ``overturned`` and ``peak`` of every motion (dimension ``member``; for a
         dict, all ensembles must have the same number of motions).
@@ -152,6 +156,7 @@ def overturning_probability(
         progress=progress,
         chunk_size=chunk_size,
         desc="P(overturn)",
+        impacts=impacts,
     )
     engine.require_memory(nb * agx.size * (2 if members else 1), "agx")
     levels = [level_key(a) for a in agx.tolist()]
@@ -210,6 +215,7 @@ def agx_50(
     progress=None,
     coarse: int = 10,
     chunk_size: int | None = None,
+    impacts: str = IMPACT_SCHEMES[0],
 ) -> xr.Dataset:
     """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
 
@@ -240,7 +246,7 @@ def agx_50(
         Grid step of A_gx [g] (the paper reads A_gx to 0.01 g).
     agx_max : float
         Largest A_gx searched [g], ≥ resolution.
-    e, overturn_angle, g, backend, out, progress, chunk_size :
+    e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
         As for :func:`overturning_probability`.
     coarse : int
         Levels of the bracketing round (≥ 1).
@@ -271,6 +277,7 @@ def agx_50(
         progress=progress,
         chunk_size=chunk_size,
         desc="A_gx(50%)",
+        impacts=impacts,
     )
 
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
