@@ -18,6 +18,7 @@ import pytest
 from scipy import optimize, signal
 
 from rocking import Block, G, InputError, housner_sv, simulate
+from rocking.dynamics.body import resolve_e
 from rocking.dynamics.reference import simulate_reference
 from rocking.motions.response import response_spectrum
 
@@ -201,3 +202,13 @@ def test_general_bodies_agree_with_solve_ivp():
         assert ours.max_abs_theta == pytest.approx(ref.max_abs_theta, rel=0.01), i
         np.testing.assert_allclose(ours.theta, ref.theta, rtol=0, atol=0.02 * ref.max_abs_theta)
     assert outcomes == {True, False}  # both outcomes exercised
+
+
+def test_housner_restitution_of_a_body_too_squat_to_rock_is_refused():
+    # e = 1 − 2b²/(r_g² + R²) ≤ 0 when b² ≥ (r_g² + h_cg² + b²)/2: a uniform block with γ < 1/√2
+    # (1 − 1.5·sin²α ≤ 0 for tan α ≥ √2) has no positive Housner restitution
+    squat = Block(1.0, 0.5)
+    assert squat.housner_e() < 0
+    with pytest.raises(InputError, match="too squat"):
+        resolve_e("housner", squat)
+    assert resolve_e("housner", Block(1.0, 2.0)) == pytest.approx(1 - 1.5 * 0.2)

@@ -200,7 +200,17 @@ def resolve_e(e, block: Block) -> float:
     """Coefficient of restitution [-]: a number in (0, 1], or ``"housner"`` for
     :meth:`Block.housner_e` (1 − 1.5·sin²α for a uniform block)."""
     value = restitution(e)
-    return block.housner_e() if value == HOUSNER else value
+    if value != HOUSNER:
+        return value
+    housner = block.housner_e()
+    if housner <= 0.0:
+        # b² ≥ (r_g² + R²)/2: so squat a body loses all its rotation at the first impact
+        # (Housner's rule gives e ≤ 0), which the rocking model does not describe
+        raise InputError(
+            f"e = 'housner' gives {housner:.3g} <= 0 for {block}: the body is too squat to rock "
+            "by Housner's impact rule; give e as a number in (0, 1]"
+        )
+    return housner
 
 
 def resolve_overturn_angle(overturn_angle, block: Block) -> float:
