@@ -3,7 +3,7 @@
 One compiled, parallel kernel integrates independent cases (block, motion, scale factor) with the
 physics of :func:`rocking.dynamics.simulate` — the same compiled one-interval functions of
 :mod:`rocking.dynamics` — and keeps only what a Monte Carlo study needs: whether the block
-overturned and its largest |θ|/α.
+overturned and its largest abs(θ)/α.
 
 How it is fast (issue 6).  A *lane machine* integrates ``_LANES`` cases side by side, one sample
 interval per round.  Each round first computes the RK4 step of every lane in one loop that the
@@ -20,7 +20,7 @@ motion sit side by side (they read the same samples).  A lane whose case ends ta
 of its group; when none is left, the last lane moves into its place, so the SIMD loop only runs
 over live lanes.  Work that cannot change the answer is skipped:
 
-* a case whose scaled motion never lifts the block (|scale·a_g|·cos α ≤ g·sin α at every sample;
+* a case whose scaled motion never lifts the block (abs(scale·a_g)·cos α ≤ g·sin α at every sample;
   the ground acceleration is linear between samples, so the samples bound it; with a vertical
   acceleration, max abs(scale·a_g)·cos α ≤ (g + abs(scale)·min a_v)·sin α, a conservative bound):
   not overturned, peak 0, no integration at all;
@@ -71,7 +71,7 @@ _P2 = 7  # p² [1/s²]
 _SA = 8  # sin α
 _CA = 9  # cos α
 _OV = 10  # overturning angle [rad]
-_PK = 11  # max |θ| so far [rad]
+_PK = 11  # max abs(θ) so far [rad]
 _TH1 = 12  # RK4 step over the interval ...
 _OM1 = 13
 _VAL = 14  # ... and whether it is _rk4's step (1.0) or not (0.0)
@@ -479,10 +479,10 @@ def _cases_kernel(
     (a permutation of the cases), ``group`` consecutive ones per lane machine.
 
     ``acc`` (n_motions, n_t) [m/s²], ``av`` the vertical accelerations like it or None,
-    ``amax`` = max|acc| per motion [m/s²], ``avmin`` = min ``av`` per motion or None, ``dt``
+    ``amax`` = max abs(acc) per motion [m/s²], ``avmin`` = min ``av`` per motion or None, ``dt``
     [s], ``g`` [m/s²]; per-block constants p² [1/s²], sin α, cos α, tan α, e, overturning angle
     [rad], the impact scheme (``located``: bool), α [rad].  Writes ``overturned[i]`` and
-    ``peak[i]`` = max|θ|/α at the samples [-].
+    ``peak[i]`` = max abs(θ)/α at the samples [-].
     """
     n = body.shape[0]
     for q in prange((n + group - 1) // group):
@@ -593,7 +593,8 @@ def _per_block(name, value, blocks, resolve) -> np.ndarray:
 
 
 def motion_peaks(acc: np.ndarray) -> np.ndarray:
-    """max|a| of each row of ``acc`` (n_motions, n_t) [m/s²], as the kernel's skip test needs."""
+    """max abs(a) of each row of ``acc`` (n_motions, n_t) [m/s²], as the kernel's skip test
+    needs."""
     return np.abs(acc).max(axis=1)
 
 
@@ -716,7 +717,7 @@ def overturn_cases(
     e : float, "housner" or sequence
         Coefficient of restitution [-], one for all blocks or one per block.
     overturn_angle : float, "alpha" or sequence
-        |θ| [rad] that counts as overturning, one for all blocks or one per block.
+        abs(θ) [rad] that counts as overturning, one for all blocks or one per block.
     g : float
         Gravity [m/s²].
     av : array_like, shape like ``acc``, optional
@@ -729,7 +730,7 @@ def overturn_cases(
     -------
     overturned : ndarray of bool, shape (n_cases,)
     peak : ndarray of float, shape (n_cases,)
-        max|θ|/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
+        max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
     table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
     acc = _acc2d(acc)
@@ -785,7 +786,7 @@ def overturn_batch(
     e : float, "housner" or sequence
         Coefficient of restitution [-], one for all blocks or one per block.
     overturn_angle : float, "alpha" or sequence
-        |θ| [rad] that counts as overturning (π/2 in the paper), one for all or one per block.
+        abs(θ) [rad] that counts as overturning (π/2 in the paper), one for all or one per block.
     g : float
         Gravity [m/s²].
     av : array_like, shape like ``acc``, optional
@@ -798,7 +799,7 @@ def overturn_batch(
     -------
     overturned : ndarray of bool, shape (n_blocks, n_scales, n_motions)
     peak : ndarray of float, shape (n_blocks, n_scales, n_motions)
-        max|θ|/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
+        max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
     table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
     acc = _acc2d(acc)

@@ -25,8 +25,8 @@ motion's sample interval dt, the ground acceleration being linear between sample
 the pivot is frozen (impacts: :mod:`rocking.dynamics.impacts`).
 
 Trigonometry (speed; see :func:`_rk4_rotated`): sin θ and cos θ once per step by polynomials
-(within 2.3e-16 of libm for |θ| ≤ π/2), and at the stage angles θ + δ by the angle-sum identities
-with Taylor polynomials of the small offsets δ; a step with a large offset (|θ'|·h > 1/32 rad)
+(within 2.3e-16 of libm for abs(θ) ≤ π/2), and at the stage angles θ + δ by the angle-sum identities
+with Taylor polynomials of the small offsets δ; a step with a large offset (abs(θ')·h > 1/32 rad)
 evaluates sin and cos at every stage instead (:func:`_rk4_stages`).  tests/test_trig.py bounds
 both against libm and against each other.  :func:`_plain_step` is branch-free: the batched kernel
 (:mod:`rocking.dynamics.batch`) runs it in SIMD lanes, and :func:`rocking.simulate` takes the same
@@ -41,7 +41,8 @@ import math
 
 from ..core.compile import fma, kernel
 
-#: |x| [rad] up to which :func:`_sincos` is accurate (a step starts at |θ| < overturn angle ≤ π/2).
+#: abs(x) [rad] up to which :func:`_sincos` is accurate (a step starts at abs(θ) < overturn
+#: angle ≤ π/2).
 SINCOS_XMAX = 1.5717963267948966
 # sin x = x + x·z·R_s(z), cos x = 1 − z/2 + z²·R_c(z), z = x²: near-minimax polynomials R_s, R_c
 # (Chebyshev interpolation of (sin x/x − 1)/z and (cos x − 1 + z/2)/z² on 0 ≤ z ≤ SINCOS_XMAX²,
@@ -66,12 +67,12 @@ _RC = (
     -0.001388888888888888,
     0.041666666666666664,
 )
-#: |x| [rad] below which sin x and cos x round to x and 1.
+#: abs(x) [rad] below which sin x and cos x round to x and 1.
 SINCOS_TINY = 1e-8
-#: Largest stage offset |δ| [rad] for which the RK4 stages use the rotation formulas of _rot.
+#: Largest stage offset abs(δ) [rad] for which the RK4 stages use the rotation formulas of _rot.
 ROTATION_DMAX = 1.0 / 32.0
 # Taylor coefficients of sin δ (to δ⁷) and cos δ (to δ⁶); the first terms left out are below
-# δ⁹/9! ≤ 8e-20 and δ⁸/8! ≤ 2.3e-17 for |δ| ≤ ROTATION_DMAX.
+# δ⁹/9! ≤ 8e-20 and δ⁸/8! ≤ 2.3e-17 for abs(δ) ≤ ROTATION_DMAX.
 _T1, _T2, _T3 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0
 _K1, _K2 = 1.0 / 24.0, -1.0 / 720.0
 
@@ -153,7 +154,7 @@ def _horner(c, z):
 
 @kernel(inline="always")
 def _sincos(x):
-    """(sin x, cos x) by polynomials, for |x| ≤ SINCOS_XMAX [rad] (see tests/test_trig.py for
+    """(sin x, cos x) by polynomials, for abs(x) ≤ SINCOS_XMAX [rad] (see tests/test_trig.py for
     the accuracy); branch-free, so that it vectorizes."""
     z = x * x
     return fma(x * z, _horner(_RS, z), x), 1.0 - fma(-(z * z), _horner(_RC, z), 0.5 * z)
@@ -161,7 +162,7 @@ def _sincos(x):
 
 @kernel(inline="always")
 def _rot(P, Q, d):
-    """cos δ·P + sin δ·Q for |δ| ≤ ROTATION_DMAX (Taylor polynomials of sin δ and cos δ),
+    """cos δ·P + sin δ·Q for abs(δ) ≤ ROTATION_DMAX (Taylor polynomials of sin δ and cos δ),
     arranged as P + δ·Q + δ²·(c(δ²)·P + δ·s(δ²)·Q) with cos δ = 1 + δ²·c(δ²) and
     sin δ = δ + δ³·s(δ²): nine multiplications or fused multiply–adds."""
     z = d * d
@@ -188,7 +189,7 @@ def _angle_terms(st, ct, s, sa, ca):
 
 @kernel(inline="always")
 def _sincos_any(x):
-    """(sin x, cos x) for any x [rad], outside SIMD loops: (x, 1) for |x| < SINCOS_TINY, which is
+    """(sin x, cos x) for any x [rad], outside SIMD loops: (x, 1) for abs(x) < SINCOS_TINY, which is
     exactly what :func:`_sincos` rounds to there (tests/test_trig.py) and spares the latency of
     its polynomials after every impact (θ = 0); the polynomials up to SINCOS_XMAX; else libm."""
     if abs(x) < SINCOS_TINY:
@@ -232,9 +233,9 @@ def _rk4_rotated(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
 
         gv·sin(sα − θ − δ) + u·cos(sα − θ − δ) = cos δ·(gv·S + u·C) + sin δ·(u·S − gv·C),
 
-    evaluated by :func:`_rot` (gv·S is S when gv is None).  Valid when |θ| ≤ SINCOS_XMAX and
-    every |δ| ≤ ROTATION_DMAX; returns (θ, θ', max|δ|) so that the caller can check the second
-    condition.
+    evaluated by :func:`_rot` (gv·S is S when gv is None).  Valid when abs(θ) ≤ SINCOS_XMAX
+    and every abs(δ) ≤ ROTATION_DMAX; returns (θ, θ', max abs(δ)) so that the caller can check
+    the second condition.
     """
     ua, ub = _u_ends(u0, du, tau, h)
     um = fma(du * 0.5, h, ua)
@@ -265,7 +266,7 @@ def _rk4_rotated(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
 
 @kernel(inline="always")
 def _fast_valid(theta, dmax):
-    """Whether :func:`_rk4_fast`'s result with this start angle and max|δ| is the RK4 step."""
+    """Whether :func:`_rk4_fast`'s result with this start angle and max abs(δ) is the RK4 step."""
     return (dmax <= ROTATION_DMAX) & (abs(theta) <= SINCOS_XMAX)
 
 
@@ -292,7 +293,7 @@ def _rk4(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
     g0 + dg·τ (or None).
 
     :func:`_rk4_fast` where it is valid (nearly always), else :func:`_rk4_stages` (a very fast
-    block: |θ'|·h > ROTATION_DMAX).
+    block: abs(θ')·h > ROTATION_DMAX).
     """
     st, ct = _sincos_any(theta)
     return _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
@@ -334,7 +335,7 @@ def _u_ends(u0, du, tau, h):
 @kernel(inline="always")
 def _uplifts(u, gv, sa, ca):
     """Whether ground acceleration u = a_g/g [-] lifts a block at rest under the vertical factor
-    gv = 1 + a_v/g (None: 1): |u|·cos α > gv·sin α, rounded once, i.e. exactly the sign of θ''
+    gv = 1 + a_v/g (None: 1): abs(u)·cos α > gv·sin α, rounded once, i.e. exactly the sign of θ''
     at θ = 0 in the RK4 stages (never a start with an acceleration of the wrong sign)."""
     return fma(abs(u), ca, -_gv_times(gv, sa)) > 0.0
 

@@ -1,7 +1,7 @@
 """Impacts, uplift, coming to rest and overturning: one sample interval of a rocking block.
 
 Impact at θ = 0: the pivot switches (s → −s) and θ' ← e·θ' (paper Section 2).  From rest the block
-starts to rock only when |a_g| > g·tan α, tipping to θ > 0 under a negative ground acceleration;
+starts to rock only when abs(a_g) > g·tan α, tipping to θ > 0 under a negative ground acceleration;
 with a vertical ground acceleration a_v, when abs(a_g) > (g + a_v)·tan α (every "g·tan α" below is
 (g + a_v)·tan α then, and the vertical factor gv = 1 + a_v/g is linear in the interval like u;
 see :mod:`rocking.dynamics.equation`).
@@ -12,16 +12,16 @@ Newton iteration on the length of a partial Runge–Kutta step (started from the
 Taylor polynomial of θ(t), so that one partial step usually suffices), the impact is applied and
 the rest of the step is integrated from the impact.  A bounce whose free flight would last less
 than ``ZENO_TIME_FRACTION·dt`` ends the chatter: the block is put at rest (the remaining flights of
-the geometric series carry negligible energy), and rocking restarts only if |a_g| > g·tan α.  A
+the geometric series carry negligible energy), and rocking restarts only if abs(a_g) > g·tan α.  A
 chatter whose next flight is shorter than ``CHATTER_FRACTION·dt`` and during which the ground
 acceleration stays below g·tan α is summed in closed form instead of being integrated bounce by
-bounce (such sequences are about a hundred impacts each): flights of 2|θ'|/|θ''| at θ = 0
+bounce (such sequences are about a hundred impacts each): flights of 2·abs(θ')/abs(θ'') at θ = 0
 alternating between the pivots under the ground acceleration at its start, θ' × e at every
 impact; the block is at rest from the sum of the flights on, if that lies within the time step
 and the ground acceleration is still below the uplift level there (u is linear in the step, so it
-is below it throughout).  |θ| in such a chatter stays below |θ''|·(CHATTER_FRACTION·dt)²/8 (1e-9
-rad for the paper's bodies at dt = 1/400 s), so the bracket of Eq. (1) is sin α ± u·cos α to that
-relative accuracy.
+is below it throughout).  abs(θ) in such a chatter stays below
+abs(θ'')·(CHATTER_FRACTION·dt)²/8 (1e-9 rad for the paper's bodies at dt = 1/400 s), so the
+bracket of Eq. (1) is sin α ± u·cos α to that relative accuracy.
 
 A second, selectable impact scheme (issue 17; never the default): ``impacts="step-end"``, a
 straightforward reading of "fixed-step RK4": when a step ends on the other side of θ = 0, the
@@ -247,8 +247,8 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, g0, dg, tau, h, p2, sa, c
 def _chatter_time(omega, acc_s, acc_o, e):
     """Duration [s] of the impact sequence that starts at θ = 0 with angular velocity ``omega``
     [rad/s] on a side where θ'' = ``acc_s``, the other side having θ'' = ``acc_o`` [rad/s²] (both
-    pointing back to θ = 0): flights of 2|θ'|/|θ''| alternating between the sides, θ' multiplied
-    by e at every impact, a geometric series of ratio e²."""
+    pointing back to θ = 0): flights of 2·abs(θ')/abs(θ'') alternating between the sides, θ'
+    multiplied by e at every impact, a geometric series of ratio e²."""
     return 2.0 * abs(omega) * (1.0 / abs(acc_s) + e / abs(acc_o)) / (1.0 - e * e)
 
 
@@ -410,9 +410,9 @@ def _advance_events(
                 hz, omz = h, om1
             tau += hz
             if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
-                # Back at θ = 0 within the Zeno time of starting: |a_g| fell below gv·g·tan α
+                # Back at θ = 0 within the Zeno time of starting: abs(a_g) fell below gv·g·tan α
                 # again at once (it exceeded it by a few ulps). The block never left the
-                # ground. u is linear in the interval, so |u| keeps falling on this side: a
+                # ground. u is linear in the interval, so abs(u) keeps falling on this side: a
                 # restart on it would land again at the same instant, forever; only a
                 # crossing of the threshold on the other side can start it in this interval.
                 theta = 0.0

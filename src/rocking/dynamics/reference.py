@@ -6,9 +6,9 @@ tests can check the fast fixed-step solver against it.  Adaptive DOP853 with tig
 one sample interval of the ground motion at a time: the ground acceleration is linear between
 samples and has a kink at each, so within an interval the equation is smooth and the integrator
 keeps its full order (steps across a kink would be rejected again and again).  Terminal events for
-the impact (θ = 0) and for overturning (|θ| = overturn angle); uplift from rest located exactly on
-the linearly interpolated ground acceleration.  It is slow (about 0.1 s per 4 s of motion at
-1/100 s) and meant for verification, not for production runs.
+the impact (θ = 0) and for overturning (abs(θ) = overturn angle); uplift from rest located
+exactly on the linearly interpolated ground acceleration.  It is slow (about 0.1 s per 4 s of
+motion at 1/100 s) and meant for verification, not for production runs.
 
 Eq. (1) is written here from its physical form, I_O·θ'' = −M·R·[(g + a_v)·sin(sα − θ) +
 a_g·cos(sα − θ)] with I_O = M·(r_g² + R²) (:meth:`rocking.Block.radius_of_gyration`), libm

@@ -27,7 +27,7 @@ def _simulate_kernel(
     vertical factor ``gv`` = 1 + a_v/g [-] at the same samples (None: no vertical motion).
 
     Writes θ [rad] and θ' [rad/s] at every sample into the output arrays (NaN after overturning).
-    Returns (overturned, t_overturn [s] or NaN, n_impacts, max|θ| [rad]).
+    Returns (overturned, t_overturn [s] or NaN, n_impacts, max abs(θ) [rad]).
     """
     n = u.shape[0]
     theta = theta0
@@ -88,14 +88,14 @@ class RockingResponse:
     omega : ndarray
         Angular velocity θ' [rad/s] at the samples; NaN after overturning.
     overturned : bool
-        Whether |θ| reached the overturning angle.
+        Whether abs(θ) reached the overturning angle.
     t_overturn : float
         Time of overturning [s], NaN if the block did not overturn.
     n_impacts : int
         Number of impacts (pivot changes at θ = 0); a chatter summed in closed form counts one
         impact per flight longer than ``ZENO_TIME_FRACTION·dt``.
     max_abs_theta : float
-        Largest |θ| [rad] (the overturning angle if the block overturned).
+        Largest abs(θ) [rad] (the overturning angle if the block overturned).
     block, e, overturn_angle :
         The inputs that produced the response (e [-], overturn_angle [rad]).
     """
@@ -176,7 +176,7 @@ def simulate(
         Coefficient of restitution θ'⁺/θ'⁻ [-] in (0, 1]; the paper's 0.925 by default;
         ``"housner"`` gives 1 − 1.5·sin²α (:meth:`Block.housner_e` for a general body).
     overturn_angle : float or "alpha"
-        |θ| [rad] at which the block counts as overturned: π/2 (the paper) or ``"alpha"``.
+        abs(θ) [rad] at which the block counts as overturned: π/2 (the paper) or ``"alpha"``.
     theta0, omega0 : float
         Initial rotation [rad] and angular velocity [rad/s]; rest by default.
     g : float
