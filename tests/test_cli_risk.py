@@ -115,3 +115,25 @@ def test_fragility_option_mistakes_are_one_line(suite, tmp_path):
     ):
         result = _run(base + extra)
         assert result.exit_code in (1, 2) and words in result.output, (extra, result.output)
+
+
+def test_fragility_on_a_floor_of_the_users_own_building(suite, tmp_path):
+    # A two-story frame from a TOML file (masses, stiffnesses, damping): the counts on floor 2
+    # are those of the library's floor motions of that frame, scaled to each A_gx
+    building = tmp_path / "building.toml"
+    building.write_text(
+        "masses_kg = [2.0e5, 1.5e5]\nstiffnesses_N_per_m = [8.0e7, 6.0e7]\ndamping = 0.03\n"
+    )
+    bodies = tmp_path / "b.csv"
+    bodies.write_text("R,gamma\n0.5,5\n")
+    out = tmp_path / "frag"
+    args = ["fragility", "--bodies", bodies, "--motions", suite, "--agx", "0.2:0.6:0.2"]
+    result = _run([*args, "--frame", building, "--floor", 2, "--out", out, "--quiet"])
+    assert result.exit_code == 0, result.output
+    from rocking import Block, ShearFrame, overturning_probability
+
+    floor = ShearFrame.from_toml(building).floor_ensemble(Ensemble.load(suite), 2)
+    ref = overturning_probability([Block(0.5, 5.0)], floor, [0.2, 0.4, 0.6], progress=False)
+    table = pd.read_csv(out / "probabilities.csv")
+    np.testing.assert_array_equal(table["count"].to_numpy(), ref["count"].values.ravel())
+    assert json.loads((out / "run.json").read_text())["location"] == "floor 2 of building"

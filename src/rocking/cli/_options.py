@@ -108,7 +108,10 @@ def frame_and_floor(frame_name: str | None, floor: int | None) -> tuple[ShearFra
         raise InputError("--floor and --frame go together: give both (floor 0 is the ground)")
     from ..structures.frames import ShearFrame
 
-    frame = ShearFrame.preset(frame_name)
+    if Path(frame_name).is_file():  # the user's own building: masses, stiffnesses, damping
+        frame = ShearFrame.from_toml(frame_name)
+    else:
+        frame = ShearFrame.preset(frame_name)
     if not 0 <= floor <= frame.n_stories:
         raise InputError(
             f"--floor must be from 0 (ground) to {frame.n_stories} (roof of "
@@ -172,8 +175,9 @@ frame_option = click.option(
     "--frame",
     "frame_name",
     default=None,
-    metavar="PRESET",
-    help=f"Shear-frame preset: {', '.join(FRAME_PRESETS)}.",
+    metavar="FRAME",
+    help=f"Shear frame: a preset ({', '.join(FRAME_PRESETS)}) or a TOML file of your building "
+    "(masses_kg, stiffnesses_N_per_m, damping; see 'rocking frame show --help').",
 )
 band_option = click.option(
     "--band",

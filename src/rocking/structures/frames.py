@@ -338,7 +338,10 @@ class ShearFrame:
             Same dt, labels and generation metadata (seed, scale, ...); ``meta`` also holds
             ``location`` ("floor <i> of <frame name>"), ``floor``, the frame (:meth:`to_meta`),
             ``kind`` = "floor" and ``ground_kind`` (the ground ensemble's kind). Not scaled:
-            call ``.scaled(agx)`` to give it the ground's A_gx, as the paper does.
+            call ``.scaled(agx)`` to give it the ground's A_gx, as the paper does. A vertical
+            component (``ensemble.av``) is kept as it is: the shear frame has no vertical
+            degrees of freedom, so each floor is taken to move vertically with the ground
+            (columns axially rigid; an assumption, not a result).
         """
         floor = self._check_floor(floor)
         if floor == 0:
