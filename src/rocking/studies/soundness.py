@@ -261,44 +261,72 @@ def _variant(ctx: RunContext, n: int, how: dict) -> Ensemble:
 # --------------------------------------------------------------------------- parts
 
 
-def run_convergence(ctx: RunContext, done: dict) -> xr.Dataset:
-    """A_gx50 and S_v1/S_v of the convergence bodies at every time step."""
+def _balance(
+    ctx: RunContext, blocks, ens: Ensemble, store: str, resolution: float, impacts="located"
+) -> xr.Dataset:
+    """A_gx50 (kept in the run folder's store ``store``) and the energy balance of ``blocks``
+    under ``ens``."""
     p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
+    a50 = agx_50(
+        blocks,
+        ens,
+        resolution=resolution,
+        agx_max=p["agx_max"],
+        e=e,
+        backend=ctx.backend,
+        progress=ctx.progress,
+        out=ctx.store("soundness", store),
+        impacts=impacts,
+    )
+    return energy_balance(blocks, ens, a50, band_hz=p["band_hz"])
+
+
+def _outcomes(ctx: RunContext, block, ens: Ensemble, level: float, impacts: str) -> np.ndarray:
+    """Overturned (bool, per motion) of ``block`` under ``ens`` scaled to A_gx ``level``."""
+    return overturning_probability(
+        [block],
+        ens,
+        [level],
+        e=ctx.cfg["common"]["e"],
+        backend=ctx.backend,
+        members=True,
+        impacts=impacts,
+    )["overturned"].values[0, 0]
+
+
+def _by_dt(ctx: RunContext, impacts: str, store: str):
+    """(dts from the coarsest, the convergence bodies, their motions refined to every dt, the
+    energy balance at every dt with the impact scheme ``impacts``)."""
+    p = ctx.cfg["soundness"]
     dts = sorted(p["dts"], reverse=True)
     blocks = resolve_bodies(p["convergence_bodies"], "soundness.convergence_bodies")
     coarse = ctx.motions("soundness", p["convergence_n"], dt=dts[0])
-    rows = []
     ensembles = [refine(coarse, round(dts[0] / dt)) for dt in dts]
-    fine = ensembles[-1]
-    for dt, ens in zip(dts, ensembles):
-        a50 = agx_50(
-            blocks,
-            ens,
-            resolution=p["convergence_resolution"],
-            agx_max=p["agx_max"],
-            e=e,
-            backend=ctx.backend,
-            progress=ctx.progress,
-            out=ctx.store("soundness", f"convergence-{1 / dt:.0f}"),
-        )
-        rows.append(energy_balance(blocks, ens, a50, band_hz=p["band_hz"]))
-    ds = xr.concat(rows, pd.Index(dts, name="dt"))
+    rows = [
+        _balance(ctx, blocks, ens, f"{store}-{1 / dt:.0f}", p["convergence_resolution"], impacts)
+        for dt, ens in zip(dts, ensembles)
+    ]
+    return dts, blocks, ensembles, xr.concat(rows, pd.Index(dts, name="dt"))
+
+
+def run_convergence(ctx: RunContext, done: dict) -> xr.Dataset:
+    """A_gx50 and S_v1/S_v of the convergence bodies at every time step."""
+    dts, blocks, ensembles, ds = _by_dt(ctx, "located", "convergence")
     # outcome of every motion at each body's A_gx50 of the finest step, at every step
     levels = ds["agx50"].values[-1]
+    fine = ensembles[-1]
     flags = np.zeros((len(dts), len(blocks), fine.n), bool)
     for i, ens in enumerate(ensembles):
         for b, (block, level) in enumerate(zip(blocks, levels)):
             if np.isfinite(level):
-                flags[i, b] = overturning_probability(
-                    [block], ens, [level], e=e, backend=ctx.backend, members=True
-                )["overturned"].values[0, 0]
+                flags[i, b] = _outcomes(ctx, block, ens, level, "located")
     done_bodies = np.isfinite(levels)
     ds["flipped"] = (
         "dt",
         (flags[:, done_bodies] != flags[-1, done_bodies]).mean(axis=(1, 2)),
         {"units": "1", "long_name": "share of outcomes unlike the finest step's"},
     )
-    ds.attrs.update(n=fine.n, resolution=p["convergence_resolution"])
+    ds.attrs.update(n=fine.n, resolution=ctx.cfg["soundness"]["convergence_resolution"])
     return ds
 
 
@@ -307,46 +335,25 @@ def run_impacts(ctx: RunContext, done: dict) -> xr.Dataset:
     scheme at every time step (the same refined motions as :func:`run_convergence`, whose
     located-impact results it is compared with), and the share of (body, motion) outcomes at
     each body's located A_gx50 that the scheme flips."""
-    p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
-    dts = sorted(p["dts"], reverse=True)
-    blocks = resolve_bodies(p["convergence_bodies"], "soundness.convergence_bodies")
-    coarse = ctx.motions("soundness", p["convergence_n"], dt=dts[0])
+    dts, blocks, ensembles, ds = _by_dt(ctx, "step-end", "step-end")
     located = done["convergence"]
-    rows, flipped = [], []
-    for dt in dts:
-        ens = refine(coarse, round(dts[0] / dt))
-        a50 = agx_50(
-            blocks,
-            ens,
-            resolution=p["convergence_resolution"],
-            agx_max=p["agx_max"],
-            e=e,
-            backend=ctx.backend,
-            progress=ctx.progress,
-            out=ctx.store("soundness", f"step-end-{1 / dt:.0f}"),
-            impacts="step-end",
-        )
-        rows.append(energy_balance(blocks, ens, a50, band_hz=p["band_hz"]))
-        levels = located["agx50"].sel(dt=dt).values
-        share = []
-        for block, level in zip(blocks, levels):
-            if not np.isfinite(level):
-                continue
-            flags = [
-                overturning_probability(
-                    [block], ens, [level], e=e, backend=ctx.backend, members=True, impacts=scheme
-                )["overturned"].values[0, 0]
-                for scheme in ("located", "step-end")
-            ]
-            share.append(np.mean(flags[0] != flags[1]))
+    flipped = []
+    for dt, ens in zip(dts, ensembles):
+        share = [
+            np.mean(
+                _outcomes(ctx, block, ens, level, "located")
+                != _outcomes(ctx, block, ens, level, "step-end")
+            )
+            for block, level in zip(blocks, located["agx50"].sel(dt=dt).values)
+            if np.isfinite(level)
+        ]
         flipped.append(float(np.mean(share)) if share else math.nan)
-    ds = xr.concat(rows, pd.Index(dts, name="dt"))
     ds["flipped"] = (
         "dt",
         flipped,
         {"units": "1", "long_name": "share of outcomes at the located A_gx50 that step-end flips"},
     )
-    ds.attrs.update(n=coarse.n)
+    ds.attrs.update(n=ensembles[0].n)
     return ds
 
 
@@ -355,24 +362,14 @@ def run_ensemble(ctx: RunContext, done: dict) -> dict[str, Any]:
     p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
     blocks = resolve_bodies(p["bodies"], "soundness.bodies")
     ground = ctx.motions("soundness", p["n"])
-    a50 = agx_50(
-        blocks,
-        ground,
-        resolution=p["resolution"],
-        agx_max=p["agx_max"],
-        e=e,
-        backend=ctx.backend,
-        progress=ctx.progress,
-        out=ctx.store("soundness", "agx50"),
-    )
-    balance = energy_balance(blocks, ground, a50, band_hz=p["band_hz"])
+    balance = _balance(ctx, blocks, ground, "agx50", p["resolution"])
     counts = resample_counts(ground.n, p["bootstrap"], p["bootstrap_seed"])
     psv = response_spectrum(ground.acc, ground.dt, band_frequencies(p["band_hz"]), DAMPING).psv
     per_g = _band_strength(psv, ground.pga, counts)
     span = np.linspace(1.0 - p["grid_span"], 1.0 + p["grid_span"], p["grid_levels"])
     boot = np.full((len(blocks), counts.shape[0]), np.nan)
     for b, block in enumerate(blocks):
-        a = float(a50["agx50"].values[b])
+        a = float(balance["agx50"].values[b])
         if not np.isfinite(a):
             continue
         curve = overturning_probability(
@@ -459,7 +456,7 @@ def _crossings(x: np.ndarray, y: np.ndarray, level: float) -> list[float]:
 def run_floor(ctx: RunContext, done: dict) -> dict[str, Any]:
     """Floor-1 S_v of frames of other periods and dampings at ``floor_agx``; Fig. 16 and
     conclusion 9 with the frame (the paper's damping) that matches the paper's 114.30 cm/s."""
-    p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
+    p = ctx.cfg["soundness"]
     target = paper_values()["section8"]["example_floor_sv_cm_s"]
     base = resolve_frame(p["floor_frame"])
     ground = ctx.motions("soundness", p["n"])
@@ -499,17 +496,7 @@ def run_floor(ctx: RunContext, done: dict) -> dict[str, Any]:
     frame = frame_variant(base, max(own), base.damping)
     floor = frame.floor_ensemble(ground, 1)
     blocks = resolve_bodies(p["bodies"], "soundness.bodies")
-    a50 = agx_50(
-        blocks,
-        floor,
-        resolution=p["resolution"],
-        agx_max=p["agx_max"],
-        e=e,
-        backend=ctx.backend,
-        progress=ctx.progress,
-        out=ctx.store("soundness", "agx50-matched-floor"),
-    )
-    floor_bal = energy_balance(blocks, floor, a50, band_hz=p["band_hz"])
+    floor_bal = _balance(ctx, blocks, floor, "agx50-matched-floor", p["resolution"])
     balance = xr.concat(
         [done["ensemble"]["balance"], floor_bal],
         pd.Index(["ground", f"floor 1 of {frame.name}"], name="location"),
