@@ -20,13 +20,13 @@ line).
 
 from __future__ import annotations
 
-import csv
 import math
 import re
 from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
+from ..core.files import csv_rows
 from ..dynamics.body import Block
 from ..errors import InputError
 
@@ -84,16 +84,7 @@ def read_bodies_table(path) -> list[NamedBody]:
         CSV file with columns R [m] and gamma [-], or H [m] and B [m], and optionally name.
     """
     path = Path(path)
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            lines = [
-                (n, [c.strip() for c in cells]) for n, cells in enumerate(csv.reader(fh), start=1)
-            ]
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(
-            f"{path}: cannot read the bodies file ({getattr(exc, 'strerror', None) or exc})"
-        ) from None
-    lines = [(n, cells) for n, cells in lines if any(cells) and not cells[0].startswith("#")]
+    lines = csv_rows(path, "bodies file")
     if not lines:
         raise InputError(
             f"{path}: empty bodies file (need a header row R,gamma or H,B and one row per body)"

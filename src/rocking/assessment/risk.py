@@ -40,7 +40,6 @@ The integral and its tails (:class:`RiskResult`):
 
 from __future__ import annotations
 
-import csv
 import math
 import re
 from dataclasses import dataclass
@@ -51,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from ..core.checks import finite_array
+from ..core.files import csv_rows
 from ..errors import InputError
 from ..motions.intensity import IntensityMeasure, parse_im
 
@@ -141,14 +141,7 @@ class HazardCurve:
         path = Path(path)
         if str(path) == EXAMPLE and not path.exists():
             path = example_hazard_path()
-        try:
-            with open(path, newline="", encoding="utf-8-sig") as fh:
-                lines = [(n, [c.strip() for c in row]) for n, row in enumerate(csv.reader(fh), 1)]
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(
-                f"{path}: cannot read the hazard file ({getattr(exc, 'strerror', None) or exc})"
-            ) from None
-        lines = [(n, cells) for n, cells in lines if any(cells) and not cells[0].startswith("#")]
+        lines = csv_rows(path, "hazard file")
         if not lines:
             raise InputError(
                 f"{path}: empty hazard file (need a header such as "

@@ -1,4 +1,5 @@
-"""Writing files so that nothing half-written ever carries its final name.
+"""Writing files so that nothing half-written ever carries its final name; reading the rows of
+the small CSV tables users give (:func:`csv_rows`).
 
 :func:`atomic_write` writes to a temporary file in the destination folder, flushes it to disk and
 renames it over the final name (:func:`os.replace`, atomic on POSIX and Windows): a process killed
@@ -9,9 +10,12 @@ hidden temporary file).  The file gets the permissions an ordinary ``open(path, 
 
 from __future__ import annotations
 
+import csv
 import os
 import secrets
 from pathlib import Path
+
+from ..errors import InputError
 
 
 def atomic_write(path, data) -> Path:
@@ -50,3 +54,28 @@ def save_figure(fig, path, dpi: int = 150) -> Path:
     none); return the path."""
     fmt = Path(path).suffix.lstrip(".") or "png"
     return atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))
+
+
+def csv_rows(path, what: str) -> list[tuple[int, list[str]]]:
+    """The rows of a CSV file as (line number, stripped cells), without blank rows and rows
+    whose first cell starts with ``#``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (UTF-8, a byte-order mark allowed).
+    what : str
+        What the file is, for the error message (e.g. ``"bodies file"``).
+
+    Raises
+    ------
+    InputError
+        When the file cannot be read, naming it.
+    """
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            rows = [(n, [c.strip() for c in cells]) for n, cells in enumerate(csv.reader(fh), 1)]
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = getattr(exc, "strerror", None) or exc
+        raise InputError(f"{path}: cannot read the {what} ({reason})") from None
+    return [(n, cells) for n, cells in rows if any(cells) and not cells[0].startswith("#")]
