@@ -154,7 +154,7 @@ def test_mirror_symmetry_with_vertical_motion_is_exact(R, gamma, seed):
     assert a.overturned == b.overturned and a.n_impacts == b.n_impacts
 
 
-def test_vertical_motion_agrees_with_solve_ivp():
+def test_vertical_motion_agrees_with_solve_ivp(matches_reference):
     outcomes = set()
     moved = 0
     for i in range(16):
@@ -167,14 +167,6 @@ def test_vertical_motion_agrees_with_solve_ivp():
             without.max_abs_theta, ours.max_abs_theta, rel_tol=0.05
         )
         outcomes.add(ref.overturned)
-        assert ours.overturned == ref.overturned, i
-        if ours.overturned:
-            # RK4 at dt = 1/100 s against DOP853 at rtol 1e-10, both located
-            assert ours.t_overturn == pytest.approx(ref.t_overturn, abs=1e-3), i
-            continue
-        # issue 2's bounds as for horizontal motion: max|θ| within 1 %, the history within 2 %
-        # of it (measured ≤ 3e-4 and 0.4 %)
-        assert ours.max_abs_theta == pytest.approx(ref.max_abs_theta, rel=0.01), i
-        np.testing.assert_allclose(ours.theta, ref.theta, rtol=0, atol=0.02 * ref.max_abs_theta)
+        matches_reference(ours, ref, i)  # (tolerances and their reasons: tests/conftest.py)
     assert outcomes == {True, False}
     assert moved >= 4  # the vertical motion matters in these cases (the test can tell)
