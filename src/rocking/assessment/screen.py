@@ -175,6 +175,11 @@ def screen(
     elif ensemble.meta.get("location") != "ground":
         raise InputError(f"ensemble must be ground motions, got {ensemble.meta.get('location')}")
     ground = ensemble.scaled(agx)
+    risk = None
+    if hazard is not None:
+        # the hazard's IM of every design-level ground motion, computed once for all locations
+        ground_im = intensity_measures(ground, hazard.im.name).iloc[:, 0].to_numpy()
+        risk = (hazard, years, ground_im)
     parts = [
         _screen_location(
             items,
@@ -187,7 +192,7 @@ def screen(
             confidence=confidence,
             backend=backend,
             progress=progress,
-            risk=None if hazard is None else (hazard, years, ground),
+            risk=risk,
         )
         for items, source, motions, ratio in _locations(
             inventory, spectrum, ground, band_hz, floor_motions
@@ -276,15 +281,15 @@ def _screen_location(
     confidence,
     backend,
     progress,
-    risk: tuple[HazardCurve, float, Ensemble] | None = None,
+    risk: tuple[HazardCurve, float, np.ndarray] | None = None,
 ) -> xr.Dataset:
     """The screening dataset (dimension ``item``) of the items at one location: Eq. (11)
     against ``source`` (TargetSpectrum or ResponseSpectrum), Monte Carlo with ``motions``, which
     are at the design level: their mean PGA is ``ratio`` × the design A_gx [g]. The
     motions scale linearly with the ground (linear frame), so the A_gx50 search runs on the
     motions' own A_gx with resolution and upper end × ``ratio`` and is reported in ground
-    A_gx. ``risk`` = (hazard curve, years, the design-level ground motions) adds the annual rate
-    of overturning (:func:`_annual_rates`)."""
+    A_gx. ``risk`` = (hazard curve, years, the hazard's IM of each design-level ground motion)
+    adds the annual rate of overturning (:func:`_annual_rates`)."""
     blocks = [it.block for it in items]
     names = [it.name for it in items]
     energy = assess(
@@ -368,10 +373,12 @@ def _hazard_curve(hazard, floor_motions: str) -> HazardCurve:
     return HazardCurve.from_csv(hazard)
 
 
-def _annual_rates(blocks, e, motions: Ensemble, hazard, years, ground, backend, progress) -> dict:
+def _annual_rates(
+    blocks, e, motions: Ensemble, hazard, years, ground_im, backend, progress
+) -> dict:
     """Fragility against the hazard's IM of the ground motion and the annual rate of every item
     at one location (``motions``: the location's motions at the design level, member i the
-    response to ``ground`` member i)."""
+    response to the ground motion i, whose IM is ``ground_im[i]``)."""
     im = hazard.im.name
     levels = np.geomspace(hazard.values[0], hazard.values[-1], N_RISK_LEVELS)
     curves = fragility_analysis(
@@ -379,7 +386,7 @@ def _annual_rates(blocks, e, motions: Ensemble, hazard, years, ground, backend, 
         motions,
         im=im,
         levels=np.array([float(f"{x:.6g}") for x in levels]),
-        im_values=intensity_measures(ground, im).iloc[:, 0].to_numpy(),
+        im_values=ground_im,
         e=e,
         backend=backend,
         progress=progress,
