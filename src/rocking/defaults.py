@@ -63,3 +63,7 @@ IM_SYNTAX = (
     "saavg(T1:T2), saavg(T1:T2:n) or saavg(T1:T2:n,zeta) [g], arias [m/s], cav [m/s], "
     "pgv/pga [s] (T in s, zeta a fraction, default 0.05; n periods, default 10)"
 )
+
+#: The intensity-measure name of the paper's A_gx (the ensemble's mean PGA [g]) in the
+#: fragility analyses and on the command line.
+AGX = "agx"

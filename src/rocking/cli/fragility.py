@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from ..defaults import AGX
 from ._options import (
     BAND_TEXT,
     band_option,
@@ -161,7 +162,7 @@ _run_options = options(
 @click.option(
     "--im",
     "im_text",
-    default="agx",
+    default=AGX,
     show_default=True,
     help="Intensity measure of the levels: agx (the paper's ensemble mean PGA [g]) or pga [g], "
     "pgv [m/s], pgd [m], sa(T[,zeta]) [g], psv(T[,zeta]) [m/s], saavg(T1:T2[:N]) [g], "
@@ -236,7 +237,7 @@ def fragility_cmd(
     body, with bootstrap 95 % intervals), fragility.png, im_efficiency.csv with
     --im-efficiency, report.html and run.json (parameters and status).
     """
-    from ..montecarlo.fragility import AGX, AnalysisIM
+    from ..montecarlo.fragility import AnalysisIM
 
     measure = AnalysisIM.parse(im_text)
     levels = _levels(measure.name, method, agx_text, levels_text, stripes_path)
@@ -321,7 +322,7 @@ def _levels(
     im: str, method: str, agx_text: str | None, levels_text: str | None, stripes: str | None
 ) -> np.ndarray | None:
     """The IDA levels of the options (None for MSA and cloud), checked before any work."""
-    if agx_text is not None and im != "agx":
+    if agx_text is not None and im != AGX:
         raise click.UsageError(f"--agx gives A_gx levels; for --im {im} give --levels")
     if agx_text is not None and levels_text is not None:
         raise click.UsageError("give the levels once: --agx or --levels")
@@ -333,7 +334,7 @@ def _levels(
         return None
     if stripes is not None:
         raise click.UsageError("--stripes goes with --method msa")
-    if im == "agx":
+    if im == AGX:
         return parse_range(agx_text or levels_text or "0.1:1.5:0.05")
     if levels_text is None:
         raise click.UsageError(f"--method ida needs --levels of {im}")
@@ -365,7 +366,7 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
     from ..plots.fragility import plot_fragility
     from ..report import Report
 
-    agx = measure.name == "agx"
+    agx = measure.name == AGX
     column = "agx" if agx else f"{measure.name} [{measure.unit}]"
     curves = ds[["probability", "count", "n", "ci_low", "ci_high"]].rename(level="agx")
     tidy = curves.to_dataframe().reset_index()

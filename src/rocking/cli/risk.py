@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from ..defaults import AGX
 from ..errors import InputError
 from ._options import quiet_option, reporter
 
@@ -40,7 +41,7 @@ def _fragility_run(folder: Path) -> tuple[dict, pd.DataFrame]:
             f"--fragility {folder}: the run is {run.get('status')!r}, not completed; run the "
             "same fragility command again to finish it"
         )
-    if run.get("im", "agx") == "agx":
+    if run.get("im", AGX) == AGX:
         raise InputError(
             f"--fragility {folder}: its curves are against A_gx, the mean PGA of an ensemble, "
             "which no site hazard curve gives; run fragility with --im pga (or the IM of your "

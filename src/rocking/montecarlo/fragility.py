@@ -25,7 +25,7 @@ import pandas as pd
 import xarray as xr
 
 from ..core.checks import finite_array, in_range
-from ..defaults import DEFAULT_E, G
+from ..defaults import AGX, DEFAULT_E, G
 from ..dynamics.batch import block_list
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
@@ -41,8 +41,6 @@ from .statistics import (
 
 #: Methods of :func:`fragility_analysis`.
 METHODS = ("ida", "msa", "cloud")
-#: The paper's intensity: the ensemble's mean PGA [g], one scale factor for all motions.
-AGX = "agx"
 
 
 @dataclass(frozen=True)
@@ -149,7 +147,7 @@ def fragility_analysis(
     blocks,
     ensemble: Ensemble,
     *,
-    im="agx",
+    im=AGX,
     method: str = "ida",
     levels=None,
     stripes=None,
