@@ -14,6 +14,7 @@ import pandas as pd
 import pytest
 
 import rocking
+from rocking.defaults import G
 from rocking.errors import InputError
 from rocking.montecarlo.engine import scale_factors
 
@@ -230,3 +231,23 @@ def test_vertical_components_go_with_their_motions(ens):
         BLOCKS, ens, im="pga", levels=levels, n_boot=0, progress=False
     )
     assert not np.array_equal(flat["overturned"].values, ds["overturned"].values)
+
+
+def test_scaling_a_vertical_to_minus_g_is_refused_before_any_run(ens):
+    # A constant vertical of -0.4 g scaled by more than 2.5 reaches -g (the block would lift
+    # off: not modelled). IDA to a PGA of 2.5 x the weakest motion's PGA is the limit.
+    av = np.full_like(ens.acc, -0.4 * G)
+    both = rocking.Ensemble(ens.acc, ens.dt, ens.labels, av=av)
+    weakest = int(np.argmin(both.pga))
+    ok = 2.49 * both.pga[weakest]
+    rocking.fragility_analysis(BLOCKS[:1], both, im="pga", levels=[ok], n_boot=0, progress=False)
+    expected = rf"motion '{both.labels[weakest]}' scaled by 2.6.*-1.04 g"
+    with pytest.raises(InputError, match=expected):
+        rocking.fragility_analysis(
+            BLOCKS[:1], both, im="pga", levels=[2.6 * both.pga[weakest]], n_boot=0, progress=False
+        )
+    stripes = pd.DataFrame({"level": [1.0, 1.0], "motion": [0, 1], "scale": [1.0, 2.6]})
+    with pytest.raises(InputError, match=r"stripes: motion .* scaled by 2\.6"):
+        rocking.fragility_analysis(
+            BLOCKS[:1], both, im="pga", method="msa", stripes=stripes, n_boot=0, progress=False
+        )

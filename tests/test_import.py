@@ -25,6 +25,7 @@ from rocking.errors import InputError
 from rocking.motions.ensemble import PER_MEMBER, Ensemble
 from rocking.motions.records import (
     Record,
+    example_manifest_path,
     example_record_path,
     peer_title,
     read_manifest,
@@ -307,6 +308,42 @@ def test_manifest_rows_relative_to_its_folder(tmp_path):
     np.testing.assert_allclose(ens.acc[0, :3], [0.2, -0.4, 0.1], rtol=1e-15)  # 2 x cm/s2
     np.testing.assert_allclose(ens.av[0, :3], [0.02, 0.04, 0.06], rtol=1e-15)
     assert ens.labels == ("h", "ElCentro1940_NS") and ens.meta["record_scale"] == [2.0, 1.0]
+
+
+# Largest |value| [g] of each channel as stated in its source file's header ("Max = ... g"),
+# the CSMIP V1 files of the 2019 M7.1 Ridgecrest earthquake in gmprocess 2.8.0's demo data.
+RIDGECREST_HEADER_PGA = {
+    "CCC_090": 0.567, "CCC_360": 0.471, "CCC_UP": 0.361,
+    "CLC_090": 0.344, "CLC_360": 0.511, "CLC_UP": 0.347,
+    "TOW2_090": 0.437, "TOW2_360": 0.386, "TOW2_UP": 0.360,
+}  # fmt: skip
+
+
+def test_shipped_records_keep_their_source_peaks_and_come_to_rest():
+    # The shipped Ridgecrest files were cut to 30 s, tapered and high-passed at 0.1 Hz
+    # (tools/ridgecrest_records.py). That processing leaves the peak acceleration of the source
+    # within 1.5 % (the largest change, 1.0 %, is CLC 090, whose filter removes a long-period
+    # offset) and the ground at rest at the end: the velocity integrated from the file returns
+    # to < 0.03 m/s (the uncorrected records drift up to 0.2 m/s over the same window).
+    ens = Ensemble.from_records(manifest="example", dt=0.01)
+    assert ens.n == 7 and sum(map(bool, ens.meta["vertical_sources"])) == 6
+    assert ens.meta["stations"][1] == "China Lake NWC Christmas Canyon Rd (CI.CCC)"
+    peaks = {}
+    for path in example_manifest_path().parent.glob("Ridgecrest2019_*.AT2"):
+        rec = read_record(path)
+        peaks[path.stem.removeprefix("Ridgecrest2019_")] = np.abs(rec.acc).max() / G
+        v = np.cumsum(rec.acc) * rec.dt
+        assert abs(v[-1]) < 0.03, path.name
+    assert peaks.keys() == RIDGECREST_HEADER_PGA.keys()
+    for name, pga in RIDGECREST_HEADER_PGA.items():
+        assert peaks[name] == pytest.approx(pga, rel=0.015), name
+
+
+def test_horizontal_only_leaves_the_verticals_out():
+    both = Ensemble.from_records(manifest="example", dt=0.01)
+    flat = Ensemble.from_records(manifest="example", dt=0.01, horizontal_only=True)
+    assert flat.av is None and flat.meta["vertical_sources"] == [""] * 7
+    np.testing.assert_array_equal(flat.acc, both.acc)
 
 
 @pytest.mark.parametrize(

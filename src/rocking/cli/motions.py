@@ -384,9 +384,10 @@ def fit_cmd(
 @click.argument("records", nargs=-1, metavar="[RECORD]...")
 @click.option(
     "--manifest",
-    type=click.Path(exists=True, dir_okay=False),
     help="CSV with one row per motion: columns horizontal (file), vertical (file, optional) "
-    "and scale (factor > 0, optional); paths relative to the manifest's folder.",
+    "and scale (factor > 0, optional); paths relative to the manifest's folder. 'example': "
+    "the shipped real records (El Centro 1940 NS; Ridgecrest 2019 M7.1 at three stations, "
+    "both horizontals, each with its vertical).",
 )
 @click.option(
     "--dt",
@@ -408,6 +409,11 @@ def fit_cmd(
     help="Time step [s] of one-column text files (which do not state it).",
 )
 @click.option(
+    "--horizontal-only",
+    is_flag=True,
+    help="Leave out every vertical component (of the manifest and of appended ensembles).",
+)
+@click.option(
     "--location",
     default="ground",
     show_default=True,
@@ -426,6 +432,7 @@ def import_cmd(
     dt: float | None,
     units: str | None,
     record_dt: float | None,
+    horizontal_only: bool,
     location: str,
     out: str,
 ) -> None:
@@ -451,6 +458,7 @@ def import_cmd(
         manifest=manifest,
         location=location,
         record_dt=record_dt,
+        horizontal_only=horizontal_only,
     )
     ens.save(out)
     m = ens.meta

@@ -291,6 +291,23 @@ def _im_values(ensemble: Ensemble, measure: AnalysisIM, given) -> np.ndarray | N
     return values
 
 
+def _refuse_lifting(ensemble: Ensemble, factors: np.ndarray, what: str) -> None:
+    """InputError when a motion's vertical component, multiplied by its largest scale factor
+    ``factors`` [-] (one per motion), reaches −g: the block would leave the ground."""
+    if ensemble.av is None:
+        return
+    low = factors * ensemble.av.min(axis=1) / G
+    bad = np.flatnonzero(low <= -1.0)
+    if bad.size:
+        i = bad[np.argmin(low[bad])]
+        raise InputError(
+            f"{what}: motion {ensemble.labels[i]!r} scaled by {factors[i]:.3g} has a vertical "
+            f"acceleration reaching {low[i]:.2f} g ({bad.size} of {ensemble.n} motions reach "
+            "-g): the block would leave the ground, which is not modelled; lower the levels or "
+            "leave the vertical components out (motions import --horizontal-only)"
+        )
+
+
 def _ida(
     blocks, ensemble, measure: AnalysisIM, levels: np.ndarray, own, options: dict
 ) -> xr.Dataset:
@@ -305,6 +322,9 @@ def _ida(
     if basis is not None and not np.all(basis[0] > 0.0):
         zero = [ensemble.labels[i] for i in np.flatnonzero(~(basis[0] > 0.0))]
         raise InputError(f"motions with {measure.name} = 0 cannot be scaled: {zero[:5]}")
+    base = np.full(ensemble.n, ensemble.agx) if basis is None else basis[0]
+    top = (levels.max() / base) ** (1.0 / measure.exponent)
+    _refuse_lifting(ensemble, top, f"{measure.name} = {levels.max():g} {measure.unit}")
     engine = Engine(
         blocks, [ensemble], desc="IDA", basis=basis, exponent=measure.exponent, **options
     )
@@ -320,6 +340,9 @@ def _msa(blocks, ensemble, measure: AnalysisIM, stripes: pd.DataFrame, options: 
     blocks = block_list(blocks)
     nb = len(blocks)
     groups = list(stripes.groupby("level", sort=True))
+    largest = np.zeros(ensemble.n)
+    np.maximum.at(largest, stripes["member"].to_numpy(), stripes["scale"].to_numpy())
+    _refuse_lifting(ensemble, largest, "stripes")
     cases = [ensemble.subset(rows["member"].to_numpy()) for _, rows in groups]
     # level 1 of a case whose basis is 1/scale gives each motion exactly its factor
     basis = [1.0 / rows["scale"].to_numpy() for _, rows in groups]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Final
 
@@ -284,6 +284,7 @@ class Ensemble:
         manifest: str | Path | None = None,
         location: str = "ground",
         record_dt: float | None = None,
+        horizontal_only: bool = False,
     ) -> Ensemble:
         """Ensemble of recorded motions: record files, folders of them, ensemble files and a
         manifest (``rocking motions import`` on the command line).
@@ -326,6 +327,9 @@ class Ensemble:
         record_dt : float, optional
             Time step [s] of one-column text files (which do not state it); checked against the
             step of the others.
+        horizontal_only : bool, optional
+            Drop every vertical component (given, in the manifest or in appended ensembles):
+            e.g. for an IDA that scales records far enough that their verticals would reach −g.
 
         Returns
         -------
@@ -351,6 +355,11 @@ class Ensemble:
             members += _manifest_members(Path(manifest), read)
         if not members:
             raise InputError("no motions: give records (files, folders, ensembles) or a manifest")
+        if horizontal_only:
+            members = [
+                replace(m, v=None, dt_v=m.dt_h, info={**m.info, "vertical_sources": ""})
+                for m in members
+            ]
         step = _common_step(members) if dt is None else positive("dt", dt, "s")
         rows_h = [_resampled(m.h, m.dt_h, step, m) for m in members]
         rows_v = [None if m.v is None else _resampled(m.v, m.dt_v, step, m) for m in members]

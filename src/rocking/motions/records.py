@@ -50,12 +50,15 @@ A manifest (:func:`read_manifest`) is a CSV file with one row per motion: column
 same motion) and ``scale`` (optional factor > 0 applied to both, default 1). Paths are relative
 to the manifest's folder.
 
-Example record
---------------
-The package ships one record, El Centro 1940 north–south (public domain; source and format in
-``rocking/data/records/README.md``). :func:`example_record_path` gives its path; wherever record
-files are named (:func:`read_records`, the command line), the word ``example`` stands for it
-unless a file of that name exists.
+Shipped records
+---------------
+The package ships seven real records (public domain; sources, processing and format in
+``rocking/data/records/README.md``): El Centro 1940 north–south and both horizontal components of
+the 2019 M7.1 Ridgecrest earthquake at three stations, with each station's vertical component.
+:func:`example_record_path` gives El Centro's path; wherever record files are named
+(:func:`read_records`, the command line), the word ``example`` stands for it unless a file of
+that name exists. :func:`example_manifest_path` is the manifest of all seven (with the verticals);
+wherever a manifest is named, the word ``example`` stands for it.
 """
 
 from __future__ import annotations
@@ -391,6 +394,13 @@ def example_record_path() -> Path:
     return Path(str(files("rocking") / "data" / "records" / "ElCentro1940_NS.AT2"))
 
 
+def example_manifest_path() -> Path:
+    """Path of the shipped manifest of real records: El Centro 1940 NS and six horizontal
+    components of the 2019 M7.1 Ridgecrest earthquake, each with its station's vertical
+    component (30 s at 0.01 s, in g; public domain)."""
+    return Path(str(files("rocking") / "data" / "records" / "examples.csv"))
+
+
 def record_path(spec) -> Path:
     """``spec`` as a path, the word ``example`` (when no file of that name exists) standing for
     :func:`example_record_path`."""
@@ -548,14 +558,17 @@ def read_manifest(path) -> list[ManifestRow]:
         The CSV file: a header row naming columns ``horizontal`` (required), ``vertical`` and
         ``scale`` (any case, any order), then one row per motion. Blank lines and lines
         starting with ``#`` are skipped; an empty ``vertical`` means none, an empty ``scale``
-        1.
+        1. The word ``example`` (when no file of that name exists) stands for
+        :func:`example_manifest_path`.
 
     Returns
     -------
     list of ManifestRow
         In file order; the files are checked to exist, not read.
     """
-    path = Path(path)
+    path = (
+        example_manifest_path() if str(path) == EXAMPLE and not Path(path).exists() else Path(path)
+    )
     try:
         text = path.read_text(encoding="utf-8-sig")
     except FileNotFoundError:
