@@ -1,15 +1,18 @@
-"""Benchmark suite of the rocking kernel and of the main jobs (issue 6).
+"""Benchmark suite of the rocking kernel and of the main jobs (issues 6 and 18).
 
 Run from the repository root:
 
-    python benchmarks/run.py [--quick] [--with-paper] [--out benchmarks/results.json]
+    python benchmarks/run.py [--quick] [--with-paper] [--isa native,avx2] [--out FILE.json]
 
-It prints a table and writes JSON with the machine (CPU model, cores, Python/NumPy/Numba
-versions, date, load average) and, measured in the same run:
+The suite runs once per instruction set (``--isa``, default both), each in a child process:
+``native`` compiles for the CPU of the machine (AVX-512 where it has it), ``avx2`` restricts Numba
+to a Haswell CPU (``NUMBA_CPU_NAME=haswell``: AVX2 and FMA, no AVX-512) with its own cache of
+compiled code. It prints a table per instruction set and writes JSON with the machine (CPU model,
+SIMD flags, cores, Python/NumPy/Numba versions, date), the targets, and per instruction set
+(``isas``) what Numba compiled for, the load averages and, measured in the same run:
 
 * ``kernel``: aggregate throughput of the batched kernel (:func:`rocking.dynamics.batch.run_cases`,
-all
-  Numba threads) in ns per RK4 step, on bodies that keep rocking through 20 s motions (dt =
+  all Numba threads) in ns per RK4 step, on bodies that keep rocking through 20 s motions (dt =
   1/400 s).  Only steps actually integrated count: the sample intervals in which the block is
   not at rest throughout, up to overturning, counted independently from :func:`rocking.simulate`'s
   response of every case (which must also give the same flags and peaks as the kernel).  Also
@@ -18,24 +21,26 @@ all
   sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
   in ns per step it integrates, and the ratio to the kernel;
 * ``scipy``: :func:`rocking.dynamics.reference.simulate_reference` (``solve_ivp`` DOP853 with
-events) on a
-  few of the cases, seconds per simulation, and the ratio to the kernel's time per simulation;
+  events) on a few of the cases, seconds per simulation, and the ratio to the kernel's time per
+  simulation;
 * ``end_to_end``: Table 2 (``rocking motions generate`` of the 200 motions + ``rocking agx50
-  --bodies paper``: 72 bodies on the ground, A_gx50 to 0.01 g; best of 3 runs of each), response
-  spectra of 500 motions (100 frequencies), the floor motions of 500 motions on the 5-story frame
+  --bodies paper``: 72 bodies on the ground, A_gx50 to 0.01 g; best of the runs of each),
+  generating 500 motions of 30 s at 400 Hz with their baseline correction, response spectra of
+  500 motions (100 frequencies), the floor motions of 500 motions on the 5-story frame
   ``paper-2.0``, and ``rocking reproduce all`` at ``--fidelity quick`` (and ``paper`` with
   ``--with-paper``), each with its wall time and, for the commands, peak resident memory.
 
-Timings are best and median of repeats (the machine may be shared: see ``load``); compiled code
-comes from Numba's cache, warmed up before any timing.  The default takes about four minutes on
-two cores, ``--quick`` (fewer motions and repeats) about two; ``--with-paper`` adds the paper run
-(about two minutes).
+With more than one instruction set, ``bit_identical_across_isas`` compares the SHA-256 of the
+kernel's flags and peaks and of Table 2's agx50.csv between them.  Timings are best and median of
+repeats (the machine may be shared: see the load averages); compiled code comes from Numba's
+cache, warmed up before any timing.
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime
+import hashlib
 import json
 import math
 import os
@@ -67,15 +72,21 @@ import plain_loop
 ROOT = Path(__file__).resolve().parent.parent
 DT = 1 / 400  # [s], the paper's
 DURATION = 20.0  # [s]
-#: Issue 6's targets.
+#: Targets of issue 18 (each on AVX2 and on AVX-512), and issue 6's ratio to SciPy.
 TARGETS = {
-    "kernel_ns_per_step": 4.0,
     "vs_plain_loop": 10.0,
     "vs_scipy": 10_000.0,
-    "table2_s": 10.0,
-    "reproduce_paper_s": 120.0,
-    "reproduce_paper_peak_gb": 2.0,
-    "reproduce_quick_s": 60.0,
+    "table2_s": 3.0,
+    "reproduce_paper_s": 30.0,
+    "reproduce_paper_peak_gb": 1.0,
+    "reproduce_quick_s": 5.0,
+    "generate_500_s": 0.3,
+}
+#: Instruction sets the suite runs on: each in a child process with these environment variables
+#: (Numba compiles for the named CPU; a separate cache so that no code of another run is reused).
+ISAS = {
+    "native": {},
+    "avx2": {"NUMBA_CPU_NAME": "haswell"},
 }
 
 
@@ -125,6 +136,14 @@ def machine_info() -> dict:
 def load() -> list[float]:
     """1-, 5- and 15-minute load averages (other processes on the machine slow the timings)."""
     return [round(x, 2) for x in os.getloadavg()]
+
+
+def digest(*arrays: np.ndarray) -> str:
+    """SHA-256 of the arrays' bytes: equal digests, bit-identical results."""
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
 
 
 def timed(func, repeats: int) -> dict:
@@ -208,6 +227,7 @@ def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
     steps = int(counted["steps"].sum())
     n_t = acc.shape[1]
     out = {
+        "results_sha256": digest(overturned, peak),
         "cases": int(w["body"].size),
         "steps": steps,
         "share_of_intervals_integrated": steps / (w["body"].size * (n_t - 1)),
@@ -348,6 +368,7 @@ def bench_table2(tmp: Path, runs: int) -> dict:
         )
         for r in range(runs)
     ]
+    results = (tmp / "table2-0" / "agx50.csv").read_bytes()
     best_gen = min(gen, key=lambda x: x["wall_s"])
     best_agx = min(agx, key=lambda x: x["wall_s"])
     return {
@@ -356,6 +377,7 @@ def bench_table2(tmp: Path, runs: int) -> dict:
         "all_generate_s": [x["wall_s"] for x in gen],
         "all_agx50_s": [x["wall_s"] for x in agx],
         "wall_s": best_gen["wall_s"] + best_agx["wall_s"],
+        "agx50_csv_sha256": hashlib.sha256(results).hexdigest(),
     }
 
 
@@ -375,6 +397,13 @@ def bench_spectra_floors(n: int) -> dict:
         "spectra": {"frequencies": freqs.size, "damping": 0.05, **spec},
         "floors": {"frame": "paper-2.0 (5 stories)", **floors},
     }
+
+
+def bench_generate(n: int, repeats: int) -> dict:
+    """``generate`` (Eq. 9 and the baseline correction) of ``n`` motions of 30 s at 400 Hz."""
+    generate(2, duration=2.0, dt=DT, seed=1)  # compile / load
+    t = timed(lambda: generate(n, duration=30.0, dt=DT, seed=2, baseline=True), repeats)
+    return {"motions": n, "duration_s": 30.0, "dt_s": DT, **t}
 
 
 def bench_reproduce(tmp: Path, fidelity: str, runs: int) -> dict:
@@ -407,8 +436,7 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
             "kernel, all threads [ns/RK4 step]",
             f"{k['ns_per_step']:.2f}",
             f"median {k['ns_per_step_median']:.2f}; {k['threads']} threads; "
-            f"{k['steps'] / 1e6:.1f} M steps, {k['cases']} cases; target ≤ "
-            f"{TARGETS['kernel_ns_per_step']}",
+            f"{k['steps'] / 1e6:.1f} M steps, {k['cases']} cases",
         )
     )
     rows.append(("kernel, one thread [ns/RK4 step]", f"{k['ns_per_step_one_thread']:.2f}", ""))
@@ -458,6 +486,15 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
                 f"target ≤ {TARGETS['table2_s']:g} s",
             )
         )
+    if "generate_500" in e:
+        g = e["generate_500"]
+        rows.append(
+            (
+                f"generate {g['motions']} motions of 30 s at 400 Hz [s]",
+                f"{g['best_s']:.2f}",
+                f"Eq. (9) and baseline correction; target ≤ {TARGETS['generate_500_s']:g} s",
+            )
+        )
     if "spectra_floors" in e:
         sf = e["spectra_floors"]
         rows.append(
@@ -481,13 +518,15 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
             r = e[key].get("again", e[key]["first"])
             target = TARGETS[f"reproduce_{fid}_s"]
             note = f"peak {r['peak_rss_mb']:.0f} MB; target ≤ {target:g} s"
+            if fid == "paper":
+                note += f", ≤ {TARGETS['reproduce_paper_peak_gb']:g} GB"
             if "again" in e[key]:
                 note += f"; first run {e[key]['first']['wall_s']:.1f} s"
             rows.append((f"reproduce all --fidelity {fid} [s]", f"{r['wall_s']:.1f}", note))
     return rows
 
 
-def main(argv=None) -> int:
+def parse_args(argv):
     ap = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
     )
@@ -497,22 +536,34 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--with-paper",
         action="store_true",
-        help="also time `rocking reproduce all --fidelity paper` (about 2 minutes "
-        "or more) and its peak memory",
+        help="also time `rocking reproduce all --fidelity paper` and its peak memory",
     )
     ap.add_argument(
         "--no-end-to-end", action="store_true", help="kernel, plain loop and SciPy only"
+    )
+    ap.add_argument(
+        "--isa",
+        default=",".join(ISAS),
+        help=f"instruction sets to run on, comma-separated among {', '.join(ISAS)} "
+        "(default: all, one after the other)",
     )
     ap.add_argument(
         "--out",
         default=str(ROOT / "benchmarks" / "results.json"),
         help="JSON file to write (default: benchmarks/results.json)",
     )
-    a = ap.parse_args(argv)
+    return ap.parse_args(argv)
+
+
+def run_isa(a) -> dict:
+    """The whole suite in this process (compiled for the instruction set of its environment)."""
     n_motions = 20 if a.quick else 100
     repeats = 3 if a.quick else 9  # best of many: the machine may be shared
     res = {
-        "machine": machine_info(),
+        "numba_cpu": {
+            "NUMBA_CPU_NAME": numba.config.CPU_NAME or "host",
+            "NUMBA_CPU_FEATURES": numba.config.CPU_FEATURES or "host",
+        },
         "load_at_start": load(),
         "settings": {
             "quick": a.quick,
@@ -522,12 +573,6 @@ def main(argv=None) -> int:
             "duration_s": DURATION,
         },
     }
-    print(
-        f"rocking benchmarks on {res['machine']['cpu_model']} "
-        f"({res['machine']['logical_cpus']} CPUs), load {res['load_at_start']}",
-        flush=True,
-    )
-
     print("kernel workload and independent step count ...", flush=True)
     w = rocking_workload(n_motions)
     counted = count_with_simulate(w)
@@ -552,6 +597,8 @@ def main(argv=None) -> int:
             tmp = Path(tmp)
             print("Table 2 (rocking agx50, 72 bodies x 200 motions) ...", flush=True)
             e["table2"] = bench_table2(tmp, 2 if a.quick else 3)
+            print("generating 500 motions of 30 s ...", flush=True)
+            e["generate_500"] = bench_generate(500, repeats)
             print("response spectra and floor motions of 500 motions ...", flush=True)
             e["spectra_floors"] = bench_spectra_floors(500)
             print("rocking reproduce all --fidelity quick ...", flush=True)
@@ -560,18 +607,78 @@ def main(argv=None) -> int:
                 print("rocking reproduce all --fidelity paper ...", flush=True)
                 e["reproduce_paper"] = bench_reproduce(tmp, "paper", 1)
         res["load_at_end"] = load()
+    return res
 
-    rows = summary_rows(res)
+
+def child_env(isa: str) -> dict:
+    """Environment of the child process that runs the suite on ``isa``."""
+    from rocking.core.compile import cache_dir
+
+    env = {**os.environ, **ISAS[isa], "ROCKING_BENCH_ISA": isa}
+    if ISAS[isa]:
+        env["ROCKING_CACHE_DIR"] = str(cache_dir().parent / f"numba-{isa}")
+    else:
+        env.pop("NUMBA_CPU_NAME", None)
+        env.pop("NUMBA_CPU_FEATURES", None)
+    return env
+
+
+def main(argv=None) -> int:
+    a = parse_args(argv)
+    isas = [x.strip() for x in a.isa.split(",") if x.strip()]
+    unknown = [x for x in isas if x not in ISAS]
+    if unknown or not isas:
+        raise SystemExit(f"--isa: unknown instruction set(s) {unknown}; choose among {list(ISAS)}")
+    out = Path(a.out)
+    if os.environ.get("ROCKING_BENCH_ISA") in isas and len(isas) == 1:
+        # a child: run here, write JSON for the parent
+        out.write_text(json.dumps(run_isa(a), indent=2, default=float) + "\n")
+        return 0
+    res: dict = {"machine": machine_info(), "targets": TARGETS, "isas": {}}
+    print(
+        f"rocking benchmarks on {res['machine']['cpu_model']} "
+        f"({res['machine']['logical_cpus']} CPUs, {', '.join(res['machine']['simd'])})",
+        flush=True,
+    )
+    flags = [
+        f
+        for f in ("--quick", "--with-paper", "--no-end-to-end")
+        if getattr(a, f[2:].replace("-", "_"))
+    ]
+    with tempfile.TemporaryDirectory(prefix="rocking-bench-isa-") as tmp:
+        for isa in isas:
+            print(f"\n== {isa} {ISAS[isa] or '(the CPU this machine has)'}", flush=True)
+            part = Path(tmp) / f"{isa}.json"
+            cmd = [sys.executable, __file__, *flags, "--isa", isa, "--out", str(part)]
+            subprocess.run(cmd, env=child_env(isa), check=True)
+            res["isas"][isa] = json.loads(part.read_text())
+            print_rows(summary_rows(res["isas"][isa]))
+    if len(isas) > 1:
+        digests = {
+            key: [pick(r) for r in res["isas"].values()]
+            for key, pick in {
+                "kernel": lambda r: r["kernel"]["results_sha256"],
+                "table2_agx50": lambda r: (
+                    r.get("end_to_end", {}).get("table2", {}).get("agx50_csv_sha256")
+                ),
+            }.items()
+        }
+        res["bit_identical_across_isas"] = {
+            key: len(set(values)) == 1 for key, values in digests.items() if None not in values
+        }
+        print(f"\nbit-identical across {', '.join(isas)}: {res['bit_identical_across_isas']}")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(res, indent=2, default=float) + "\n")
+    print(f"\nwritten {out}")
+    return 0
+
+
+def print_rows(rows: list[tuple[str, str, str]]) -> None:
     w1 = max(len(r[0]) for r in rows)
     w2 = max(len(r[1]) for r in rows)
     print()
     for name, value, note in rows:
         print(f"{name:<{w1}}  {value:>{w2}}  {note}")
-    out = Path(a.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(res, indent=2, default=float) + "\n")
-    print(f"\nwritten {out}")
-    return 0
 
 
 if __name__ == "__main__":
