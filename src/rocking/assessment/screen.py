@@ -109,7 +109,7 @@ def screen(
     duration: float = 20.0,
     dt: float = 1 / 400,
     ensemble: Ensemble | None = None,
-    band_hz: tuple[float, float] = BAND_HZ,
+    band_hz: Sequence[float] = BAND_HZ,
     resolution: float = 0.01,
     agx_max: float = 5.0,
     confidence: float = 0.95,
@@ -281,7 +281,7 @@ def _locations(
     inventory: Inventory,
     spectrum: TargetSpectrum,
     ground: Ensemble,
-    band_hz: tuple[float, float],
+    band_hz: Sequence[float],
     floor_motions: str,
 ) -> Iterator[_Location]:
     """The locations of the inventory's items: the ground first (its source of the available
@@ -328,7 +328,7 @@ _Variables = dict[str, tuple[Any, str, str]]
 
 def _screen_location(
     location: _Location,
-    band_hz: tuple[float, float],
+    band_hz: Sequence[float],
     settings: _MonteCarlo,
     risk: _Risk | None,
 ) -> xr.Dataset:
@@ -367,7 +367,7 @@ def _item_variables(items: list[Item]) -> _Variables:
     }
 
 
-def _eq11_variables(location: _Location, band_hz: tuple[float, float]) -> _Variables:
+def _eq11_variables(location: _Location, band_hz: Sequence[float]) -> _Variables:
     """Housner's energy balance (Eq. 11) of the items against the location's available S_v."""
     energy = assess(
         [it.block for it in location.items],
@@ -537,7 +537,7 @@ def eq11_vs_monte_carlo(
     )
 
 
-def eq11_vs_monte_carlo_note(band_hz: tuple[float, float] = BAND_HZ) -> str:
+def eq11_vs_monte_carlo_note(band_hz: Sequence[float] = BAND_HZ) -> str:
     """Markdown paragraph for reports: why Eq. (11) and the Monte Carlo probability can
     disagree (``band_hz`` [Hz]: the band of the available S_v)."""
     return (
