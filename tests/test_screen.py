@@ -14,12 +14,13 @@ import pytest
 from click.testing import CliRunner
 
 from rocking.assessment.energy import available_sv
-from rocking.assessment.screen import eq11_vs_monte_carlo, screen
+from rocking.assessment.screen import N_BAND_FREQS, eq11_vs_monte_carlo, screen
 from rocking.cli import main
 from rocking.dynamics.body import FOOT, G
 from rocking.motions.design import ASCE7
 from rocking.motions.synthesis import generate
 from rocking.plots.screen import plot_screen
+from rocking.structures.frames import PRESETS as FRAME_PRESETS
 from rocking.structures.frames import ShearFrame
 
 # S_D1 = 0.9 g: available S_v on the ground = S_D1·g/(2π) = 1.40471 m/s (the PSV plateau from
@@ -114,6 +115,26 @@ def test_floor_agx50_is_in_ground_terms_and_paper_mode_rescales(result, motions,
     assert paper["sv_available"].sel(item="upstairs") == pytest.approx(expected, rel=5e-3)
     with pytest.raises(ValueError, match="floor_motions"):
         screen(path, SPECTRUM, ensemble=motions, floor_motions="roof")
+
+
+@pytest.mark.parametrize("preset", list(FRAME_PRESETS))
+def test_band_maximum_of_floor_spectra_on_the_screens_grid(motions, preset):
+    # The screen samples the floor spectra at N_BAND_FREQS log-spaced frequencies of the band.
+    # The floor motions of a frame peak at its resonances (the T1 = 2 s frame's at 0.5 Hz is the
+    # sharpest in the band), and a coarse grid can step over a peak. A grid of 8·(N − 1) + 1
+    # points nests the coarse one, so the coarse band maximum can only be lower (up to rounding
+    # of np.geomspace, hence 1e-12); the shortfall must stay within 0.5 %, the accuracy asked
+    # of the available S_v (the same as in the floor test above), on every floor of every frame
+    # of the paper.
+    fine = 8 * (N_BAND_FREQS - 1) + 1
+    floors = ShearFrame.preset(preset).floor_ensembles(motions)
+    for floor, ensemble in floors.items():
+        if floor == 0:
+            continue
+        coarse_sv = available_sv(ensemble, n_freqs=N_BAND_FREQS)
+        fine_sv = available_sv(ensemble, n_freqs=fine)
+        assert coarse_sv <= fine_sv * (1 + 1e-12), (preset, floor)
+        assert coarse_sv >= fine_sv * (1 - 5e-3), (preset, floor, coarse_sv / fine_sv - 1)
 
 
 def test_a_block_that_cannot_uplift_never_overturns(result, motions):

@@ -21,6 +21,7 @@ line).
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import dataclass
 from importlib.resources import files
@@ -62,7 +63,7 @@ def example_bodies_path() -> Path:
     return Path(str(files("rocking") / "data" / "example_bodies.csv"))
 
 
-def read_bodies(path) -> list[Block]:
+def read_bodies(path: str | os.PathLike[str]) -> list[Block]:
     """Blocks listed in a CSV file (format in the module notes), in file order.
 
     Parameters
@@ -73,7 +74,7 @@ def read_bodies(path) -> list[Block]:
     return [body.block for body in read_bodies_table(path)]
 
 
-def read_bodies_table(path) -> list[NamedBody]:
+def read_bodies_table(path: str | os.PathLike[str]) -> list[NamedBody]:
     """Named bodies listed in a CSV file (format in the module notes), in file order.
 
     Names must be distinct; a row without a name is named by its Block label.

@@ -18,15 +18,17 @@ Units: S_v in m/s inside (tables in cm/s), A_gx in g, frequencies in Hz.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..core.checks import in_range, positive
 from ..defaults import BAND_HZ
 from ..dynamics.batch import block_list
-from ..dynamics.body import G, housner_sv
+from ..dynamics.body import Block, G, housner_sv
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from ..motions.response import ResponseSpectrum, response_spectrum
@@ -41,7 +43,7 @@ OVERTURN = "overturn>50%"
 _SV_UNITS = "m s-1"
 
 
-def band_frequencies(band_hz=BAND_HZ, n_freqs: int = N_FREQS) -> np.ndarray:
+def band_frequencies(band_hz: Sequence[float] = BAND_HZ, n_freqs: int = N_FREQS) -> np.ndarray:
     """``n_freqs`` log-spaced frequencies [Hz] from the band's lower to its upper edge (both in).
 
     Parameters
@@ -57,7 +59,7 @@ def band_frequencies(band_hz=BAND_HZ, n_freqs: int = N_FREQS) -> np.ndarray:
     return np.geomspace(lo, hi, int(n_freqs))
 
 
-def mean_psv(ensemble: Ensemble, freqs_hz, damping: float = 0.05) -> np.ndarray:
+def mean_psv(ensemble: Ensemble, freqs_hz: ArrayLike, damping: float = 0.05) -> np.ndarray:
     """Ensemble-mean pseudo-velocity spectrum [m/s] of ``ensemble`` as it is (not rescaled).
 
     Parameters
@@ -73,9 +75,9 @@ def mean_psv(ensemble: Ensemble, freqs_hz, damping: float = 0.05) -> np.ndarray:
 
 
 def available_sv(
-    source,
+    source: Ensemble | ResponseSpectrum | TargetSpectrum,
     *,
-    band_hz=BAND_HZ,
+    band_hz: Sequence[float] = BAND_HZ,
     damping: float = 0.05,
     agx: float | None = None,
     n_freqs: int = N_FREQS,
@@ -144,11 +146,11 @@ def available_sv(
 
 
 def energy_balance(
-    blocks,
+    blocks: Block | Sequence[Block],
     ensemble: Ensemble,
-    agx50,
+    agx50: ArrayLike,
     *,
-    band_hz=BAND_HZ,
+    band_hz: Sequence[float] = BAND_HZ,
     damping: float = 0.05,
     n_freqs: int = N_FREQS,
     g: float = G,
@@ -212,12 +214,12 @@ def energy_balance(
 
 
 def assess(
-    blocks,
-    source,
+    blocks: Block | Sequence[Block],
+    source: Ensemble | ResponseSpectrum | TargetSpectrum,
     *,
-    band_hz=BAND_HZ,
+    band_hz: Sequence[float] = BAND_HZ,
     damping: float = 0.05,
-    names=None,
+    names: Sequence[str] | None = None,
     agx: float | None = None,
     g: float = G,
 ) -> xr.Dataset:

@@ -38,8 +38,10 @@ get a :class:`SlidingWarning` and ``may_slide`` = True: they are outside the mod
 from __future__ import annotations
 
 import csv
+import os
 import re
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -120,7 +122,7 @@ class Inventory:
     def __len__(self) -> int:
         return len(self.items)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[Item]:
         return iter(self.items)
 
     @property
@@ -153,7 +155,9 @@ class _Frames:
         )
 
 
-def read_inventory(path, *, frame=None) -> Inventory:
+def read_inventory(
+    path: str | os.PathLike[str], *, frame: str | ShearFrame | None = None
+) -> Inventory:
     """Read an inventory from a CSV or TOML file (see the module notes for the format).
 
     Parameters

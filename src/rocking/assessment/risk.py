@@ -41,6 +41,7 @@ The integral and its tails (:class:`RiskResult`):
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import dataclass
 from importlib.resources import files
@@ -48,6 +49,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array
 from ..core.files import csv_rows
@@ -89,7 +91,7 @@ class HazardCurve:
     rates: np.ndarray
     source: str = ""
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "im", parse_im(self.im))
         x = finite_array("values", self.values, min_len=2)
         lam = finite_array("rates", self.rates, min_len=2)
@@ -119,14 +121,14 @@ class HazardCurve:
         """k_i of the power law λ = λ_i·(x/x_i)^(−k_i) of each segment [-], shape (n − 1,)."""
         return -np.diff(np.log(self.rates)) / np.diff(np.log(self.values))
 
-    def rate(self, x) -> np.ndarray:
+    def rate(self, x: ArrayLike) -> np.ndarray:
         """Annual rate of exceeding ``x`` [1/yr] (x > 0, the IM's unit): log-log interpolation
         between the points, the end segments' power laws extrapolated outside."""
         x = np.asarray(x, dtype=float)
         i = self._segment(x)
         return self.rates[i] * (x / self.values[i]) ** -self.exponents[i]
 
-    def density(self, x) -> np.ndarray:
+    def density(self, x: ArrayLike) -> np.ndarray:
         """abs(dλ/dx) = k_i·λ(x)/x [1/yr per unit of the IM], extrapolated as :meth:`rate`."""
         x = np.asarray(x, dtype=float)
         return self.exponents[self._segment(x)] * self.rate(x) / x
@@ -135,7 +137,7 @@ class HazardCurve:
         return np.clip(np.searchsorted(self.values, x, side="right") - 1, 0, self.values.size - 2)
 
     @classmethod
-    def from_csv(cls, path) -> HazardCurve:
+    def from_csv(cls, path: str | os.PathLike[str]) -> HazardCurve:
         """Read a hazard curve from a CSV file (format in the module notes); the word
         ``example`` (when no file has that name) reads :func:`example_hazard_path`."""
         path = Path(path)
@@ -207,7 +209,7 @@ def _number(where: str, what: str, text: str) -> float:
     return x
 
 
-def check_hazard_im(hazard: HazardCurve, im) -> IntensityMeasure:
+def check_hazard_im(hazard: HazardCurve, im: str | IntensityMeasure) -> IntensityMeasure:
     """Check that a hazard curve is of the intensity measure ``im`` of a fragility curve.
 
     Parameters
@@ -278,7 +280,7 @@ class RiskResult:
         """1/λ_f [yr]."""
         return 1.0 / self.annual_rate if self.annual_rate > 0.0 else math.inf
 
-    def probability_in(self, years) -> np.ndarray:
+    def probability_in(self, years: ArrayLike) -> np.ndarray:
         """Probability of at least one overturning in ``years`` [yr] (≥ 0, array_like) for
         Poisson occurrences: 1 − exp(−λ_f·years) [-]."""
         t = np.asarray(years, dtype=float)
@@ -286,7 +288,7 @@ class RiskResult:
             raise InputError(f"years must be finite numbers >= 0, got {years!r}")
         return -np.expm1(-self.annual_rate * t)
 
-    def disaggregation(self, x=None) -> tuple[np.ndarray, np.ndarray]:
+    def disaggregation(self, x: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Contribution of each intensity to the rate: dλ_f/dx = P_f(x)·abs(dλ/dx).
 
         Parameters
@@ -308,7 +310,12 @@ class RiskResult:
         return x, np.asarray(self.fragility.probability(x), dtype=float) * self.hazard.density(x)
 
 
-def annual_rate(fragility, hazard, *, im=None) -> RiskResult:
+def annual_rate(
+    fragility: Any,
+    hazard: HazardCurve | str | os.PathLike[str],
+    *,
+    im: str | IntensityMeasure | None = None,
+) -> RiskResult:
     """Mean annual rate of overturning: λ_f = ∫ P_f(x)·abs(dλ/dx) dx (module notes).
 
     Parameters

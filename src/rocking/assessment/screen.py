@@ -27,12 +27,19 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..core.checks import positive
+from ..core.progress import Reporter
+from ..dynamics.body import Block
 from ..errors import InputError
+from ..montecarlo.backends import Backend
 from ..montecarlo.fragility import fragility_analysis
 from ..montecarlo.probability import agx_50, overturning_probability
 from ..montecarlo.statistics import LognormalFit
@@ -42,37 +49,74 @@ from ..motions.intensity import intensity_measures
 from ..motions.response import ResponseSpectrum, response_spectrum
 from ..motions.synthesis import generate
 from ..motions.targets import TargetSpectrum
+from ..structures.frames import ShearFrame
 from .energy import BAND_HZ, SAFE, assess, band_frequencies
 from .inventory import Inventory, Item, read_inventory
 from .risk import HazardCurve, annual_rate, example_hazard_path
 
-#: Oscillator frequencies of the floor spectra in the band of the available S_v [-]: 100
-#: log-spaced frequencies in 0.04–0.6 Hz find the band maximum of the mean PSV of the floors of
-#: the paper's frames within 0.4 % of 800 frequencies (measured on 50 ASCE 7 motions; the
-#: T1 = 2 s frame's resonance at 0.5 Hz is the sharpest peak), at an eighth of the cost.
+if TYPE_CHECKING:
+    import pandas as pd
+
+#: Oscillator frequencies of the floor spectra in the band of the available S_v [-]: enough to
+#: find the band maximum of a frame's resonance peak (tests/test_screen.py compares 8 times more).
 N_BAND_FREQS = 100
 #: Choices of ``floor_motions`` (see the module docstring).
 FLOOR_MOTIONS = ("building", "paper")
+#: IM levels of the fragility curves of a screening with a hazard curve [-].
+N_RISK_LEVELS = 20
+
+
+@dataclass(frozen=True)
+class _MonteCarlo:
+    """Settings of the Monte Carlo runs of a screening (see :func:`screen`)."""
+
+    resolution: float  # of the A_gx50 search [g]
+    agx_max: float  # upper end of the A_gx50 search [g]
+    confidence: float  # of the Wilson interval [-]
+    backend: Backend | None
+    progress: Reporter | bool | None
+
+
+@dataclass(frozen=True)
+class _Risk:
+    """The hazard part of a screening: the curve, the exposure time [yr] and the hazard's IM of
+    every design-level ground motion (computed once for all locations)."""
+
+    hazard: HazardCurve
+    years: float
+    ground_im: np.ndarray
+
+
+@dataclass(frozen=True)
+class _Location:
+    """The items at one location, the source of their available S_v (TargetSpectrum or
+    ResponseSpectrum), their motions at the design level and the ratio of the motions' mean PGA
+    to the ground's A_gx [-] (1 on the ground and for ``floor_motions="paper"``)."""
+
+    items: list[Item]
+    source: TargetSpectrum | ResponseSpectrum
+    motions: Ensemble
+    ratio: float
 
 
 def screen(
-    inventory,
-    spectrum,
+    inventory: Inventory | Sequence[Item] | str | os.PathLike[str],
+    spectrum: TargetSpectrum | str,
     *,
-    frame=None,
+    frame: str | ShearFrame | None = None,
     n: int = 200,
     seed: int = 0,
     duration: float = 20.0,
     dt: float = 1 / 400,
     ensemble: Ensemble | None = None,
-    band_hz=BAND_HZ,
+    band_hz: Sequence[float] = BAND_HZ,
     resolution: float = 0.01,
     agx_max: float = 5.0,
     confidence: float = 0.95,
     floor_motions: str = "building",
-    backend=None,
-    progress=None,
-    hazard=None,
+    backend: Backend | None = None,
+    progress: Reporter | bool | None = None,
+    hazard: HazardCurve | str | os.PathLike[str] | None = None,
     years: float = 50.0,
 ) -> xr.Dataset:
     """Screen every item of an inventory against a design spectrum.
@@ -143,74 +187,25 @@ def screen(
         raise InputError(
             f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got {floor_motions!r}"
         )
-    if isinstance(inventory, (list, tuple)):
-        if not inventory:
-            raise InputError("inventory is empty: there is no item to screen")
-        if not all(isinstance(it, Item) for it in inventory):
-            raise InputError(
-                "inventory must be an Inventory, a list of rocking.Item or the path "
-                "of an inventory file"
-            )
-        inventory = Inventory(tuple(inventory))
-    if not isinstance(inventory, Inventory):
-        if not isinstance(inventory, (str, os.PathLike)):
-            raise InputError(
-                f"inventory must be an Inventory, a list of rocking.Item or the path "
-                f"of an inventory file, got {type(inventory).__name__}"
-            )
-        inventory = read_inventory(inventory, frame=frame)
-    elif frame is not None:
-        raise InputError(
-            "frame is the default frame of an inventory file; the Inventory given "
-            "is already resolved"
-        )
+    inventory = _inventory(inventory, frame)
     if not isinstance(spectrum, TargetSpectrum):
         spectrum = parse_spectrum(spectrum)
     if hazard is not None:
         hazard = _hazard_curve(hazard, floor_motions)
         years = positive("years", years, "yr")
-    agx = design_pga(spectrum)
     if ensemble is None:
         ensemble = generate(n, duration=duration, dt=dt, target=spectrum, seed=seed)
     elif ensemble.meta.get("location") != "ground":
         raise InputError(f"ensemble must be ground motions, got {ensemble.meta.get('location')}")
+    agx = design_pga(spectrum)
     ground = ensemble.scaled(agx)
-    risk = None
-    if hazard is not None:
-        # the hazard's IM of every design-level ground motion, computed once for all locations
-        ground_im = intensity_measures(ground, hazard.im.name).iloc[:, 0].to_numpy()
-        risk = (hazard, years, ground_im)
+    settings = _MonteCarlo(resolution, agx_max, confidence, backend, progress)
+    risk = None if hazard is None else _risk(hazard, years, ground)
     parts = [
-        _screen_location(
-            items,
-            source,
-            motions,
-            ratio,
-            band_hz=band_hz,
-            resolution=resolution,
-            agx_max=agx_max,
-            confidence=confidence,
-            backend=backend,
-            progress=progress,
-            risk=risk,
-        )
-        for items, source, motions, ratio in _locations(
-            inventory, spectrum, ground, band_hz, floor_motions
-        )
+        _screen_location(location, band_hz, settings, risk)
+        for location in _locations(inventory, spectrum, ground, band_hz, floor_motions)
     ]
-    ds = xr.concat(parts, dim="item")
-    at_risk = (ds["probability"] >= 0.5) | (ds["margin"] <= 0.0)
-    ds["at_risk"] = at_risk.assign_attrs(
-        long_name="P(overturn) >= 50 % at the design A_gx, or Eq. (11) margin <= 0"
-    )
-    order = np.lexsort(
-        (
-            ds["margin"].values,
-            np.nan_to_num(ds["agx50"].values, nan=np.inf),
-            -ds["probability"].values,
-        )
-    )
-    ds = ds.isel(item=order)
+    ds = _ranked(xr.concat(parts, dim="item"))
     ds.attrs.update(
         spectrum=spectrum.name,
         design_agx=agx,
@@ -232,134 +227,37 @@ def screen(
     return ds
 
 
-def _locations(
-    inventory: Inventory, spectrum: TargetSpectrum, ground: Ensemble, band_hz, floor_motions: str
-):
-    """(items, source of the available S_v, motions at the design level, ratio) per location.
-
-    ``ratio`` is the motions' mean PGA over the ground's A_gx [-] (1 on the ground and for
-    ``floor_motions="paper"``). The ground first: its source is the design spectrum itself.
-    Then each frame's floors, from one pass through the frame (rescaled to the ground's A_gx
-    for ``"paper"``); their source is the mean response spectrum of the floor motions in the
-    band, computed for all floors of a frame in one call.
-    """
-    groups: dict = {}
-    for it in inventory:
-        groups.setdefault(None if it.floor == 0 else (it.frame, it.floor), []).append(it)
-    if None in groups:
-        yield groups.pop(None), spectrum, ground, 1.0
-    freqs = band_frequencies(band_hz, N_BAND_FREQS)
-    for frame in dict.fromkeys(frame for frame, _ in groups):
-        floors = frame.floor_ensembles(ground)
-        keys = [key for key in groups if key[0] == frame]
-        motions = [
-            floors[floor].scaled(ground.agx) if floor_motions == "paper" else floors[floor]
-            for _, floor in keys
-        ]
-        rs = response_spectrum(
-            np.concatenate([m.acc for m in motions]), ground.dt, freqs, spectrum.damping
-        )
-        for i, (key, m) in enumerate(zip(keys, motions)):
-            rows = slice(i * ground.n, (i + 1) * ground.n)
-            yield (
-                groups[key],
-                ResponseSpectrum(freqs, rs.damping, rs.sd[rows], rs.psv[rows], rs.psa[rows]),
-                m,
-                m.agx / ground.agx,
+def _inventory(
+    inventory: Inventory | Sequence[Item] | str | os.PathLike[str],
+    frame: str | ShearFrame | None,
+) -> Inventory:
+    """The ``inventory`` argument of :func:`screen` as an Inventory, read from its file with the
+    default ``frame`` if it is a path; raises InputError naming what is wrong."""
+    if isinstance(inventory, (list, tuple)):
+        if not inventory:
+            raise InputError("inventory is empty: there is no item to screen")
+        if not all(isinstance(it, Item) for it in inventory):
+            raise InputError(
+                "inventory must be an Inventory, a list of rocking.Item or the path "
+                "of an inventory file"
             )
+        return Inventory(tuple(inventory))
+    if isinstance(inventory, Inventory):
+        if frame is not None:
+            raise InputError(
+                "frame is the default frame of an inventory file; the Inventory given "
+                "is already resolved"
+            )
+        return inventory
+    if not isinstance(inventory, (str, os.PathLike)):
+        raise InputError(
+            f"inventory must be an Inventory, a list of rocking.Item or the path "
+            f"of an inventory file, got {type(inventory).__name__}"
+        )
+    return read_inventory(inventory, frame=frame)
 
 
-def _screen_location(
-    items,
-    source,
-    motions: Ensemble,
-    ratio: float,
-    *,
-    band_hz,
-    resolution,
-    agx_max,
-    confidence,
-    backend,
-    progress,
-    risk: tuple[HazardCurve, float, np.ndarray] | None = None,
-) -> xr.Dataset:
-    """The screening dataset (dimension ``item``) of the items at one location: Eq. (11)
-    against ``source`` (TargetSpectrum or ResponseSpectrum), Monte Carlo with ``motions``, which
-    are at the design level: their mean PGA is ``ratio`` × the design A_gx [g]. The
-    motions scale linearly with the ground (linear frame), so the A_gx50 search runs on the
-    motions' own A_gx with resolution and upper end × ``ratio`` and is reported in ground
-    A_gx. ``risk`` = (hazard curve, years, the hazard's IM of each design-level ground motion)
-    adds the annual rate of overturning (:func:`_annual_rates`)."""
-    blocks = [it.block for it in items]
-    names = [it.name for it in items]
-    energy = assess(
-        blocks, source, band_hz=band_hz, damping=source.damping, names=names
-    )  # Eq. (11)
-    e = _restitution(items)
-    mc = overturning_probability(
-        blocks,
-        motions,
-        [motions.agx],
-        e=e,
-        backend=backend,
-        progress=progress,
-        confidence=confidence,
-    ).isel(agx=0)
-    a50 = (
-        agx_50(
-            blocks,
-            motions,
-            resolution=resolution * ratio,
-            agx_max=agx_max * ratio,
-            e=e,
-            backend=backend,
-            progress=progress,
-        )["agx50"].values
-        / ratio
-    )
-    mu = np.array([math.nan if it.mu is None else it.mu for it in items])
-    variables = {
-        "location": ([it.location for it in items], "", "ground or floor N of FRAME"),
-        "floor": ([it.floor for it in items], "", "floor (0: ground)"),
-        "frame": ([it.frame.name if it.frame else "" for it in items], "", "shear frame"),
-        "height": ([b.H for b in blocks], "m", "height H"),
-        "width": ([b.B for b in blocks], "m", "width B"),
-        "R": ([b.R for b in blocks], "m", "size parameter R"),
-        "gamma": ([b.gamma for b in blocks], "1", "slenderness H/B"),
-        "e": ([it.e for it in items], "1", "coefficient of restitution"),
-        "mu": (mu, "1", "friction coefficient (NaN: not given)"),
-        "may_slide": ([it.may_slide for it in items], "", "mu <= B/H: may slide, not rock"),
-        "sv_required": (energy["sv_required"].values, "m s-1", "required S_v, Eq. (11)"),
-        "sv_available": (
-            energy["sv_available"].values,
-            "m s-1",
-            "max PSV at the location in the band",
-        ),
-        "margin": (energy["margin"].values, "1", "sv_required / sv_available - 1 (> 0: safe)"),
-        "verdict": (energy["verdict"].values, "", "Eq. (11) verdict"),
-        "probability": (mc["probability"].values, "1", "overturning probability at design A_gx"),
-        "ci_low": (mc["ci_low"].values, "1", "Wilson interval, lower end"),
-        "ci_high": (mc["ci_high"].values, "1", "Wilson interval, upper end"),
-        "overturned": (mc["count"].values, "", "motions that overturn the item"),
-        "n_motions": (mc["n"].values, "", "motions"),
-        "agx50": (a50, "g", "ground A_gx at 50 % overturning probability"),
-    }
-    if risk is not None:
-        variables.update(_annual_rates(blocks, e, motions, *risk, backend, progress))
-    return xr.Dataset(
-        {
-            k: ("item", np.asarray(v), {"units": u, "long_name": ln} if u else {"long_name": ln})
-            for k, (v, u, ln) in variables.items()
-        },
-        coords={"item": names},
-    )
-
-
-#: IM levels of the fragility curves of a screening with a hazard curve [-].
-N_RISK_LEVELS = 20
-
-
-def _hazard_curve(hazard, floor_motions: str) -> HazardCurve:
+def _hazard_curve(hazard: HazardCurve | str | os.PathLike[str], floor_motions: str) -> HazardCurve:
     """The hazard curve of ``screen(hazard=...)``, checked."""
     if floor_motions != "building":
         raise InputError(
@@ -373,23 +271,186 @@ def _hazard_curve(hazard, floor_motions: str) -> HazardCurve:
     return HazardCurve.from_csv(hazard)
 
 
+def _risk(hazard: HazardCurve, years: float, ground: Ensemble) -> _Risk:
+    """The hazard part of a screening with the design-level ground motions ``ground``."""
+    ground_im = intensity_measures(ground, hazard.im.name).iloc[:, 0].to_numpy()
+    return _Risk(hazard, years, ground_im)
+
+
+def _locations(
+    inventory: Inventory,
+    spectrum: TargetSpectrum,
+    ground: Ensemble,
+    band_hz: Sequence[float],
+    floor_motions: str,
+) -> Iterator[_Location]:
+    """The locations of the inventory's items: the ground first (its source of the available
+    S_v is the design spectrum itself), then each frame's floors (:func:`_floor_locations`)."""
+    groups: dict[tuple[ShearFrame, int] | None, list[Item]] = {}
+    for it in inventory:
+        key = None if it.floor == 0 or it.frame is None else (it.frame, it.floor)
+        groups.setdefault(key, []).append(it)
+    if None in groups:
+        yield _Location(groups.pop(None), spectrum, ground, 1.0)
+    freqs = band_frequencies(band_hz, N_BAND_FREQS)
+    for frame in dict.fromkeys(key[0] for key in groups if key is not None):
+        floors = {key[1]: items for key, items in groups.items() if key and key[0] == frame}
+        yield from _floor_locations(frame, floors, ground, freqs, spectrum.damping, floor_motions)
+
+
+def _floor_locations(
+    frame: ShearFrame,
+    floors: dict[int, list[Item]],
+    ground: Ensemble,
+    freqs: np.ndarray,
+    damping: float,
+    floor_motions: str,
+) -> Iterator[_Location]:
+    """The locations on the floors of one frame (``floors``: floor -> its items), from one pass
+    through the frame (rescaled to the ground's A_gx for ``"paper"``); their source of the
+    available S_v is the response spectrum of the floor motions at ``freqs`` [Hz], computed for
+    all floors in one call."""
+    ensembles = frame.floor_ensembles(ground)
+    motions = [
+        ensembles[floor].scaled(ground.agx) if floor_motions == "paper" else ensembles[floor]
+        for floor in floors
+    ]
+    rs = response_spectrum(np.concatenate([m.acc for m in motions]), ground.dt, freqs, damping)
+    for i, (items, m) in enumerate(zip(floors.values(), motions)):
+        rows = slice(i * ground.n, (i + 1) * ground.n)
+        source = ResponseSpectrum(freqs, rs.damping, rs.sd[rows], rs.psv[rows], rs.psa[rows])
+        yield _Location(items, source, m, m.agx / ground.agx)
+
+
+#: A dataset variable before assembly: values, units ("" for none) and long name.
+_Variables = dict[str, tuple[Any, str, str]]
+
+
+def _screen_location(
+    location: _Location,
+    band_hz: Sequence[float],
+    settings: _MonteCarlo,
+    risk: _Risk | None,
+) -> xr.Dataset:
+    """The screening dataset (dimension ``item``) of the items at one location."""
+    blocks = [it.block for it in location.items]
+    e = _restitution(location.items)
+    variables = _item_variables(location.items)
+    variables.update(_eq11_variables(location, band_hz))
+    variables.update(_monte_carlo_variables(blocks, e, location, settings))
+    if risk is not None:
+        variables.update(_annual_rates(blocks, e, location.motions, risk, settings))
+    return xr.Dataset(
+        {
+            k: ("item", np.asarray(v), {"units": u, "long_name": ln} if u else {"long_name": ln})
+            for k, (v, u, ln) in variables.items()
+        },
+        coords={"item": [it.name for it in location.items]},
+    )
+
+
+def _item_variables(items: list[Item]) -> _Variables:
+    """What the inventory says of each item: location, geometry, restitution, friction."""
+    blocks = [it.block for it in items]
+    mu = np.array([math.nan if it.mu is None else it.mu for it in items])
+    return {
+        "location": ([it.location for it in items], "", "ground or floor N of FRAME"),
+        "floor": ([it.floor for it in items], "", "floor (0: ground)"),
+        "frame": ([it.frame.name if it.frame else "" for it in items], "", "shear frame"),
+        "height": ([b.H for b in blocks], "m", "height H"),
+        "width": ([b.B for b in blocks], "m", "width B"),
+        "R": ([b.R for b in blocks], "m", "size parameter R"),
+        "gamma": ([b.gamma for b in blocks], "1", "slenderness H/B"),
+        "e": ([it.e for it in items], "1", "coefficient of restitution"),
+        "mu": (mu, "1", "friction coefficient (NaN: not given)"),
+        "may_slide": ([it.may_slide for it in items], "", "mu <= B/H: may slide, not rock"),
+    }
+
+
+def _eq11_variables(location: _Location, band_hz: Sequence[float]) -> _Variables:
+    """Housner's energy balance (Eq. 11) of the items against the location's available S_v."""
+    energy = assess(
+        [it.block for it in location.items],
+        location.source,
+        band_hz=band_hz,
+        damping=location.source.damping,
+        names=[it.name for it in location.items],
+    )
+    return {
+        "sv_required": (energy["sv_required"].values, "m s-1", "required S_v, Eq. (11)"),
+        "sv_available": (
+            energy["sv_available"].values,
+            "m s-1",
+            "max PSV at the location in the band",
+        ),
+        "margin": (energy["margin"].values, "1", "sv_required / sv_available - 1 (> 0: safe)"),
+        "verdict": (energy["verdict"].values, "", "Eq. (11) verdict"),
+    }
+
+
+def _monte_carlo_variables(
+    blocks: list[Block], e: float | np.ndarray, location: _Location, settings: _MonteCarlo
+) -> _Variables:
+    """The overturning probability at the design level and the ground A_gx50 of the items.
+
+    The location's motions are at the design level: their mean PGA is ``location.ratio`` × the
+    design A_gx [g]. They scale linearly with the ground (linear frame), so the A_gx50 search
+    runs on the motions' own A_gx with resolution and upper end × ``ratio`` and is reported in
+    ground A_gx.
+    """
+    motions, ratio = location.motions, location.ratio
+    mc = overturning_probability(
+        blocks,
+        motions,
+        [motions.agx],
+        e=e,
+        backend=settings.backend,
+        progress=settings.progress,
+        confidence=settings.confidence,
+    ).isel(agx=0)
+    a50 = (
+        agx_50(
+            blocks,
+            motions,
+            resolution=settings.resolution * ratio,
+            agx_max=settings.agx_max * ratio,
+            e=e,
+            backend=settings.backend,
+            progress=settings.progress,
+        )["agx50"].values
+        / ratio
+    )
+    return {
+        "probability": (mc["probability"].values, "1", "overturning probability at design A_gx"),
+        "ci_low": (mc["ci_low"].values, "1", "Wilson interval, lower end"),
+        "ci_high": (mc["ci_high"].values, "1", "Wilson interval, upper end"),
+        "overturned": (mc["count"].values, "", "motions that overturn the item"),
+        "n_motions": (mc["n"].values, "", "motions"),
+        "agx50": (a50, "g", "ground A_gx at 50 % overturning probability"),
+    }
+
+
 def _annual_rates(
-    blocks, e, motions: Ensemble, hazard, years, ground_im, backend, progress
-) -> dict:
+    blocks: list[Block],
+    e: float | np.ndarray,
+    motions: Ensemble,
+    risk: _Risk,
+    settings: _MonteCarlo,
+) -> _Variables:
     """Fragility against the hazard's IM of the ground motion and the annual rate of every item
     at one location (``motions``: the location's motions at the design level, member i the
-    response to the ground motion i, whose IM is ``ground_im[i]``)."""
-    im = hazard.im.name
+    response to the ground motion i, whose IM is ``risk.ground_im[i]``)."""
+    hazard = risk.hazard
     levels = np.geomspace(hazard.values[0], hazard.values[-1], N_RISK_LEVELS)
     curves = fragility_analysis(
         blocks,
         motions,
-        im=im,
+        im=hazard.im.name,
         levels=np.array([float(f"{x:.6g}") for x in levels]),
-        im_values=ground_im,
+        im_values=risk.ground_im,
         e=e,
-        backend=backend,
-        progress=progress,
+        backend=settings.backend,
+        progress=settings.progress,
         n_boot=0,
     )
     rate = np.full(len(blocks), np.nan)
@@ -397,26 +458,48 @@ def _annual_rates(
         median, beta = float(curves["median"][b]), float(curves["beta"][b])
         if math.isfinite(median) and math.isfinite(beta):
             rate[b] = annual_rate(LognormalFit(median, beta), hazard).annual_rate
-    unit = hazard.im.unit
     return {
-        "fragility_median": (curves["median"].values, unit, f"median {hazard.im.label}"),
+        "fragility_median": (curves["median"].values, hazard.im.unit, f"median {hazard.im.label}"),
         "fragility_beta": (curves["beta"].values, "1", "lognormal dispersion"),
         "annual_rate": (rate, "yr-1", "mean annual rate of overturning"),
-        "p_years": (-np.expm1(-rate * years), "1", f"P(overturning in {years:g} years)"),
+        "p_years": (
+            -np.expm1(-rate * risk.years),
+            "1",
+            f"P(overturning in {risk.years:g} years)",
+        ),
     }
 
 
-def _restitution(items):
+def _restitution(items: list[Item]) -> float | np.ndarray:
     """One e for all items when they agree, else one per item [-]."""
     e = np.array([it.e for it in items])
     return float(e[0]) if np.all(e == e[0]) else e
+
+
+def _ranked(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with ``at_risk``, sorted most at risk first: highest probability at the design
+    A_gx, then lowest A_gx50, then lowest margin."""
+    at_risk = (ds["probability"] >= 0.5) | (ds["margin"] <= 0.0)
+    ds["at_risk"] = at_risk.assign_attrs(
+        long_name="P(overturn) >= 50 % at the design A_gx, or Eq. (11) margin <= 0"
+    )
+    order = np.lexsort(
+        (
+            ds["margin"].values,
+            np.nan_to_num(ds["agx50"].values, nan=np.inf),
+            -ds["probability"].values,
+        )
+    )
+    return ds.isel(item=order)
 
 
 #: Entry of :func:`eq11_vs_monte_carlo` when Eq. (11) and the simulation agree.
 AGREE = "agree"
 
 
-def eq11_vs_monte_carlo(verdict, probability, ci_low, ci_high) -> np.ndarray:
+def eq11_vs_monte_carlo(
+    verdict: ArrayLike, probability: ArrayLike, ci_low: ArrayLike, ci_high: ArrayLike
+) -> np.ndarray:
     """Whether Housner's Eq. (11) verdict and the Monte Carlo probability agree, per body.
 
     Eq. (11) estimates the 50 % level: "safe" agrees with a simulated probability below 0.5,
@@ -454,7 +537,7 @@ def eq11_vs_monte_carlo(verdict, probability, ci_low, ci_high) -> np.ndarray:
     )
 
 
-def eq11_vs_monte_carlo_note(band_hz=BAND_HZ) -> str:
+def eq11_vs_monte_carlo_note(band_hz: Sequence[float] = BAND_HZ) -> str:
     """Markdown paragraph for reports: why Eq. (11) and the Monte Carlo probability can
     disagree (``band_hz`` [Hz]: the band of the available S_v)."""
     return (
@@ -473,7 +556,7 @@ def eq11_vs_monte_carlo_note(band_hz=BAND_HZ) -> str:
     )
 
 
-def results_table(ds: xr.Dataset):
+def results_table(ds: xr.Dataset) -> pd.DataFrame:
     """The screening result as a table (pandas DataFrame) in the dataset's order, with S_v in
     cm/s and whether Eq. (11) and the Monte Carlo agree (:func:`eq11_vs_monte_carlo`), for CSV
     files and reports."""

@@ -15,8 +15,8 @@ from ._options import quiet_option, reporter
     type=click.Choice(["quick", "paper"]),
     default="quick",
     show_default=True,
-    help="quick: small ensembles (about a minute for all sections on 2 cores); paper: "
-    "the paper's sizes (200/500 motions, 72 bodies, dt = 1/400 s).",
+    help="quick: small ensembles, dt = 1/200 s, 9 bodies (a fast check of every section); "
+    "paper: the paper's sizes (200/500 motions, 72 bodies, dt = 1/400 s).",
 )
 @click.option(
     "--out",

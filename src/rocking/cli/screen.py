@@ -17,6 +17,11 @@ if TYPE_CHECKING:
     import pandas as pd
     import xarray as xr
 
+    from ..assessment.inventory import Inventory
+    from ..assessment.risk import HazardCurve
+    from ..motions.ensemble import Ensemble
+    from ..motions.targets import TargetSpectrum
+
 #: Files shipped with the package that ``example`` stands for.
 EXAMPLE_INVENTORY = Path(str(files("rocking") / "data" / "example_inventory.csv"))
 EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
@@ -155,48 +160,18 @@ def screen_command(
     \b
         rocking screen example --spectrum asce7:SDS=1.0,SD1=0.6,TL=8 --frame paper-2.0 --out out
     """
-    from ..assessment.inventory import read_inventory
-    from ..assessment.screen import results_table, screen
+    from ..assessment.screen import screen
     from ..core.runs import RunFolder
     from ..montecarlo.backends import get_backend
-    from ..motions.design import design_pga, parse_spectrum
-    from ..plots.screen import plot_screen
-    from ..report import Report, remove_report
-    from ..structures.frames import ShearFrame
+    from ..motions.design import design_pga
+    from ..report import remove_report
 
     started = time.perf_counter()
     out = Path(out_dir)
     remove_report(out)  # a failed run must not leave an older report looking like its result
-    inv_path = (
-        EXAMPLE_INVENTORY
-        if inventory == "example" and not Path(inventory).exists()
-        else Path(inventory)
-    )
-    if not inv_path.is_file():
-        raise click.BadParameter(f"no such file: {inventory}", param_hint="INVENTORY")
-    spectrum = parse_spectrum(
-        str(EXAMPLE_SPECTRUM)
-        if spectrum_text == "example" and not Path(spectrum_text).exists()
-        else spectrum_text
-    )
-    default_frame = ShearFrame.from_toml(frame) if frame and Path(frame).is_file() else frame
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        inv = read_inventory(inv_path, frame=default_frame)
-    notes = [str(w.message) for w in caught]
-    for note in notes:
-        click.echo(f"warning: {note}", err=True)
-    hazard = None
-    if hazard_text is not None:
-        from ..assessment.risk import HazardCurve, example_hazard_path
-
-        example = hazard_text.strip().lower() == "example" and not Path(hazard_text).exists()
-        hazard = HazardCurve.from_csv(example_hazard_path() if example else hazard_text)
-    ensemble = None
-    if motions_path is not None:
-        from ..motions.ensemble import Ensemble
-
-        ensemble = Ensemble.load(motions_path)
+    inv_path, spectrum, inv, notes = _read_inputs(inventory, spectrum_text, frame)
+    hazard = None if hazard_text is None else _read_hazard(hazard_text)
+    ensemble = None if motions_path is None else _read_motions(motions_path)
     backend = get_backend(scheduler)
     params = {
         "inventory": str(inv_path),
@@ -237,19 +212,7 @@ def screen_command(
                 hazard=hazard,
                 years=years,
             )
-        table = results_table(ds)
-        report = Report(f"Screening of {inv_path.name}", out)
-        report.text(_summary(ds, table, inv_path, notes))
-        report.figure(
-            plot_screen(ds),
-            "sv-agx",
-            "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of "
-            "Eq. (11) against the A_gx of 50 % overturning probability; dashed: design "
-            "A_gx; dotted: available S_v at each location.",
-        )
-        report.table(table, "Items, most at risk first.", name="screen")
-        report.write()
-        for name in report.files:
+        for name in _write_report(ds, out, inv_path, notes):
             run.file(name)
         run.update(at_risk=int(ds["at_risk"].sum()))
     wall = time.perf_counter() - started
@@ -257,6 +220,75 @@ def screen_command(
         f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk; wrote "
         f"{out / 'report.html'} ({wall:.1f} s)"
     )
+
+
+def _read_inputs(
+    inventory: str, spectrum_text: str, frame: str | None
+) -> tuple[Path, TargetSpectrum, Inventory, list[str]]:
+    """The inventory file (``example``: the shipped one), the design spectrum, the inventory
+    read with the default ``frame`` (a preset or a frame TOML file) and the warnings of reading
+    it (each echoed to standard error)."""
+    from ..assessment.inventory import read_inventory
+    from ..motions.design import parse_spectrum
+    from ..structures.frames import ShearFrame
+
+    inv_path = (
+        EXAMPLE_INVENTORY
+        if inventory == "example" and not Path(inventory).exists()
+        else Path(inventory)
+    )
+    if not inv_path.is_file():
+        raise click.BadParameter(f"no such file: {inventory}", param_hint="INVENTORY")
+    spectrum = parse_spectrum(
+        str(EXAMPLE_SPECTRUM)
+        if spectrum_text == "example" and not Path(spectrum_text).exists()
+        else spectrum_text
+    )
+    default_frame = ShearFrame.from_toml(frame) if frame and Path(frame).is_file() else frame
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        inv = read_inventory(inv_path, frame=default_frame)
+    notes = [str(w.message) for w in caught]
+    for note in notes:
+        click.echo(f"warning: {note}", err=True)
+    return inv_path, spectrum, inv, notes
+
+
+def _read_hazard(hazard_text: str) -> HazardCurve:
+    """The site hazard curve of ``--hazard`` (``example``: the shipped one)."""
+    from ..assessment.risk import HazardCurve, example_hazard_path
+
+    example = hazard_text.strip().lower() == "example" and not Path(hazard_text).exists()
+    return HazardCurve.from_csv(example_hazard_path() if example else hazard_text)
+
+
+def _read_motions(motions_path: str) -> Ensemble:
+    """The ground motions of ``--motions``."""
+    from ..motions.ensemble import Ensemble
+
+    return Ensemble.load(motions_path)
+
+
+def _write_report(ds: xr.Dataset, out: Path, inv_path: Path, notes: list[str]) -> list[str]:
+    """Write the report of the screening ``ds`` (summary, figure, table) to ``out``; the names
+    of the files written."""
+    from ..assessment.screen import results_table
+    from ..plots.screen import plot_screen
+    from ..report import Report
+
+    table = results_table(ds)
+    report = Report(f"Screening of {inv_path.name}", out)
+    report.text(_summary(ds, table, inv_path, notes))
+    report.figure(
+        plot_screen(ds),
+        "sv-agx",
+        "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of "
+        "Eq. (11) against the A_gx of 50 % overturning probability; dashed: design "
+        "A_gx; dotted: available S_v at each location.",
+    )
+    report.table(table, "Items, most at risk first.", name="screen")
+    report.write()
+    return list(report.files)
 
 
 _FLOORS = {

@@ -13,6 +13,9 @@ from ._options import reporter, writable_file
 if TYPE_CHECKING:
     import numpy as np
 
+    from ..motions.records import Record
+    from ..motions.response import ResponseSpectrum
+
 #: Units of ``--units`` (those of :data:`rocking.motions.records.UNITS`; tests/test_cli.py
 #: checks it).
 UNIT_NAMES = ("cm/s2", "g", "m/s2")
@@ -113,6 +116,31 @@ def spectrum(
     from ..motions.response import response_spectrum
 
     records = read_records(files, dt=dt, units=units)
+    freqs = np.geomspace(fmin, _highest_frequency(records, fmin, fmax), n_freq)
+    with reporter():
+        spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
+    _print_spectra(records, spectra, freqs, damping)
+    if csv_path:
+        _write_csv(csv_path, records, spectra, freqs)
+        click.echo(f"wrote {csv_path}")
+    if plot_path:
+        from ..core.files import save_figure
+        from ..plots.spectra import plot_spectra  # matplotlib only when a figure is asked for
+
+        fig = plot_spectra(
+            freqs,
+            [sp.psa / G for sp in spectra],
+            [r.name for r in records],
+            damping=damping,
+            title="Response spectra",
+        )
+        save_figure(fig, plot_path)
+        click.echo(f"wrote {plot_path}")
+
+
+def _highest_frequency(records: list[Record], fmin: float, fmax: float | None) -> float:
+    """``--fmax`` [Hz], checked against the lowest Nyquist frequency of the records, or by
+    default the lower of 50 Hz and that Nyquist frequency (said on standard output)."""
     # Above the Nyquist frequency a record holds no information (its samples cannot tell what
     # happens between them); the spectrum there would only show the interpolation.
     coarsest = max(records, key=lambda r: r.dt)  # its Nyquist frequency is the lowest
@@ -134,9 +162,13 @@ def spectrum(
             f"--fmax {fmax:g} Hz is above the Nyquist frequency 1/(2 dt) = "
             f"{nyquist:g} Hz of {coarsest.name} (dt = {coarsest.dt:g} s)"
         )
-    freqs = np.geomspace(fmin, fmax, n_freq)
-    with reporter():
-        spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
+    return fmax
+
+
+def _print_spectra(
+    records: list[Record], spectra: list[ResponseSpectrum], freqs: np.ndarray, damping: float
+) -> None:
+    """Print PSA [g], PSV [cm/s] and SD [cm] of each record at the table's frequencies."""
     rows = _table_rows(freqs)
     for rec, sp in zip(records, spectra):
         click.echo(
@@ -149,40 +181,31 @@ def spectrum(
                 f"{freqs[i]:9.3g} {sp.psa[i] / G:10.4g} {100 * sp.psv[i]:11.4g} "
                 f"{100 * sp.sd[i]:10.4g}"
             )
-    if csv_path:
-        import pandas as pd
 
-        from ..core.files import atomic_write
 
-        table = pd.concat(
-            [
-                pd.DataFrame(
-                    {
-                        "record": rec.name,
-                        "freq_hz": freqs,
-                        "psa_g": sp.psa / G,
-                        "psv_cm_s": 100 * sp.psv,
-                        "sd_cm": 100 * sp.sd,
-                    }
-                )
-                for rec, sp in zip(records, spectra)
-            ]
-        )
-        atomic_write(csv_path, table.to_csv(index=False, float_format="%.6g"))
-        click.echo(f"wrote {csv_path}")
-    if plot_path:
-        from ..core.files import save_figure
-        from ..plots.spectra import plot_spectra  # matplotlib only when a figure is asked for
+def _write_csv(
+    csv_path: str, records: list[Record], spectra: list[ResponseSpectrum], freqs: np.ndarray
+) -> None:
+    """Save every spectrum at every frequency to ``csv_path``."""
+    import pandas as pd
 
-        fig = plot_spectra(
-            freqs,
-            [sp.psa / G for sp in spectra],
-            [r.name for r in records],
-            damping=damping,
-            title="Response spectra",
-        )
-        save_figure(fig, plot_path)
-        click.echo(f"wrote {plot_path}")
+    from ..core.files import atomic_write
+
+    table = pd.concat(
+        [
+            pd.DataFrame(
+                {
+                    "record": rec.name,
+                    "freq_hz": freqs,
+                    "psa_g": sp.psa / G,
+                    "psv_cm_s": 100 * sp.psv,
+                    "sd_cm": 100 * sp.sd,
+                }
+            )
+            for rec, sp in zip(records, spectra)
+        ]
+    )
+    atomic_write(csv_path, table.to_csv(index=False, float_format="%.6g"))
 
 
 COMMANDS = [spectrum]

@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 
 
-def positive(name: str, value, unit: str = "") -> float:
+def positive(name: str, value: float | str, unit: str = "") -> float:
     """Return ``value`` as a float, or raise if it is not a finite number > 0."""
     try:
         x = float(value)
@@ -23,7 +26,14 @@ def positive(name: str, value, unit: str = "") -> float:
 
 
 def in_range(
-    name: str, value, lo: float, hi: float, *, lo_open=False, hi_open=False, unit: str = ""
+    name: str,
+    value: float | str,
+    lo: float,
+    hi: float,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    unit: str = "",
 ) -> float:
     """Return ``value`` as a float, or raise if it lies outside [lo, hi] (open ends as given)."""
     try:
@@ -39,7 +49,7 @@ def in_range(
 
 
 def finite_array(
-    name: str, values, *, ndim: tuple[int, ...] = (1,), min_len: int = 1
+    name: str, values: ArrayLike, *, ndim: tuple[int, ...] = (1,), min_len: int = 1
 ) -> np.ndarray:
     """Return ``values`` as a C-contiguous float64 array, or raise on NaN/inf/empty/wrong shape."""
     try:
@@ -63,7 +73,7 @@ def finite_array(
 HOUSNER = "housner"
 
 
-def restitution(value, name: str = "e"):
+def restitution(value: float | str, name: str = "e") -> Any:
     """A coefficient of restitution as given by a user: a number in (0, 1] [-] (float), or
     the word ``"housner"`` (returned as such; 1 − 1.5·sin²α of each block, resolved by
     :func:`rocking.dynamics.body.resolve_e`).  Text is accepted for both (command line, tables)."""
@@ -82,7 +92,7 @@ def restitution(value, name: str = "e"):
         raise InputError(f"{name} must be a number in (0, 1] or 'housner', got {value!r}") from None
 
 
-def read_toml(path, label: str | None = None) -> dict:
+def read_toml(path: str | os.PathLike[str], label: str | None = None) -> dict:
     """The TOML file ``path`` as a dict; a syntax error is an InputError that starts with
     ``label`` (default: the path)."""
     path = Path(path)

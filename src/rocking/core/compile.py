@@ -20,6 +20,7 @@ import math
 import os
 from fractions import Fraction
 from pathlib import Path
+from typing import Any
 
 import numba
 from llvmlite import ir
@@ -65,12 +66,12 @@ def _decorator(options: dict, args):
     return lambda func: _compile(options, func)
 
 
-def kernel(*args, **kw):
+def kernel(*args: Any, **kw: Any) -> Any:
     """``numba.njit`` with the package's settings (serial)."""
     return _decorator({**_COMMON, **kw}, args)
 
 
-def parallel_kernel(*args, **kw):
+def parallel_kernel(*args: Any, **kw: Any) -> Any:
     """``numba.njit(parallel=True)`` with the package's settings."""
     return _decorator({**_COMMON, "parallel": True, **kw}, args)
 
@@ -78,7 +79,7 @@ def parallel_kernel(*args, **kw):
 prange = numba.prange
 
 
-def fma(a, b, c):
+def fma(a: float, b: float, c: float) -> float:
     """a·b + c rounded once, for float64 numbers.
 
     In kernels: ``llvm.fma`` (the FMA instruction, or a correctly rounded software fma where the
@@ -101,7 +102,7 @@ def _llvm_fma(typingctx, a, b, c):
 
 
 @intrinsic
-def highest_bit(typingctx, x):
+def highest_bit(typingctx: Any, x: Any) -> tuple[Any, Any]:
     """Index of the highest set bit of a nonzero uint64 (63 − count of leading zeros; the LZCNT
     instruction).  Numba has this only in an internal module, hence the few lines here."""
     sig = types.int64(types.uint64)

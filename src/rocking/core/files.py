@@ -13,12 +13,19 @@ from __future__ import annotations
 import csv
 import os
 import secrets
+from collections.abc import Callable
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
 from ..errors import InputError
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
-def atomic_write(path, data) -> Path:
+
+def atomic_write(
+    path: str | os.PathLike[str], data: bytes | str | Callable[[IO[bytes]], Any]
+) -> Path:
     """Write ``data`` to ``path`` atomically; return the path.
 
     Parameters
@@ -49,14 +56,14 @@ def atomic_write(path, data) -> Path:
     return path
 
 
-def save_figure(fig, path, dpi: int = 150) -> Path:
+def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150) -> Path:
     """Save a Matplotlib ``Figure`` to ``path`` atomically (format from the suffix, PNG if
     none); return the path."""
     fmt = Path(path).suffix.lstrip(".") or "png"
     return atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))
 
 
-def csv_rows(path, what: str) -> list[tuple[int, list[str]]]:
+def csv_rows(path: str | os.PathLike[str], what: str) -> list[tuple[int, list[str]]]:
     """The rows of a CSV file as (line number, stripped cells), without blank rows and rows
     whose first cell starts with ``#``.
 

@@ -29,7 +29,9 @@ import io
 import math
 import sys
 import threading
+from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import Any, TextIO
 
 #: Seconds between two progress lines off a terminal.
 LINE_INTERVAL = 5.0
@@ -87,7 +89,7 @@ def _listener_class():
 class Stage:
     """One open stage of a :class:`Reporter`: count work with :meth:`update`."""
 
-    def __init__(self, bar, parent: Stage | None, lines: bool = False):
+    def __init__(self, bar: Any, parent: Stage | None, lines: bool = False):
         self._bar = bar
         self._parent = parent
         self._lines = lines  # bar drawn as lines (off a terminal)
@@ -139,7 +141,7 @@ class Reporter:
 
     def __init__(
         self,
-        stream=None,
+        stream: TextIO | None = None,
         *,
         tty: bool | None = None,
         interval: float = LINE_INTERVAL,
@@ -156,7 +158,7 @@ class Reporter:
         self._active = 0
 
     @property
-    def stream(self):
+    def stream(self) -> TextIO:
         return sys.stderr if self._stream is None else self._stream
 
     @property
@@ -188,7 +190,7 @@ class Reporter:
             self._active += 1
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         if self.enabled:
             self._active -= 1
             if self._active == 0:
@@ -199,7 +201,7 @@ class Reporter:
                 self._listeners.clear()
 
     @contextmanager
-    def stage(self, desc: str, total: int | None = None, unit: str = "sim"):
+    def stage(self, desc: str, total: int | None = None, unit: str = "sim") -> Iterator[Stage]:
         """Open a stage named ``desc`` of ``total`` units (None: unknown); yields a
         :class:`Stage`."""
         if not self.enabled:
@@ -278,7 +280,7 @@ def _heartbeat(bar, stop: threading.Event, delay: float, every: float) -> None:
 QUIET = Reporter(enabled=False)
 
 
-def resolve(progress) -> Reporter:
+def resolve(progress: Reporter | bool | None) -> Reporter:
     """The :class:`Reporter` for a ``progress`` argument of the package's functions.
 
     ``True``: a reporter on standard error (bars on a terminal, lines otherwise); ``False``:

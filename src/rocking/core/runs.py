@@ -25,12 +25,19 @@ import os
 import platform
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from types import TracebackType
+from typing import IO, TYPE_CHECKING, Any
 
 from ..defaults import CSV_FLOAT_FORMAT
 from ..errors import InputError
 from .files import atomic_write, save_figure
+
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
+    from matplotlib.figure import Figure
 
 LOCK = ".rocking.lock"
 RUN_JSON = "run.json"
@@ -51,7 +58,7 @@ class RunFolder:
         JSON-serialisable parameters and seeds of the run (entries of run.json).
     """
 
-    def __init__(self, path, *, command: str, params: dict):
+    def __init__(self, path: str | os.PathLike[str], *, command: str, params: dict):
         self.path = Path(path)
         self.command = command
         self.params = dict(params)
@@ -90,7 +97,12 @@ class RunFolder:
             raise
         return self
 
-    def __exit__(self, exc_type, exc, tb) -> None:
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
         try:
             if exc_type is None:
                 self._write_status(COMPLETED)
@@ -131,7 +143,7 @@ class RunFolder:
         }
         provenance(self.path, **record)
 
-    def update(self, **info) -> None:
+    def update(self, **info: Any) -> None:
         """Add entries (JSON-serialisable) to run.json, e.g. a summary of the results."""
         self.info.update(info)
         self._write_status(RUNNING)
@@ -149,27 +161,27 @@ class RunFolder:
             self.outputs.append(rel.as_posix())
         return path
 
-    def write(self, name: str, data) -> Path:
+    def write(self, name: str, data: bytes | str | Callable[[IO[bytes]], Any]) -> Path:
         """Write ``data`` (bytes, str or a function of a binary file) to ``name`` atomically."""
         return atomic_write(self.file(name), data)
 
-    def write_csv(self, name: str, table, **to_csv) -> Path:
+    def write_csv(self, name: str, table: pd.DataFrame, **to_csv: Any) -> Path:
         """Write a pandas DataFrame as CSV (``to_csv`` options; by default ``index=False`` and
         floats to :data:`rocking.defaults.CSV_FLOAT_FORMAT`, no float noise)."""
         to_csv.setdefault("index", False)
         to_csv.setdefault("float_format", CSV_FLOAT_FORMAT)
         return self.write(name, table.to_csv(**to_csv))
 
-    def write_figure(self, name: str, fig, dpi: int = 150) -> Path:
+    def write_figure(self, name: str, fig: Figure, dpi: int = 150) -> Path:
         """Save a Matplotlib figure (format from the name's suffix) atomically."""
         return save_figure(fig, self.file(name), dpi)
 
-    def write_netcdf(self, name: str, dataset) -> Path:
+    def write_netcdf(self, name: str, dataset: xr.Dataset) -> Path:
         """Write an xarray Dataset as netCDF-3 (SciPy engine; see :func:`to_netcdf3_bytes`)."""
         return self.write(name, to_netcdf3_bytes(dataset))
 
 
-def to_netcdf3_bytes(dataset) -> bytes:
+def to_netcdf3_bytes(dataset: xr.Dataset) -> bytes:
     """A Dataset as netCDF-3 bytes, integers as int32 and booleans as int8 (netCDF-3 has no
     64-bit integers nor booleans)."""
     import numpy as np
@@ -183,7 +195,7 @@ def to_netcdf3_bytes(dataset) -> bytes:
     return bytes(ds.to_netcdf(None, engine="scipy"))
 
 
-def provenance(out_dir, **params) -> Path:
+def provenance(out_dir: str | os.PathLike[str], **params: Any) -> Path:
     """Write ``run.json`` in ``out_dir`` (atomically) and return its path.
 
     The file holds ``params`` (e.g. parameters, seeds, backend, ``wall_time_s`` per section,

@@ -16,9 +16,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING, overload
 
 import numpy as np
 from scipy.linalg import eigh
@@ -29,8 +31,17 @@ from ..dynamics.body import G
 from ..errors import InputError
 from ..motions.response import foh_coefficients
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
-def kN_per_g_to_kg(w):
+    from ..motions.ensemble import Ensemble
+
+
+@overload
+def kN_per_g_to_kg(w: float) -> float: ...
+@overload
+def kN_per_g_to_kg(w: ArrayLike) -> np.ndarray: ...
+def kN_per_g_to_kg(w: ArrayLike) -> float | np.ndarray:
     """Mass [kg] of a floor whose weight is given in the paper's unit kN/g.
 
     "444.82 kN/g" is a weight of 444.82 kN (100 kip), i.e. a mass of 444.82e3 / 9.80665 kg
@@ -39,7 +50,11 @@ def kN_per_g_to_kg(w):
     return np.multiply(w, 1e3 / G)
 
 
-def kN_per_cm_to_N_per_m(k):
+@overload
+def kN_per_cm_to_N_per_m(k: float) -> float: ...
+@overload
+def kN_per_cm_to_N_per_m(k: ArrayLike) -> np.ndarray: ...
+def kN_per_cm_to_N_per_m(k: ArrayLike) -> float | np.ndarray:
     """Stiffness [N/m] from the paper's unit kN/cm (55.23 kN/cm = 5.523e6 N/m)."""
     return np.multiply(k, 1e5)
 
@@ -129,7 +144,7 @@ class ShearFrame:
     damping: float = 0.05
     name: str = ""
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         m = _positive_list("masses", self.masses, "kg")
         k = _positive_list("stiffnesses", self.stiffnesses, "N/m")
         if not m:
@@ -163,7 +178,11 @@ class ShearFrame:
 
     @classmethod
     def from_paper_units(
-        cls, weights_kN_per_g, stiffness_kN_per_cm, damping: float = 0.05, name: str = ""
+        cls,
+        weights_kN_per_g: ArrayLike,
+        stiffness_kN_per_cm: ArrayLike,
+        damping: float = 0.05,
+        name: str = "",
     ) -> ShearFrame:
         """Frame from floor weights [kN/g, i.e. kN of weight] and story stiffnesses [kN/cm]."""
         w = _positive_list("weights_kN_per_g", weights_kN_per_g, "kN/g")
@@ -216,7 +235,7 @@ class ShearFrame:
         )
 
     @classmethod
-    def from_toml(cls, path) -> ShearFrame:
+    def from_toml(cls, path: str | os.PathLike[str]) -> ShearFrame:
         """Frame from a TOML file with the keys of :meth:`from_mapping` (name defaults to the
         file's stem)."""
         path = Path(path)
@@ -302,7 +321,7 @@ class ShearFrame:
         return self._modes[1].T @ np.asarray(self.masses)
 
     # ---- floor motions ------------------------------------------------------------------------
-    def floor_accelerations(self, acc, dt: float) -> np.ndarray:
+    def floor_accelerations(self, acc: ArrayLike, dt: float) -> np.ndarray:
         """Absolute floor accelerations of the frame, starting at rest, under ground motion ``acc``.
 
         Parameters
@@ -322,7 +341,7 @@ class ShearFrame:
         out = self._floors(np.atleast_2d(a), positive("dt", dt, "s"), np.arange(self.n_stories))
         return out[0] if a.ndim == 1 else out
 
-    def floor_ensemble(self, ensemble, floor: int):
+    def floor_ensemble(self, ensemble: Ensemble, floor: int) -> Ensemble:
         """The absolute accelerations of one floor, as a :class:`rocking.motions.ensemble.Ensemble`.
 
         Parameters
@@ -349,7 +368,7 @@ class ShearFrame:
         acc = self._floors(self._ground(ensemble), ensemble.dt, np.array([floor - 1]))[:, 0]
         return self._wrap(ensemble, floor, acc)
 
-    def floor_ensembles(self, ensemble) -> dict:
+    def floor_ensembles(self, ensemble: Ensemble) -> dict[int, Ensemble]:
         """All floors' ensembles in one pass: {0: ``ensemble``, 1: floor 1, ..., n: roof}
         (each as :meth:`floor_ensemble` returns it)."""
         acc = self._floors(self._ground(ensemble), ensemble.dt, np.arange(self.n_stories))

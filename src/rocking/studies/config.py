@@ -2,9 +2,10 @@
 
 A configuration is a nested mapping ``{section: {key: value}}``. :data:`PRESETS` holds two:
 ``"paper"`` (the paper's ensemble sizes, dt = 1/400 s, the 72 bodies) and ``"quick"`` (small
-ensembles, dt = 1/200 s, coarse A_gx grids, a 3 × 3 subset of the bodies: all five sections
-in about a minute on two cores). A TOML file given with ``--config`` replaces any of the keys
-below (a key it does not name keeps the preset's value); ``--set section.key=VALUE`` (VALUE in
+ensembles, dt = 1/200 s, coarse A_gx grids, a 3 × 3 subset of the bodies: a check of every
+section in a fraction of the paper's cost; the tutorial on reproducing the paper gives run
+times). A TOML file given with ``--config`` replaces any of the keys below (a key it does not
+name keeps the preset's value); ``--set section.key=VALUE`` (VALUE in
 TOML syntax) does the same from the command line and wins over the file;
 ``rocking reproduce all --show-config`` prints the result as TOML. :func:`validate` checks the
 values (bodies, frames, envelopes, motion numbers) before a run starts.
