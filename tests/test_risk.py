@@ -17,6 +17,7 @@ from rocking.assessment.risk import (
     annual_rate,
     check_hazard_im,
     example_hazard_path,
+    hazard_path,
 )
 from rocking.errors import InputError
 from rocking.montecarlo.statistics import LognormalFit
@@ -161,3 +162,13 @@ def test_example_file_and_bad_arguments():
         annual_rate(FRAG, 42)
     with pytest.raises(InputError, match="cannot read"):
         annual_rate(FRAG, "no-such-hazard.csv")
+
+
+def test_the_word_example_is_read_one_way_everywhere(tmp_path, monkeypatch):
+    # One resolver (hazard_path) for the Python API, `rocking risk` and `rocking screen`: the word
+    # in any case with blanks around it, unless a file of that name is there.
+    assert hazard_path(" Example ") == example_hazard_path()
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "example").write_text("pga [g],annual_rate\n0.1,1e-2\n0.5,1e-4\n")
+    assert hazard_path("example") == tmp_path.joinpath("example").relative_to(tmp_path)
+    assert HazardCurve.from_csv("example").im == rocking.parse_im("pga")

@@ -70,6 +70,15 @@ def example_hazard_path() -> Path:
     return Path(str(files("rocking") / "data" / "example_hazard_pgv.csv"))
 
 
+def hazard_path(spec: str | os.PathLike[str]) -> Path:
+    """The hazard file ``spec`` names: a path, or the word ``example`` (any case, blanks
+    around it ignored; when no file has that name) for :func:`example_hazard_path`."""
+    text = str(spec)
+    if text.strip().lower() == EXAMPLE and not Path(text).exists():
+        return example_hazard_path()
+    return Path(spec)
+
+
 @dataclass(frozen=True, eq=False)
 class HazardCurve:
     """A seismic hazard curve: annual rates of exceedance of an intensity measure.
@@ -139,10 +148,8 @@ class HazardCurve:
     @classmethod
     def from_csv(cls, path: str | os.PathLike[str]) -> HazardCurve:
         """Read a hazard curve from a CSV file (format in the module notes); the word
-        ``example`` (when no file has that name) reads :func:`example_hazard_path`."""
-        path = Path(path)
-        if str(path) == EXAMPLE and not path.exists():
-            path = example_hazard_path()
+        ``example`` reads :func:`example_hazard_path` (see :func:`hazard_path`)."""
+        path = hazard_path(path)
         lines = csv_rows(path, "hazard file")
         if not lines:
             raise InputError(

@@ -52,7 +52,7 @@ from ..motions.targets import TargetSpectrum
 from ..structures.frames import ShearFrame
 from .energy import BAND_HZ, SAFE, assess, band_frequencies
 from .inventory import Inventory, Item, read_inventory
-from .risk import HazardCurve, annual_rate, example_hazard_path
+from .risk import HazardCurve, annual_rate
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -266,8 +266,6 @@ def _hazard_curve(hazard: HazardCurve | str | os.PathLike[str], floor_motions: s
         )
     if isinstance(hazard, HazardCurve):
         return hazard
-    if isinstance(hazard, str) and hazard.strip().lower() == "example":
-        return HazardCurve.from_csv(example_hazard_path())
     return HazardCurve.from_csv(hazard)
 
 

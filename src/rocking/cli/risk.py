@@ -93,13 +93,13 @@ def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet
     import numpy as np
     import pandas as pd
 
-    from ..assessment.risk import HazardCurve, annual_rate, check_hazard_im, example_hazard_path
+    from ..assessment.risk import HazardCurve, annual_rate, check_hazard_im, hazard_path
     from ..core.runs import RunFolder
     from ..montecarlo.statistics import LognormalFit
 
     folder = Path(fragility_dir)
     params, fits = _fragility_run(folder)
-    path = example_hazard_path() if hazard_text.strip().lower() == "example" else hazard_text
+    path = hazard_path(hazard_text)
     hazard = HazardCurve.from_csv(path)
     im = check_hazard_im(hazard, params["im"])
     progress = reporter(quiet)

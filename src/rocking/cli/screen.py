@@ -256,10 +256,9 @@ def _read_inputs(
 
 def _read_hazard(hazard_text: str) -> HazardCurve:
     """The site hazard curve of ``--hazard`` (``example``: the shipped one)."""
-    from ..assessment.risk import HazardCurve, example_hazard_path
+    from ..assessment.risk import HazardCurve
 
-    example = hazard_text.strip().lower() == "example" and not Path(hazard_text).exists()
-    return HazardCurve.from_csv(example_hazard_path() if example else hazard_text)
+    return HazardCurve.from_csv(hazard_text)
 
 
 def _read_motions(motions_path: str) -> Ensemble:
