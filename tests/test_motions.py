@@ -12,6 +12,7 @@ import pytest
 from click.testing import CliRunner
 from scipy.integrate import cumulative_trapezoid, quad
 
+import rocking.motions.baseline as baseline_module
 import rocking.motions.ensemble as ensemble_module
 import rocking.motions.synthesis as synthesis
 from rocking.cli import main
@@ -52,6 +53,11 @@ def test_result_does_not_depend_on_chunking_or_threads(monkeypatch):
     ref = generate(8)
     corrected = generate(5, iterations=1, pilot=5)  # peak limiting has its own kernel
     monkeypatch.setattr(synthesis, "CHUNK", 3)
+    # tiles of the synthesis and blocks of the baseline correction that split the members and
+    # samples unevenly (8 motions of 8001 samples)
+    monkeypatch.setattr(synthesis, "TILE_SAMPLES", 1000)
+    monkeypatch.setattr(synthesis, "TILE_MEMBERS", 3)
+    monkeypatch.setattr(baseline_module, "BLOCK_ROWS", 3)
     np.testing.assert_array_equal(generate(8).acc, ref.acc)
     np.testing.assert_array_equal(generate(5, iterations=1, pilot=5).acc, corrected.acc)
     threads = numba.get_num_threads()

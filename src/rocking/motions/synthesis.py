@@ -53,25 +53,46 @@ def member_phases(seed: int, members, n_freq: int) -> np.ndarray:
     return np.array(rows).reshape(len(rows), n_freq)
 
 
+#: Samples and members per tile of :func:`_superpose`: a tile's partial sums stay in the
+#: first-level cache and its slice of the sine and cosine tables in the second, so the tables
+#: are read from memory once per tile of samples rather than once per member (the result does
+#: not depend on the tile sizes).
+TILE_SAMPLES = 256
+TILE_MEMBERS = 8
+
+
 @parallel_kernel
-def _superpose(cos_amp, sin_amp, sin_wt, cos_wt, intensity):
+def _superpose(cos_amp, sin_amp, sin_wt, cos_wt, intensity, tile_samples, tile_members):
     """out[k, i] = I_i·Σ_j (A_j cos φ_kj·sin ω_j t_i + A_j sin φ_kj·cos ω_j t_i), i.e. Eq. (9).
 
-    Hand-written instead of a BLAS product: the sum over j runs in the same order for every
-    member, so member k is bit-identical whatever the ensemble size or chunking.
+    Tiles of (members, samples) run in parallel; within a tile the sum over j runs in the same
+    order for every member and sample (hand-written rather than a BLAS product, whose order
+    may depend on the matrix sizes), so member k is bit-identical whatever the ensemble size,
+    the tile sizes or the number of threads.
     """
     n, m = cos_amp.shape
     n_t = intensity.size
     out = np.empty((n, n_t))
-    for k in prange(n):
-        row = np.zeros(n_t)
+    n_member_tiles = (n + tile_members - 1) // tile_members
+    n_tiles = n_member_tiles * ((n_t + tile_samples - 1) // tile_samples)
+    for tile in prange(n_tiles):
+        i0 = (tile // n_member_tiles) * tile_samples
+        k0 = (tile % n_member_tiles) * tile_members
+        i1 = min(i0 + tile_samples, n_t)
+        k1 = min(k0 + tile_members, n)
+        row = np.zeros((k1 - k0, i1 - i0))
         for j in range(m):
-            b = cos_amp[k, j]
-            c = sin_amp[k, j]
-            for i in range(n_t):
-                row[i] += b * sin_wt[j, i] + c * cos_wt[j, i]
-        for i in range(n_t):
-            out[k, i] = intensity[i] * row[i]
+            sin_j = sin_wt[j, i0:i1]
+            cos_j = cos_wt[j, i0:i1]
+            for k in range(k0, k1):
+                b = cos_amp[k, j]
+                c = sin_amp[k, j]
+                acc = row[k - k0]
+                for i in range(i1 - i0):
+                    acc[i] += b * sin_j[i] + c * cos_j[i]
+        for k in range(k0, k1):
+            for i in range(i0, i1):
+                out[k, i] = intensity[i] * row[k - k0, i - i0]
     return out
 
 
@@ -105,17 +126,15 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
     wt = spectrum.omega[:, None] * t
     sin_wt, cos_wt, intensity = np.sin(wt), np.cos(wt), envelope(t)
     amp = spectrum.amplitudes
-    parts = [
-        _superpose(
-            amp * np.cos(phi[i : i + CHUNK]),
-            amp * np.sin(phi[i : i + CHUNK]),
-            sin_wt,
-            cos_wt,
-            intensity,
-        )
-        for i in range(0, phi.shape[0], CHUNK)
-    ]
-    return np.concatenate(parts) if parts else np.empty((0, t.size))
+    return _superpose(
+        amp * np.cos(phi),
+        amp * np.sin(phi),
+        sin_wt,
+        cos_wt,
+        intensity,
+        TILE_SAMPLES,
+        TILE_MEMBERS,
+    )
 
 
 #: Clip-and-restore passes per motion in :func:`limit_peaks`, the over-relaxation of the
