@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
+import scipy.fft
 
 from ..core.checks import finite_array, positive, require_memory
 from ..core.compile import parallel_kernel, prange
@@ -114,6 +116,13 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
     Returns
     -------
     ndarray, shape (n, n_t)
+
+    Notes
+    -----
+    Frequencies on a uniform grid f_j = q_j/(N·dt) (integers 0 < q_j < N/2, N at most four
+    times the number of samples) are summed by one inverse real FFT of length N per motion;
+    other frequencies, such as the log-spaced ones of :func:`generate`, by the direct sum in
+    cache-sized tiles. Both evaluate the same sum and agree to rounding (tests/test_motions.py).
     """
     dt = positive("dt", dt, "s")
     phi = finite_array("phases", phases, ndim=(2,))
@@ -123,9 +132,20 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
             f"{spectrum.omega.size} frequencies"
         )
     t = np.arange(_n_samples(envelope.duration, dt)) * dt
-    wt = spectrum.omega[:, None] * t
-    sin_wt, cos_wt, intensity = np.sin(wt), np.cos(wt), envelope(t)
+    intensity = envelope(t)
     amp = spectrum.amplitudes
+    period, bins = _fft_grid(spectrum.freqs_hz, dt, t.size)
+    if bins is not None:
+        # Eq. (9) on the grid f_j = q_j/(N·dt): Σ_j A_j sin(2π q_j i/N + φ_j) is the inverse
+        # real FFT of length N whose bin q_j holds (N/2)·A_j·exp(i(φ_j − π/2)); N-periodic in i.
+        coef = np.zeros((phi.shape[0], period // 2 + 1), dtype=complex)
+        values = 0.5 * period * amp * np.exp(1j * (phi - 0.5 * np.pi))
+        for j, q in enumerate(bins):  # components sharing a bin add up
+            coef[:, q] += values[:, j]
+        stationary = scipy.fft.irfft(coef, period, axis=-1, workers=-1)
+        return intensity * stationary[:, np.arange(t.size) % period]
+    wt = spectrum.omega[:, None] * t
+    sin_wt, cos_wt = np.sin(wt), np.cos(wt)
     return _superpose(
         amp * np.cos(phi),
         amp * np.sin(phi),
@@ -135,6 +155,24 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
         TILE_SAMPLES,
         TILE_MEMBERS,
     )
+
+
+def _fft_grid(freqs_hz: np.ndarray, dt: float, n_samples: int) -> tuple[int, np.ndarray | None]:
+    """The period N [samples] and bins q_j of frequencies f_j = q_j/(N·dt) [Hz], 0 < q_j < N/2,
+    N the least common denominator of the f_j·dt; bins None when the frequencies (e.g.
+    log-spaced) do not lie on such a grid with N ≤ 4·``n_samples`` (beyond it the direct sum
+    is the cheaper) to within rounding."""
+    limit = 4 * n_samples
+    period = math.lcm(*(Fraction(c).limit_denominator(limit).denominator for c in freqs_hz * dt))
+    if period > limit:
+        return period, None
+    exact = freqs_hz * period * dt
+    bins = np.rint(exact).astype(np.int64)
+    # f_j·N·dt is q_j to within the rounding of f_j and of the product (a few ulp)
+    on_grid = np.abs(exact - bins) <= 16.0 * np.finfo(float).eps * np.maximum(exact, 1.0)
+    if not on_grid.all() or bins.min() <= 0 or 2 * bins.max() >= period:
+        return period, None
+    return period, bins
 
 
 #: Clip-and-restore passes per motion in :func:`limit_peaks`, the over-relaxation of the
