@@ -12,6 +12,7 @@ import pytest
 from click.testing import CliRunner
 from scipy.integrate import cumulative_trapezoid, quad
 
+import rocking.motions.baseline as baseline_module
 import rocking.motions.ensemble as ensemble_module
 import rocking.motions.synthesis as synthesis
 from rocking.cli import main
@@ -52,6 +53,11 @@ def test_result_does_not_depend_on_chunking_or_threads(monkeypatch):
     ref = generate(8)
     corrected = generate(5, iterations=1, pilot=5)  # peak limiting has its own kernel
     monkeypatch.setattr(synthesis, "CHUNK", 3)
+    # tiles of the synthesis and blocks of the baseline correction that split the members and
+    # samples unevenly (8 motions of 8001 samples)
+    monkeypatch.setattr(synthesis, "TILE_SAMPLES", 1000)
+    monkeypatch.setattr(synthesis, "TILE_MEMBERS", 3)
+    monkeypatch.setattr(baseline_module, "BLOCK_ROWS", 3)
     np.testing.assert_array_equal(generate(8).acc, ref.acc)
     np.testing.assert_array_equal(generate(5, iterations=1, pilot=5).acc, corrected.acc)
     threads = numba.get_num_threads()
@@ -85,6 +91,38 @@ def test_synthesis_is_eq9_evaluated_directly():
         t = i * ens.dt
         direct = env(t) * np.sum(np.array(m["amplitudes"]) * np.sin(omega * t + phases))
         assert ens.acc[1, i] == pytest.approx(direct, abs=1e-9 * np.abs(ens.acc[1]).max())
+
+
+@pytest.mark.parametrize("period", [1000, 2048])  # shorter than the record (periodic), longer
+def test_fft_synthesis_on_a_uniform_grid_is_eq9_to_rounding(monkeypatch, period):
+    # Frequencies f_j = q_j/(N·dt) take the inverse-FFT path (the direct kernel is disabled);
+    # Eq. (9) written here independently with NumPy: I(t)·Σ_j A_j sin(2π f_j t + φ_kj).
+    # Tolerance: the sum cannot exceed Σ A_j; the arguments 2π f_j t ≤ 2π·50 Hz·12 s ≈ 4e3 rad
+    # carry an absolute rounding of ~4e3·1.1e-16 ≈ 5e-13 rad, and the 99-term sum and the FFT
+    # (error ~ε·log2 N) add a few 1e-15 of Σ A_j: 1e-11·Σ A_j bounds them, while a wrong bin,
+    # scale or phase would be off by order Σ A_j.
+    def direct_kernel_called(*args):
+        raise AssertionError("the direct sum was used on a uniform grid")
+
+    monkeypatch.setattr(synthesis, "_superpose", direct_kernel_called)
+    dt, env = 0.01, make_envelope("compound", 12.0)
+    freqs = np.arange(5, 500, 5) / (period * dt)
+    amps = np.random.default_rng(2).uniform(0.1, 2.0, freqs.size)
+    spec = PowerSpectrum.from_amplitudes(freqs, amps, 8.0, 0.05)
+    phases = member_phases(4, range(3), freqs.size)
+    acc = synthesize(spec, env, dt, phases)
+    t = np.arange(acc.shape[1]) * dt
+    assert t[-1] == pytest.approx(12.0)
+    for k in range(3):
+        arg = 2 * np.pi * freqs[:, None] * t + phases[k][:, None]
+        direct = env(t) * np.sum(amps[:, None] * np.sin(arg), axis=0)
+        np.testing.assert_allclose(acc[k], direct, rtol=0, atol=1e-11 * amps.sum())
+
+
+def test_log_spaced_frequencies_take_the_direct_sum(monkeypatch):
+    # generate's log-spaced grid is not a uniform one: the FFT must not be used for it.
+    monkeypatch.setattr(synthesis.scipy.fft, "irfft", None)
+    assert np.isfinite(generate(2, duration=2.0).acc).all()
 
 
 def test_baseline_flag_only_applies_the_correction():

@@ -22,8 +22,8 @@ Conventions fixed here because the paper is silent or inconsistent:
 * Peak factor: Eq. (6) prints 5.772 as the constant of Davenport's (1964) formula; Davenport's
   own constant is Euler's γ = 0.5772 (the default, :data:`DAVENPORT_CONSTANT`), which matches
   the expected peak of a Gaussian process within 1 % for ≥ 100 cycles, where 5.772 is 22–54 %
-  too large. With both printed values (5.772 and √4) 200 RG 1.60 motions reach the target
-  only near 33 Hz: their mean PSA is 0.40 of it at 0.2 Hz and 0.87 at 10 Hz (measured).
+  too large. With both printed values (5.772 and √4) RG 1.60 motions fall well short of the
+  target at low frequencies (tests/test_psd.py compares their peak PSV with the paper's).
 * Davenport's formula is asymptotic in ν·T_e (number of zero up-crossings) and diverges as
   ν·T_e → 1; below the argument x* = exp(c/2) at which it is smallest (c the constant), the
   value at x* is used, so the peak factor never increases as ν·T_e decreases.

@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
+import scipy.fft
 
 from ..core.checks import finite_array, positive, require_memory
 from ..core.compile import parallel_kernel, prange
@@ -53,25 +55,46 @@ def member_phases(seed: int, members, n_freq: int) -> np.ndarray:
     return np.array(rows).reshape(len(rows), n_freq)
 
 
+#: Samples and members per tile of :func:`_superpose`: a tile's partial sums stay in the
+#: first-level cache and its slice of the sine and cosine tables in the second, so the tables
+#: are read from memory once per tile of samples rather than once per member (the result does
+#: not depend on the tile sizes).
+TILE_SAMPLES = 256
+TILE_MEMBERS = 8
+
+
 @parallel_kernel
-def _superpose(cos_amp, sin_amp, sin_wt, cos_wt, intensity):
+def _superpose(cos_amp, sin_amp, sin_wt, cos_wt, intensity, tile_samples, tile_members):
     """out[k, i] = I_i·Σ_j (A_j cos φ_kj·sin ω_j t_i + A_j sin φ_kj·cos ω_j t_i), i.e. Eq. (9).
 
-    Hand-written instead of a BLAS product: the sum over j runs in the same order for every
-    member, so member k is bit-identical whatever the ensemble size or chunking.
+    Tiles of (members, samples) run in parallel; within a tile the sum over j runs in the same
+    order for every member and sample (hand-written rather than a BLAS product, whose order
+    may depend on the matrix sizes), so member k is bit-identical whatever the ensemble size,
+    the tile sizes or the number of threads.
     """
     n, m = cos_amp.shape
     n_t = intensity.size
     out = np.empty((n, n_t))
-    for k in prange(n):
-        row = np.zeros(n_t)
+    n_member_tiles = (n + tile_members - 1) // tile_members
+    n_tiles = n_member_tiles * ((n_t + tile_samples - 1) // tile_samples)
+    for tile in prange(n_tiles):
+        i0 = (tile // n_member_tiles) * tile_samples
+        k0 = (tile % n_member_tiles) * tile_members
+        i1 = min(i0 + tile_samples, n_t)
+        k1 = min(k0 + tile_members, n)
+        row = np.zeros((k1 - k0, i1 - i0))
         for j in range(m):
-            b = cos_amp[k, j]
-            c = sin_amp[k, j]
-            for i in range(n_t):
-                row[i] += b * sin_wt[j, i] + c * cos_wt[j, i]
-        for i in range(n_t):
-            out[k, i] = intensity[i] * row[i]
+            sin_j = sin_wt[j, i0:i1]
+            cos_j = cos_wt[j, i0:i1]
+            for k in range(k0, k1):
+                b = cos_amp[k, j]
+                c = sin_amp[k, j]
+                acc = row[k - k0]
+                for i in range(i1 - i0):
+                    acc[i] += b * sin_j[i] + c * cos_j[i]
+        for k in range(k0, k1):
+            for i in range(i0, i1):
+                out[k, i] = intensity[i] * row[k - k0, i - i0]
     return out
 
 
@@ -93,6 +116,13 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
     Returns
     -------
     ndarray, shape (n, n_t)
+
+    Notes
+    -----
+    Frequencies on a uniform grid f_j = q_j/(N·dt) (integers 0 < q_j < N/2, N at most four
+    times the number of samples) are summed by one inverse real FFT of length N per motion;
+    other frequencies, such as the log-spaced ones of :func:`generate`, by the direct sum in
+    cache-sized tiles. Both evaluate the same sum and agree to rounding (tests/test_motions.py).
     """
     dt = positive("dt", dt, "s")
     phi = finite_array("phases", phases, ndim=(2,))
@@ -102,31 +132,55 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
             f"{spectrum.omega.size} frequencies"
         )
     t = np.arange(_n_samples(envelope.duration, dt)) * dt
-    wt = spectrum.omega[:, None] * t
-    sin_wt, cos_wt, intensity = np.sin(wt), np.cos(wt), envelope(t)
+    intensity = envelope(t)
     amp = spectrum.amplitudes
-    parts = [
-        _superpose(
-            amp * np.cos(phi[i : i + CHUNK]),
-            amp * np.sin(phi[i : i + CHUNK]),
-            sin_wt,
-            cos_wt,
-            intensity,
-        )
-        for i in range(0, phi.shape[0], CHUNK)
-    ]
-    return np.concatenate(parts) if parts else np.empty((0, t.size))
+    period, bins = _fft_grid(spectrum.freqs_hz, dt, t.size)
+    if bins is not None:
+        # Eq. (9) on the grid f_j = q_j/(N·dt): Σ_j A_j sin(2π q_j i/N + φ_j) is the inverse
+        # real FFT of length N whose bin q_j holds (N/2)·A_j·exp(i(φ_j − π/2)); N-periodic in i.
+        coef = np.zeros((phi.shape[0], period // 2 + 1), dtype=complex)
+        values = 0.5 * period * amp * np.exp(1j * (phi - 0.5 * np.pi))
+        for j, q in enumerate(bins):  # components sharing a bin add up
+            coef[:, q] += values[:, j]
+        stationary = scipy.fft.irfft(coef, period, axis=-1, workers=-1)
+        return intensity * stationary[:, np.arange(t.size) % period]
+    wt = spectrum.omega[:, None] * t
+    sin_wt, cos_wt = np.sin(wt), np.cos(wt)
+    return _superpose(
+        amp * np.cos(phi),
+        amp * np.sin(phi),
+        sin_wt,
+        cos_wt,
+        intensity,
+        TILE_SAMPLES,
+        TILE_MEMBERS,
+    )
+
+
+def _fft_grid(freqs_hz: np.ndarray, dt: float, n_samples: int) -> tuple[int, np.ndarray | None]:
+    """The period N [samples] and bins q_j of frequencies f_j = q_j/(N·dt) [Hz], 0 < q_j < N/2,
+    N the least common denominator of the f_j·dt; bins None when the frequencies (e.g.
+    log-spaced) do not lie on such a grid with N ≤ 4·``n_samples`` (beyond it the direct sum
+    is the cheaper) to within rounding."""
+    limit = 4 * n_samples
+    period = math.lcm(*(Fraction(c).limit_denominator(limit).denominator for c in freqs_hz * dt))
+    if period > limit:
+        return period, None
+    exact = freqs_hz * period * dt
+    bins = np.rint(exact).astype(np.int64)
+    # f_j·N·dt is q_j to within the rounding of f_j and of the product (a few ulp)
+    on_grid = np.abs(exact - bins) <= 16.0 * np.finfo(float).eps * np.maximum(exact, 1.0)
+    if not on_grid.all() or bins.min() <= 0 or 2 * bins.max() >= period:
+        return period, None
+    return period, bins
 
 
 #: Clip-and-restore passes per motion in :func:`limit_peaks`, the over-relaxation of the
 #: clipping (a sample above the limit is pulled this many times its excess back: the projection
 #: spreads the cut over the record, so plain clipping, 1, barely lowers the peak) and the least
 #: number of samples per cycle of the highest component on the coarse grid the limiting runs on
-#: (the motions themselves are synthesised at ``dt``). Chosen by measurement on 200 RG 1.60
-#: motions whose untouched mean PGA was 1.37·limit: the mean PGA after limiting was
-#: 1.050·limit (2.5 samples per cycle, relaxation 3, 20 passes), 1.040 (4, 3, 20),
-#: 1.029 (4, 4, 20), 1.021 (4, 4, 30) and 1.021 (4, 3, 40); 6 samples per cycle gained
-#: nothing for 2.5 times the cost.
+#: (the motions themselves are synthesised at ``dt``). Chosen by measuring the mean PGA after
+#: limiting against the cost on RG 1.60 ensembles; tests/test_motions.py checks the result.
 PEAK_LIMIT_PASSES = 30
 PEAK_LIMIT_RELAXATION = 4.0
 PEAK_LIMIT_SAMPLES_PER_CYCLE = 4.0
@@ -198,21 +252,21 @@ def limit_peaks(spectrum: PowerSpectrum, envelope, dt: float, phases, limit: flo
     (≥ :data:`PEAK_LIMIT_SAMPLES_PER_CYCLE` samples per cycle of the highest component, where
     I > 0):
 
-    1. samples with |a| > ``limit`` are pulled back past it by :data:`PEAK_LIMIT_RELAXATION`
+    1. samples with abs(a) > ``limit`` are pulled back past it by :data:`PEAK_LIMIT_RELAXATION`
        times their excess;
     2. the clipped stationary part a/I is projected on the components' sines and cosines (least
        squares; one Gram matrix for all motions);
     3. each component keeps its new phase and gets its amplitude A_j back.
 
     :data:`PEAK_LIMIT_PASSES` passes, fewer once no sample exceeds the limit. The result is a
-    motion of the same amplitudes whose peak is close to ``limit`` (mean PGA 1.02·limit for
-    RG 1.60 at 1 g) whenever the untouched peak was higher.
+    motion of the same amplitudes whose peak is close to ``limit`` whenever the untouched peak
+    was higher (tests/test_motions.py).
 
     Components that complete less than one beat against their lower neighbour over the record,
     (ω_j − ω_{j−1})/2π · T < 1 (below 0.88 Hz for T = 20 s and the paper's grid), keep their
     phases: over the record they are nearly the same sinusoid, and the projection would re-phase
-    them into mutual cancellation (measured: the mean PSA fell to 0.42 of RG 1.60 at 0.2 Hz when
-    components down to 0.5 Hz were re-phased). They carry little of the PGA anyway.
+    them into mutual cancellation, lowering the mean PSA at low frequencies. They carry little
+    of the PGA anyway.
     Components with A_j = 0 are left out.
 
     Parameters
@@ -315,12 +369,12 @@ class SpectralFit:
 
     @property
     def max_deviation(self) -> float:
-        """Largest |mean/target − 1| over the frequencies [-]."""
+        """Largest abs(mean/target − 1) over the frequencies [-]."""
         return float(np.abs(self.ratio - 1.0).max())
 
     @property
     def mean_deviation(self) -> float:
-        """Mean |mean/target − 1| over the frequencies [-]."""
+        """Mean abs(mean/target − 1) over the frequencies [-]."""
         return float(np.abs(self.ratio - 1.0).mean())
 
 
@@ -397,8 +451,7 @@ def generate(
     """Simulate ``n`` ground motions compatible with a target response spectrum.
 
     Steps: the PSD by the paper's method (:func:`rocking.motions.psd.power_spectrum`, Eqs. 5–8);
-    with
-    ``iterations`` > 0 the iterative correction (below); synthesis by Eq. (9) with phases from
+    with ``iterations`` > 0 the iterative correction (below); synthesis by Eq. (9) with phases from
     :func:`member_phases`; then, if ``baseline``, :func:`baseline_correct` (quadratic).
 
     The iterative correction (not in the paper; SIMQKE-style, Gasparini & Vanmarcke 1976) has
@@ -414,23 +467,17 @@ def generate(
 
     Why the PSD iteration alone cannot fit RG 1.60: above ~20 Hz a 5 %-damped oscillator
     follows the ground, so the mean PSA there tends to the mean PGA, which is set by the
-    whole spectrum (mostly 1–10 Hz), not by the 20–50 Hz components the iteration scales down
-    (the paper's fit already has none above 26 Hz). For motions of Eq. (9) with independent
-    phases (nearly Gaussian) the ratio of the mean PSA at 2.5 Hz to the mean PGA came out near
-    2.5 for every PSD tried (random-vibration theory gives about the same), while RG 1.60 asks
-    for 3.13: the best minimax fit of the amplitudes alone (a 16-knot correction curve,
-    optimised on 100 motions) spanned 0.89–1.12 of the target over 0.2–33 Hz, and the PSD
-    iteration alone leaves the mean PGA at 1.25 g and the mean PSA 29 % high at 33 Hz.
-    Lowering the peak factor of the ground motion at fixed amplitudes is what brings the ZPA
-    and the amplified range within ±10 % together: 0.97–1.07 for 200 motions with two
-    iterations (tests/test_motions.py, ``rocking motions fit``). Side effect: the members'
-    PGAs become nearly equal (standard deviation 0.008 g instead of 0.12 g at 1 g), so the
-    corrected ensemble is less varied than the paper's.
+    whole spectrum (mostly 1–10 Hz), not by the 20–50 Hz components the iteration scales down.
+    Motions of Eq. (9) with independent phases are nearly Gaussian, and random-vibration theory
+    puts the ratio of their PSA at 2.5 Hz to their PGA below the 3.13 that RG 1.60 asks for, so
+    no choice of amplitudes alone fits both the ZPA and the amplified range. Lowering the peak
+    factor of the ground motion at fixed amplitudes brings both within ±10 % together
+    (tests/test_motions.py, ``rocking motions fit``). Side effect: the members' PGAs become
+    nearly equal, so the corrected ensemble is less varied than the paper's.
 
-    The pilot motions are not baseline corrected (the correction changes their mean PSA by less
-    than 0.5 % from 0.2 to 33 Hz), so the amplitudes, and each motion before correction, do not
-    depend on ``baseline``: ``generate(n)`` is ``baseline_correct`` of
-    ``generate(n, baseline=False)``.
+    The pilot motions are not baseline corrected (the correction barely changes their mean
+    PSA), so the amplitudes, and each motion before correction, do not depend on ``baseline``:
+    ``generate(n)`` is ``baseline_correct`` of ``generate(n, baseline=False)``.
 
     Parameters
     ----------
@@ -521,21 +568,15 @@ def _generate(
 ) -> Ensemble:
     """:func:`generate` for the given member indices."""
     dt = positive("dt", dt, "s")
-    fmax = positive("fmax", fmax, "Hz")
-    if fmax > 0.5 / dt:
-        raise InputError(
-            f"dt = {dt:g} s samples frequencies up to {0.5 / dt:g} Hz (Nyquist), but "
-            f"the motions are fitted up to fmax = {fmax:g} Hz: use dt <= "
-            f"{0.5 / fmax:g} s or a lower fmax"
-        )
+    _check_nyquist(dt, positive("fmax", fmax, "Hz"))
     seed = _count("seed", seed, 0)
     n_iter = _count("iterations", iterations, 0)
     n_pilot = _count("pilot", pilot, 1)
     env = make_envelope(envelope, duration, **(envelope_params or {}))
     n_t = _n_samples(env.duration, dt)
-    # the motions, their baseline-corrected copy and one chunk of the synthesis at a time
+    # the motions, their baseline-corrected copy and the pilot ensemble of the iterations
     require_memory(
-        8.0 * n_t * (2 * len(members) + CHUNK + n_pilot * min(n_iter, 1)),
+        8.0 * n_t * (2 * len(members) + n_pilot * min(n_iter, 1)),
         f"n: {len(members):,} motions of {n_t:,} samples",
     )
     members = [int(m) for m in members]
@@ -551,54 +592,104 @@ def _generate(
     )
     # The ZPA: the target at the stiffest oscillator, where PSA tends to the PGA.
     pga_limit = float(psa_g[-1]) if n_iter and peak_limit else None
-
-    def motions(spec, indices):
-        phases = member_phases(seed, indices, freqs.size)
-        if pga_limit is not None:
-            phases = limit_peaks(spec, env, dt, phases, pga_limit * G)
-        return synthesize(spec, env, dt, phases)
-
-    for _ in range(n_iter):  # PSD_{i+1} = PSD_i·(target/mean)²
-        mean_psa = response_spectrum(motions(spectrum, range(n_pilot)), dt, freqs, h).mean().psa
-        spectrum = PowerSpectrum.from_amplitudes(
-            freqs,
-            spectrum.amplitudes * (psa_g * G / mean_psa),
-            spectrum.equivalent_duration,
-            h,
-            convention,
-        )
-    acc = motions(spectrum, members)
+    for _ in range(n_iter):
+        pilot_acc = _motions(spectrum, env, dt, seed, range(n_pilot), pga_limit)
+        spectrum = _corrected_spectrum(spectrum, psa_g, pilot_acc, dt)
+    acc = _motions(spectrum, env, dt, seed, members, pga_limit)
     if baseline:
         acc = baseline_correct(acc, dt)
-    meta = {
+    meta = _metadata(
+        target,
+        env,
+        spectrum,
+        psa_g,
+        members,
+        dt=dt,
+        envelope_params=envelope_params,
+        seed=seed,
+        baseline=baseline,
+        fmin=fmin,
+        fmax=fmax,
+        iterations=n_iter,
+        pilot=n_pilot,
+        peak_limit=peak_limit,
+        pga_limit=pga_limit,
+        peak_constant=peak_constant,
+    )
+    return Ensemble(acc, dt, [f"sim-{m:04d}" for m in members], meta)
+
+
+def _check_nyquist(dt: float, fmax: float) -> None:
+    """:class:`InputError` unless the time step dt [s] samples the highest frequency fmax [Hz]."""
+    if fmax > 0.5 / dt:
+        raise InputError(
+            f"dt = {dt:g} s samples frequencies up to {0.5 / dt:g} Hz (Nyquist), but "
+            f"the motions are fitted up to fmax = {fmax:g} Hz: use dt <= "
+            f"{0.5 / fmax:g} s or a lower fmax"
+        )
+
+
+def _motions(
+    spectrum: PowerSpectrum, envelope, dt: float, seed: int, members, pga_limit: float | None
+) -> np.ndarray:
+    """Motions of Eq. (9) [m/s²] of the given members: their phases (:func:`member_phases`),
+    re-phased by :func:`limit_peaks` to ``pga_limit`` [g] unless it is None, synthesised."""
+    phases = member_phases(seed, members, spectrum.omega.size)
+    if pga_limit is not None:
+        phases = limit_peaks(spectrum, envelope, dt, phases, pga_limit * G)
+    return synthesize(spectrum, envelope, dt, phases)
+
+
+def _corrected_spectrum(
+    spectrum: PowerSpectrum, psa_g: np.ndarray, pilot_acc: np.ndarray, dt: float
+) -> PowerSpectrum:
+    """One PSD iteration: PSD_{i+1} = PSD_i·(target/mean)², i.e. each amplitude A_j [m/s²]
+    times the target PSA ``psa_g`` [g] over the mean PSA of the pilot motions ``pilot_acc``
+    [m/s²] (time step ``dt`` [s]) at f_j."""
+    mean_psa = response_spectrum(pilot_acc, dt, spectrum.freqs_hz, spectrum.damping).mean().psa
+    return PowerSpectrum.from_amplitudes(
+        spectrum.freqs_hz,
+        spectrum.amplitudes * (psa_g * G / mean_psa),
+        spectrum.equivalent_duration,
+        spectrum.damping,
+        spectrum.convention,
+    )
+
+
+def _metadata(
+    target, env, spectrum: PowerSpectrum, psa_g: np.ndarray, members: list[int], **settings
+) -> dict:
+    """The ``meta`` of a generated ensemble: every parameter of :func:`generate` (``settings``,
+    already checked), the resolved envelope, the frequencies [Hz], the target PSA [g] there,
+    the final amplitudes [m/s²] and the member indices."""
+    return {
         "kind": "simulated",
         "location": "ground",
         "scale": 1.0,
-        "target": _target_name(target, h),
+        "target": _target_name(target, spectrum.damping),
         "duration": env.duration,
-        "dt": dt,
+        "dt": settings["dt"],
         "envelope": _envelope_name(env),
-        "envelope_params": dict(envelope_params or {}),
+        "envelope_params": dict(settings["envelope_params"] or {}),
         "envelope_shape": env.params(),
-        "seed": seed,
-        "baseline": bool(baseline),
-        "damping": h,
-        "n_freq": freqs.size,
-        "fmin": float(fmin),
-        "fmax": float(fmax),
-        "iterations": n_iter,
-        "pilot": n_pilot,
-        "peak_limit": bool(peak_limit),
-        "pga_limit": pga_limit,
-        "peak_constant": float(peak_constant),
-        "convention": convention,
+        "seed": settings["seed"],
+        "baseline": bool(settings["baseline"]),
+        "damping": spectrum.damping,
+        "n_freq": spectrum.freqs_hz.size,
+        "fmin": float(settings["fmin"]),
+        "fmax": float(settings["fmax"]),
+        "iterations": settings["iterations"],
+        "pilot": settings["pilot"],
+        "peak_limit": bool(settings["peak_limit"]),
+        "pga_limit": settings["pga_limit"],
+        "peak_constant": float(settings["peak_constant"]),
+        "convention": spectrum.convention,
         "equivalent_duration": env.equivalent_duration(),
-        "freqs_hz": freqs.tolist(),
+        "freqs_hz": spectrum.freqs_hz.tolist(),
         "target_psa": psa_g.tolist(),
         "amplitudes": spectrum.amplitudes.tolist(),
         "members": members,
     }
-    return Ensemble(acc, dt, [f"sim-{m:04d}" for m in members], meta)
 
 
 def _target_name(target, damping: float) -> str:
