@@ -72,7 +72,6 @@ from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
-from scipy.signal import resample_poly
 
 from ..core.checks import positive
 from ..dynamics.body import G
@@ -512,6 +511,8 @@ def resample(acc, dt: float, new_dt: float) -> np.ndarray:
     if up == down:
         return x.copy()
     n = math.floor((x.size - 1) * up / down + 1e-9) + 1
+    from scipy.signal import resample_poly  # here, not at import: scipy.signal takes ~0.3 s
+
     return resample_poly(x, up, down, window=RESAMPLING_WINDOW)[:n]
 
 

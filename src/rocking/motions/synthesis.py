@@ -22,7 +22,6 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
-import scipy.fft
 
 from ..core.checks import finite_array, positive, require_memory
 from ..core.compile import parallel_kernel, prange
@@ -142,6 +141,8 @@ def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarr
         values = 0.5 * period * amp * np.exp(1j * (phi - 0.5 * np.pi))
         for j, q in enumerate(bins):  # components sharing a bin add up
             coef[:, q] += values[:, j]
+        import scipy.fft  # here, not at import: only uniform grids take this path
+
         stationary = scipy.fft.irfft(coef, period, axis=-1, workers=-1)
         return intensity * stationary[:, np.arange(t.size) % period]
     wt = spectrum.omega[:, None] * t
