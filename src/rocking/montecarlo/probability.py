@@ -216,6 +216,7 @@ def agx_50(
     coarse: int = 10,
     chunk_size: int | None = None,
     impacts: str = IMPACT_SCHEMES[0],
+    exhaustive: bool = False,
 ) -> xr.Dataset:
     """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
 
@@ -234,7 +235,11 @@ def agx_50(
     The result A_hi is thus an upward crossing of 50 % on the grid: P(A_hi) ≥ 0.5 and
     P(A_hi − resolution) < 0.5 (``probability`` and ``probability_below``).  Where P is monotone
     on the grid it is the smallest grid A_gx with P ≥ 0.5.  P ≥ 0.5 means count ≥ n/2.  Each
-    round evaluates one level for every body (and case) still searching, in one batched call.
+    round evaluates one level for every body (and case) still searching, in batched calls:
+    the motions are simulated in the order of the ensemble only until the count has decided
+    the comparison with n/2 (:meth:`rocking.montecarlo.engine.Engine.at_least_half`), then
+    every motion at the two levels whose probabilities are returned.  The result does not
+    depend on this: ``exhaustive`` simulates every motion at every level visited instead.
 
     Parameters
     ----------
@@ -250,6 +255,9 @@ def agx_50(
         As for :func:`overturning_probability`.
     coarse : int
         Levels of the bracketing round (≥ 1).
+    exhaustive : bool
+        Simulate every motion at every level the search visits (the same result, with more
+        simulations; the chunks in ``out`` then hold every count).
 
     Returns
     -------
@@ -283,16 +291,18 @@ def agx_50(
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
         return (c, b, level_key(round(k * resolution, 12)))
 
-    def above(c, b, k):  # P(A_k) >= 0.5, exactly in integers
-        return 2 * engine.count(*key(c, b, k)) >= cases[c].n
-
     engine.require_memory(nb * search.max_levels, "resolution")
     with engine:
         engine.expect(search.typical_rounds * nb * sum(ens.n for ens in cases))
-        while level := search.pending():
-            engine.run([key(c, b, k) for (c, b), k in level.items()])  # one batch per round
-            search.update({(c, b): above(c, b, k) for (c, b), k in level.items()})
-    hi = search.crossings()
+        while level := search.pending():  # one batch of simulations per round
+            keys = {item: key(*item, k) for item, k in level.items()}
+            if exhaustive:
+                engine.run(list(keys.values()))
+            above = engine.at_least_half(list(keys.values()))  # P(A_k) >= 0.5
+            search.update({item: above[k] for item, k in keys.items()})
+        hi = search.crossings()
+        # the probabilities returned: every motion at the crossing and the level below it
+        engine.run([key(c, b, k - j) for (c, b), k in hi.items() for j in (0, 1) if k - j > 0])
     shape = (len(cases), nb)
     agx50 = np.full(shape, np.nan)
     p_at = np.full(shape, np.nan)
