@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+from collections.abc import Mapping
 from contextlib import ExitStack
 from typing import Any
 
@@ -278,7 +279,7 @@ class Engine:
         """Make sure every (case, body, level key) in ``keys`` has a result for every motion."""
         self.run_motions(dict.fromkeys(keys))
 
-    def run_motions(self, requests: dict[tuple[int, int, int], np.ndarray | None]) -> None:
+    def run_motions(self, requests: Mapping[tuple[int, int, int], np.ndarray | None]) -> None:
         """Make sure every (case, body, level key) of ``requests`` has a result for the motions
         it maps to (indices into the case's ensemble; None: every motion).
 

@@ -138,9 +138,7 @@ def overturning_probability(
         computed / loaded from ``out`` (``chunks_computed``, ``chunks_loaded``).
     """
     labels, cases = _cases(ensemble)
-    agx = finite_array("agx", np.atleast_1d(agx), ndim=(1,))
-    if np.any(agx < LEVEL_UNIT):
-        raise InputError(f"agx must be >= {LEVEL_UNIT:g} g, got {agx[agx < LEVEL_UNIT][0]}")
+    levels = _levels(agx)
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     if members and len({ens.n for ens in cases}) > 1:
         raise InputError("members=True needs ensembles with the same number of motions")
@@ -148,6 +146,7 @@ def overturning_probability(
     engine = Engine(
         blocks,
         cases,
+        desc="P(overturn)",
         e=e,
         overturn_angle=overturn_angle,
         g=g,
@@ -155,43 +154,22 @@ def overturning_probability(
         out=out,
         progress=progress,
         chunk_size=chunk_size,
-        desc="P(overturn)",
         impacts=impacts,
     )
-    engine.require_memory(nb * agx.size * (2 if members else 1), "agx")
-    levels = [level_key(a) for a in agx.tolist()]
-    agx = np.array([level_agx(k) for k in levels])
+    engine.require_memory(nb * len(levels) * (2 if members else 1), "agx")
     keys = [[[(c, b, k) for k in levels] for b in range(nb)] for c in range(len(cases))]
     with engine:
         engine.run([k for per_case in keys for per_body in per_case for k in per_body])
-    count = np.array(
-        [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
-        dtype=np.int64,
-    )
-    n = np.broadcast_to(np.array([ens.n for ens in cases])[:, None, None], count.shape).copy()
-    low, high = wilson_interval(count, n, confidence)
-    dims = ("body", "agx")
-    data_vars: dict[str, Any] = {
-        "probability": (dims, count / n, {"units": "1", "long_name": "overturning probability"}),
-        "count": (dims, count, {"long_name": "motions that overturn the body"}),
-        "n": (dims, n, {"long_name": "motions"}),
-        "ci_low": (dims, low, {"units": "1", "long_name": f"Wilson {confidence:g} lower bound"}),
-        "ci_high": (dims, high, {"units": "1", "long_name": f"Wilson {confidence:g} upper bound"}),
-    }
+    data_vars = _probability_vars(engine, keys, confidence)
     coords: dict[str, Any] = {
-        "agx": ("agx", agx, {"units": "g", "long_name": "mean PGA of the ensemble"})
+        "agx": (
+            "agx",
+            np.array([level_agx(k) for k in levels]),
+            {"units": "g", "long_name": "mean PGA of the ensemble"},
+        )
     }
     if members:
-        flags, peaks = (
-            np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys])
-            for i in (0, 1)
-        )
-        data_vars["overturned"] = ((*dims, "member"), flags, {})
-        data_vars["peak"] = (
-            (*dims, "member"),
-            peaks,
-            {"units": "1", "long_name": "max |theta| / alpha"},
-        )
+        data_vars.update(_member_vars(engine, keys))
         coords["member"] = (
             "member",
             list(cases[0].labels) if labels is None else np.arange(cases[0].n),
@@ -199,6 +177,47 @@ def overturning_probability(
     return _dataset(
         blocks, engine.table, labels, data_vars, coords, {"confidence": confidence, **engine.stats}
     )
+
+
+def _levels(agx) -> list[int]:
+    """The level keys of the intensities ``agx`` [g] (checked: finite, one axis, >= LEVEL_UNIT)."""
+    agx = finite_array("agx", np.atleast_1d(agx), ndim=(1,))
+    if np.any(agx < LEVEL_UNIT):
+        raise InputError(f"agx must be >= {LEVEL_UNIT:g} g, got {agx[agx < LEVEL_UNIT][0]}")
+    return [level_key(a) for a in agx.tolist()]
+
+
+def _probability_vars(engine: Engine, keys: list, confidence: float) -> dict[str, Any]:
+    """``probability``, ``count``, ``n`` and the Wilson interval at every (case, body, level) of
+    ``keys`` (nested [case][body][level]), from the engine's full counts."""
+    count = np.array(
+        [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
+        dtype=np.int64,
+    )
+    n = np.broadcast_to(
+        np.array([ens.n for ens in engine.cases])[:, None, None], count.shape
+    ).copy()
+    low, high = wilson_interval(count, n, confidence)
+    dims = ("body", "agx")
+    return {
+        "probability": (dims, count / n, {"units": "1", "long_name": "overturning probability"}),
+        "count": (dims, count, {"long_name": "motions that overturn the body"}),
+        "n": (dims, n, {"long_name": "motions"}),
+        "ci_low": (dims, low, {"units": "1", "long_name": f"Wilson {confidence:g} lower bound"}),
+        "ci_high": (dims, high, {"units": "1", "long_name": f"Wilson {confidence:g} upper bound"}),
+    }
+
+
+def _member_vars(engine: Engine, keys: list) -> dict[str, Any]:
+    """``overturned`` and ``peak`` of every motion at every (case, body, level) of ``keys``."""
+    flags, peaks = (
+        np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys]) for i in (0, 1)
+    )
+    dims = ("body", "agx", "member")
+    return {
+        "overturned": (dims, flags, {}),
+        "peak": (dims, peaks, {"units": "1", "long_name": "max |theta| / alpha"}),
+    }
 
 
 def agx_50(
@@ -277,6 +296,7 @@ def agx_50(
     engine = Engine(
         blocks,
         cases,
+        desc="A_gx(50%)",
         e=e,
         overturn_angle=overturn_angle,
         g=g,
@@ -284,7 +304,6 @@ def agx_50(
         out=out,
         progress=progress,
         chunk_size=chunk_size,
-        desc="A_gx(50%)",
         impacts=impacts,
     )
 
