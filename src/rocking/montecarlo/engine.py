@@ -1,15 +1,16 @@
 """The Monte Carlo engine: (case, body, intensity level) triples simulated under all motions of a
 case, in chunks on a backend, optionally kept in a resumable folder.
 
-The work is a list of (body, level) pairs, each simulated under all motions of an ensemble, every
-motion scaled to the level.  A level is a value of an intensity measure (IM): by default the
-paper's A_gx, the mean PGA of the ensemble [g] (one factor for all motions); with a per-motion
-``basis`` (the IM of each unscaled motion, e.g. its PGV), each motion is scaled on its own so that
-its IM equals the level (incremental dynamic analysis).  The pairs are cut into chunks that a
+The work is a list of (body, level) pairs, each simulated under the motions of an ensemble (all
+of them, or those that :meth:`Engine.at_least_half` needs to decide whether half of them
+overturn the body), every motion scaled to the level.  A level is a value of an intensity
+measure (IM): by default the paper's A_gx, the mean PGA of the ensemble [g] (one factor for all
+motions); with a per-motion ``basis`` (the IM of each unscaled motion, e.g. its PGV), each
+motion is scaled on its own so that its IM equals the level (incremental dynamic analysis).  The pairs are cut into chunks that a
 backend (:mod:`rocking.montecarlo.backends`) computes with the batched kernel
 (:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
 (:mod:`rocking.montecarlo.store`) so that an interrupted run resumes where it stopped.  Every
-chunk result is keyed by its (case, body, level) triples, never by position or arrival order, so
+chunk result is keyed by its (case, body, level, motion), never by position or arrival order, so
 the results are bit for bit the same for every backend, worker count, chunk size and interruption
 history.
 """
@@ -175,8 +176,6 @@ class Engine:
         self.results: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray]] = {}
         # triples with some motions simulated: (overturned, peak, simulated) over the motions
         self._partial: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
-        #: Simulations computed by this engine (not loaded).
-        self.simulations = 0
         self.chunks_loaded = 0
         self.chunks_computed = 0
         self.store = None if out is None else ChunkStore(out, self._params())
@@ -284,8 +283,9 @@ class Engine:
         it maps to (indices into the case's ensemble; None: every motion).
 
         Each triple's motions are one unit of work; chunks hold whole units, at most
-        ``chunk_size`` simulations (more only for a single larger unit), and enough of them to
-        keep every worker busy.  A unit's results do not depend on the chunk it is computed in.
+        ``chunk_size`` simulations (more only for a single larger unit) and, on a backend of
+        several workers, enough of them to keep every worker busy (this process runs one chunk
+        at a time on all its threads: fewer, larger kernel calls).  A unit's results do not depend on the chunk it is computed in.
         """
         units = []  # (case, body, level key, motion indices still missing)
         for (c, b, k), motions in requests.items():
@@ -334,7 +334,6 @@ class Engine:
             for b, k, m, o, p in _by_triple(body, levels[i], motion, overturned, peak):
                 self._record(c, b, k, m, o, p)
             self.chunks_computed += 1
-            self.simulations += motion.size
             self._stage.update(motion.size)
 
     def at_least_half(self, keys: list[tuple[int, int, int]]) -> dict[tuple[int, int, int], bool]:
