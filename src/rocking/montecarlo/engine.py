@@ -6,9 +6,9 @@ of them, or those that :meth:`Engine.at_least_half` needs to decide whether half
 overturn the body), every motion scaled to the level.  A level is a value of an intensity
 measure (IM): by default the paper's A_gx, the mean PGA of the ensemble [g] (one factor for all
 motions); with a per-motion ``basis`` (the IM of each unscaled motion, e.g. its PGV), each
-motion is scaled on its own so that its IM equals the level (incremental dynamic analysis).  The pairs are cut into chunks that a
-backend (:mod:`rocking.montecarlo.backends`) computes with the batched kernel
-(:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
+motion is scaled on its own so that its IM equals the level (incremental dynamic analysis).
+The pairs are cut into chunks that a backend (:mod:`rocking.montecarlo.backends`) computes
+with the batched kernel (:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
 (:mod:`rocking.montecarlo.store`) so that an interrupted run resumes where it stopped.  Every
 chunk result is keyed by its (case, body, level, motion), never by position or arrival order, so
 the results are bit for bit the same for every backend, worker count, chunk size and interruption
@@ -285,7 +285,8 @@ class Engine:
         Each triple's motions are one unit of work; chunks hold whole units, at most
         ``chunk_size`` simulations (more only for a single larger unit) and, on a backend of
         several workers, enough of them to keep every worker busy (this process runs one chunk
-        at a time on all its threads: fewer, larger kernel calls).  A unit's results do not depend on the chunk it is computed in.
+        at a time on all its threads: fewer, larger kernel calls).  A unit's results do not
+        depend on the chunk it is computed in.
         """
         units = []  # (case, body, level key, motion indices still missing)
         for (c, b, k), motions in requests.items():
