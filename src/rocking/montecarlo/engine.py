@@ -1,15 +1,16 @@
 """The Monte Carlo engine: (case, body, intensity level) triples simulated under all motions of a
 case, in chunks on a backend, optionally kept in a resumable folder.
 
-The work is a list of (body, level) pairs, each simulated under all motions of an ensemble, every
-motion scaled to the level.  A level is a value of an intensity measure (IM): by default the
-paper's A_gx, the mean PGA of the ensemble [g] (one factor for all motions); with a per-motion
-``basis`` (the IM of each unscaled motion, e.g. its PGV), each motion is scaled on its own so that
-its IM equals the level (incremental dynamic analysis).  The pairs are cut into chunks that a
-backend (:mod:`rocking.montecarlo.backends`) computes with the batched kernel
-(:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
+The work is a list of (body, level) pairs, each simulated under the motions of an ensemble (all
+of them, or those that :meth:`Engine.at_least_half` needs to decide whether half of them
+overturn the body), every motion scaled to the level.  A level is a value of an intensity
+measure (IM): by default the paper's A_gx, the mean PGA of the ensemble [g] (one factor for all
+motions); with a per-motion ``basis`` (the IM of each unscaled motion, e.g. its PGV), each
+motion is scaled on its own so that its IM equals the level (incremental dynamic analysis).
+The pairs are cut into chunks that a backend (:mod:`rocking.montecarlo.backends`) computes
+with the batched kernel (:mod:`rocking.dynamics.batch`); finished chunks can be kept in a folder
 (:mod:`rocking.montecarlo.store`) so that an interrupted run resumes where it stopped.  Every
-chunk result is keyed by its (case, body, level) triples, never by position or arrival order, so
+chunk result is keyed by its (case, body, level, motion), never by position or arrival order, so
 the results are bit for bit the same for every backend, worker count, chunk size and interruption
 history.
 """
@@ -18,6 +19,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+from collections.abc import Mapping
 from contextlib import ExitStack
 from typing import Any
 
@@ -30,6 +32,7 @@ from ..dynamics.batch import BlockTable, block_list, motion_peaks, run_cases
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from .backends import Backend, LocalBackend
+from .search import motions_to_decide
 from .store import ChunkStore, array_digest
 
 #: Default simulations (pairs × motions) per chunk.
@@ -38,6 +41,9 @@ CHUNK_SIMULATIONS = 4096
 #: A_gx; never by a float, whose last bits depend on how it was computed: 0.1 + 0.2 and 0.3 are
 #: one level).
 LEVEL_UNIT = 1e-9
+#: Fraction of the motions simulated at least in each round of :meth:`Engine.at_least_half` after
+#: the first (fewer rounds of smaller batched calls, against a few motions more).
+DECIDE_STEP = 0.125
 #: Bytes kept per (body, A_gx) pair beyond its 9 bytes per motion (dictionary entry, key, arrays).
 _PAIR_OVERHEAD = 400
 
@@ -63,9 +69,61 @@ def scale_factors(level: float, basis: np.ndarray, exponent: float) -> np.ndarra
     return ratio if exponent == 1.0 else ratio ** (1.0 / exponent)
 
 
-def _chunk_key(c: int, body: np.ndarray, level: np.ndarray) -> str:
-    h = hashlib.sha256(np.int64(c).tobytes() + body.tobytes() + level.tobytes())
+def _chunk_key(c: int, body: np.ndarray, level: np.ndarray, motion: np.ndarray) -> str:
+    h = hashlib.sha256(np.int64(c).tobytes() + body.tobytes() + level.tobytes() + motion.tobytes())
     return h.hexdigest()[:24]
+
+
+def _pack(units: list, size: int) -> list[list]:
+    """``units`` (each with its motion indices last) in order, cut into chunks of whole units of
+    at most ``size`` motions together (a larger unit alone)."""
+    chunks: list[list] = []
+    total = size
+    for unit in units:
+        if total + unit[-1].size > size:
+            chunks.append([])
+            total = 0
+        chunks[-1].append(unit)
+        total += unit[-1].size
+    return chunks
+
+
+def _by_triple(body, level, motion, overturned, peak):
+    """Split the flat results of a chunk into runs of one (body, level key): yields (body, level
+    key, motions, overturned, peak)."""
+    starts = np.flatnonzero(np.diff(body, prepend=-1) | np.diff(level, prepend=-1))
+    for lo, hi in zip(starts.tolist(), [*starts[1:].tolist(), body.size]):
+        yield int(body[lo]), int(level[lo]), motion[lo:hi], overturned[lo:hi], peak[lo:hi]
+
+
+def _chunk_simulations(a: dict, cases: list[Ensemble]):
+    """(case, body, level key, motion, overturned, peak), flat with one entry per simulation, of
+    a stored chunk; None if the chunk cannot be one of this run.  Chunks without ``motion``
+    (written before motions were simulated in parts) hold every motion of each (body, level)."""
+    try:
+        c = int(a["case"])
+        if not 0 <= c < len(cases):
+            return None
+        n = cases[c].n
+        body, level, overturned, peak = a["body"], a["level"], a["overturned"], a["peak"]
+        if "motion" not in a:  # every motion of each (body, level) pair
+            if overturned.shape != (body.size, n) or level.shape != body.shape:
+                return None
+            body, level = np.repeat(body, n), np.repeat(level, n)
+            motion = np.tile(np.arange(n, dtype=np.int64), a["body"].size)
+            overturned, peak = overturned.ravel(), peak.ravel()
+        else:
+            motion = a["motion"]
+        shapes = {x.shape for x in (body, level, motion, overturned, peak)}
+    except KeyError:
+        return None
+    if (
+        len(shapes) != 1
+        or body.ndim != 1
+        or (motion.size and not 0 <= motion.min() <= motion.max() < n)
+    ):
+        return None
+    return c, body, level, motion, overturned, peak
 
 
 class Engine:
@@ -114,7 +172,10 @@ class Engine:
         if not (isinstance(chunk, int) and chunk >= 1):
             raise InputError(f"chunk_size must be an integer >= 1, got {chunk_size!r}")
         self.chunk_size = chunk
+        #: (case, body, level key) -> (overturned, peak) of every motion of the case.
         self.results: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray]] = {}
+        # triples with some motions simulated: (overturned, peak, simulated) over the motions
+        self._partial: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self.chunks_loaded = 0
         self.chunks_computed = 0
         self.store = None if out is None else ChunkStore(out, self._params())
@@ -165,20 +226,28 @@ class Engine:
         if self.store is None:
             return
         for _key, a in self.store.load_all():
-            try:
-                c = int(a["case"])
-                ok = (
-                    0 <= c < len(self.cases)
-                    and a["overturned"].shape == (a["body"].size, self.cases[c].n)
-                    and a["level"].shape == a["body"].shape
-                )
-            except KeyError:
-                ok = False
-            if not ok:
+            sims = _chunk_simulations(a, self.cases)
+            if sims is None:
                 continue  # not a chunk of this run: computed again if needed
-            for j, (b, k) in enumerate(zip(a["body"].tolist(), a["level"].tolist())):
-                self.results[(c, b, k)] = (a["overturned"][j], a["peak"][j])
+            c, body, level, motion, overturned, peak = sims
+            for b, k, m, o, p in zip(body, level, motion, overturned, peak):
+                self._record(c, b, k, m, o, p)
             self.chunks_loaded += 1
+
+    def _record(self, c: int, b: int, k: int, motion, overturned, peak) -> None:
+        """Keep the results of motions ``motion`` of (case c, body b, level key k); a triple whose
+        every motion is known moves to :attr:`results`."""
+        key = (c, b, k)
+        if key in self.results:
+            return
+        if key not in self._partial:
+            n = self.cases[c].n
+            self._partial[key] = (np.zeros(n, np.bool_), np.zeros(n), np.zeros(n, np.bool_))
+        ov, pk, done = self._partial[key]
+        ov[motion], pk[motion], done[motion] = overturned, peak, True
+        if done.all():
+            self.results[key] = (ov, pk)
+            del self._partial[key]
 
     def _data(self):
         if self._handle is None:
@@ -195,45 +264,108 @@ class Engine:
             self._handle = self.backend.scatter(data)
         return self._handle
 
+    def outcomes(self, key: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
+        """(overturned, simulated) masks over the motions of ``key`` = (case, body, level key)."""
+        if key in self.results:
+            return self.results[key][0], np.ones(self.cases[key[0]].n, np.bool_)
+        part = self._partial.get(key)
+        if part is None:
+            n = self.cases[key[0]].n
+            return np.zeros(n, np.bool_), np.zeros(n, np.bool_)
+        return part[0], part[2]
+
     def run(self, keys: list[tuple[int, int, int]]) -> None:
-        """Make sure every (case, body, level key) in ``keys`` has a result."""
-        missing = list(dict.fromkeys(k for k in keys if k not in self.results))
-        if not missing:
+        """Make sure every (case, body, level key) in ``keys`` has a result for every motion."""
+        self.run_motions(dict.fromkeys(keys))
+
+    def run_motions(self, requests: Mapping[tuple[int, int, int], np.ndarray | None]) -> None:
+        """Make sure every (case, body, level key) of ``requests`` has a result for the motions
+        it maps to (indices into the case's ensemble; None: every motion).
+
+        Each triple's motions are one unit of work; chunks hold whole units, at most
+        ``chunk_size`` simulations (more only for a single larger unit) and, on a backend of
+        several workers, enough of them to keep every worker busy (this process runs one chunk
+        at a time on all its threads: fewer, larger kernel calls).  A unit's results do not
+        depend on the chunk it is computed in.
+        """
+        units = []  # (case, body, level key, motion indices still missing)
+        for (c, b, k), motions in requests.items():
+            if (c, b, k) in self.results:
+                continue
+            wanted = np.arange(self.cases[c].n) if motions is None else np.asarray(motions)
+            missing = wanted[~self.outcomes((c, b, k))[1][wanted]]
+            if missing.size:
+                units.append((c, b, k, missing.astype(np.int64)))
+        if not units:
             return
-        # chunks of at most chunk_size simulations, and enough of them to keep every worker busy
-        total = sum(self.cases[c].n for c, _, _ in missing)
-        size = min(self.chunk_size, math.ceil(total / (4 * self.backend.workers)))
+        total = sum(u[3].size for u in units)
+        workers = self.backend.workers
+        size = (
+            self.chunk_size
+            if workers == 1
+            else min(self.chunk_size, math.ceil(total / (4 * workers)))
+        )
         tasks, levels = [], []
         for c in range(len(self.cases)):
-            mine = [(b, k) for cc, b, k in missing if cc == c]
-            per = max(1, size // self.cases[c].n)
-            for i in range(0, len(mine), per):
-                body = np.array([b for b, _ in mine[i : i + per]], dtype=np.int64)
-                level = np.array([k for _, k in mine[i : i + per]], dtype=np.int64)
-                scale = np.array(
+            for chunk in _pack([u for u in units if u[0] == c], size):
+                body = np.concatenate([np.full(u[3].size, u[1], np.int64) for u in chunk])
+                level = np.concatenate([np.full(u[3].size, u[2], np.int64) for u in chunk])
+                motion = np.concatenate([u[3] for u in chunk])
+                scale = np.concatenate(
                     [
-                        scale_factors(level_agx(k), self.basis[c], self.exponent)
-                        for k in level.tolist()
+                        scale_factors(level_agx(u[2]), self.basis[c], self.exponent)[u[3]]
+                        for u in chunk
                     ]
                 )
-                tasks.append((c, body, scale))
+                tasks.append((c, body, motion, scale))
                 levels.append(level)
-        self._stage.expect(sum(t[1].size * self.cases[t[0]].n for t in tasks))
+        self._stage.expect(total)
         for i, (overturned, peak) in self.backend.map(run_chunk, self._data(), tasks):
-            c, body, _scale = tasks[i]
+            c, body, motion, _scale = tasks[i]
             if self.store is not None:
                 self.store.save(
-                    _chunk_key(c, body, levels[i]),
+                    _chunk_key(c, body, levels[i], motion),
                     case=np.int64(c),
                     body=body,
                     level=levels[i],
+                    motion=motion,
                     overturned=overturned,
                     peak=peak,
                 )
-            for j, (b, k) in enumerate(zip(body.tolist(), levels[i].tolist())):
-                self.results[(c, b, k)] = (overturned[j], peak[j])
+            for b, k, m, o, p in _by_triple(body, levels[i], motion, overturned, peak):
+                self._record(c, b, k, m, o, p)
             self.chunks_computed += 1
-            self._stage.update(body.size * self.cases[c].n)
+            self._stage.update(motion.size)
+
+    def at_least_half(self, keys: list[tuple[int, int, int]]) -> dict[tuple[int, int, int], bool]:
+        """Whether at least half the motions of the case overturn the body, for every (case,
+        body, level key) of ``keys`` (2·count ≥ n, exactly in integers).
+
+        The motions are simulated in the order of the ensemble, in rounds, each key asking for
+        the fewest further motions that could decide it
+        (:func:`rocking.montecarlo.search.motions_to_decide`; after its first round at least the
+        fraction :data:`DECIDE_STEP` of the motions), until every key is decided: the answers
+        are those of the full counts, without most motions that cannot change them.  Which
+        motions are simulated depends only on the outcomes, never on the backend or chunks.
+        """
+        answer: dict[tuple[int, int, int], bool] = {}
+        while True:
+            requests = {}
+            for key in dict.fromkeys(keys):
+                overturned, simulated = self.outcomes(key)
+                n = overturned.size
+                count = int(np.count_nonzero(overturned))
+                m = int(np.count_nonzero(simulated))
+                need = motions_to_decide(n, count, m - count)
+                if need:
+                    if m:
+                        need = max(need, math.ceil(n * DECIDE_STEP))
+                    requests[key] = np.flatnonzero(~simulated)[:need]
+                else:
+                    answer[key] = 2 * count >= n
+            if not requests:
+                return answer
+            self.run_motions(requests)
 
     def expect(self, simulations: int) -> None:
         """Announce about ``simulations`` simulations to come (the size of the progress stage)."""
@@ -259,29 +391,18 @@ class Engine:
 
 
 def run_chunk(data: dict, task: tuple):
-    """One chunk of a Monte Carlo run: all motions of one ensemble for each (block, scale) pair.
+    """One chunk of a Monte Carlo run: a list of simulations (block, motion, scale).
 
-    Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process, which
-    is why it
-    lives in this light module.  ``data`` = {"table": BlockTable, "cases": [(acc, amax, dt, av),
-    …]} (``av``: the vertical accelerations, or None)
-    (one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
-    indices (n_pairs,) int64, scale factors of every motion (n_pairs, n_motions) float64).
+    Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process,
+    which is why it lives in this light module.  ``data`` = {"table": BlockTable, "cases":
+    [(acc, amax, dt, av), …], "impacts": str} (``av``: the vertical accelerations, or None; one
+    entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body indices,
+    motion indices (int64), scale factors (float64)), one entry per simulation.
 
-    Returns (overturned, peak), shape (n_pairs, n_motions).
+    Returns (overturned, peak), one entry per simulation.
     """
-    c, body, scale = task
+    c, body, motion, scale = task
     acc, amax, dt, av = data["cases"][c]
-    n_m = acc.shape[0]
-    overturned, peak = run_cases(
-        data["table"],
-        acc,
-        amax,
-        dt,
-        np.repeat(body, n_m),
-        np.tile(np.arange(n_m, dtype=np.int64), body.size),
-        scale.ravel(),
-        av=av,
-        impacts=data["impacts"],
+    return run_cases(
+        data["table"], acc, amax, dt, body, motion, scale, av=av, impacts=data["impacts"]
     )
-    return overturned.reshape(body.size, n_m), peak.reshape(body.size, n_m)

@@ -138,9 +138,7 @@ def overturning_probability(
         computed / loaded from ``out`` (``chunks_computed``, ``chunks_loaded``).
     """
     labels, cases = _cases(ensemble)
-    agx = finite_array("agx", np.atleast_1d(agx), ndim=(1,))
-    if np.any(agx < LEVEL_UNIT):
-        raise InputError(f"agx must be >= {LEVEL_UNIT:g} g, got {agx[agx < LEVEL_UNIT][0]}")
+    levels = _levels(agx)
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     if members and len({ens.n for ens in cases}) > 1:
         raise InputError("members=True needs ensembles with the same number of motions")
@@ -148,6 +146,7 @@ def overturning_probability(
     engine = Engine(
         blocks,
         cases,
+        desc="P(overturn)",
         e=e,
         overturn_angle=overturn_angle,
         g=g,
@@ -155,43 +154,22 @@ def overturning_probability(
         out=out,
         progress=progress,
         chunk_size=chunk_size,
-        desc="P(overturn)",
         impacts=impacts,
     )
-    engine.require_memory(nb * agx.size * (2 if members else 1), "agx")
-    levels = [level_key(a) for a in agx.tolist()]
-    agx = np.array([level_agx(k) for k in levels])
+    engine.require_memory(nb * len(levels) * (2 if members else 1), "agx")
     keys = [[[(c, b, k) for k in levels] for b in range(nb)] for c in range(len(cases))]
     with engine:
         engine.run([k for per_case in keys for per_body in per_case for k in per_body])
-    count = np.array(
-        [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
-        dtype=np.int64,
-    )
-    n = np.broadcast_to(np.array([ens.n for ens in cases])[:, None, None], count.shape).copy()
-    low, high = wilson_interval(count, n, confidence)
-    dims = ("body", "agx")
-    data_vars: dict[str, Any] = {
-        "probability": (dims, count / n, {"units": "1", "long_name": "overturning probability"}),
-        "count": (dims, count, {"long_name": "motions that overturn the body"}),
-        "n": (dims, n, {"long_name": "motions"}),
-        "ci_low": (dims, low, {"units": "1", "long_name": f"Wilson {confidence:g} lower bound"}),
-        "ci_high": (dims, high, {"units": "1", "long_name": f"Wilson {confidence:g} upper bound"}),
-    }
+    data_vars = _probability_vars(engine, keys, confidence)
     coords: dict[str, Any] = {
-        "agx": ("agx", agx, {"units": "g", "long_name": "mean PGA of the ensemble"})
+        "agx": (
+            "agx",
+            np.array([level_agx(k) for k in levels]),
+            {"units": "g", "long_name": "mean PGA of the ensemble"},
+        )
     }
     if members:
-        flags, peaks = (
-            np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys])
-            for i in (0, 1)
-        )
-        data_vars["overturned"] = ((*dims, "member"), flags, {})
-        data_vars["peak"] = (
-            (*dims, "member"),
-            peaks,
-            {"units": "1", "long_name": "max |theta| / alpha"},
-        )
+        data_vars.update(_member_vars(engine, keys))
         coords["member"] = (
             "member",
             list(cases[0].labels) if labels is None else np.arange(cases[0].n),
@@ -199,6 +177,47 @@ def overturning_probability(
     return _dataset(
         blocks, engine.table, labels, data_vars, coords, {"confidence": confidence, **engine.stats}
     )
+
+
+def _levels(agx) -> list[int]:
+    """The level keys of the intensities ``agx`` [g] (checked: finite, one axis, >= LEVEL_UNIT)."""
+    agx = finite_array("agx", np.atleast_1d(agx), ndim=(1,))
+    if np.any(agx < LEVEL_UNIT):
+        raise InputError(f"agx must be >= {LEVEL_UNIT:g} g, got {agx[agx < LEVEL_UNIT][0]}")
+    return [level_key(a) for a in agx.tolist()]
+
+
+def _probability_vars(engine: Engine, keys: list, confidence: float) -> dict[str, Any]:
+    """``probability``, ``count``, ``n`` and the Wilson interval at every (case, body, level) of
+    ``keys`` (nested [case][body][level]), from the engine's full counts."""
+    count = np.array(
+        [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
+        dtype=np.int64,
+    )
+    n = np.broadcast_to(
+        np.array([ens.n for ens in engine.cases])[:, None, None], count.shape
+    ).copy()
+    low, high = wilson_interval(count, n, confidence)
+    dims = ("body", "agx")
+    return {
+        "probability": (dims, count / n, {"units": "1", "long_name": "overturning probability"}),
+        "count": (dims, count, {"long_name": "motions that overturn the body"}),
+        "n": (dims, n, {"long_name": "motions"}),
+        "ci_low": (dims, low, {"units": "1", "long_name": f"Wilson {confidence:g} lower bound"}),
+        "ci_high": (dims, high, {"units": "1", "long_name": f"Wilson {confidence:g} upper bound"}),
+    }
+
+
+def _member_vars(engine: Engine, keys: list) -> dict[str, Any]:
+    """``overturned`` and ``peak`` of every motion at every (case, body, level) of ``keys``."""
+    flags, peaks = (
+        np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys]) for i in (0, 1)
+    )
+    dims = ("body", "agx", "member")
+    return {
+        "overturned": (dims, flags, {}),
+        "peak": (dims, peaks, {"units": "1", "long_name": "max |theta| / alpha"}),
+    }
 
 
 def agx_50(
@@ -216,6 +235,7 @@ def agx_50(
     coarse: int = 10,
     chunk_size: int | None = None,
     impacts: str = IMPACT_SCHEMES[0],
+    exhaustive: bool = False,
 ) -> xr.Dataset:
     """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
 
@@ -234,7 +254,11 @@ def agx_50(
     The result A_hi is thus an upward crossing of 50 % on the grid: P(A_hi) ≥ 0.5 and
     P(A_hi − resolution) < 0.5 (``probability`` and ``probability_below``).  Where P is monotone
     on the grid it is the smallest grid A_gx with P ≥ 0.5.  P ≥ 0.5 means count ≥ n/2.  Each
-    round evaluates one level for every body (and case) still searching, in one batched call.
+    round evaluates one level for every body (and case) still searching, in batched calls:
+    the motions are simulated in the order of the ensemble only until the count has decided
+    the comparison with n/2 (:meth:`rocking.montecarlo.engine.Engine.at_least_half`), then
+    every motion at the two levels whose probabilities are returned.  The result does not
+    depend on this: ``exhaustive`` simulates every motion at every level visited instead.
 
     Parameters
     ----------
@@ -250,6 +274,9 @@ def agx_50(
         As for :func:`overturning_probability`.
     coarse : int
         Levels of the bracketing round (≥ 1).
+    exhaustive : bool
+        Simulate every motion at every level the search visits (the same result, with more
+        simulations; the chunks in ``out`` then hold every count).
 
     Returns
     -------
@@ -269,6 +296,7 @@ def agx_50(
     engine = Engine(
         blocks,
         cases,
+        desc="A_gx(50%)",
         e=e,
         overturn_angle=overturn_angle,
         g=g,
@@ -276,23 +304,24 @@ def agx_50(
         out=out,
         progress=progress,
         chunk_size=chunk_size,
-        desc="A_gx(50%)",
         impacts=impacts,
     )
 
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
         return (c, b, level_key(round(k * resolution, 12)))
 
-    def above(c, b, k):  # P(A_k) >= 0.5, exactly in integers
-        return 2 * engine.count(*key(c, b, k)) >= cases[c].n
-
     engine.require_memory(nb * search.max_levels, "resolution")
     with engine:
         engine.expect(search.typical_rounds * nb * sum(ens.n for ens in cases))
-        while level := search.pending():
-            engine.run([key(c, b, k) for (c, b), k in level.items()])  # one batch per round
-            search.update({(c, b): above(c, b, k) for (c, b), k in level.items()})
-    hi = search.crossings()
+        while level := search.pending():  # one batch of simulations per round
+            keys = {item: key(*item, k) for item, k in level.items()}
+            if exhaustive:
+                engine.run(list(keys.values()))
+            above = engine.at_least_half(list(keys.values()))  # P(A_k) >= 0.5
+            search.update({item: above[k] for item, k in keys.items()})
+        hi = search.crossings()
+        # the probabilities returned: every motion at the crossing and the level below it
+        engine.run([key(c, b, k - j) for (c, b), k in hi.items() for j in (0, 1) if k - j > 0])
     shape = (len(cases), nb)
     agx50 = np.full(shape, np.nan)
     p_at = np.full(shape, np.nan)

@@ -26,6 +26,24 @@ from ..errors import InputError
 Item = TypeVar("Item", bound=Hashable)
 
 
+def motions_to_decide(n: int, overturned: int, safe: int) -> int:
+    """Fewest further motions whose outcomes could decide whether at least half of ``n`` motions
+    overturn the body (2·count ≥ n), when ``overturned`` motions are known to overturn it and
+    ``safe`` known not to; 0 when it is decided.
+
+    It is decided above once 2·overturned ≥ n, below once even every motion not yet known
+    overturning leaves 2·(n − safe) < n.  Asking for exactly this many never simulates a motion
+    beyond the first point, in a fixed order of the motions, where the answer is decided.
+    """
+    if overturned < 0 or safe < 0 or overturned + safe > n:
+        raise InputError(
+            f"overturned ({overturned}) and safe ({safe}) must be >= 0 with a sum <= n ({n})"
+        )
+    if 2 * overturned >= n or 2 * safe > n:
+        return 0
+    return min(-(-n // 2) - overturned, n // 2 + 1 - safe)
+
+
 class CrossingSearch(Generic[Item]):
     """Search, for every item, an upward crossing of 50 % on the integer levels 1 … ``K``.
 
