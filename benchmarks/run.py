@@ -20,6 +20,9 @@ SIMD flags, cores, Python/NumPy/Numba versions, date), the targets, and per inst
 * ``plain_loop``: the same cases by the plain compiled scalar loop of ``plain_loop.py`` (libm
   sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
   in ns per step it integrates, and the ratio to the kernel;
+* ``ceiling``: the arithmetic floor of a step on this machine (``peak.py``: the clock measured by
+  a chain of dependent FMAs, the peak rate of the cores, the operations of one plain step), and
+  the kernel's time as a multiple of it;
 * ``scipy``: :func:`rocking.dynamics.reference.simulate_reference` (``solve_ivp`` DOP853 with
   events) on a few of the cases, seconds per simulation, and the ratio to the kernel's time per
   simulation;
@@ -67,6 +70,7 @@ from rocking.motions.synthesis import generate
 from rocking.structures.frames import ShearFrame
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import peak
 import plain_loop
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -464,6 +468,17 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
             f"kernel on one thread is {res['ratios']['vs_plain_loop_one_thread']:.1f}× faster",
         )
     )
+    c = res["ceiling"]
+    rows.append(
+        (
+            "arithmetic floor [ns/step]",
+            f"{c['floor_ns_per_step']:.2f}",
+            f"{c['ops_per_step']} ops per step at {c['peak_gflops']:.0f} GFLOP/s "
+            f"({c['cores']} cores at {c['clock_ghz']:.2f} GHz); the kernel takes "
+            f"{c['kernel_vs_floor']:.1f}× the floor, 10× the plain loop needs "
+            f"{p['parallel']['ns_per_step'] / TARGETS['vs_plain_loop']:.2f}",
+        )
+    )
     s = res["scipy"]
     rows.append(
         (
@@ -589,6 +604,8 @@ def run_isa(a) -> dict:
         / k["ns_per_step_one_thread"],
         "vs_scipy": res["scipy"]["s_per_simulation"] / k["s_per_simulation"],
     }
+    res["ceiling"] = peak.ceiling(numba.get_num_threads())
+    res["ceiling"]["kernel_vs_floor"] = k["ns_per_step"] / res["ceiling"]["floor_ns_per_step"]
     res["load_after_kernel"] = load()
 
     if not a.no_end_to_end:
