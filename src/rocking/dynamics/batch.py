@@ -51,7 +51,16 @@ from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .equation import _gv_sample, _gv_slope, _plain_step, _uplifts
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events, resolve_impacts
+from .impacts import (
+    _OVERTURNED,
+    _REST,
+    _ROCKING,
+    Body,
+    Interval,
+    Swing,
+    _advance_events,
+    resolve_impacts,
+)
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -319,30 +328,39 @@ def _lane_machine(
             if not done:
                 u1 = W[_U1 * L + j]
                 g1 = None if av is None else W[_G1 * L + j]
-                th, om, sg, st, _ni, _te, tau, tst, fs, deferred = _advance_events(
-                    W[_TH * L + j],
-                    W[_OM * L + j],
-                    W[_SG * L + j],
-                    state[j],
-                    W[_U0 * L + j],
-                    u1,
-                    None if av is None else W[_G0 * L + j],
-                    g1,
-                    dt,
-                    W[_P2 * L + j],
-                    W[_SA * L + j],
-                    W[_CA * L + j],
-                    tan_a[b],
-                    e[b],
-                    W[_OV * L + j],
-                    W[_TAU * L + j],
-                    W[_TST * L + j],
-                    W[_FS * L + j],
+                sw, _ni, _te, deferred = _advance_events(
+                    Swing(
+                        W[_TH * L + j],
+                        W[_OM * L + j],
+                        W[_SG * L + j],
+                        state[j],
+                        W[_TAU * L + j],
+                        W[_TST * L + j],
+                        W[_FS * L + j],
+                    ),
+                    Interval(W[_U0 * L + j], u1, None if av is None else W[_G0 * L + j], g1, dt),
+                    Body(
+                        W[_P2 * L + j],
+                        W[_SA * L + j],
+                        W[_CA * L + j],
+                        tan_a[b],
+                        e[b],
+                        W[_OV * L + j],
+                    ),
                     W[_TH1 * L + j],
                     W[_OM1 * L + j],
                     (state[j] == _ROCKING) & (W[_VAL * L + j] != 0.0),
                     True,
                     located,
+                )
+                th, om, sg, st, tau, tst, fs = (
+                    sw.theta,
+                    sw.omega,
+                    sw.s,
+                    sw.state,
+                    sw.tau,
+                    sw.t_start,
+                    sw.false_side,
                 )
                 if deferred:  # the rest of the interval, from tau, in the next SIMD round
                     W[_TH * L + j] = th
