@@ -24,7 +24,9 @@ over live lanes.  Work that cannot change the answer is skipped:
   the ground acceleration is linear between samples, so the samples bound it; with a vertical
   acceleration, max abs(scale·a_g)·cos α ≤ (g + abs(scale)·min a_v)·sin α, a conservative bound):
   not overturned, peak 0, no integration at all;
-* intervals at rest: the lane jumps to the next sample at which the block lifts;
+* intervals at rest: the lane jumps to the next sample at which the block lifts, and a case
+  whose remaining samples cannot lift it (their suffix maximum of abs(a_g) and, with a_v,
+  suffix minimum of a_v, in the same test) ends there: at rest to the end;
 * everything after overturning.
 
 Every case is computed by the same operations wherever its lane, group or thread, and writes only
