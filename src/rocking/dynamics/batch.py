@@ -483,6 +483,26 @@ def _lane_machine(
                         case[live] = -1
 
 
+@kernel
+def _suffix_extremes(acc, av):
+    """Suffix maximum of abs(acc) and suffix minimum of ``av`` (None: None) from each sample to
+    the end of its motion [m/s²], the motions (rows) end to end: a block at rest that no later
+    sample can lift is at rest to the end (:func:`_rest_until_uplift`)."""
+    n_m, n_t = acc.shape
+    asuf = np.empty(n_m * n_t)
+    avsuf = np.empty(0 if av is None else n_m * n_t)
+    for m in range(n_m):
+        top = 0.0
+        low = math.inf
+        for k in range(n_t - 1, -1, -1):
+            top = max(top, abs(acc[m, k]))
+            asuf[m * n_t + k] = top
+            if av is not None:
+                low = min(low, av[m, k])
+                avsuf[m * n_t + k] = low
+    return asuf, None if av is None else avsuf
+
+
 @kernel(inline="always")
 def _may_lift(amax, avmin, i, sc, g, sa, ca):
     """Whether samples whose abs(a_g) is at most ``amax`` [m/s²] and whose vertical acceleration is
@@ -697,14 +717,10 @@ def run_cases(
     the start or at the end of the interval), up to and including the one in which it
     overturns.
     """
-    # suffix maximum of abs(acc) (and minimum of av) from each sample to the end of its motion,
-    # the motions end to end: a block at rest that no later sample can lift is done
-    asuf = np.maximum.accumulate(np.abs(acc)[:, ::-1], axis=1)[:, ::-1].ravel()
+    asuf, avsuf = _suffix_extremes(acc, av)
     avmin = None
-    avsuf = None
     if av is not None:
         avmin = av.min(axis=1)
-        avsuf = np.minimum.accumulate(av[:, ::-1], axis=1)[:, ::-1].ravel()
         low = np.abs(scale) * avmin[motion]
         if low.size and low.min() <= -table.g:
             i = int(np.argmin(low))
