@@ -24,7 +24,9 @@ over live lanes.  Work that cannot change the answer is skipped:
   the ground acceleration is linear between samples, so the samples bound it; with a vertical
   acceleration, max abs(scale·a_g)·cos α ≤ (g + abs(scale)·min a_v)·sin α, a conservative bound):
   not overturned, peak 0, no integration at all;
-* intervals at rest: the lane jumps to the next sample at which the block lifts;
+* intervals at rest: the lane jumps to the next sample at which the block lifts, and a case
+  whose remaining samples cannot lift it (their suffix maximum of abs(a_g) and, with a_v,
+  suffix minimum of a_v, in the same test) ends there: at rest to the end;
 * everything after overturning.
 
 Every case is computed by the same operations wherever its lane, group or thread, and writes only
@@ -51,7 +53,16 @@ from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .equation import _gv_sample, _gv_slope, _plain_step, _uplifts
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance_events, resolve_impacts
+from .impacts import (
+    _OVERTURNED,
+    _REST,
+    _ROCKING,
+    Body,
+    Interval,
+    Swing,
+    _advance_events,
+    resolve_impacts,
+)
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -81,7 +92,9 @@ _TST = 17  # _advance_events' t_start and false_side in this interval
 _FS = 18
 _G0 = 19  # vertical factor gv = 1 + a_v/g at the start of the interval (with a_v only)
 _G1 = 20  # gv at its end
-_ROWS = 21
+_NR = 21  # intervals of the case spent at rest throughout, so far (step counting)
+_R0 = 22  # 1.0 if the lane's current interval started at rest (step counting)
+_ROWS = 23
 
 
 @kernel
@@ -165,6 +178,8 @@ def _start_case(
     av,
     amax,
     avmin,
+    asuf,
+    avsuf,
     dt,
     g,
     p2,
@@ -185,13 +200,15 @@ def _start_case(
     m = motion[i]
     sc = scale[i]
     # gv ≥ 1 + abs(sc)·min a_v/g throughout the motion (conservative: it may lift only if ...)
-    if not _uplifts(abs(sc * amax[m]) / g, _gv_sample(avmin, m, sc, g), sa[b], ca[b]):
+    if not _may_lift(amax[m], avmin, m, sc, g, sa[b], ca[b]):
         return False  # no need to look at the samples
     flat = acc.reshape(-1)
     avflat = None if av is None else av.reshape(-1)
     k, u0, g0 = _rest_until_uplift(
         flat,
         avflat,
+        asuf,
+        avsuf,
         m * n_t,
         0,
         n_t,
@@ -224,6 +241,7 @@ def _start_case(
     W[_H * L + j] = dt
     W[_TST * L + j] = -1.0
     W[_FS * L + j] = 0.0
+    W[_NR * L + j] = k
     return True
 
 
@@ -233,6 +251,8 @@ def _lane_machine(
     av,
     amax,
     avmin,
+    asuf,
+    avsuf,
     dt,
     g,
     p2,
@@ -249,11 +269,12 @@ def _lane_machine(
     order,
     overturned,
     peak,
+    steps,
     c0,
     c1,
 ):
     """Integrate cases order[c0] … order[c1 − 1] (see the module docstring); writes their
-    results."""
+    results, and their integrated steps into ``steps`` unless it is None."""
     L = _LANES
     n_t = acc.shape[1]
     flat = acc.reshape(-1)
@@ -281,6 +302,8 @@ def _lane_machine(
             av,
             amax,
             avmin,
+            asuf,
+            avsuf,
             dt,
             g,
             p2,
@@ -296,6 +319,8 @@ def _lane_machine(
         else:
             overturned[i] = False
             peak[i] = 0.0
+            if steps is not None:
+                steps[i] = 0
     while live > 0:
         _gather_acc(acc1, nxt_sample, live, flat)
         if av is not None:
@@ -319,30 +344,41 @@ def _lane_machine(
             if not done:
                 u1 = W[_U1 * L + j]
                 g1 = None if av is None else W[_G1 * L + j]
-                th, om, sg, st, _ni, _te, tau, tst, fs, deferred = _advance_events(
-                    W[_TH * L + j],
-                    W[_OM * L + j],
-                    W[_SG * L + j],
-                    state[j],
-                    W[_U0 * L + j],
-                    u1,
-                    None if av is None else W[_G0 * L + j],
-                    g1,
-                    dt,
-                    W[_P2 * L + j],
-                    W[_SA * L + j],
-                    W[_CA * L + j],
-                    tan_a[b],
-                    e[b],
-                    W[_OV * L + j],
-                    W[_TAU * L + j],
-                    W[_TST * L + j],
-                    W[_FS * L + j],
+                if steps is not None and W[_TAU * L + j] == 0.0:  # a new interval
+                    W[_R0 * L + j] = 1.0 if state[j] == _REST else 0.0
+                sw, _ni, _te, deferred = _advance_events(
+                    Swing(
+                        W[_TH * L + j],
+                        W[_OM * L + j],
+                        W[_SG * L + j],
+                        state[j],
+                        W[_TAU * L + j],
+                        W[_TST * L + j],
+                        W[_FS * L + j],
+                    ),
+                    Interval(W[_U0 * L + j], u1, None if av is None else W[_G0 * L + j], g1, dt),
+                    Body(
+                        W[_P2 * L + j],
+                        W[_SA * L + j],
+                        W[_CA * L + j],
+                        tan_a[b],
+                        e[b],
+                        W[_OV * L + j],
+                    ),
                     W[_TH1 * L + j],
                     W[_OM1 * L + j],
                     (state[j] == _ROCKING) & (W[_VAL * L + j] != 0.0),
                     True,
                     located,
+                )
+                th, om, sg, st, tau, tst, fs = (
+                    sw.theta,
+                    sw.omega,
+                    sw.s,
+                    sw.state,
+                    sw.tau,
+                    sw.t_start,
+                    sw.false_side,
                 )
                 if deferred:  # the rest of the interval, from tau, in the next SIMD round
                     W[_TH * L + j] = th
@@ -367,9 +403,14 @@ def _lane_machine(
                     if abs(th) > W[_PK * L + j]:
                         W[_PK * L + j] = abs(th)
                     if st == _REST:
+                        k0 = k
+                        if steps is not None and W[_R0 * L + j] != 0.0:  # at rest throughout
+                            W[_NR * L + j] += 1.0
                         k, u1, g1 = _rest_until_uplift(
                             flat,
                             avflat,
+                            asuf,
+                            avsuf,
                             base[j],
                             k,
                             n_t,
@@ -380,6 +421,8 @@ def _lane_machine(
                             W[_SA * L + j],
                             W[_CA * L + j],
                         )
+                        if steps is not None:
+                            W[_NR * L + j] += k - k0
                     W[_TH * L + j] = th
                     W[_OM * L + j] = om
                     W[_SG * L + j] = sg
@@ -393,6 +436,8 @@ def _lane_machine(
             if done:
                 overturned[i] = ov
                 peak[i] = (W[_OV * L + j] if ov else W[_PK * L + j]) / alpha[b]
+                if steps is not None:  # k intervals, up to overturning or to the end
+                    steps[i] = k - int(W[_NR * L + j])
                 case[j] = -1
                 while nxt < c1 and case[j] < 0:
                     i = order[nxt]
@@ -408,6 +453,8 @@ def _lane_machine(
                         av,
                         amax,
                         avmin,
+                        asuf,
+                        avsuf,
                         dt,
                         g,
                         p2,
@@ -422,6 +469,8 @@ def _lane_machine(
                     else:
                         overturned[i] = False
                         peak[i] = 0.0
+                        if steps is not None:
+                            steps[i] = 0
                 if case[j] < 0:  # no case left: the last live lane (handled already) moves here
                     live -= 1
                     if j < live:
@@ -435,11 +484,47 @@ def _lane_machine(
 
 
 @kernel
-def _rest_until_uplift(flat, avflat, base, k, n_t, u, gv, sc, g, sa, ca):
+def _suffix_extremes(acc, av):
+    """Suffix maximum of abs(acc) and suffix minimum of ``av`` (None: None) from each sample to
+    the end of its motion [m/s²], the motions (rows) end to end: a block at rest that no later
+    sample can lift is at rest to the end (:func:`_rest_until_uplift`)."""
+    n_m, n_t = acc.shape
+    asuf = np.empty(n_m * n_t)
+    avsuf = np.empty(0 if av is None else n_m * n_t)
+    for m in range(n_m):
+        top = 0.0
+        low = math.inf
+        for k in range(n_t - 1, -1, -1):
+            top = max(top, abs(acc[m, k]))
+            asuf[m * n_t + k] = top
+            if av is not None:
+                low = min(low, av[m, k])
+                avsuf[m * n_t + k] = low
+    return asuf, None if av is None else avsuf
+
+
+@kernel(inline="always")
+def _may_lift(amax, avmin, i, sc, g, sa, ca):
+    """Whether samples whose abs(a_g) is at most ``amax`` [m/s²] and whose vertical acceleration is
+    at least ``avmin[i]`` [m/s²] (``avmin`` None: no vertical motion) may lift a block at rest
+    under the case's scale ``sc``: :func:`~rocking.dynamics.equation._uplifts` of the extremes.
+    It is exactly the test at every such sample or weaker: abs(sc·a)/g rounds monotonically in
+    abs(a), 1 + abs(sc)·a_v/g in a_v, and the test is monotone in both (conservative when the
+    extremes fall on different samples)."""
+    return _uplifts(abs(sc * amax) / g, _gv_sample(avmin, i, sc, g), sa, ca)
+
+
+@kernel
+def _rest_until_uplift(flat, avflat, asuf, avsuf, base, k, n_t, u, gv, sc, g, sa, ca):
     """First interval k' ≥ k of a block at rest in which it may lift (u and gv at its start), or
     (n_t − 1, u, gv) if none: the intervals skipped are those where _advance leaves it at rest
     (no uplift at either end; u and gv linear in between, abs(u)·cos α − gv·sin α convex).
-    ``avflat``: the vertical accelerations end to end [m/s²], or None (then gv is None)."""
+    ``avflat``: the vertical accelerations end to end [m/s²], or None (then gv is None);
+    ``asuf``, ``avsuf``: suffix maximum of abs(acc) and suffix minimum of av at each sample,
+    end to end like them (None without av): when no sample from k on can lift the block
+    (:func:`_may_lift`), it is at rest to the end, and the samples are not looked at."""
+    if not _may_lift(asuf[base + k], avsuf, base + k, sc, g, sa, ca):
+        return n_t - 1, u, gv
     while k < n_t - 1:
         u_next = sc * flat[base + k + 1] / g
         g_next = _gv_sample(avflat, base + k + 1, sc, g)
@@ -457,6 +542,8 @@ def _cases_kernel(
     av,
     amax,
     avmin,
+    asuf,
+    avsuf,
     dt,
     g,
     p2,
@@ -474,15 +561,18 @@ def _cases_kernel(
     group,
     overturned,
     peak,
+    steps,
 ):
     """Integrate the cases i = (body[i], motion[i], scale[i]) from rest, in the order ``order``
     (a permutation of the cases), ``group`` consecutive ones per lane machine.
 
     ``acc`` (n_motions, n_t) [m/s²], ``av`` the vertical accelerations like it or None,
-    ``amax`` = max abs(acc) per motion [m/s²], ``avmin`` = min ``av`` per motion or None, ``dt``
-    [s], ``g`` [m/s²]; per-block constants p² [1/s²], sin α, cos α, tan α, e, overturning angle
-    [rad], the impact scheme (``located``: bool), α [rad].  Writes ``overturned[i]`` and
-    ``peak[i]`` = max abs(θ)/α at the samples [-].
+    ``amax`` = max abs(acc) per motion [m/s²], ``avmin`` = min ``av`` per motion or None,
+    ``asuf``, ``avsuf`` their suffix versions at every sample (see :func:`_rest_until_uplift`),
+    ``dt`` [s], ``g`` [m/s²]; per-block constants p² [1/s²], sin α, cos α, tan α, e, overturning
+    angle [rad], the impact scheme (``located``: bool), α [rad].  Writes ``overturned[i]`` and
+    ``peak[i]`` = max abs(θ)/α at the samples [-], and the integrated steps ``steps[i]`` unless
+    ``steps`` is None.
     """
     n = body.shape[0]
     for q in prange((n + group - 1) // group):
@@ -491,6 +581,8 @@ def _cases_kernel(
             av,
             amax,
             avmin,
+            asuf,
+            avsuf,
             dt,
             g,
             p2,
@@ -507,6 +599,7 @@ def _cases_kernel(
             order,
             overturned,
             peak,
+            steps,
             q * group,
             min(n, (q + 1) * group),
         )
@@ -608,6 +701,8 @@ def run_cases(
     scale: np.ndarray,
     av: np.ndarray | None = None,
     impacts: str = IMPACT_SCHEMES[0],
+    *,
+    count_steps: bool = False,
 ):
     """Kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
@@ -617,8 +712,12 @@ def run_cases(
     horizontal motion only).  ``impacts``: "located" (default) or "step-end", as in
     :func:`rocking.simulate`.  The checks made here: a scaled ``av`` that reaches −g, and an
     unknown ``impacts``, raise :class:`~rocking.errors.InputError`.  Returns (overturned bool,
-    peak float), shape like ``body``.
+    peak float), shape like ``body``; with ``count_steps``, also the integrated steps of each
+    case (int64): the sample intervals in which the block is not at rest throughout (it rocks at
+    the start or at the end of the interval), up to and including the one in which it
+    overturns.
     """
+    asuf, avsuf = _suffix_extremes(acc, av)
     avmin = None
     if av is not None:
         avmin = av.min(axis=1)
@@ -632,6 +731,7 @@ def run_cases(
             )
     overturned = np.empty(body.shape, dtype=np.bool_)
     peak = np.empty(body.shape, dtype=np.float64)
+    steps = np.empty(body.shape, dtype=np.int64) if count_steps else None
     # about four groups per thread (dynamic scheduling), of at least _LANES cases so that the
     # lanes are filled
     group = max(_LANES, min(_GROUP_MAX, -(-body.size // (4 * numba.get_num_threads()))))
@@ -647,6 +747,8 @@ def run_cases(
             av,
             amax,
             avmin,
+            asuf,
+            avsuf,
             dt,
             table.g,
             table.p2,
@@ -664,7 +766,10 @@ def run_cases(
             group,
             overturned,
             peak,
+            steps,
         )
+    if steps is not None:
+        return overturned, peak, steps
     return overturned, peak
 
 

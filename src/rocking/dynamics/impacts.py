@@ -37,6 +37,7 @@ bit for bit.  Pure compiled functions of scalars; no state.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from ..core.compile import fma, kernel
 from ..defaults import IMPACT_SCHEMES
@@ -262,11 +263,44 @@ def _chatter_impacts(t0, e, dt):
     return 1 + int(math.log(t0 / tz) / -math.log(e))
 
 
+class Body(NamedTuple):
+    """Constants of one block in the kernels (compiled to plain registers)."""
+
+    p2: float  #: p² of Eq. (1) [1/s²]
+    sa: float  #: sin α [-]
+    ca: float  #: cos α [-]
+    tan_a: float  #: tan α [-]
+    e: float  #: coefficient of restitution [-]
+    th_ov: float  #: overturning angle [rad]
+
+
+class Interval(NamedTuple):
+    """One sample interval [0, dt] of the ground motion, linear in between."""
+
+    u0: float  #: u = a_g/g at its start [-]
+    u1: float  #: u at its end [-]
+    g0: float | None  #: vertical factor gv = 1 + a_v/g at its start [-], None: no a_v
+    g1: float | None  #: gv at its end [-], None: no a_v
+    dt: float  #: its length [s]
+
+
+class Swing(NamedTuple):
+    """State of a block at local time ``tau`` of an interval."""
+
+    theta: float  #: θ [rad]
+    omega: float  #: θ' [rad/s]
+    s: float  #: pivot side ±1
+    state: int  #: _REST, _ROCKING or _OVERTURNED
+    tau: float  #: local time [s]
+    t_start: float  #: local time of the last start from rest in the interval [s] (−1: none)
+    false_side: float  #: sign of u of a start that landed at once (no restart on it; 0: none)
+
+
 @kernel
-def _advance(theta, omega, s, state, u0, u1, g0, g1, dt, p2, sa, ca, tan_a, e, th_ov, located):
-    """Advance a block over one sample interval [0, dt] of linear ground acceleration u0 → u1 (in
-    g) and vertical factor g0 → g1 (1 + a_v/g; both None: no vertical motion); impacts located
-    inside the step, or (``located`` False) at the end of a step that changes side.
+def _advance(theta, omega, s, state, iv, body, located):
+    """Advance a block over one sample interval ``iv`` (:class:`Interval`) of a block ``body``
+    (:class:`Body`); impacts located inside the step, or (``located`` False) at the end of a step
+    that changes side.
 
     Returns (theta, omega, s, state, n_impacts, t_event): ``t_event`` is the local time of
     overturning within the interval [s], or −1.
@@ -275,112 +309,193 @@ def _advance(theta, omega, s, state, u0, u1, g0, g1, dt, p2, sa, ca, tan_a, e, t
     om1 = 0.0
     valid = False
     if state == _ROCKING:
-        dg = _gv_slope(g0, g1, dt)
+        dg = _gv_slope(iv.g0, iv.g1, iv.dt)
         th1, om1, valid, plain = _plain_step(
-            theta, omega, s, u0, (u1 - u0) / dt, g0, dg, 0.0, dt, p2, sa, ca, th_ov
+            theta,
+            omega,
+            s,
+            iv.u0,
+            (iv.u1 - iv.u0) / iv.dt,
+            iv.g0,
+            dg,
+            0.0,
+            iv.dt,
+            body.p2,
+            body.sa,
+            body.ca,
+            body.th_ov,
         )
         if plain:
             return th1, om1, s, state, 0, -1.0
-    r = _advance_events(
-        theta,
-        omega,
-        s,
-        state,
-        u0,
-        u1,
-        g0,
-        g1,
-        dt,
-        p2,
-        sa,
-        ca,
-        tan_a,
-        e,
-        th_ov,
+    sw = Swing(theta, omega, s, state, 0.0, -1.0, 0.0)
+    sw, n_imp, t_event, _deferred = _advance_events(sw, iv, body, th1, om1, valid, False, located)
+    return sw.theta, sw.omega, sw.s, sw.state, n_imp, t_event
+
+
+@kernel(inline="always")
+def _uplift_time(sw, iv, du, dg, body):
+    """Local time [s] at which a block at rest at ``sw.tau`` starts to rock within the interval
+    (the first where abs(u) exceeds gv·tan α, on a side other than ``sw.false_side``), or −1 if
+    it stays at rest through the rest of the interval."""
+    ua = fma(du, sw.tau, iv.u0)
+    if _uplifts(ua, _gv_at(iv.g0, dg, sw.tau), body.sa, body.ca) and ua * sw.false_side <= 0.0:
+        return sw.tau
+    if _uplifts(iv.u1, iv.g1, body.sa, body.ca) and iv.u1 * sw.false_side <= 0.0:
+        # linear u crosses ±gv·tan α (gv linear too) inside the rest of the interval
+        thr = body.tan_a if iv.u1 > 0.0 else -body.tan_a
+        tstart = (_gv_times(iv.g0, thr) - iv.u0) / _gv_fnms(dg, thr, du)
+        return sw.tau if tstart < sw.tau else tstart
+    return -1.0
+
+
+@kernel(inline="always")
+def _start(sw, tau, iv, du):
+    """The block starts to rock from rest at local time ``tau``: on the side opposite to the
+    ground acceleration there (a negative a_g tips it to θ > 0)."""
+    uc = fma(du, tau, iv.u0)
+    s = -1.0 if uc > 0.0 else 1.0
+    return Swing(0.0, 0.0, s, _ROCKING, tau, tau, sw.false_side)
+
+
+@kernel(inline="always")
+def _find_hit(sw, th1, om1, h, iv, du, dg, body, located):
+    """Bracket (lo, hit, θ(lo), θ(hit)) of partial step lengths around the block's first arrival
+    at θ = 0 in the step of length h from ``sw`` that ends at (th1, om1), or hit = −1 if none
+    (with ``located`` False only a step that ends on the other side counts, at its end)."""
+    if sw.s * th1 < 0.0 or (th1 == 0.0 and sw.s * om1 < 0.0):
+        return 0.0, h, sw.theta, th1
+    if located:
+        return _interior_touch(
+            sw.theta,
+            sw.omega,
+            th1,
+            om1,
+            sw.s,
+            iv.u0,
+            du,
+            iv.g0,
+            dg,
+            sw.tau,
+            h,
+            body.p2,
+            body.sa,
+            body.ca,
+        )
+    return 0.0, -1.0, sw.theta, th1
+
+
+@kernel(inline="always")
+def _impact(sw, omz, iv, du, dg, body, defer):
+    """The block at θ = 0 with angular velocity ``omz`` at local time ``sw.tau`` (after an arrival
+    located or taken at the step's end): a start from rest that landed at once, an impact that
+    ends at rest (Zeno) or a chatter summed in closed form, or an impact after which it rocks on.
+
+    Returns (swing, impacts counted, hand_over): ``hand_over`` (with ``defer``) says that the
+    block cannot come back to θ = 0 before dt (:func:`_no_touch`).
+    """
+    dt = iv.dt
+    tau = sw.tau
+    p2 = body.p2
+    sa = body.sa
+    ca = body.ca
+    e = body.e
+    if sw.t_start >= 0.0 and tau - sw.t_start < ZENO_TIME_FRACTION * dt:
+        # Back at θ = 0 within the Zeno time of starting: abs(a_g) fell below gv·g·tan α
+        # again at once (it exceeded it by a few ulps). The block never left the
+        # ground. u is linear in the interval, so abs(u) keeps falling on this side: a
+        # restart on it would land again at the same instant, forever; only a
+        # crossing of the threshold on the other side can start it in this interval.
+        fs = 1.0 if fma(du, sw.t_start, iv.u0) > 0.0 else -1.0
+        return Swing(0.0, 0.0, sw.s, _REST, tau, sw.t_start, fs), 0, False
+    n_imp = 1
+    s = -sw.s
+    omega = e * omz
+    # Zeno check: how long would the next free flight last?
+    ua, ub = _u_ends(iv.u0, du, tau, dt - tau)
+    ga, _gm, gb = _gv_ends(iv.g0, dg, tau, dt - tau)
+    acc0 = -p2 * fma(ua, ca, _gv_times(ga, s * sa))  # θ'' at θ = 0 on the new side
+    if omega == 0.0 or (
+        acc0 * omega < 0.0 and 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)
+    ):
+        return Swing(0.0, 0.0, s, _REST, tau, sw.t_start, sw.false_side), n_imp, False
+    if (
+        e < 1.0
+        and acc0 * omega < 0.0
+        and 2.0 * abs(omega) < CHATTER_FRACTION * dt * abs(acc0)
+        and fma(abs(ua), ca, -_gv_times(ga, sa)) < 0.0
+    ):
+        # a chatter that cannot lift off (no uplift at either end; u and gv linear, so
+        # abs(u)·cos α − gv·sin α is convex in between): summed
+        acc_o = -p2 * fma(ua, ca, _gv_times(ga, -s * sa))
+        t_end = tau + _chatter_time(omega, acc0, acc_o, e)
+        sa_end = _gv_times(_gv_at(iv.g0, dg, t_end), sa)
+        if t_end < dt and fma(abs(fma(du, t_end, iv.u0)), ca, -sa_end) < 0.0:
+            n_imp += _chatter_impacts(2.0 * abs(omega / acc0), e, dt)
+            return Swing(0.0, 0.0, s, _REST, t_end, sw.t_start, sw.false_side), n_imp, False
+    # a block that cannot come back to θ = 0 before dt (not a bounce of a chatter)
+    hand_over = defer and _no_touch(0.0, omega, s, ua, ub, ga, gb, dt - tau, p2, sa)
+    return Swing(0.0, omega, s, _ROCKING, tau, sw.t_start, sw.false_side), n_imp, hand_over
+
+
+@kernel(inline="always")
+def _overturn(sw, th1, h, iv, du, dg, body):
+    """The block overturns within the step of length h from ``sw`` that ends at abs(th1) ≥ the
+    overturning angle: (its swing at that angle, the local time [s] at which it reaches it)."""
+    target = body.th_ov if th1 > 0.0 else -body.th_ov
+    hz, thz, omz = _locate(
+        sw.theta,
+        sw.omega,
+        sw.s,
+        iv.u0,
+        du,
+        iv.g0,
+        dg,
+        sw.tau,
         0.0,
-        -1.0,
-        0.0,
+        h,
+        sw.theta,
         th1,
-        om1,
-        valid,
-        False,
-        located,
+        target,
+        sw.s,
+        body.p2,
+        body.sa,
+        body.ca,
     )
-    return r[0], r[1], r[2], r[3], r[4], r[5]
+    return Swing(thz, omz, sw.s, _OVERTURNED, sw.tau, sw.t_start, sw.false_side), sw.tau + hz
 
 
 @kernel
-def _advance_events(
-    theta,
-    omega,
-    s,
-    state,
-    u0,
-    u1,
-    g0,
-    g1,
-    dt,
-    p2,
-    sa,
-    ca,
-    tan_a,
-    e,
-    th_ov,
-    tau,
-    t_start,
-    false_side,
-    th_step,
-    om_step,
-    have_step,
-    defer,
-    located,
-):
-    """:func:`_advance` of the part [tau, dt] of an interval whose next step is not plain (see
-    :func:`_plain_step`): impacts, uplift, coming to rest, overturning.  ``located``: the impact
+def _advance_events(sw, iv, body, th_step, om_step, have_step, defer, located):
+    """:func:`_advance` of the part [sw.tau, dt] of an interval ``iv`` whose next step is not
+    plain (see :func:`_plain_step`): impacts, uplift, coming to rest, overturning.  ``sw``: the
+    block's :class:`Swing` at ``sw.tau``; ``body``: its :class:`Body`; ``located``: the impact
     scheme (False: "step-end", see the module docstring).
 
-    ``t_start``: local time of the last start from rest in this interval (−1: none);
-    ``false_side``: sign of u of a start that landed at once (no restart on that side; 0: none).
-    ``th_step``, ``om_step``: the RK4 step from (theta, omega) at tau to dt, already computed when
+    ``th_step``, ``om_step``: the RK4 step from (θ, θ') at tau to dt, already computed when
     ``have_step`` (it is the same as :func:`_rk4`'s).  With ``defer``, it stops after an impact
     from which the block cannot come back to θ = 0 before dt (:func:`_no_touch`), so that the
     caller computes the rest of the interval (the batched kernel: in a SIMD lane) and calls again
     if that step is not plain.
 
-    Returns (theta, omega, s, state, n_impacts, t_event, tau', t_start, false_side, deferred):
-    ``t_event`` is the local time of overturning [s], or −1; ``deferred`` says that the interval
-    goes on from tau' < dt (else it is done).
+    Returns (swing, n_impacts, t_event, deferred): ``t_event`` is the local time of overturning
+    [s], or −1; ``deferred`` says that the interval goes on from swing.tau < dt (else it is done).
     """
-    du = (u1 - u0) / dt
-    dg = _gv_slope(g0, g1, dt)
+    dt = iv.dt
+    du = (iv.u1 - iv.u0) / dt
+    dg = _gv_slope(iv.g0, iv.g1, dt)
     n_imp = 0
-    t_event = -1.0
     hand_over = False  # with defer: the next step is likely plain, leave it to the caller
     for _ in range(_MAX_EVENTS_PER_STEP):
-        if state == _REST:
-            ua = fma(du, tau, u0)
-            if _uplifts(ua, _gv_at(g0, dg, tau), sa, ca) and ua * false_side <= 0.0:
-                tstart = tau
-            elif _uplifts(u1, g1, sa, ca) and u1 * false_side <= 0.0:
-                # linear u crosses ±gv·tan α (gv linear too) inside the rest of the interval
-                thr = tan_a if u1 > 0.0 else -tan_a
-                tstart = (_gv_times(g0, thr) - u0) / _gv_fnms(dg, thr, du)
-                if tstart < tau:
-                    tstart = tau
-            else:
+        if sw.state == _REST:
+            tstart = _uplift_time(sw, iv, du, dg, body)
+            if tstart < 0.0:
                 break  # at rest through the whole interval
-            tau = tstart
-            t_start = tau
+            sw = _start(sw, tstart, iv, du)
             hand_over = False
-            uc = fma(du, tau, u0)
-            s = -1.0 if uc > 0.0 else 1.0  # negative a_g tips the block to θ > 0
-            theta = 0.0
-            omega = 0.0
-            state = _ROCKING
-            if tau >= dt:
+            if tstart >= dt:
                 break
             continue
-        h = dt - tau
+        h = dt - sw.tau
         if h <= 0.0:
             break
         if have_step:  # the step from tau to dt was computed by the caller
@@ -388,82 +503,55 @@ def _advance_events(
             om1 = om_step
             have_step = False
         elif hand_over:
-            return theta, omega, s, state, n_imp, t_event, tau, t_start, false_side, True
+            return sw, n_imp, -1.0, True
         else:
-            th1, om1 = _rk4(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
-        lo = 0.0
-        hit = -1.0
-        th_lo = theta
-        th_hi = th1
-        if s * th1 < 0.0 or (th1 == 0.0 and s * om1 < 0.0):
-            hit = h
-        elif located:
-            lo, hit, th_lo, th_hi = _interior_touch(
-                theta, omega, th1, om1, s, u0, du, g0, dg, tau, h, p2, sa, ca
+            th1, om1 = _rk4(
+                sw.theta,
+                sw.omega,
+                sw.s,
+                iv.u0,
+                du,
+                iv.g0,
+                dg,
+                sw.tau,
+                h,
+                body.p2,
+                body.sa,
+                body.ca,
             )
+        lo, hit, th_lo, th_hi = _find_hit(sw, th1, om1, h, iv, du, dg, body, located)
         if hit > 0.0:
             if located:
-                hz, thz, omz = _locate(
-                    theta, omega, s, u0, du, g0, dg, tau, lo, hit, th_lo, th_hi, 0.0, -s, p2, sa, ca
+                hz, _thz, omz = _locate(
+                    sw.theta,
+                    sw.omega,
+                    sw.s,
+                    iv.u0,
+                    du,
+                    iv.g0,
+                    dg,
+                    sw.tau,
+                    lo,
+                    hit,
+                    th_lo,
+                    th_hi,
+                    0.0,
+                    -sw.s,
+                    body.p2,
+                    body.sa,
+                    body.ca,
                 )
             else:  # "step-end": the impact is taken at the end of the step, with its θ'
                 hz, omz = h, om1
-            tau += hz
-            if t_start >= 0.0 and tau - t_start < ZENO_TIME_FRACTION * dt:
-                # Back at θ = 0 within the Zeno time of starting: abs(a_g) fell below gv·g·tan α
-                # again at once (it exceeded it by a few ulps). The block never left the
-                # ground. u is linear in the interval, so abs(u) keeps falling on this side: a
-                # restart on it would land again at the same instant, forever; only a
-                # crossing of the threshold on the other side can start it in this interval.
-                theta = 0.0
-                omega = 0.0
-                state = _REST
-                false_side = 1.0 if fma(du, t_start, u0) > 0.0 else -1.0
-                continue
-            n_imp += 1
-            s = -s
-            omega = e * omz
-            theta = 0.0
-            # Zeno check: how long would the next free flight last?
-            ua, ub = _u_ends(u0, du, tau, dt - tau)
-            ga, _gm, gb = _gv_ends(g0, dg, tau, dt - tau)
-            acc0 = -p2 * fma(ua, ca, _gv_times(ga, s * sa))  # θ'' at θ = 0 on the new side
-            if omega == 0.0 or (
-                acc0 * omega < 0.0 and 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)
-            ):
-                omega = 0.0
-                state = _REST
-            elif (
-                e < 1.0
-                and acc0 * omega < 0.0
-                and 2.0 * abs(omega) < CHATTER_FRACTION * dt * abs(acc0)
-                and fma(abs(ua), ca, -_gv_times(ga, sa)) < 0.0
-            ):
-                # a chatter that cannot lift off (no uplift at either end; u and gv linear, so
-                # abs(u)·cos α − gv·sin α is convex in between): summed
-                acc_o = -p2 * fma(ua, ca, _gv_times(ga, -s * sa))
-                t_end = tau + _chatter_time(omega, acc0, acc_o, e)
-                sa_end = _gv_times(_gv_at(g0, dg, t_end), sa)
-                if t_end < dt and fma(abs(fma(du, t_end, u0)), ca, -sa_end) < 0.0:
-                    n_imp += _chatter_impacts(2.0 * abs(omega / acc0), e, dt)
-                    tau = t_end
-                    omega = 0.0
-                    state = _REST
-                    continue
-            # a block that cannot come back to θ = 0 before dt (not a bounce of a chatter)
-            hand_over = defer and _no_touch(0.0, omega, s, ua, ub, ga, gb, dt - tau, p2, sa)
-            continue
-        if abs(th1) >= th_ov:
-            target = th_ov if th1 > 0.0 else -th_ov
-            hz, thz, omz = _locate(
-                theta, omega, s, u0, du, g0, dg, tau, 0.0, h, theta, th1, target, s, p2, sa, ca
+            arrived = Swing(
+                sw.theta, sw.omega, sw.s, sw.state, sw.tau + hz, sw.t_start, sw.false_side
             )
-            t_event = tau + hz
-            theta = thz
-            omega = omz
-            state = _OVERTURNED
-            break
-        theta = th1
-        omega = om1
+            sw, n, hand_over = _impact(arrived, omz, iv, du, dg, body, defer)
+            n_imp += n
+            continue
+        if abs(th1) >= body.th_ov:
+            sw, t_event = _overturn(sw, th1, h, iv, du, dg, body)
+            return sw, n_imp, t_event, False
+        sw = Swing(th1, om1, sw.s, sw.state, sw.tau, sw.t_start, sw.false_side)
         break
-    return theta, omega, s, state, n_imp, t_event, tau, t_start, false_side, False
+    return sw, n_imp, -1.0, False

@@ -16,15 +16,14 @@ from ..core.compile import kernel
 from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
-from .impacts import _OVERTURNED, _REST, _ROCKING, _advance, resolve_impacts
+from .impacts import _OVERTURNED, _REST, _ROCKING, Body, Interval, _advance, resolve_impacts
 
 
 @kernel
-def _simulate_kernel(
-    u, gv, dt, p2, sa, ca, tan_a, e, th_ov, located, theta0, omega0, theta_out, omega_out
-):
-    """Integrate one block over the whole motion ``u`` = a_g/g [-] sampled at dt [s], with the
-    vertical factor ``gv`` = 1 + a_v/g [-] at the same samples (None: no vertical motion).
+def _simulate_kernel(u, gv, dt, body, located, theta0, omega0, theta_out, omega_out):
+    """Integrate one block ``body`` (:class:`~rocking.dynamics.impacts.Body`) over the whole
+    motion ``u`` = a_g/g [-] sampled at dt [s], with the vertical factor ``gv`` = 1 + a_v/g [-]
+    at the same samples (None: no vertical motion).
 
     Writes θ [rad] and θ' [rad/s] at every sample into the output arrays (NaN after overturning).
     Returns (overturned, t_overturn [s] or NaN, n_impacts, max abs(θ) [rad]).
@@ -47,7 +46,7 @@ def _simulate_kernel(
     peak = abs(theta)
     t_ov = math.nan
     overturned = False
-    if abs(theta) >= th_ov:
+    if abs(theta) >= body.th_ov:
         overturned = True
         t_ov = 0.0
     for k in range(n - 1):
@@ -57,14 +56,13 @@ def _simulate_kernel(
             continue
         g0 = None if gv is None else gv[k]
         g1 = None if gv is None else gv[k + 1]
-        theta, omega, s, state, ni, tev = _advance(
-            theta, omega, s, state, u[k], u[k + 1], g0, g1, dt, p2, sa, ca, tan_a, e, th_ov, located
-        )
+        iv = Interval(u[k], u[k + 1], g0, g1, dt)
+        theta, omega, s, state, ni, tev = _advance(theta, omega, s, state, iv, body, located)
         n_imp += ni
         if state == _OVERTURNED:
             overturned = True
             t_ov = k * dt + tev
-            peak = th_ov
+            peak = body.th_ov
             theta_out[k + 1] = math.nan
             omega_out[k + 1] = math.nan
             continue
@@ -219,12 +217,14 @@ def simulate(
         ag / g,
         gv,
         dt,
-        block.p_squared(g),
-        math.sin(alpha),
-        math.cos(alpha),
-        math.tan(alpha),
-        e_val,
-        th_ov,
+        Body(
+            block.p_squared(g),
+            math.sin(alpha),
+            math.cos(alpha),
+            math.tan(alpha),
+            e_val,
+            th_ov,
+        ),
         located,
         theta0,
         omega0,
