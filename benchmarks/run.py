@@ -410,6 +410,42 @@ def bench_generate(n: int, repeats: int) -> dict:
     return {"motions": n, "duration_s": 30.0, "dt_s": DT, **t}
 
 
+def count_steps(tmp: Path, fidelity: str, exhaustive: bool) -> dict:
+    """Integrated steps and simulations of every Monte Carlo simulation of ``rocking reproduce
+    all`` at ``fidelity``, run in this process with the engine's ``run_cases`` counting steps
+    (``count_steps=True``: the same results).  ``exhaustive``: every A_gx50 search level
+    simulated with every motion, as before the early decision (``agx_50(exhaustive=True)``, here
+    for every search of the studies by running each level in full before deciding it)."""
+    import rocking.montecarlo.engine as engine_module
+    from rocking.studies import STUDIES, reproduce
+
+    real_run_cases = engine_module.run_cases
+    real_at_least_half = engine_module.Engine.at_least_half
+    total = {"steps": 0, "simulations": 0}
+
+    def counting(*args, **kwargs):
+        overturned, peak, steps = real_run_cases(*args, count_steps=True, **kwargs)
+        total["steps"] += int(steps.sum())
+        total["simulations"] += int(steps.size)
+        return overturned, peak
+
+    def in_full(self, keys):
+        self.run(keys)
+        return real_at_least_half(self, keys)
+
+    engine_module.run_cases = counting
+    if exhaustive:
+        engine_module.Engine.at_least_half = in_full
+    try:
+        t0 = time.perf_counter()
+        reproduce(list(STUDIES), fidelity=fidelity, out_dir=tmp / f"steps-{fidelity}-{exhaustive}")
+        total["wall_s"] = time.perf_counter() - t0
+    finally:
+        engine_module.run_cases = real_run_cases
+        engine_module.Engine.at_least_half = real_at_least_half
+    return total
+
+
 def bench_reproduce(tmp: Path, fidelity: str, runs: int) -> dict:
     out = {}
     for r in range(runs):
@@ -538,6 +574,16 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
             if "again" in e[key]:
                 note += f"; first run {e[key]['first']['wall_s']:.1f} s"
             rows.append((f"reproduce all --fidelity {fid} [s]", f"{r['wall_s']:.1f}", note))
+    if "steps_quick" in e:
+        now, full = e["steps_quick"]["now"], e["steps_quick"]["exhaustive_agx50"]
+        rows.append(
+            (
+                "Monte Carlo of the quick studies [M steps]",
+                f"{now['steps'] / 1e6:.1f}",
+                f"{now['simulations']:,} simulations; every A_gx50 level in full: "
+                f"{full['steps'] / 1e6:.1f} M steps, {full['simulations']:,} simulations",
+            )
+        )
     return rows
 
 
@@ -555,6 +601,11 @@ def parse_args(argv):
     )
     ap.add_argument(
         "--no-end-to-end", action="store_true", help="kernel, plain loop and SciPy only"
+    )
+    ap.add_argument(
+        "--no-steps",
+        action="store_true",
+        help="skip counting the integrated steps of the quick studies (two in-process runs)",
     )
     ap.add_argument(
         "--isa",
@@ -620,6 +671,12 @@ def run_isa(a) -> dict:
             e["spectra_floors"] = bench_spectra_floors(500)
             print("rocking reproduce all --fidelity quick ...", flush=True)
             e["reproduce_quick"] = bench_reproduce(tmp, "quick", 1 if a.quick else 2)
+            if not a.no_steps:
+                print("steps of the quick studies, now and exhaustive ...", flush=True)
+                e["steps_quick"] = {
+                    "now": count_steps(tmp, "quick", exhaustive=False),
+                    "exhaustive_agx50": count_steps(tmp, "quick", exhaustive=True),
+                }
             if a.with_paper:
                 print("rocking reproduce all --fidelity paper ...", flush=True)
                 e["reproduce_paper"] = bench_reproduce(tmp, "paper", 1)
@@ -659,7 +716,7 @@ def main(argv=None) -> int:
     )
     flags = [
         f
-        for f in ("--quick", "--with-paper", "--no-end-to-end")
+        for f in ("--quick", "--with-paper", "--no-end-to-end", "--no-steps")
         if getattr(a, f[2:].replace("-", "_"))
     ]
     with tempfile.TemporaryDirectory(prefix="rocking-bench-isa-") as tmp:
