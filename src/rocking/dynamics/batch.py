@@ -43,12 +43,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
 from ..core.checks import finite_array, positive
-from ..core.compile import highest_bit, kernel, parallel_kernel, prange
+from ..core.compile import highest_bit, kernel, maxnum, parallel_kernel, prange
 from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
@@ -69,56 +70,132 @@ _LANES = 128
 #: Cases per lane machine, at most (a group is run by one thread; results do not depend on it).
 _GROUP_MAX = 1024
 
-# Rows of the lane table W (float64, _LANES values per row; one array, rows at constant offsets,
-# so that the compiler can prove the SIMD loop's loads and stores independent)
-_TH = 0  # θ [rad] at the start of the lane's current interval
-_OM = 1  # θ' [rad/s]
+
+class Motions(NamedTuple):
+    """The horizontal ground motions of a batch as the kernel reads them: rows end to end."""
+
+    acc: np.ndarray  #: ground accelerations [m/s²], motion after motion, shape (n_m·n_t,)
+    n_t: int  #: samples per motion
+    dt: float  #: sample interval and Runge–Kutta step [s]
+    amax: np.ndarray  #: max abs(acc) of each motion [m/s²], shape (n_m,)
+    asuf: np.ndarray  #: max abs(acc) from each sample to the end of its motion [m/s²], like acc
+
+
+class Vertical(NamedTuple):
+    """The vertical ground accelerations of a batch (absent: ``None`` in its place)."""
+
+    av: np.ndarray  #: vertical accelerations [m/s², up positive], laid out like Motions.acc
+    avmin: np.ndarray  #: min av of each motion [m/s²]
+    avsuf: np.ndarray  #: min av from each sample to the end of its motion [m/s²], like av
+
+
+class Blocks(NamedTuple):
+    """Per-block constants in the kernel (see :class:`BlockTable`)."""
+
+    p2: np.ndarray  #: p² [1/s²]
+    sa: np.ndarray  #: sin α
+    ca: np.ndarray  #: cos α
+    tan_a: np.ndarray  #: tan α
+    e: np.ndarray  #: coefficient of restitution
+    th_ov: np.ndarray  #: overturning angle [rad]
+    alpha: np.ndarray  #: α [rad]
+    g: float  #: gravity [m/s²]
+
+
+class Cases(NamedTuple):
+    """Case i is block ``body[i]`` under motion ``motion[i]`` scaled by ``scale[i]``; the lane
+    machines take them in the order ``order`` (a permutation)."""
+
+    body: np.ndarray
+    motion: np.ndarray
+    scale: np.ndarray
+    order: np.ndarray
+
+
+class Outcome(NamedTuple):
+    """What the kernel writes for case i."""
+
+    overturned: np.ndarray  #: whether the block overturned (bool)
+    peak: np.ndarray  #: max abs(θ)/α at the samples [-]
+    steps: np.ndarray  #: integrated steps (int64; see :func:`run_cases`)
+
+
+class Lanes(NamedTuple):
+    """The state of one lane machine: ``_LANES`` cases side by side.
+
+    ``W`` holds one row of ``_LANES`` float64 values per quantity (one array, rows at constant
+    offsets ``row·_LANES``, so that the compiler can prove the SIMD loop's loads and stores
+    independent); the integer arrays hold one value per lane.
+    """
+
+    W: np.ndarray
+    acc1: np.ndarray  #: ground acceleration at the end of each lane's interval [m/s²]
+    av1: np.ndarray  #: vertical one [m/s²] (only with vertical motion)
+    nxt: np.ndarray  #: index in Motions.acc of that sample (one past it after a SIMD round)
+    case: np.ndarray  #: the lane's case, −1 for none
+    base: np.ndarray  #: index in Motions.acc of the case's first sample
+    state: np.ndarray  #: _REST, _ROCKING or _OVERTURNED
+
+
+# Rows of the lane table W.  The SIMD loop (:func:`_lane_steps`) stores every row it changes
+# unconditionally: the step's end state in the state rows (TH, OM, U0, G0, TAU) and the state
+# it started from in the S rows, which the event handling of a lane whose step was not plain
+# reads (a row stored only where the step is plain would compile to masked stores, slow on many
+# processors).
+_TH = 0  # θ [rad] at the start of the lane's interval; after a SIMD round, the RK4 step's θ
+_OM = 1  # θ' [rad/s] likewise
 _SG = 2  # pivot side s = ±1
 _RK = 3  # 1.0 if rocking, 0.0 if at rest
-_U0 = 4  # u = a_g/g at the start of the interval
-_U1 = 5  # u at its end
-_SC = 6  # scale factor of the case
-_P2 = 7  # p² [1/s²]
-_SA = 8  # sin α
-_CA = 9  # cos α
-_OV = 10  # overturning angle [rad]
-_PK = 11  # max abs(θ) so far [rad]
-_TH1 = 12  # RK4 step over the interval ...
-_OM1 = 13
-_VAL = 14  # ... and whether it is _rk4's step (1.0) or not (0.0)
-_TAU = 15  # local time [s] from which the interval is still to be integrated (0 but after an event)
-_H = 16  # dt − tau [s]
-_TST = 17  # _advance_events' t_start and false_side in this interval
-_FS = 18
-_G0 = 19  # vertical factor gv = 1 + a_v/g at the start of the interval (with a_v only)
-_G1 = 20  # gv at its end
-_NR = 21  # intervals of the case spent at rest throughout, so far (step counting)
-_R0 = 22  # 1.0 if the lane's current interval started at rest (step counting)
-_ROWS = 23
+_U0 = 4  # u = a_g/g at the start of the interval; after a SIMD round, u at its end
+_G0 = 5  # vertical factor gv = 1 + a_v/g likewise (with a_v only)
+_TAU = 6  # local time [s] from which the interval is still to be integrated (0 but after events)
+_THS = 7  # the state from which the SIMD round's step started: θ, θ', u, gv, tau
+_OMS = 8
+_U0S = 9
+_G0S = 10
+_TAUS = 11
+_VAL = 12  # 1.0 if the SIMD round's step is _rk4's step (fast trigonometry valid)
+_PL = 13  # 1.0 if it is plain: all that happens in the interval (_plain_step)
+_PK = 14  # max abs(θ) so far [rad]
+_TST = 15  # _advance_events' t_start and false_side in this interval
+_FS = 16
+_NR = 17  # intervals of the case spent at rest throughout, so far (step counting)
+_R0 = 18  # 1.0 if the lane's current interval started at rest (step counting)
+_SC = 19  # the case's constants: scale factor, p² [1/s²], sin α, cos α, overturning angle [rad]
+_P2 = 20
+_SA = 21
+_CA = 22
+_OV = 23
+_ROWS = 24
 
 
 @kernel
-def _lane_steps(W, acc1, av1, nxt, base, n, dt, g, n_t):
-    """One sample interval of lanes 0 … n−1 (a SIMD loop): the RK4 step, kept where it is all
-    that happens in the interval (:func:`rocking.dynamics.equation._plain_step`).
+def _lane_steps(lanes, n, motions, g, vert):
+    """One sample interval of lanes 0 … n−1 (a SIMD loop): the RK4 step from each lane's state
+    (:func:`rocking.dynamics.equation._plain_step`), kept where it is all that happens in the
+    interval; every lane's ``nxt`` advances by one.
 
-    ``acc1``: each lane's ground acceleration at the end of the interval [m/s²], ``av1``: the
-    vertical one [m/s²] or None, ``nxt``: index of that sample in the motions end to end
-    (advanced where the interval is done), ``base``: index of the lane's motion there, ``n_t``:
-    samples per motion.  Returns the lanes that need attention (an event, or the end of the
-    motion) as bit masks: lanes 0 … 63, lanes 64 … 127.
+    Returns the lanes that need attention (the step is not plain, or the motion has ended) as bit
+    masks: lanes 0 … 63, lanes 64 … 127.
     """
     L = _LANES
+    W = lanes.W
+    nxt = lanes.nxt
+    base = lanes.base
+    acc1 = lanes.acc1
+    dt = motions.dt
+    n_t = motions.n_t
     low = np.uint64(0)
     high = np.uint64(0)
     for j in range(n):
         u0 = W[_U0 * L + j]
         sc = W[_SC * L + j]
         u1 = sc * acc1[j] / g  # as simulate(block, scale * acc, dt)
-        g0 = None if av1 is None else W[_G0 * L + j]
-        g1 = _gv_sample(av1, j, sc, g)  # as simulate(..., av=abs(scale) * av)
+        g0 = _vertical_row(vert, W, _G0 * L + j)
+        g1 = _vertical_end(vert, lanes.av1, j, sc, g)  # as simulate(..., av=abs(scale) * av)
         theta = W[_TH * L + j]
         omega = W[_OM * L + j]
+        tau = W[_TAU * L + j]
         th1, om1, valid, plain = _plain_step(
             theta,
             omega,
@@ -127,208 +204,319 @@ def _lane_steps(W, acc1, av1, nxt, base, n, dt, g, n_t):
             (u1 - u0) / dt,
             g0,
             _gv_slope(g0, g1, dt),
-            W[_TAU * L + j],
-            W[_H * L + j],
+            tau,
+            dt - tau,
             W[_P2 * L + j],
             W[_SA * L + j],
             W[_CA * L + j],
             W[_OV * L + j],
         )
         plain = plain & (W[_RK * L + j] != 0.0)
-        pk = W[_PK * L + j]
-        a1 = abs(th1)
-        W[_TH * L + j] = th1 if plain else theta
-        W[_OM * L + j] = om1 if plain else omega
-        W[_U0 * L + j] = u1 if plain else u0
-        W[_PK * L + j] = a1 if (plain & (a1 > pk)) else pk
-        nxt[j] += 1 if plain else 0
-        W[_TAU * L + j] = 0.0 if plain else W[_TAU * L + j]
-        W[_H * L + j] = dt if plain else W[_H * L + j]
-        W[_U1 * L + j] = u1
-        if av1 is not None:
-            W[_G0 * L + j] = g1 if plain else g0
-            W[_G1 * L + j] = g1
-        W[_TH1 * L + j] = th1
-        W[_OM1 * L + j] = om1
+        W[_THS * L + j] = theta
+        W[_OMS * L + j] = omega
+        W[_U0S * L + j] = u0
+        W[_TAUS * L + j] = tau
+        W[_TH * L + j] = th1
+        W[_OM * L + j] = om1
+        W[_U0 * L + j] = u1
+        W[_TAU * L + j] = 0.0
+        _store_vertical(vert, W, j, g0, g1)
+        W[_PK * L + j] = maxnum(W[_PK * L + j], abs(th1) if plain else 0.0)
         W[_VAL * L + j] = 1.0 if valid else 0.0
-        att = (not plain) | (nxt[j] >= base[j] + n_t)  # an event, or the motion ended
+        W[_PL * L + j] = 1.0 if plain else 0.0
+        k1 = nxt[j] + 1
+        nxt[j] = k1
+        att = (not plain) | (k1 >= base[j] + n_t)  # an event, or the motion ended
         bit = np.uint64(1 if att else 0) << np.uint64(j & 63)
         low |= bit if j < 64 else np.uint64(0)
         high |= np.uint64(0) if j < 64 else bit
     return low, high
 
 
-@kernel
-def _gather_acc(acc1, nxt, n, flat):
-    """acc1[j] = flat[nxt[j]], the ground acceleration sample that ends lane j's interval [m/s²]
-    (as an unsigned index: no test for negative ones)."""
+@kernel(inline="always")
+def _vertical_row(vert, W, r):
+    """W[r] with vertical motion, None without."""
+    if vert is None:
+        return None
+    return W[r]
+
+
+@kernel(inline="always")
+def _vertical_end(vert, av1, j, sc, g):
+    """gv at the end of lane j's interval (:func:`_gv_sample` of the gathered sample), or None."""
+    if vert is None:
+        return None
+    return _gv_sample(av1, j, sc, g)
+
+
+@kernel(inline="always")
+def _store_vertical(vert, W, j, g0, g1):
+    """The SIMD round's gv rows of lane j (nothing without vertical motion)."""
+    if vert is None:
+        return
+    W[_G0S * _LANES + j] = g0
+    W[_G0 * _LANES + j] = g1
+
+
+@kernel(inline="always")
+def _gather(lanes, n, motions, vert):
+    """The samples that end lanes 0 … n−1's intervals: acc1[j] = acc[nxt[j]] [m/s²] (and av1
+    likewise), as an unsigned index: no test for negative ones."""
     for j in range(n):
-        acc1[j] = flat[np.uint64(nxt[j])]
+        lanes.acc1[j] = motions.acc[np.uint64(lanes.nxt[j])]
+    if vert is not None:
+        for j in range(n):
+            lanes.av1[j] = vert.av[np.uint64(lanes.nxt[j])]
+
+
+@kernel(inline="always")
+def _row_or_none(vert, x):
+    """x with vertical motion, None without."""
+    if vert is None:
+        return None
+    return x
 
 
 @kernel
-def _start_case(
-    W,
-    j,
-    i,
-    base,
-    nxt_sample,
-    state,
-    acc,
-    av,
-    amax,
-    avmin,
-    asuf,
-    avsuf,
-    dt,
-    g,
-    p2,
-    sa,
-    ca,
-    th_ov,
-    body,
-    motion,
-    scale,
-):
+def _start_case(lanes, j, i, motions, vert, blocks, cases):
     """Put case i in lane j at the first interval in which its block may lift; False (lane left
     as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
-    peak 0).  ``av`` (like ``acc``) and ``avmin`` (its least value per motion) [m/s²], or
-    None."""
+    peak 0, no steps)."""
     L = _LANES
-    n_t = acc.shape[1]
-    b = body[i]
-    m = motion[i]
-    sc = scale[i]
+    W = lanes.W
+    b = cases.body[i]
+    m = cases.motion[i]
+    sc = cases.scale[i]
+    g = blocks.g
     # gv ≥ 1 + abs(sc)·min a_v/g throughout the motion (conservative: it may lift only if ...)
-    if not _may_lift(amax[m], avmin, m, sc, g, sa[b], ca[b]):
+    if not _may_lift(motions.amax[m], _avmin(vert), m, sc, g, blocks.sa[b], blocks.ca[b]):
         return False  # no need to look at the samples
-    flat = acc.reshape(-1)
-    avflat = None if av is None else av.reshape(-1)
+    first = m * motions.n_t
     k, u0, g0 = _rest_until_uplift(
-        flat,
-        avflat,
-        asuf,
-        avsuf,
-        m * n_t,
+        motions,
+        vert,
+        first,
         0,
-        n_t,
-        sc * flat[m * n_t] / g,
-        _gv_sample(avflat, m * n_t, sc, g),
+        sc * motions.acc[first] / g,
+        _gv_sample(_av(vert), first, sc, g),
         sc,
         g,
-        sa[b],
-        ca[b],
+        blocks.sa[b],
+        blocks.ca[b],
     )
-    if k >= n_t - 1:
+    if k >= motions.n_t - 1:
         return False
-    if av is not None:
-        W[_G0 * L + j] = g0
-    base[j] = m * n_t
-    nxt_sample[j] = m * n_t + k + 1
-    state[j] = _REST
+    lanes.base[j] = first
+    lanes.nxt[j] = first + k + 1
+    lanes.state[j] = _REST
+    lanes.case[j] = i
     W[_TH * L + j] = 0.0
     W[_OM * L + j] = 0.0
     W[_SG * L + j] = 1.0
     W[_RK * L + j] = 0.0
     W[_U0 * L + j] = u0
-    W[_SC * L + j] = sc
-    W[_P2 * L + j] = p2[b]
-    W[_SA * L + j] = sa[b]
-    W[_CA * L + j] = ca[b]
-    W[_OV * L + j] = th_ov[b]
-    W[_PK * L + j] = 0.0
     W[_TAU * L + j] = 0.0
-    W[_H * L + j] = dt
+    W[_PK * L + j] = 0.0
     W[_TST * L + j] = -1.0
     W[_FS * L + j] = 0.0
     W[_NR * L + j] = k
+    W[_SC * L + j] = sc
+    W[_P2 * L + j] = blocks.p2[b]
+    W[_SA * L + j] = blocks.sa[b]
+    W[_CA * L + j] = blocks.ca[b]
+    W[_OV * L + j] = blocks.th_ov[b]
+    _set_vertical(vert, W, _G0 * L + j, g0)
     return True
 
 
-@kernel
-def _lane_machine(
-    acc,
-    av,
-    amax,
-    avmin,
-    asuf,
-    avsuf,
-    dt,
-    g,
-    p2,
-    sa,
-    ca,
-    tan_a,
-    e,
-    th_ov,
-    located,
-    alpha,
-    body,
-    motion,
-    scale,
-    order,
-    overturned,
-    peak,
-    steps,
-    c0,
-    c1,
-):
-    """Integrate cases order[c0] … order[c1 − 1] (see the module docstring); writes their
-    results, and their integrated steps into ``steps`` unless it is None."""
+@kernel(inline="always")
+def _set_vertical(vert, W, r, x):
+    """W[r] = x with vertical motion (nothing without)."""
+    if vert is not None:
+        W[r] = x
+
+
+@kernel(inline="always")
+def _av(vert):
+    """The vertical accelerations end to end, or None."""
+    if vert is None:
+        return None
+    return vert.av
+
+
+@kernel(inline="always")
+def _avmin(vert):
+    """The least vertical acceleration of each motion, or None."""
+    if vert is None:
+        return None
+    return vert.avmin
+
+
+@kernel(inline="always")
+def _avsuf(vert):
+    """The suffix minima of the vertical accelerations, or None."""
+    if vert is None:
+        return None
+    return vert.avsuf
+
+
+@kernel(inline="always")
+def _attend(lanes, j, motions, vert, blocks, cases, located):
+    """Lane j after a SIMD round in which it needs attention (see :func:`_lane_steps`): the
+    events of its interval (:func:`rocking.dynamics.impacts._advance_events`, exactly as
+    :func:`rocking.simulate` handles them), the intervals at rest that follow, or the end of its
+    motion.
+
+    Returns (done, overturned, k): whether the case has ended, whether by overturning, and the
+    intervals integrated or skipped so far (the interval in which it ended counts).
+    """
     L = _LANES
-    n_t = acc.shape[1]
-    flat = acc.reshape(-1)
-    avflat = None if av is None else av.reshape(-1)
-    W = np.zeros(_ROWS * L)
-    acc1 = np.zeros(L)  # ground acceleration at the end of each lane's interval [m/s²]
-    av1 = None if av is None else np.zeros(L)  # vertical one [m/s²]
-    nxt_sample = np.zeros(L, np.int64)  # index in flat of that sample
-    case = np.full(L, -1, np.int64)
-    base = np.zeros(L, np.int64)  # offset of the case's motion in flat
-    state = np.zeros(L, np.int64)
+    W = lanes.W
+    n_t = motions.n_t
+    dt = motions.dt
+    b = cases.body[lanes.case[j]]
+    if W[_PL * L + j] != 0.0:  # a plain step that ended the motion
+        return True, False, lanes.nxt[j] - lanes.base[j] - 1
+    k = lanes.nxt[j] - lanes.base[j] - 2  # the interval: from sample k to k + 1
+    state = lanes.state[j]
+    if W[_TAUS * L + j] == 0.0:  # a new interval (step counting)
+        W[_R0 * L + j] = 1.0 if state == _REST else 0.0
+    u0 = W[_U0S * L + j]
+    u1 = W[_U0 * L + j]
+    g0 = _row_or_none(vert, W[_G0S * L + j])
+    g1 = _row_or_none(vert, W[_G0 * L + j])
+    sw, _ni, _te, deferred = _advance_events(
+        Swing(
+            W[_THS * L + j],
+            W[_OMS * L + j],
+            W[_SG * L + j],
+            state,
+            W[_TAUS * L + j],
+            W[_TST * L + j],
+            W[_FS * L + j],
+        ),
+        Interval(u0, u1, g0, g1, dt),
+        Body(
+            W[_P2 * L + j],
+            W[_SA * L + j],
+            W[_CA * L + j],
+            blocks.tan_a[b],
+            blocks.e[b],
+            W[_OV * L + j],
+        ),
+        W[_TH * L + j],
+        W[_OM * L + j],
+        (state == _ROCKING) & (W[_VAL * L + j] != 0.0),
+        True,
+        located,
+    )
+    W[_TH * L + j] = sw.theta
+    W[_OM * L + j] = sw.omega
+    W[_SG * L + j] = sw.s
+    lanes.state[j] = sw.state
+    if deferred:  # the rest of the interval, from tau, in the next SIMD round
+        W[_RK * L + j] = 1.0
+        W[_TAU * L + j] = sw.tau
+        W[_TST * L + j] = sw.t_start
+        W[_FS * L + j] = sw.false_side
+        W[_U0 * L + j] = u0
+        _set_vertical(vert, W, _G0 * L + j, g0)
+        lanes.nxt[j] -= 1
+        return False, False, k
+    W[_TST * L + j] = -1.0
+    W[_FS * L + j] = 0.0
+    k += 1
+    if sw.state == _OVERTURNED:
+        return True, True, k
+    W[_PK * L + j] = maxnum(W[_PK * L + j], abs(sw.theta))
+    if sw.state == _REST:
+        if W[_R0 * L + j] != 0.0:  # at rest throughout
+            W[_NR * L + j] += 1.0
+        k0 = k
+        sc = W[_SC * L + j]
+        k, u1, g1 = _rest_until_uplift(
+            motions, vert, lanes.base[j], k, u1, g1, sc, blocks.g, W[_SA * L + j], W[_CA * L + j]
+        )
+        W[_NR * L + j] += k - k0
+        W[_U0 * L + j] = u1
+        _set_vertical(vert, W, _G0 * L + j, g1)
+    W[_RK * L + j] = 1.0 if sw.state == _ROCKING else 0.0
+    lanes.nxt[j] = lanes.base[j] + k + 1
+    return k >= n_t - 1, False, k
+
+
+@kernel(inline="always")
+def _finish(lanes, j, overturned, k, blocks, cases, out):
+    """The results of lane j's case, which ended after k intervals (overturned or not)."""
+    L = _LANES
+    i = lanes.case[j]
+    W = lanes.W
+    out.overturned[i] = overturned
+    out.peak[i] = (W[_OV * L + j] if overturned else W[_PK * L + j]) / blocks.alpha[cases.body[i]]
+    out.steps[i] = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end
+
+
+@kernel(inline="always")
+def _fill(lanes, j, nxt, c1, motions, vert, blocks, cases, out):
+    """Start in lane j the next of the cases order[nxt] … order[c1 − 1] that lifts its block
+    (those that don't get their result at once); returns the position after it, and
+    lanes.case[j] = −1 if none is left."""
+    lanes.case[j] = -1
+    while nxt < c1:
+        i = cases.order[nxt]
+        nxt += 1
+        if _start_case(lanes, j, i, motions, vert, blocks, cases):
+            break
+        out.overturned[i] = False
+        out.peak[i] = 0.0
+        out.steps[i] = 0
+    return nxt
+
+
+@kernel(inline="always")
+def _move_lane(lanes, src, dst):
+    """Lane ``src``'s case into lane ``dst``; lane ``src`` left empty."""
+    L = _LANES
+    for r in range(_ROWS):
+        lanes.W[r * L + dst] = lanes.W[r * L + src]
+    lanes.case[dst] = lanes.case[src]
+    lanes.base[dst] = lanes.base[src]
+    lanes.nxt[dst] = lanes.nxt[src]
+    lanes.state[dst] = lanes.state[src]
+    lanes.case[src] = -1
+
+
+@kernel
+def _new_lanes(vert):
+    """An empty lane machine."""
+    L = _LANES
+    return Lanes(
+        np.zeros(_ROWS * L),
+        np.zeros(L),
+        np.zeros(L if vert is not None else 0),
+        np.zeros(L, np.int64),
+        np.full(L, -1, np.int64),
+        np.zeros(L, np.int64),
+        np.zeros(L, np.int64),
+    )
+
+
+@kernel
+def _lane_machine(motions, vert, blocks, cases, out, located, c0, c1):
+    """Integrate cases order[c0] … order[c1 − 1] and write their results (see the module
+    docstring)."""
+    lanes = _new_lanes(vert)
     nxt = c0  # next case to start
     live = 0  # lanes 0 … live−1 hold a case
-    while live < L and nxt < c1:
-        i = order[nxt]
-        nxt += 1
-        if _start_case(
-            W,
-            live,
-            i,
-            base,
-            nxt_sample,
-            state,
-            acc,
-            av,
-            amax,
-            avmin,
-            asuf,
-            avsuf,
-            dt,
-            g,
-            p2,
-            sa,
-            ca,
-            th_ov,
-            body,
-            motion,
-            scale,
-        ):
-            case[live] = i
+    while live < _LANES and nxt < c1:
+        nxt = _fill(lanes, live, nxt, c1, motions, vert, blocks, cases, out)
+        if lanes.case[live] >= 0:
             live += 1
-        else:
-            overturned[i] = False
-            peak[i] = 0.0
-            if steps is not None:
-                steps[i] = 0
     while live > 0:
-        _gather_acc(acc1, nxt_sample, live, flat)
-        if av is not None:
-            _gather_acc(av1, nxt_sample, live, avflat)
-        low, high = _lane_steps(W, acc1, av1, nxt_sample, base, live, dt, g, n_t)
-        # the lanes that need attention, from the highest down: an event, or the end of a case
-        # (then the lane takes the next case, or the last live lane, handled already, moves
-        # into it)
+        _gather(lanes, live, motions, vert)
+        low, high = _lane_steps(lanes, live, motions, blocks.g, vert)
+        # the lanes that need attention, from the highest down: when a case ends, its lane
+        # takes the next case, or the last live lane (handled already) moves into it
         while (high | low) != 0:
             if high != 0:
                 j = 64 + highest_bit(high)
@@ -336,151 +524,15 @@ def _lane_machine(
             else:
                 j = highest_bit(low)
                 low ^= np.uint64(1) << np.uint64(j)
-            i = case[j]
-            b = body[i]
-            k = nxt_sample[j] - base[j] - 1  # the interval: from sample k to k + 1
-            done = k >= n_t - 1  # the motion has ended
-            ov = False
+            done, overturned, k = _attend(lanes, j, motions, vert, blocks, cases, located)
             if not done:
-                u1 = W[_U1 * L + j]
-                g1 = None if av is None else W[_G1 * L + j]
-                if steps is not None and W[_TAU * L + j] == 0.0:  # a new interval
-                    W[_R0 * L + j] = 1.0 if state[j] == _REST else 0.0
-                sw, _ni, _te, deferred = _advance_events(
-                    Swing(
-                        W[_TH * L + j],
-                        W[_OM * L + j],
-                        W[_SG * L + j],
-                        state[j],
-                        W[_TAU * L + j],
-                        W[_TST * L + j],
-                        W[_FS * L + j],
-                    ),
-                    Interval(W[_U0 * L + j], u1, None if av is None else W[_G0 * L + j], g1, dt),
-                    Body(
-                        W[_P2 * L + j],
-                        W[_SA * L + j],
-                        W[_CA * L + j],
-                        tan_a[b],
-                        e[b],
-                        W[_OV * L + j],
-                    ),
-                    W[_TH1 * L + j],
-                    W[_OM1 * L + j],
-                    (state[j] == _ROCKING) & (W[_VAL * L + j] != 0.0),
-                    True,
-                    located,
-                )
-                th, om, sg, st, tau, tst, fs = (
-                    sw.theta,
-                    sw.omega,
-                    sw.s,
-                    sw.state,
-                    sw.tau,
-                    sw.t_start,
-                    sw.false_side,
-                )
-                if deferred:  # the rest of the interval, from tau, in the next SIMD round
-                    W[_TH * L + j] = th
-                    W[_OM * L + j] = om
-                    W[_SG * L + j] = sg
-                    W[_RK * L + j] = 1.0
-                    W[_TAU * L + j] = tau
-                    W[_H * L + j] = dt - tau
-                    W[_TST * L + j] = tst
-                    W[_FS * L + j] = fs
-                    state[j] = st
-                    continue
-                W[_TAU * L + j] = 0.0
-                W[_H * L + j] = dt
-                W[_TST * L + j] = -1.0
-                W[_FS * L + j] = 0.0
-                k += 1
-                if st == _OVERTURNED:
-                    ov = True
-                    done = True
-                else:
-                    if abs(th) > W[_PK * L + j]:
-                        W[_PK * L + j] = abs(th)
-                    if st == _REST:
-                        k0 = k
-                        if steps is not None and W[_R0 * L + j] != 0.0:  # at rest throughout
-                            W[_NR * L + j] += 1.0
-                        k, u1, g1 = _rest_until_uplift(
-                            flat,
-                            avflat,
-                            asuf,
-                            avsuf,
-                            base[j],
-                            k,
-                            n_t,
-                            u1,
-                            g1,
-                            W[_SC * L + j],
-                            g,
-                            W[_SA * L + j],
-                            W[_CA * L + j],
-                        )
-                        if steps is not None:
-                            W[_NR * L + j] += k - k0
-                    W[_TH * L + j] = th
-                    W[_OM * L + j] = om
-                    W[_SG * L + j] = sg
-                    W[_U0 * L + j] = u1
-                    if av is not None:
-                        W[_G0 * L + j] = g1
-                    W[_RK * L + j] = 1.0 if st == _ROCKING else 0.0
-                    nxt_sample[j] = base[j] + k + 1
-                    state[j] = st
-                    done = k >= n_t - 1
-            if done:
-                overturned[i] = ov
-                peak[i] = (W[_OV * L + j] if ov else W[_PK * L + j]) / alpha[b]
-                if steps is not None:  # k intervals, up to overturning or to the end
-                    steps[i] = k - int(W[_NR * L + j])
-                case[j] = -1
-                while nxt < c1 and case[j] < 0:
-                    i = order[nxt]
-                    nxt += 1
-                    if _start_case(
-                        W,
-                        j,
-                        i,
-                        base,
-                        nxt_sample,
-                        state,
-                        acc,
-                        av,
-                        amax,
-                        avmin,
-                        asuf,
-                        avsuf,
-                        dt,
-                        g,
-                        p2,
-                        sa,
-                        ca,
-                        th_ov,
-                        body,
-                        motion,
-                        scale,
-                    ):
-                        case[j] = i
-                    else:
-                        overturned[i] = False
-                        peak[i] = 0.0
-                        if steps is not None:
-                            steps[i] = 0
-                if case[j] < 0:  # no case left: the last live lane (handled already) moves here
-                    live -= 1
-                    if j < live:
-                        for r in range(_ROWS):
-                            W[r * L + j] = W[r * L + live]
-                        case[j] = case[live]
-                        base[j] = base[live]
-                        nxt_sample[j] = nxt_sample[live]
-                        state[j] = state[live]
-                        case[live] = -1
+                continue
+            _finish(lanes, j, overturned, k, blocks, cases, out)
+            nxt = _fill(lanes, j, nxt, c1, motions, vert, blocks, cases, out)
+            if lanes.case[j] < 0:  # no case left
+                live -= 1
+                if j < live:
+                    _move_lane(lanes, live, j)
 
 
 @kernel
@@ -515,15 +567,17 @@ def _may_lift(amax, avmin, i, sc, g, sa, ca):
 
 
 @kernel
-def _rest_until_uplift(flat, avflat, asuf, avsuf, base, k, n_t, u, gv, sc, g, sa, ca):
+def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
     """First interval k' ≥ k of a block at rest in which it may lift (u and gv at its start), or
     (n_t − 1, u, gv) if none: the intervals skipped are those where _advance leaves it at rest
     (no uplift at either end; u and gv linear in between, abs(u)·cos α − gv·sin α convex).
-    ``avflat``: the vertical accelerations end to end [m/s²], or None (then gv is None);
-    ``asuf``, ``avsuf``: suffix maximum of abs(acc) and suffix minimum of av at each sample,
-    end to end like them (None without av): when no sample from k on can lift the block
-    (:func:`_may_lift`), it is at rest to the end, and the samples are not looked at."""
-    if not _may_lift(asuf[base + k], avsuf, base + k, sc, g, sa, ca):
+    ``base``: index of the motion's first sample in ``motions.acc``; when no sample from k on
+    can lift the block (:func:`_may_lift` of the suffix extremes), it is at rest to the end, and
+    the samples are not looked at."""
+    n_t = motions.n_t
+    flat = motions.acc
+    avflat = _av(vert)
+    if not _may_lift(motions.asuf[base + k], _avsuf(vert), base + k, sc, g, sa, ca):
         return n_t - 1, u, gv
     while k < n_t - 1:
         u_next = sc * flat[base + k + 1] / g
@@ -537,71 +591,14 @@ def _rest_until_uplift(flat, avflat, asuf, avsuf, base, k, n_t, u, gv, sc, g, sa
 
 
 @parallel_kernel
-def _cases_kernel(
-    acc,
-    av,
-    amax,
-    avmin,
-    asuf,
-    avsuf,
-    dt,
-    g,
-    p2,
-    sa,
-    ca,
-    tan_a,
-    e,
-    th_ov,
-    located,
-    alpha,
-    body,
-    motion,
-    scale,
-    order,
-    group,
-    overturned,
-    peak,
-    steps,
-):
-    """Integrate the cases i = (body[i], motion[i], scale[i]) from rest, in the order ``order``
-    (a permutation of the cases), ``group`` consecutive ones per lane machine.
-
-    ``acc`` (n_motions, n_t) [m/s²], ``av`` the vertical accelerations like it or None,
-    ``amax`` = max abs(acc) per motion [m/s²], ``avmin`` = min ``av`` per motion or None,
-    ``asuf``, ``avsuf`` their suffix versions at every sample (see :func:`_rest_until_uplift`),
-    ``dt`` [s], ``g`` [m/s²]; per-block constants p² [1/s²], sin α, cos α, tan α, e, overturning
-    angle [rad], the impact scheme (``located``: bool), α [rad].  Writes ``overturned[i]`` and
-    ``peak[i]`` = max abs(θ)/α at the samples [-], and the integrated steps ``steps[i]`` unless
-    ``steps`` is None.
-    """
-    n = body.shape[0]
+def _cases_kernel(motions, vert, blocks, cases, out, located, group):
+    """Integrate the cases from rest, ``group`` consecutive ones of ``cases.order`` per lane
+    machine (a thread each, dynamically scheduled), and write their :class:`Outcome`; the
+    impact scheme ``located`` (bool) as in :func:`rocking.simulate`."""
+    n = cases.body.shape[0]
     for q in prange((n + group - 1) // group):
         _lane_machine(
-            acc,
-            av,
-            amax,
-            avmin,
-            asuf,
-            avsuf,
-            dt,
-            g,
-            p2,
-            sa,
-            ca,
-            tan_a,
-            e,
-            th_ov,
-            located,
-            alpha,
-            body,
-            motion,
-            scale,
-            order,
-            overturned,
-            peak,
-            steps,
-            q * group,
-            min(n, (q + 1) * group),
+            motions, vert, blocks, cases, out, located, q * group, min(n, (q + 1) * group)
         )
 
 
@@ -661,6 +658,12 @@ class BlockTable:
     def __len__(self) -> int:
         return self.p2.size
 
+    def arrays(self) -> Blocks:
+        """The constants as the kernel takes them."""
+        return Blocks(
+            self.p2, self.sin_a, self.cos_a, self.tan_a, self.e, self.theta_ov, self.alpha, self.g
+        )
+
 
 def block_list(blocks) -> list[Block]:
     """``blocks`` as a non-empty list of :class:`~rocking.Block` (one Block is a list of one)."""
@@ -718,7 +721,7 @@ def run_cases(
     overturns.
     """
     asuf, avsuf = _suffix_extremes(acc, av)
-    avmin = None
+    vert = None
     if av is not None:
         avmin = av.min(axis=1)
         low = np.abs(scale) * avmin[motion]
@@ -729,9 +732,12 @@ def run_cases(
                 f"{low[i]:g} m/s², at or below -g = {-table.g:g} m/s²: the block would leave "
                 "the ground, which is not modelled"
             )
-    overturned = np.empty(body.shape, dtype=np.bool_)
-    peak = np.empty(body.shape, dtype=np.float64)
-    steps = np.empty(body.shape, dtype=np.int64) if count_steps else None
+        vert = Vertical(av.reshape(-1), avmin, avsuf)
+    out = Outcome(
+        np.empty(body.shape, dtype=np.bool_),
+        np.empty(body.shape, dtype=np.float64),
+        np.empty(body.shape, dtype=np.int64),
+    )
     # about four groups per thread (dynamic scheduling), of at least _LANES cases so that the
     # lanes are filled
     group = max(_LANES, min(_GROUP_MAX, -(-body.size // (4 * numba.get_num_threads()))))
@@ -741,36 +747,20 @@ def run_cases(
     order = np.argsort(motion, kind="stable")
     ng = max(1, -(-body.size // group))
     order = np.concatenate([order[q::ng] for q in range(ng)])
+    motions = Motions(acc.reshape(-1), acc.shape[1], float(dt), amax, asuf)
     with numba.parallel_chunksize(1):
         _cases_kernel(
-            acc,
-            av,
-            amax,
-            avmin,
-            asuf,
-            avsuf,
-            dt,
-            table.g,
-            table.p2,
-            table.sin_a,
-            table.cos_a,
-            table.tan_a,
-            table.e,
-            table.theta_ov,
+            motions,
+            vert,
+            table.arrays(),
+            Cases(body, motion, scale, order),
+            out,
             resolve_impacts(impacts),
-            table.alpha,
-            body,
-            motion,
-            scale,
-            order,
             group,
-            overturned,
-            peak,
-            steps,
         )
-    if steps is not None:
-        return overturned, peak, steps
-    return overturned, peak
+    if count_steps:
+        return out.overturned, out.peak, out.steps
+    return out.overturned, out.peak
 
 
 def _acc2d(acc, name: str = "acc") -> np.ndarray:
