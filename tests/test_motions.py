@@ -207,6 +207,22 @@ def test_baseline_matches_the_continuous_normal_equations_to_second_order():
     assert 3.5 < errors[0] / errors[1] < 4.5
 
 
+@pytest.mark.parametrize("shape", [(2,), (7,), (3, 1001), (2, 3, 50)])
+def test_trapezoidal_rules_are_scipys_bit_for_bit(shape):
+    # The baseline correction integrates with its own two-line trapezoidal rules (importing
+    # scipy.integrate is slow): they must be SciPy's, the same operations in the same order,
+    # so exact equality (the correction of a motion then has the bits it had with SciPy).
+    from scipy.integrate import trapezoid
+
+    y = np.random.default_rng(len(shape)).normal(size=shape) * 37.0
+    for dx in (0.0025, 1 / 3):
+        assert np.array_equal(baseline_module._trapezoid(y, dx), trapezoid(y, dx=dx))
+        assert np.array_equal(
+            baseline_module._cumulative_trapezoid(y, dx),
+            cumulative_trapezoid(y, dx=dx, initial=0.0),
+        )
+
+
 def test_baseline_correct_input_checks_and_shapes():
     a = np.random.default_rng(1).normal(size=(3, 500))
     np.testing.assert_array_equal(baseline_correct(a, 0.01)[1], baseline_correct(a[1], 0.01))

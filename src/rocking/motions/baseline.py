@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid, trapezoid
 
 from ..core.checks import finite_array, positive
 from ..errors import InputError
@@ -11,6 +10,24 @@ from ..errors import InputError
 #: Motions corrected together, one block at a time: a block's temporaries stay in the cache
 #: (the result does not depend on it).
 BLOCK_ROWS = 8
+
+
+# The trapezoidal rules below are SciPy's (scipy.integrate.trapezoid and cumulative_trapezoid with
+# a scalar step: dx·(y[1:] + y[:-1])/2 summed, the same operations in the same order, hence the
+# same bits; tests/test_motions.py checks it), written out because importing scipy.integrate
+# costs every ``rocking motions generate`` a quarter of a second for two one-line formulas.
+
+
+def _trapezoid(y: np.ndarray, dx: float) -> np.ndarray:
+    """∫ y dt over the last axis by the trapezoidal rule with step ``dx``."""
+    return np.sum(dx * (y[..., 1:] + y[..., :-1]) / 2.0, axis=-1)
+
+
+def _cumulative_trapezoid(y: np.ndarray, dx: float) -> np.ndarray:
+    """∫_0^t y dt at every sample along the last axis (0 at the first one)."""
+    out = np.zeros(y.shape)
+    np.cumsum(dx * (y[..., 1:] + y[..., :-1]) / 2.0, axis=-1, out=out[..., 1:])
+    return out
 
 
 def baseline_correct(acc, dt: float, order: int = 2) -> np.ndarray:
@@ -44,19 +61,19 @@ def baseline_correct(acc, dt: float, order: int = 2) -> np.ndarray:
     tau = np.linspace(0.0, 1.0, a.shape[-1])
     k = np.arange(k_max + 1)[:, None]
     basis_acc = (k + 1) * (k + 2) * tau**k
-    basis_vel = cumulative_trapezoid(basis_acc, dx=dt, initial=0.0, axis=-1)
-    gram = trapezoid(basis_vel[:, None, :] * basis_vel[None, :, :], dx=dt, axis=-1)
+    basis_vel = _cumulative_trapezoid(basis_acc, dt)
+    gram = _trapezoid(basis_vel[:, None, :] * basis_vel[None, :, :], dt)
     rows = a.reshape(-1, a.shape[-1])
     out = np.empty_like(rows)
 
     for start in range(0, rows.shape[0], BLOCK_ROWS):
         block = rows[start : start + BLOCK_ROWS]
-        vel = cumulative_trapezoid(block, dx=dt, initial=0.0, axis=-1)
+        vel = _cumulative_trapezoid(block, dt)
         # Normal equations ∫ψ_k ψ_j dt · c_j = ∫ψ_k v dt (reference.md §6, ψ_k = basis
         # velocities). Motion by motion, not as one matrix product, so each motion's result
         # does not depend on how many motions are corrected together (BLAS may sum in a
         # size-dependent order).
-        rhs = np.stack([trapezoid(vel * psi, dx=dt, axis=-1) for psi in basis_vel], axis=-1)
+        rhs = np.stack([_trapezoid(vel * psi, dt) for psi in basis_vel], axis=-1)
         coef = np.linalg.solve(gram, rhs[..., None])[..., 0]  # one small solve per motion
         baseline = sum(coef[:, j, None] * basis_acc[j] for j in range(k_max + 1))
         out[start : start + BLOCK_ROWS] = block - baseline
