@@ -28,7 +28,7 @@ SIMULATED = "simulated"
 SIMULATED_SPEC: dict[str, Any] = {"duration": 20.0, "envelope": "compound", "seed": 0}
 _SIMULATED_NAME = "simulated (RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
 #: --overturn-angle choices: the paper's π/2, or the critical angle α.
-_OVERTURN = {"pi2": math.pi / 2, "alpha": "alpha"}
+_OVERTURN: dict[str, float | str] = {"pi2": math.pi / 2, "alpha": "alpha"}
 
 
 def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:

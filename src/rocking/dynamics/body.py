@@ -196,7 +196,7 @@ class Block:
         return name + (")" if self.r_g is None else f", r_g={self.r_g:g} m)")
 
 
-def resolve_e(e, block: Block) -> float:
+def resolve_e(e: float | str, block: Block) -> float:
     """Coefficient of restitution [-]: a number in (0, 1], or ``"housner"`` for
     :meth:`Block.housner_e` (1 − 1.5·sin²α for a uniform block)."""
     value = restitution(e)
@@ -213,7 +213,7 @@ def resolve_e(e, block: Block) -> float:
     return housner
 
 
-def resolve_overturn_angle(overturn_angle, block: Block) -> float:
+def resolve_overturn_angle(overturn_angle: float | str, block: Block) -> float:
     """Overturning angle [rad]: a number in (0, π/2], or ``"alpha"`` for the critical angle α."""
     if isinstance(overturn_angle, str):
         if overturn_angle.strip().lower() == "alpha":

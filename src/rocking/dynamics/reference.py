@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
 from ..core.checks import finite_array, positive
@@ -34,13 +35,13 @@ REST_FLIGHT_TIME = 1e-7
 
 def simulate_reference(
     block: Block,
-    ag,
+    ag: ArrayLike,
     dt: float,
     *,
-    e=DEFAULT_E,
-    overturn_angle=math.pi / 2,
+    e: float | str = DEFAULT_E,
+    overturn_angle: float | str = math.pi / 2,
     g: float = G,
-    av=None,
+    av: ArrayLike | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-12,
     max_step: float | None = None,

@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import kernel
@@ -146,15 +147,15 @@ def _vertical_factor(av, n_t: int, g: float) -> np.ndarray:
 
 def simulate(
     block: Block,
-    ag,
+    ag: ArrayLike,
     dt: float,
     *,
-    e=DEFAULT_E,
-    overturn_angle=math.pi / 2,
+    e: float | str = DEFAULT_E,
+    overturn_angle: float | str = math.pi / 2,
     theta0: float = 0.0,
     omega0: float = 0.0,
     g: float = G,
-    av=None,
+    av: ArrayLike | None = None,
     impacts: str = IMPACT_SCHEMES[0],
 ) -> RockingResponse:
     """Rocking response of ``block`` to the ground acceleration history ``ag``.

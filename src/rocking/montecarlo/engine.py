@@ -390,7 +390,7 @@ class Engine:
         return {"chunks_computed": self.chunks_computed, "chunks_loaded": self.chunks_loaded}
 
 
-def run_chunk(data: dict, task: tuple):
+def run_chunk(data: dict, task: tuple) -> tuple[np.ndarray, np.ndarray]:
     """One chunk of a Monte Carlo run: a list of simulations (block, motion, scale).
 
     Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process,

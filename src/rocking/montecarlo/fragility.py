@@ -17,12 +17,15 @@ predict overturning (:func:`im_efficiency`).
 from __future__ import annotations
 
 import math
+import os
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range
 from ..defaults import AGX, DEFAULT_E, G
@@ -38,6 +41,11 @@ from .statistics import (
     fit_lognormal,
     wilson_interval,
 )
+
+if TYPE_CHECKING:
+    from ..core.progress import Reporter
+    from ..dynamics.body import Block
+    from .backends import Backend
 
 #: Methods of :func:`fragility_analysis`.
 METHODS = ("ida", "msa", "cloud")
@@ -56,7 +64,7 @@ class AnalysisIM:
     measure: IntensityMeasure | None
 
     @classmethod
-    def parse(cls, im) -> AnalysisIM:
+    def parse(cls, im: str | IntensityMeasure) -> AnalysisIM:
         """From ``"agx"`` or any form of :func:`rocking.parse_im`."""
         if isinstance(im, str) and im.strip().lower() == AGX:
             return cls(AGX, "A_gx (mean PGA of the ensemble) [g]", "g", 1, None)
@@ -77,7 +85,9 @@ def _checked_levels(levels, unit: str) -> np.ndarray:
     return np.array([level_agx(level_key(v)) for v in x.tolist()])
 
 
-def read_stripes(stripes, ensemble: Ensemble) -> pd.DataFrame:
+def read_stripes(
+    stripes: pd.DataFrame | str | os.PathLike[str], ensemble: Ensemble
+) -> pd.DataFrame:
     """The stripes of a multiple-stripe analysis, checked against the ensemble.
 
     Parameters
@@ -144,24 +154,24 @@ def read_stripes(stripes, ensemble: Ensemble) -> pd.DataFrame:
 
 
 def fragility_analysis(
-    blocks,
+    blocks: Block | Sequence[Block],
     ensemble: Ensemble,
     *,
-    im=AGX,
+    im: str | IntensityMeasure = AGX,
     method: str = "ida",
-    levels=None,
-    stripes=None,
-    e=DEFAULT_E,
-    overturn_angle=math.pi / 2,
+    levels: ArrayLike | None = None,
+    stripes: pd.DataFrame | str | os.PathLike[str] | None = None,
+    e: float | str | Sequence[float | str] | np.ndarray = DEFAULT_E,
+    overturn_angle: float | str | Sequence[float | str] | np.ndarray = math.pi / 2,
     g: float = G,
-    backend=None,
-    out=None,
-    progress=None,
+    backend: Backend | None = None,
+    out: str | os.PathLike[str] | None = None,
+    progress: Reporter | bool | None = None,
     confidence: float = 0.95,
     chunk_size: int | None = None,
     n_boot: int = 1000,
     seed: int = 0,
-    im_values=None,
+    im_values: ArrayLike | None = None,
 ) -> xr.Dataset:
     """Fragility curves of bodies against an intensity measure, from IDA, MSA or cloud analysis.
 
@@ -439,17 +449,17 @@ def _fit_one(ds, b: int, method: str, n_boot, confidence, seed) -> FragilityFit 
 
 
 def im_efficiency(
-    blocks,
+    blocks: Block | Sequence[Block],
     ensemble: Ensemble,
-    ims,
+    ims: str | Iterable[str | IntensityMeasure],
     *,
-    levels,
-    scale_im="pga",
-    names=None,
+    levels: ArrayLike | None,
+    scale_im: str | IntensityMeasure = "pga",
+    names: Iterable[str] | None = None,
     n_boot: int = 200,
     seed: int = 0,
     confidence: float = 0.95,
-    **options,
+    **options: Any,
 ) -> pd.DataFrame:
     """Rank intensity measures by how well they predict overturning: the dispersion β of the
     lognormal fragility fitted against each of them (smaller: more efficient).

@@ -10,10 +10,13 @@ and :func:`agx_50` searches the A_gx of 50 % probability adaptively (paper Secti
 from __future__ import annotations
 
 import math
-from typing import Any
+import os
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive
 from ..defaults import DEFAULT_E, IMPACT_SCHEMES, G
@@ -23,6 +26,11 @@ from ..motions.ensemble import Ensemble
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
 from .search import CrossingSearch
 from .statistics import wilson_interval
+
+if TYPE_CHECKING:
+    from ..core.progress import Reporter
+    from ..dynamics.body import Block
+    from .backends import Backend
 
 
 def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
@@ -70,16 +78,16 @@ def _dataset(
 
 
 def overturning_probability(
-    blocks,
-    ensemble,
-    agx,
+    blocks: Block | Sequence[Block],
+    ensemble: Ensemble | dict[str, Ensemble],
+    agx: ArrayLike,
     *,
-    e=DEFAULT_E,
-    overturn_angle=math.pi / 2,
+    e: float | str | Sequence[float | str] | np.ndarray = DEFAULT_E,
+    overturn_angle: float | str | Sequence[float | str] | np.ndarray = math.pi / 2,
     g: float = G,
-    backend=None,
-    out=None,
-    progress=None,
+    backend: Backend | None = None,
+    out: str | os.PathLike[str] | None = None,
+    progress: Reporter | bool | None = None,
     confidence: float = 0.95,
     chunk_size: int | None = None,
     members: bool = False,
@@ -221,17 +229,17 @@ def _member_vars(engine: Engine, keys: list) -> dict[str, Any]:
 
 
 def agx_50(
-    blocks,
-    ensemble,
+    blocks: Block | Sequence[Block],
+    ensemble: Ensemble | dict[str, Ensemble],
     *,
     resolution: float = 0.01,
     agx_max: float = 5.0,
-    e=DEFAULT_E,
-    overturn_angle=math.pi / 2,
+    e: float | str | Sequence[float | str] | np.ndarray = DEFAULT_E,
+    overturn_angle: float | str | Sequence[float | str] | np.ndarray = math.pi / 2,
     g: float = G,
-    backend=None,
-    out=None,
-    progress=None,
+    backend: Backend | None = None,
+    out: str | os.PathLike[str] | None = None,
+    progress: Reporter | bool | None = None,
     coarse: int = 10,
     chunk_size: int | None = None,
     impacts: str = IMPACT_SCHEMES[0],

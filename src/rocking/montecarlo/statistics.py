@@ -18,13 +18,16 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from threadpoolctl import threadpool_limits
 
 from ..core.checks import finite_array, in_range
 from ..errors import InputError
 
 
-def wilson_interval(count, n, confidence: float = 0.95):
+def wilson_interval(
+    count: ArrayLike, n: ArrayLike, confidence: float = 0.95
+) -> tuple[np.ndarray, np.ndarray]:
     """Wilson score interval of a binomial proportion count/n (no continuity correction).
 
     Parameters
@@ -76,7 +79,7 @@ class LognormalFit:
     median: float
     beta: float
 
-    def probability(self, agx) -> np.ndarray:
+    def probability(self, agx: ArrayLike) -> np.ndarray:
         """Probability of overturning at intensities ``agx`` (array_like, > 0, in the unit of
         the median; the name is the paper's A_gx) [-]."""
         import scipy.stats  # on first use (see _wilson)
@@ -84,7 +87,7 @@ class LognormalFit:
         return scipy.stats.norm.cdf(np.log(np.asarray(agx, dtype=float) / self.median) / self.beta)
 
 
-def fit_lognormal(agx, count, n) -> LognormalFit:
+def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFit:
     """Maximum-likelihood lognormal fragility curve from overturning counts (Baker 2015).
 
     Maximises the binomial log-likelihood Σ [k·ln P(x) + (n − k)·ln(1 − P(x))] with
@@ -246,13 +249,18 @@ class FragilityFit:
         """Dispersion β of the point fit [-]."""
         return self.fit.beta
 
-    def probability(self, im) -> np.ndarray:
+    def probability(self, im: ArrayLike) -> np.ndarray:
         """Probability of overturning of the point fit at intensities ``im`` (> 0) [-]."""
         return self.fit.probability(im)
 
 
 def bootstrap_fragility(
-    im, outcomes, *, n_boot: int = 1000, confidence: float = 0.95, seed: int = 0
+    im: ArrayLike,
+    outcomes: ArrayLike,
+    *,
+    n_boot: int = 1000,
+    confidence: float = 0.95,
+    seed: int = 0,
 ) -> FragilityFit:
     """Lognormal fragility curve by maximum likelihood with bootstrap confidence intervals.
 

@@ -24,15 +24,19 @@ from __future__ import annotations
 import hashlib
 import json
 import zipfile
+from collections.abc import Iterator
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..core.files import atomic_write
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 MANIFEST = "chunks.json"
 LOCK = ".rocking.lock"
@@ -157,13 +161,15 @@ class ChunkStore:
         """File of chunk ``key``."""
         return self.folder / f"chunk-{key}.npz"
 
-    def save(self, key: str, **arrays) -> None:
+    def save(self, key: str, **arrays: ArrayLike) -> None:
         """Write chunk ``key`` (arrays by name) atomically, with the store's fingerprint."""
         atomic_write(
-            self.path(key), lambda f: np.savez(f, fingerprint=np.array(self.fingerprint), **arrays)
+            self.path(key),
+            # numpy's stub types savez's **kwds as its keyword allow_pickle (bool)
+            lambda f: np.savez(f, fingerprint=np.array(self.fingerprint), **arrays),  # type: ignore[arg-type]
         )
 
-    def load_all(self):
+    def load_all(self) -> Iterator[tuple[str, dict[str, np.ndarray]]]:
         """Yield (key, dict of arrays) for every complete chunk of this run, in key order.
 
         A file that cannot be read (not written by :meth:`save`, e.g. copied in half) or whose

@@ -20,12 +20,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from abc import abstractmethod
 from dataclasses import dataclass
 from pathlib import Path
 from typing import ClassVar, Self
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive
 from ..defaults import SPECTRUM_SYNTAX
@@ -77,10 +79,10 @@ class CodeSpectrum(TargetSpectrum):
     SCALED_FIELDS: ClassVar[tuple[str, ...]] = ()
 
     @abstractmethod
-    def sa(self, periods_s) -> np.ndarray:
+    def sa(self, periods_s: ArrayLike) -> np.ndarray:
         """Spectral acceleration [g] at periods [s] (> 0; any shape)."""
 
-    def psa(self, freqs_hz) -> np.ndarray:
+    def psa(self, freqs_hz: ArrayLike) -> np.ndarray:
         """PSA [g] at ``freqs_hz`` [Hz]: S_a at T = 1/f."""
         t, shape = _periods(freqs_hz)
         return self.sa(t).reshape(shape)
@@ -149,7 +151,7 @@ class ASCE7(CodeSpectrum):
         """Zero-period acceleration 0.4·S_DS [g] (Eq. 11.4-5 at T = 0)."""
         return 0.4 * self.SDS
 
-    def sa(self, periods_s) -> np.ndarray:
+    def sa(self, periods_s: ArrayLike) -> np.ndarray:
         """Design spectral acceleration S_a [g] at periods [s] (> 0; any shape)."""
         t, shape = _check_periods(periods_s)
         sa = np.select(
@@ -248,7 +250,7 @@ class EC8(CodeSpectrum):
         """Zero-period acceleration a_g·S [g] (Eq. 3.2 at T = 0)."""
         return self.design_ag * self.parameters[0]
 
-    def sa(self, periods_s) -> np.ndarray:
+    def sa(self, periods_s: ArrayLike) -> np.ndarray:
         """Elastic spectral acceleration S_e [g] at periods [s] (> 0; any shape)."""
         t, shape = _check_periods(periods_s)
         s, tb, tc, td = self.parameters
@@ -302,7 +304,9 @@ _KINDS = {
 _TEXT_KEYS = {"ground", "type"}
 
 
-def parse_spectrum(text: str, base_dir=None, damping: float = 0.05) -> TargetSpectrum:
+def parse_spectrum(
+    text: str, base_dir: str | os.PathLike[str] | None = None, damping: float = 0.05
+) -> TargetSpectrum:
     """A target spectrum from a short specification (:data:`rocking.defaults.SPECTRUM_SYNTAX`).
 
     ``KIND:key=value,key=value`` with KIND one of rg160, asce7, ec8 (keys are case-insensitive;

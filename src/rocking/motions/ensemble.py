@@ -12,13 +12,15 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
 from ..core.files import atomic_write
@@ -160,7 +162,7 @@ class Ensemble:
             raise InputError("cannot scale an ensemble of zero motions to a given agx")
         return self.scaled_by(agx / self.agx)
 
-    def subset(self, indices) -> Ensemble:
+    def subset(self, indices: ArrayLike) -> Ensemble:
         """The members at positions ``indices`` (ints, in the order given)."""
         idx = np.asarray(indices)
         if idx.dtype.kind not in "iu" or idx.ndim != 1:
@@ -171,7 +173,7 @@ class Ensemble:
         av = None if self.av is None else self.av[idx]
         return Ensemble(self.acc[idx], self.dt, [self.labels[i] for i in idx], meta, av)
 
-    def regenerate(self, **overrides) -> Ensemble:
+    def regenerate(self, **overrides: Any) -> Ensemble:
         """Simulate this ensemble again from its metadata (same members, phases and scale).
 
         ``overrides`` replace stored generation parameters of :func:`generate` (e.g.
@@ -220,7 +222,7 @@ class Ensemble:
         av = None if self.av is None else self.av * factor
         return Ensemble(self.acc * factor, self.dt, self.labels, meta, av)
 
-    def save(self, path) -> Path:
+    def save(self, path: str | os.PathLike[str]) -> Path:
         """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`) atomically (no
         half-written file ever has the name); return the path.
 
@@ -254,7 +256,7 @@ class Ensemble:
         return path
 
     @classmethod
-    def load(cls, path) -> Ensemble:
+    def load(cls, path: str | os.PathLike[str]) -> Ensemble:
         """Read an ensemble written by :meth:`save`."""
         path = Path(path)
         try:

@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -152,7 +153,7 @@ def _fmt(x) -> str:
     return f"{x:.12g}"
 
 
-def parse_im(im) -> IntensityMeasure:
+def parse_im(im: str | IntensityMeasure) -> IntensityMeasure:
     """The intensity measure named by ``im`` (forms in the module notes).
 
     Parameters
@@ -236,7 +237,7 @@ def _count(text: str, im: str) -> int:
     return int(text)
 
 
-def im_scaling_exponent(im) -> int:
+def im_scaling_exponent(im: str | IntensityMeasure) -> int:
     """k in IM(λ·a) = λ^k·IM(a) for a motion a scaled by λ > 0.
 
     1 for PGA, PGV, PGD, Sa, PSV, Sa_avg and CAV; 2 for Arias intensity; 0 for PGV/PGA, which
@@ -254,7 +255,9 @@ def im_scaling_exponent(im) -> int:
     return parse_im(im).scaling_exponent
 
 
-def intensity_measures(ensemble: Ensemble, ims) -> pd.DataFrame:
+def intensity_measures(
+    ensemble: Ensemble, ims: str | IntensityMeasure | Iterable[str | IntensityMeasure]
+) -> pd.DataFrame:
     """Intensity measures of every motion of an ensemble.
 
     Parameters

@@ -32,14 +32,27 @@ Conventions fixed here because the paper is silent or inconsistent:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import nnls
 
 from ..core.checks import finite_array, in_range, positive
 from ..dynamics.body import G
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from typing import Protocol
+
+    class SupportsPsa(Protocol):
+        """A target spectrum: anything with a ``psa(freqs_hz)`` method giving the PSA [g]
+        (a :class:`rocking.motions.targets.TargetSpectrum`)."""
+
+        def psa(self, freqs_hz: np.ndarray, /) -> ArrayLike: ...
+
 
 #: Euler's constant as used by Davenport (1964) in his peak factor.
 DAVENPORT_CONSTANT = 0.5772156649015329
@@ -91,8 +104,8 @@ class PowerSpectrum:
     @classmethod
     def from_amplitudes(
         cls,
-        freqs_hz,
-        amplitudes,
+        freqs_hz: ArrayLike,
+        amplitudes: ArrayLike,
         equivalent_duration: float,
         damping: float,
         convention: str = "one-sided",
@@ -140,7 +153,7 @@ def frequency_increments(omega: np.ndarray) -> np.ndarray:
     return omega * (1.0 - 1.0 / ratio)
 
 
-def peak_factor(nu_te, constant: float = DEFAULT_PEAK_CONSTANT) -> np.ndarray:
+def peak_factor(nu_te: ArrayLike, constant: float = DEFAULT_PEAK_CONSTANT) -> np.ndarray:
     """Davenport's (1964) peak factor, first factor of Eq. (6) [-].
 
     r = sqrt(2·ln(ν·T_e)) + constant/sqrt(2·ln(ν·T_e)), evaluated at max(ν·T_e, exp(constant/2)),
@@ -160,7 +173,7 @@ def peak_factor(nu_te, constant: float = DEFAULT_PEAK_CONSTANT) -> np.ndarray:
     return s + c / s  # Eq. (6), first factor
 
 
-def transfer(omega_k, omega_j, damping: float) -> np.ndarray:
+def transfer(omega_k: ArrayLike, omega_j: ArrayLike, damping: float) -> np.ndarray:
     """Peak absolute-acceleration response of an oscillator to a unit sinusoid, Eq. (6) [-].
 
     sqrt((1 + 4h²x²) / ((1 − x²)² + 4h²x²)) with x = ω_j/ω_k; broadcasting ``omega_k`` (oscillator)
@@ -171,7 +184,11 @@ def transfer(omega_k, omega_j, damping: float) -> np.ndarray:
     return np.sqrt((1.0 + 4.0 * h2 * x2) / ((1.0 - x2) ** 2 + 4.0 * h2 * x2))  # Eq. (6)
 
 
-def target_psa(target, freqs_hz, damping: float | None = None) -> tuple[np.ndarray, float]:
+def target_psa(
+    target: SupportsPsa | Callable[..., ArrayLike],
+    freqs_hz: ArrayLike,
+    damping: float | None = None,
+) -> tuple[np.ndarray, float]:
     """Target pseudo-spectral accelerations [g] at ``freqs_hz`` [Hz] and their damping [-].
 
     ``target`` is anything with a ``psa(freqs_hz)`` method (a
@@ -207,8 +224,8 @@ def target_psa(target, freqs_hz, damping: float | None = None) -> tuple[np.ndarr
 
 
 def power_spectrum(
-    psa_g,
-    freqs_hz,
+    psa_g: ArrayLike,
+    freqs_hz: ArrayLike,
     equivalent_duration: float,
     *,
     damping: float = 0.05,

@@ -65,13 +65,16 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import positive
 from ..dynamics.body import G
@@ -330,7 +333,9 @@ def _looks_numeric(token: str) -> bool:
     return True
 
 
-def read_record(path, *, dt: float | None = None, units: str | None = None) -> Record:
+def read_record(
+    path: str | os.PathLike[str], *, dt: float | None = None, units: str | None = None
+) -> Record:
     """Read one ground-acceleration record (PEER .AT2 or plain text; see the module notes).
 
     Parameters
@@ -400,7 +405,7 @@ def example_manifest_path() -> Path:
     return Path(str(files("rocking") / "data" / "records" / "examples.csv"))
 
 
-def record_path(spec) -> Path:
+def record_path(spec: str | os.PathLike[str]) -> Path:
     """``spec`` as a path, the word ``example`` (when no file of that name exists) standing for
     :func:`example_record_path`."""
     path = Path(spec)
@@ -411,7 +416,10 @@ def record_path(spec) -> Path:
 RECORD_SUFFIXES = (".AT2", ".txt", ".csv")
 
 
-def record_paths(paths, suffixes: tuple[str, ...] = RECORD_SUFFIXES) -> list[Path]:
+def record_paths(
+    paths: str | Path | Iterable[str | os.PathLike[str]],
+    suffixes: tuple[str, ...] = RECORD_SUFFIXES,
+) -> list[Path]:
     """Expand a path or a list of paths: a folder gives its files with one of ``suffixes``
     (any case; default .AT2, .txt and .csv) sorted by name, the word ``example`` the shipped
     example record (see :func:`record_path`)."""
@@ -436,7 +444,12 @@ def record_paths(paths, suffixes: tuple[str, ...] = RECORD_SUFFIXES) -> list[Pat
     return out
 
 
-def read_records(paths, *, dt: float | None = None, units: str | None = None) -> list[Record]:
+def read_records(
+    paths: str | Path | Iterable[str | os.PathLike[str]],
+    *,
+    dt: float | None = None,
+    units: str | None = None,
+) -> list[Record]:
     """Read several records; ``paths`` is a path or a list of paths, a folder standing for its
     .AT2/.txt/.csv files sorted by name and the word ``example`` for the shipped example record.
     ``dt`` [s] and ``units`` as in :func:`read_record`."""
@@ -485,7 +498,7 @@ def resampling_factors(dt: float, new_dt: float) -> tuple[int, int]:
     return frac.numerator, frac.denominator
 
 
-def resample(acc, dt: float, new_dt: float) -> np.ndarray:
+def resample(acc: ArrayLike, dt: float, new_dt: float) -> np.ndarray:
     """A record at another time step, alias-free (see the module notes, "Resampling").
 
     Parameters
@@ -550,7 +563,7 @@ def _manifest_path(folder: Path, spec: str) -> Path:
     return example_record_path() if spec == EXAMPLE and not path.exists() else path
 
 
-def read_manifest(path) -> list[ManifestRow]:
+def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
     """Read a manifest of motions: a CSV with one row per motion (see the module notes).
 
     Parameters

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
+from numpy.typing import ArrayLike
 from threadpoolctl import threadpool_limits
 
 from ..core.checks import finite_array, in_range, positive
@@ -169,7 +170,12 @@ def _peak_displacements(acc, coef, nsub, h, omega, zeta):
 
 
 def response_spectrum(
-    acc, dt: float, freqs_hz, damping: float = 0.05, *, steps_per_period: int = 10
+    acc: ArrayLike,
+    dt: float,
+    freqs_hz: ArrayLike,
+    damping: float = 0.05,
+    *,
+    steps_per_period: int = 10,
 ) -> ResponseSpectrum:
     """Response spectra of ground accelerations by the Nigam & Jennings (1969) recurrence.
 

@@ -18,10 +18,13 @@ RG 1.60 at 1 g the ensemble-mean PSA approximates the 1-g spectrum (how closely:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive, require_memory
 from ..core.compile import parallel_kernel, prange
@@ -34,12 +37,27 @@ from .psd import DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_sp
 from .response import response_spectrum
 from .targets import rg160
 
+if TYPE_CHECKING:
+    from typing import Protocol
+
+    from .psd import SupportsPsa
+
+    class IntensityFunction(Protocol):
+        """An intensity function I(t) [-] with a duration T [s] (the envelopes of
+        :mod:`rocking.motions.envelopes`)."""
+
+        @property
+        def duration(self) -> float: ...
+
+        def __call__(self, t: np.ndarray, /) -> np.ndarray: ...
+
+
 #: Members synthesised per call of the compiled kernel (bounds the memory of a chunk; the
 #: result does not depend on it).
 CHUNK = 256
 
 
-def member_phases(seed: int, members, n_freq: int) -> np.ndarray:
+def member_phases(seed: int, members: Iterable[int], n_freq: int) -> np.ndarray:
     """Phase angles φ_kj [rad], uniform on [0, 2π), one independent stream per member index k.
 
     Returns shape (len(members), n_freq); row k depends only on ``seed`` and the member index.
@@ -97,7 +115,9 @@ def _superpose(cos_amp, sin_amp, sin_wt, cos_wt, intensity, tile_samples, tile_m
     return out
 
 
-def synthesize(spectrum: PowerSpectrum, envelope, dt: float, phases) -> np.ndarray:
+def synthesize(
+    spectrum: PowerSpectrum, envelope: IntensityFunction, dt: float, phases: ArrayLike
+) -> np.ndarray:
     """Motions a(t) = I(t)·Σ_j A_j·sin(ω_j·t + φ_kj) (Eq. 9) [m/s²], one per row of ``phases``.
 
     Parameters
@@ -242,7 +262,13 @@ def _limit_kernel(
     return out_cos, out_sin
 
 
-def limit_peaks(spectrum: PowerSpectrum, envelope, dt: float, phases, limit: float) -> np.ndarray:
+def limit_peaks(
+    spectrum: PowerSpectrum,
+    envelope: IntensityFunction,
+    dt: float,
+    phases: ArrayLike,
+    limit: float,
+) -> np.ndarray:
     """Re-phase motions of Eq. (9) so that their peak acceleration stays near ``limit``.
 
     A motion a(t) = I(t)·Σ_j A_j·sin(ω_j t + φ_j) with independent uniform phases is nearly
@@ -380,7 +406,10 @@ class SpectralFit:
 
 
 def spectral_fit(
-    ensemble: Ensemble, target=None, band=FIT_BAND, per_decade: int | None = None
+    ensemble: Ensemble,
+    target: SupportsPsa | Callable[..., ArrayLike] | None = None,
+    band: tuple[float, float] = FIT_BAND,
+    per_decade: int | None = None,
 ) -> SpectralFit:
     """Mean PSA of ``ensemble`` against ``target`` over ``band`` [Hz].
 
@@ -436,7 +465,7 @@ def generate(
     dt: float = 1 / 400,
     envelope: str = "compound",
     envelope_params: dict | None = None,
-    target=rg160,
+    target: SupportsPsa | Callable[..., ArrayLike] = rg160,
     seed: int = 0,
     baseline: bool = True,
     damping: float | None = None,

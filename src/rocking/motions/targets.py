@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 import re
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive
 from ..defaults import G
@@ -53,7 +55,7 @@ class TargetSpectrum(ABC):
     damping: float
 
     @abstractmethod
-    def psa(self, freqs_hz) -> np.ndarray:
+    def psa(self, freqs_hz: ArrayLike) -> np.ndarray:
         """Pseudo-spectral acceleration [g] at frequencies ``freqs_hz`` [Hz] (same shape)."""
 
     @abstractmethod
@@ -65,12 +67,12 @@ class TargetSpectrum(ABC):
         expected."""
         return self.psa(freqs_hz)
 
-    def psv(self, freqs_hz) -> np.ndarray:
+    def psv(self, freqs_hz: ArrayLike) -> np.ndarray:
         """Pseudo-spectral velocity PSV = PSA·g/ω [m/s] at ``freqs_hz`` [Hz]."""
         f, shape = _freqs(freqs_hz)
         return (self.psa(f) * G / (2.0 * math.pi * f)).reshape(shape)
 
-    def sd(self, freqs_hz) -> np.ndarray:
+    def sd(self, freqs_hz: ArrayLike) -> np.ndarray:
         """Spectral displacement SD = PSA·g/ω² [m] at ``freqs_hz`` [Hz]."""
         f, shape = _freqs(freqs_hz)
         return (self.psa(f) * G / (2.0 * math.pi * f) ** 2).reshape(shape)
@@ -145,7 +147,7 @@ class RG160(TargetSpectrum):
         psa_d = sd_d * (2.0 * math.pi * f[0]) ** 2 / G  # [g]
         return f, np.array([psa_d, c * self.pga, b * self.pga, self.pga])
 
-    def psa(self, freqs_hz) -> np.ndarray:
+    def psa(self, freqs_hz: ArrayLike) -> np.ndarray:
         """PSA [g] at ``freqs_hz`` [Hz] (any shape, every value finite and > 0)."""
         f, shape = _freqs(freqs_hz)
         return _loglog(f, *self.control_points()).reshape(shape)
@@ -155,7 +157,7 @@ class RG160(TargetSpectrum):
         return RG160(self.damping, self.pga * positive("factor", factor, "-"))
 
 
-def rg160(freqs_hz, damping: float = 0.05, pga: float = 1.0) -> np.ndarray:
+def rg160(freqs_hz: ArrayLike, damping: float = 0.05, pga: float = 1.0) -> np.ndarray:
     """RG 1.60 horizontal spectrum: PSA [g] at ``freqs_hz`` [Hz] for ``damping`` [-] and ZPA
     ``pga`` [g]. See :class:`RG160`."""
     return RG160(damping, pga).psa(freqs_hz)
@@ -235,7 +237,9 @@ class TabulatedSpectrum(TargetSpectrum):
         )
 
     @classmethod
-    def from_csv(cls, path, damping: float = 0.05, select: str | None = None) -> TabulatedSpectrum:
+    def from_csv(
+        cls, path: str | os.PathLike[str], damping: float = 0.05, select: str | None = None
+    ) -> TabulatedSpectrum:
         """Read a spectrum from a CSV file with a header row; columns are found by their header.
 
         * Abscissa: the first column whose header names a frequency [Hz] ("freq", "Hz") or a
@@ -305,7 +309,7 @@ class TabulatedSpectrum(TargetSpectrum):
         name = spectra[key]
         return cls(f, a, damping=damping, name=path.stem if not name else f"{path.stem}:{name}")
 
-    def psa(self, freqs_hz) -> np.ndarray:
+    def psa(self, freqs_hz: ArrayLike) -> np.ndarray:
         """PSA [g] at ``freqs_hz`` [Hz] (any shape, every value finite and > 0)."""
         f, shape = _freqs(freqs_hz)
         return _loglog(f, self.freqs_hz, self.psa_g).reshape(shape)
@@ -481,7 +485,7 @@ class StoredTarget(TargetSpectrum):
     values: tuple
     damping: float
 
-    def psa(self, freqs_hz) -> np.ndarray:
+    def psa(self, freqs_hz: ArrayLike) -> np.ndarray:
         """PSA [g] at ``freqs_hz`` [Hz], which must be among the stored frequencies."""
         known = np.asarray(self.freqs_hz)
         f = np.asarray(freqs_hz, dtype=float)
