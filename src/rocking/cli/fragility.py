@@ -39,7 +39,7 @@ if TYPE_CHECKING:
     import xarray as xr
 
     from ..assessment.bodies import NamedBody
-    from ..montecarlo.backends import DaskBackend, LocalBackend
+    from ..montecarlo.backends import Backend
     from ..motions.ensemble import Ensemble
     from ..motions.targets import TargetSpectrum
     from ..structures.frames import ShearFrame
@@ -67,7 +67,7 @@ def _prepare(
     frame_name: str | None,
     e_text: str,
     scheduler: str | None,
-) -> tuple[list[NamedBody], Ensemble, float | str, LocalBackend | DaskBackend]:
+) -> tuple[list[NamedBody], Ensemble, float | str, Backend]:
     """Check every input, then load the motions (at the bodies' location).
 
     Returns the bodies, the ensemble, e and the backend (a Dask cluster is only contacted when

@@ -42,11 +42,13 @@ the Monte Carlo engine of :mod:`rocking.montecarlo.probability`.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Literal, NamedTuple, overload
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
 from ..core.compile import highest_bit, kernel, maxnum, parallel_kernel, prange
@@ -64,6 +66,9 @@ from .impacts import (
     _advance_events,
     resolve_impacts,
 )
+
+#: A per-block option: one value for all blocks (a number or a keyword) or one per block.
+PerBlock = float | str | Sequence[float | str] | np.ndarray
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -632,7 +637,14 @@ class BlockTable:
     g: float
 
     @classmethod
-    def from_blocks(cls, blocks, *, e=DEFAULT_E, overturn_angle=math.pi / 2, g=G) -> BlockTable:
+    def from_blocks(
+        cls,
+        blocks: Block | Iterable[Block],
+        *,
+        e: PerBlock = DEFAULT_E,
+        overturn_angle: PerBlock = math.pi / 2,
+        g: float = G,
+    ) -> BlockTable:
         """Constants of ``blocks`` (a sequence of :class:`~rocking.Block`).
 
         ``e`` and ``overturn_angle`` are one value for all blocks (number, ``"housner"`` /
@@ -665,7 +677,7 @@ class BlockTable:
         )
 
 
-def block_list(blocks) -> list[Block]:
+def block_list(blocks: Block | Iterable[Block]) -> list[Block]:
     """``blocks`` as a non-empty list of :class:`~rocking.Block` (one Block is a list of one)."""
     if isinstance(blocks, Block):
         blocks = [blocks]
@@ -694,6 +706,38 @@ def motion_peaks(acc: np.ndarray) -> np.ndarray:
     return np.abs(acc).max(axis=1)
 
 
+@overload
+def run_cases(
+    table: BlockTable,
+    acc: np.ndarray,
+    amax: np.ndarray,
+    dt: float,
+    body: np.ndarray,
+    motion: np.ndarray,
+    scale: np.ndarray,
+    av: np.ndarray | None = None,
+    impacts: str = IMPACT_SCHEMES[0],
+    *,
+    count_steps: Literal[False] = False,
+) -> tuple[np.ndarray, np.ndarray]: ...
+
+
+@overload
+def run_cases(
+    table: BlockTable,
+    acc: np.ndarray,
+    amax: np.ndarray,
+    dt: float,
+    body: np.ndarray,
+    motion: np.ndarray,
+    scale: np.ndarray,
+    av: np.ndarray | None = None,
+    impacts: str = IMPACT_SCHEMES[0],
+    *,
+    count_steps: Literal[True],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
+
 def run_cases(
     table: BlockTable,
     acc: np.ndarray,
@@ -706,7 +750,7 @@ def run_cases(
     impacts: str = IMPACT_SCHEMES[0],
     *,
     count_steps: bool = False,
-):
+) -> tuple[np.ndarray, ...]:
     """Kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
     ``amax`` is :func:`motion_peaks` of ``acc``.  ``av``: vertical ground accelerations [m/s², up
@@ -782,19 +826,19 @@ def _av2d(av, acc: np.ndarray) -> np.ndarray | None:
 
 
 def overturn_cases(
-    blocks,
-    acc,
+    blocks: Block | Iterable[Block],
+    acc: ArrayLike,
     dt: float,
-    body_index,
-    motion_index,
-    scales,
+    body_index: ArrayLike,
+    motion_index: ArrayLike,
+    scales: ArrayLike,
     *,
-    e=DEFAULT_E,
-    overturn_angle=math.pi / 2,
+    e: PerBlock = DEFAULT_E,
+    overturn_angle: PerBlock = math.pi / 2,
     g: float = G,
-    av=None,
+    av: ArrayLike | None = None,
     impacts: str = IMPACT_SCHEMES[0],
-):
+) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of an explicit list of cases (block, motion, scale), each from rest.
 
     Parameters
@@ -852,17 +896,17 @@ def _index(name: str, values, n: int) -> np.ndarray:
 
 
 def overturn_batch(
-    blocks,
-    acc,
+    blocks: Block | Iterable[Block],
+    acc: ArrayLike,
     dt: float,
-    scales,
+    scales: ArrayLike,
     *,
-    e=DEFAULT_E,
-    overturn_angle=math.pi / 2,
+    e: PerBlock = DEFAULT_E,
+    overturn_angle: PerBlock = math.pi / 2,
     g: float = G,
-    av=None,
+    av: ArrayLike | None = None,
     impacts: str = IMPACT_SCHEMES[0],
-):
+) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of every block under every motion at every scale factor, each from rest.
 
     The same answers as :func:`rocking.simulate` ``(block, scale * acc[m], dt, ...)`` case by case

@@ -74,7 +74,7 @@ _ROCKING = 1
 _OVERTURNED = 2
 
 
-def resolve_impacts(impacts) -> bool:
+def resolve_impacts(impacts: str) -> bool:
     """Whether an impact scheme named by the user (:data:`rocking.defaults.IMPACT_SCHEMES`:
     "located", the default, or "step-end") locates the impacts inside the step."""
     name = impacts.strip().lower() if isinstance(impacts, str) else impacts

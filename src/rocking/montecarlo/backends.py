@@ -95,11 +95,13 @@ class LocalBackend(Backend):
         """Tasks that run at the same time (one; each uses all the Numba threads)."""
         return 1
 
-    def scatter(self, data):
+    def scatter(self, data: Any) -> Any:
         """Nothing to send: the handle is ``data`` itself."""
         return data
 
-    def map(self, func, handle, tasks):
+    def map(
+        self, func: Callable[[Any, Any], Any], handle: Any, tasks: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:
         """Yield ``(i, func(handle, tasks[i]))`` in task order."""
         for i, task in enumerate(tasks):
             yield i, _call(func, self.n_threads, handle, task)
@@ -153,7 +155,7 @@ class DaskBackend(Backend):
         self._finalizer: weakref.finalize | None = None
 
     @property
-    def client(self):
+    def client(self) -> Any:
         """The ``distributed.Client`` (connecting or starting the cluster on first use)."""
         if self._client is None:
             self._client, cluster = self._connect()
@@ -182,12 +184,14 @@ class DaskBackend(Backend):
         """Tasks that run at the same time: the cluster's task threads (connects)."""
         return max(1, sum(self.client.nthreads().values()))
 
-    def scatter(self, data):
+    def scatter(self, data: Any) -> Any:
         """Send ``data`` to every worker once; the handle is its future."""
         [future] = self.client.scatter([data], broadcast=True)
         return future
 
-    def map(self, func, handle, tasks):
+    def map(
+        self, func: Callable[[Any, Any], Any], handle: Any, tasks: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:
         """Submit one Dask task per entry of ``tasks``; yield ``(i, result)`` as they finish.
 
         Raises :class:`~rocking.errors.BackendError` when the cluster can no longer compute the
@@ -232,7 +236,7 @@ class DaskBackend(Backend):
         return f"DaskBackend({where})"
 
 
-def get_backend(scheduler: str | None = None):
+def get_backend(scheduler: str | None = None) -> Backend:
     """Backend named by ``scheduler``.
 
     ``None`` or ``"local"``: :class:`LocalBackend`; ``"dask-local"``: :class:`DaskBackend` with

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
 from ..errors import InputError
@@ -30,7 +31,7 @@ def _cumulative_trapezoid(y: np.ndarray, dx: float) -> np.ndarray:
     return out
 
 
-def baseline_correct(acc, dt: float, order: int = 2) -> np.ndarray:
+def baseline_correct(acc: ArrayLike, dt: float, order: int = 2) -> np.ndarray:
     """Subtract the polynomial baseline that minimises the mean-square velocity (paper Section 4).
 
     The corrected acceleration is a*(t) = a(t) − Σ_{k=0..order} (k+1)(k+2)·c_k·τ^k, τ = t/T,

@@ -183,7 +183,7 @@ def _default_params(name: str, T: float) -> dict:
     return {}
 
 
-def make_envelope(name: str, duration: float, **params) -> Envelope:
+def make_envelope(name: str, duration: float, **params: float) -> Envelope:
     """Intensity function by name, with parameters scaled to ``duration`` unless given.
 
     Parameters

@@ -74,7 +74,7 @@ from ..structures.frames import ShearFrame
 
 if TYPE_CHECKING:
     from ..core.progress import Reporter
-    from ..montecarlo.backends import DaskBackend, LocalBackend
+    from ..montecarlo.backends import Backend
     from ..motions.ensemble import Ensemble
 
 
@@ -460,7 +460,7 @@ class RunContext:
         Preset name the configuration started from.
     modified : bool
         True if a config file or ``--set`` changed the preset.
-    backend : LocalBackend, DaskBackend or None
+    backend : Backend or None
         Backend of :mod:`rocking.montecarlo.probability` (None: local).
     progress : bool, None or rocking.core.progress.Reporter
         Progress of the Monte Carlo runs (:func:`rocking.core.progress.resolve`; None: bars
@@ -472,7 +472,7 @@ class RunContext:
     cfg: dict
     fidelity: str = "quick"
     modified: bool = False
-    backend: LocalBackend | DaskBackend | None = None
+    backend: Backend | None = None
     progress: bool | Reporter | None = False
     chunks: Path | None = None
 
