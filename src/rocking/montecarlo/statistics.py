@@ -133,10 +133,11 @@ def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFi
 
 
 def _one_blas_thread():
-    """Context of one BLAS thread: L-BFGS-B's small products took 1 ms each with OpenBLAS's
-    threads on a busy 2-core machine, 0.1 ms without (as for the 4×4 products of
-    rocking.motions.response.foh_coefficients). Entered once per public call (it costs 3 ms),
-    after SciPy's BLAS is loaded (the limit holds for the libraries loaded when it is set)."""
+    """Context of one BLAS thread: L-BFGS-B multiplies tiny matrices, where OpenBLAS's threads
+    only add their synchronisation (on a busy machine, ten times the product itself; as for the
+    4×4 products of rocking.motions.response.foh_coefficients). Entered once per public call
+    (setting the limit is not free), after SciPy's BLAS is loaded (the limit holds for the
+    libraries loaded when it is set)."""
     import scipy.optimize  # noqa: F401  (on first use, see _wilson; loads SciPy's BLAS)
 
     return threadpool_limits(limits=1, user_api="blas")
