@@ -7,10 +7,12 @@ Run from the repository root:
 The suite runs once per instruction set (``--isa``, default both), each in a child process:
 ``native`` compiles for the CPU of the machine (AVX-512 where it has it), ``avx2`` restricts Numba
 to a Haswell CPU (``NUMBA_CPU_NAME=haswell NUMBA_CPU_FEATURES=-avx512f``: AVX2 and FMA, no AVX-512;
-checked by the registers of compiled code) with its own cache of compiled code. It prints a
-table per instruction set and writes JSON with the machine (CPU model, SIMD flags, cores,
-Python/NumPy/Numba versions, date), the targets, and per instruction set (``isas``) what Numba
-compiled for, the load averages and, measured in the same run:
+checked by the registers of compiled code) with its own cache of compiled code; on a machine
+without AVX-512 the native run is the AVX2 run, and runs once. It prints a table per run and
+writes JSON with the targets and, per instruction set the compiled code used (``runs``:
+``avx512``, ``avx2``), the machine it ran on (CPU model, SIMD flags, cores, Python/NumPy/Numba
+versions, date, commit), what Numba compiled for, the load averages and, measured in the same
+run:
 
 * ``kernel``: aggregate throughput of the batched kernel (:func:`rocking.dynamics.batch.run_cases`,
   all Numba threads) in ns per RK4 step, on bodies that keep rocking through 20 s motions (dt =
@@ -34,8 +36,11 @@ compiled for, the load averages and, measured in the same run:
   ``paper-2.0``, and ``rocking reproduce all`` at ``--fidelity quick`` (and ``paper`` with
   ``--with-paper``), each with its wall time and, for the commands, peak resident memory.
 
-With more than one instruction set, ``bit_identical_across_isas`` compares the SHA-256 of the
-kernel's flags and peaks and of Table 2's agx50.csv between them.  Timings are best and median of
+A run on another instruction set than this machine's is kept from the file (a machine without
+AVX-512 cannot measure it), with its own machine and commit. ``bit_identical`` compares the
+SHA-256 of the kernel's flags and peaks (between runs of the same workload) and of Table 2's
+agx50.csv across all the runs kept, whatever their machine and commit: results must depend on
+neither.  Timings are best and median of
 repeats (the machine may be shared: see the load averages); compiled code comes from Numba's
 cache, warmed up before any timing.
 """
@@ -578,14 +583,17 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
             if "again" in e[key]:
                 note += f"; first run {e[key]['first']['wall_s']:.1f} s"
             rows.append((f"reproduce all --fidelity {fid} [s]", f"{r['wall_s']:.1f}", note))
-    if "steps_quick" in e:
-        now, full = e["steps_quick"]["now"], e["steps_quick"]["exhaustive_agx50"]
+    for fid in ("quick", "paper"):
+        if f"steps_{fid}" not in e:
+            continue
+        now, full = e[f"steps_{fid}"]["now"], e[f"steps_{fid}"]["exhaustive_agx50"]
         rows.append(
             (
-                "Monte Carlo of the quick studies [M steps]",
+                f"Monte Carlo of the {fid} studies [M steps]",
                 f"{now['steps'] / 1e6:.1f}",
-                f"{now['simulations']:,} simulations; every A_gx50 level in full: "
-                f"{full['steps'] / 1e6:.1f} M steps, {full['simulations']:,} simulations",
+                f"{now['simulations']:,} simulations in {now['wall_s']:.0f} s; every A_gx50 "
+                f"level in full: {full['steps'] / 1e6:.1f} M steps, {full['simulations']:,} "
+                f"simulations in {full['wall_s']:.0f} s",
             )
         )
     return rows
@@ -609,7 +617,8 @@ def parse_args(argv):
     ap.add_argument(
         "--no-steps",
         action="store_true",
-        help="skip counting the integrated steps of the quick studies (two in-process runs)",
+        help="skip counting the integrated steps of the studies (two in-process runs per "
+        "fidelity: quick, and paper with --with-paper)",
     )
     ap.add_argument(
         "--isa",
@@ -700,6 +709,12 @@ def run_isa(a) -> dict:
             if a.with_paper:
                 print("rocking reproduce all --fidelity paper ...", flush=True)
                 e["reproduce_paper"] = bench_reproduce(tmp, "paper", 1)
+                if not a.no_steps:
+                    print("steps of the paper's studies, now and exhaustive ...", flush=True)
+                    e["steps_paper"] = {
+                        "now": count_steps(tmp, "paper", exhaustive=False),
+                        "exhaustive_agx50": count_steps(tmp, "paper", exhaustive=True),
+                    }
         res["load_at_end"] = load()
     return res
 
@@ -717,6 +732,45 @@ def child_env(isa: str) -> dict:
     return env
 
 
+def isa_of(run: dict) -> str:
+    """The instruction set a run's compiled code used: ``avx512`` (zmm registers) or ``avx2``."""
+    return "avx512" if "zmm" in run["numba_cpu"]["vector_registers"] else "avx2"
+
+
+def previous_runs(path: Path) -> dict:
+    """The runs already in ``path`` by instruction set, each with its machine (the format of
+    this script, or the older one with a single ``machine`` and runs under ``isas``)."""
+    try:
+        old = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return {}
+    if "runs" in old:
+        return old["runs"]
+    return {isa_of(r): {"machine": old["machine"], **r} for r in old.get("isas", {}).values()}
+
+
+def comparable_digests(runs: dict) -> dict:
+    """Whether the results are bit-identical across the runs (whatever their machine and
+    commit: results must not depend on either): the kernel's flags and peaks among runs of the
+    same workload, Table 2's agx50.csv among all."""
+    kernel: dict = {}
+    for r in runs.values():
+        kernel.setdefault(json.dumps(r["settings"], sort_keys=True), set()).add(
+            r["kernel"]["results_sha256"]
+        )
+    table2 = {
+        r["end_to_end"]["table2"]["agx50_csv_sha256"]
+        for r in runs.values()
+        if "table2" in r.get("end_to_end", {})
+    }
+    out = {"runs": {isa: r["machine"]["rocking_commit"] for isa, r in runs.items()}}
+    if any(len(v) > 0 for v in kernel.values()) and len(runs) > 1:
+        out["kernel"] = all(len(v) == 1 for v in kernel.values())
+    if len(table2) and len(runs) > 1:
+        out["table2_agx50"] = len(table2) == 1
+    return out
+
+
 def main(argv=None) -> int:
     a = parse_args(argv)
     isas = [x.strip() for x in a.isa.split(",") if x.strip()]
@@ -728,10 +782,12 @@ def main(argv=None) -> int:
         # a child: run here, write JSON for the parent
         out.write_text(json.dumps(run_isa(a), indent=2, default=float) + "\n")
         return 0
-    res: dict = {"machine": machine_info(), "targets": TARGETS, "isas": {}}
+    machine = machine_info()
+    if "avx512f" not in machine["simd"] and "native" in isas and "avx2" in isas:
+        isas.remove("avx2")  # the native run is the AVX2 run on this machine
     print(
-        f"rocking benchmarks on {res['machine']['cpu_model']} "
-        f"({res['machine']['logical_cpus']} CPUs, {', '.join(res['machine']['simd'])})",
+        f"rocking benchmarks on {machine['cpu_model']} "
+        f"({machine['logical_cpus']} CPUs, {', '.join(machine['simd'])})",
         flush=True,
     )
     flags = [
@@ -739,28 +795,18 @@ def main(argv=None) -> int:
         for f in ("--quick", "--with-paper", "--no-end-to-end", "--no-steps")
         if getattr(a, f[2:].replace("-", "_"))
     ]
+    runs = previous_runs(out)
     with tempfile.TemporaryDirectory(prefix="rocking-bench-isa-") as tmp:
         for isa in isas:
             print(f"\n== {isa} {ISAS[isa] or '(the CPU this machine has)'}", flush=True)
             part = Path(tmp) / f"{isa}.json"
             cmd = [sys.executable, __file__, *flags, "--isa", isa, "--out", str(part)]
             subprocess.run(cmd, env=child_env(isa), check=True)
-            res["isas"][isa] = json.loads(part.read_text())
-            print_rows(summary_rows(res["isas"][isa]))
-    if len(isas) > 1:
-        digests = {
-            key: [pick(r) for r in res["isas"].values()]
-            for key, pick in {
-                "kernel": lambda r: r["kernel"]["results_sha256"],
-                "table2_agx50": lambda r: (
-                    r.get("end_to_end", {}).get("table2", {}).get("agx50_csv_sha256")
-                ),
-            }.items()
-        }
-        res["bit_identical_across_isas"] = {
-            key: len(set(values)) == 1 for key, values in digests.items() if None not in values
-        }
-        print(f"\nbit-identical across {', '.join(isas)}: {res['bit_identical_across_isas']}")
+            run = json.loads(part.read_text())
+            runs[isa_of(run)] = {"machine": machine, "requested_isa": isa, **run}
+            print_rows(summary_rows(run))
+    res = {"targets": TARGETS, "runs": runs, "bit_identical": comparable_digests(runs)}
+    print(f"\nbit-identical across the runs kept in {out.name}: {res['bit_identical']}")
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(res, indent=2, default=float) + "\n")
     print(f"\nwritten {out}")
