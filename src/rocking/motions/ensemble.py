@@ -10,6 +10,7 @@ Section 3). A member may have a vertical component ``av`` [m/s², up positive], 
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import os
@@ -19,7 +20,6 @@ from pathlib import Path
 from typing import Any, Final
 
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
@@ -223,49 +223,70 @@ class Ensemble:
         return Ensemble(self.acc * factor, self.dt, self.labels, meta, av)
 
     def save(self, path: str | os.PathLike[str]) -> Path:
-        """Write the ensemble as netCDF (xarray, engine :data:`NETCDF_ENGINE`) atomically (no
-        half-written file ever has the name); return the path.
+        """Write the ensemble as a netCDF-3 file atomically (no half-written file ever has the
+        name); return the path.
 
         Variable ``acc`` [m/s²] on dimensions (member, time), and ``av`` [m/s², up positive]
-        when the ensemble has vertical components; coordinates ``member`` (labels) and ``time``
-        [s]. The metadata go to attribute ``meta_json`` as JSON (exact, read back
-        by :meth:`load`) and, for other readers of the file, to plain attributes: scalars,
-        numeric lists and dictionary entries as ``<key>_<entry>`` (booleans as 0/1).
+        when the ensemble has vertical components; coordinates ``member`` (labels, UTF-8
+        characters) and ``time`` [s]. The metadata go to attribute ``meta_json`` as JSON (exact,
+        read back by :meth:`load`) and, for other readers of the file, to plain attributes:
+        scalars, numeric lists and dictionary entries as ``<key>_<entry>`` (booleans as 0/1).
+        The layout is the one xarray gives such a Dataset (``xarray.open_dataset`` reads it);
+        it is written with :class:`scipy.io.netcdf_file` directly, which spares every command
+        that writes or reads motions the import of xarray and of the Dask modules xarray looks
+        for.
         """
-        path = Path(path)
-        attrs = {**_flat_attrs(self.meta), "dt": self.dt, "meta_json": json.dumps(self.meta)}
-        variables = {
-            "acc": (
-                ("member", "time"),
-                self.acc,
-                {"units": "m s-2", "long_name": "ground acceleration"},
-            )
-        }
-        if self.av is not None:
-            variables["av"] = (
-                ("member", "time"),
-                self.av,
-                {"units": "m s-2", "long_name": "vertical ground acceleration, up positive"},
-            )
-        ds = xr.Dataset(
-            variables,
-            coords={"member": list(self.labels), "time": ("time", self.t, {"units": "s"})},
-            attrs=attrs,
+        atomic_write(path, self._netcdf_bytes())
+        return Path(path)
+
+    def _netcdf_bytes(self) -> bytes:
+        from scipy.io import netcdf_file
+
+        labels = [str(x).encode("utf-8") for x in self.labels]
+        width = max(1, *(len(x) for x in labels))
+        buf = io.BytesIO()
+        nc = netcdf_file(buf, "w", version=2)
+        nc.createDimension("member", len(labels))
+        nc.createDimension("time", self.n_t)
+        nc.createDimension(f"string{width}", width)
+        _netcdf_variable(nc, "time", ("time",), self.t, {"units": "s"})
+        _netcdf_variable(
+            nc, "acc", ("member", "time"), self.acc, {"units": "m s-2", "long_name": _ACC_NAME}
         )
-        atomic_write(path, bytes(ds.to_netcdf(engine=NETCDF_ENGINE)))
-        return path
+        if self.av is not None:
+            _netcdf_variable(
+                nc, "av", ("member", "time"), self.av, {"units": "m s-2", "long_name": _AV_NAME}
+            )
+        member = nc.createVariable("member", "c", ("member", f"string{width}"))
+        chars = b"".join(x.ljust(width, b"\0") for x in labels)
+        member[:] = np.frombuffer(chars, dtype="S1").reshape(len(labels), width)
+        member._Encoding = "utf-8"
+        attrs = {**_flat_attrs(self.meta), "dt": self.dt, "meta_json": json.dumps(self.meta)}
+        for key, value in attrs.items():
+            setattr(nc, key, _netcdf_attr(value))
+        nc.flush()
+        data = buf.getvalue()
+        nc.close()
+        return data
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> Ensemble:
         """Read an ensemble written by :meth:`save`."""
+        from scipy.io import netcdf_file
+
         path = Path(path)
         try:
-            with xr.open_dataset(path, engine=NETCDF_ENGINE) as ds:
-                acc = ds["acc"].values
-                av = ds["av"].values if "av" in ds else None
-                labels = [str(s) for s in ds["member"].values]
-                dt = float(ds.attrs["dt"])
-                meta = json.loads(ds.attrs["meta_json"])
+            with netcdf_file(path, "r", mmap=False) as nc:
+                acc = np.array(nc.variables["acc"][:], dtype=np.float64)
+                av = (
+                    np.array(nc.variables["av"][:], dtype=np.float64)
+                    if "av" in nc.variables
+                    else None
+                )
+                chars = np.asarray(nc.variables["member"][:]).reshape(acc.shape[0], -1)
+                labels = [b"".join(row).rstrip(b"\0").decode("utf-8") for row in chars]
+                dt = float(nc._attributes["dt"])
+                meta = json.loads(_text(nc._attributes["meta_json"]))
         except KeyError as exc:
             raise InputError(f"{path}: not an ensemble file (missing {exc})") from None
         except (OSError, ValueError, TypeError) as exc:  # TypeError: SciPy's "not netCDF"
@@ -583,6 +604,37 @@ def _read_only(name: str, values) -> np.ndarray:
     a = np.array(a, ndmin=2, copy=a is values)
     a.setflags(write=False)
     return a
+
+
+_ACC_NAME = "ground acceleration"
+_AV_NAME = "vertical ground acceleration, up positive"
+
+
+def _netcdf_variable(nc: Any, name: str, dims: tuple[str, ...], values: np.ndarray, attrs: dict):
+    """A float64 variable of ``nc`` with ``attrs`` and a NaN fill value (as xarray writes it)."""
+    var = nc.createVariable(name, "d", dims)
+    var[:] = values
+    var._FillValue = np.float64(np.nan)
+    for key, value in attrs.items():
+        setattr(var, key, value)
+
+
+def _netcdf_attr(value: Any) -> Any:
+    """An attribute as netCDF-3 stores it: int32 for integers (no 64-bit integers), float64 for
+    floats, arrays for numeric lists, text as it is."""
+    if isinstance(value, list):
+        arr = np.asarray(value)
+        return arr.astype(np.int32) if arr.dtype.kind in "iu" else arr.astype(np.float64)
+    if isinstance(value, int):
+        return np.int32(value)
+    if isinstance(value, float):
+        return np.float64(value)
+    return value
+
+
+def _text(value: Any) -> str:
+    """A text attribute as read by scipy.io.netcdf_file (bytes) as str."""
+    return value.decode("utf-8") if isinstance(value, bytes) else str(value)
 
 
 def _flat_attrs(meta: dict) -> dict:
