@@ -3,6 +3,7 @@ ensembles and the ``rocking motions`` command."""
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -336,6 +337,43 @@ def test_generation_parameters_are_stored(tmp_path):
     assert attrs["duration"] == 12.0 and attrs["envelope_shape_rise"] == pytest.approx(1.2)
     assert attrs["kind"] == "simulated" and attrs["location"] == "ground"
     assert attrs["baseline"] == 1 and attrs["n_freq"] == 100
+
+
+def test_ensemble_files_have_the_layout_xarray_gives_the_dataset(tmp_path):
+    # Ensemble.save writes with scipy.io.netcdf_file (no xarray import); its file must be the
+    # one xarray writes for the same Dataset, both ways: xarray reads it as that Dataset
+    # (identical: values, dimensions, coordinates, attributes), and a file xarray wrote (as
+    # the package did before) loads as the same ensemble. Labels with non-ASCII characters and
+    # a vertical component included.
+    import xarray as xr
+
+    ens = generate(2, duration=4.0, seed=3)
+    ens = Ensemble(ens.acc, ens.dt, ["Ridgecrest – CCC 000", "sim-1"], ens.meta, ens.acc / 3)
+    attrs = {
+        **ensemble_module._flat_attrs(ens.meta),
+        "dt": ens.dt,
+        "meta_json": json.dumps(ens.meta),
+    }
+    units = {"units": "m s-2"}
+    expected = xr.Dataset(
+        {
+            "acc": (("member", "time"), ens.acc, {**units, "long_name": "ground acceleration"}),
+            "av": (
+                ("member", "time"),
+                ens.av,
+                {**units, "long_name": "vertical ground acceleration, up positive"},
+            ),
+        },
+        coords={"member": list(ens.labels), "time": ("time", ens.t, {"units": "s"})},
+        attrs=attrs,
+    )
+    with xr.open_dataset(ens.save(tmp_path / "new.nc"), engine="scipy") as ds:
+        assert ds.identical(expected)
+    (tmp_path / "old.nc").write_bytes(bytes(expected.to_netcdf(engine="scipy")))
+    back = Ensemble.load(tmp_path / "old.nc")
+    assert back.labels == ens.labels and back.meta == ens.meta and back.dt == ens.dt
+    np.testing.assert_array_equal(back.acc, ens.acc)
+    np.testing.assert_array_equal(back.av, ens.av)
 
 
 def test_floor_ensembles_keep_their_location_and_cannot_regenerate():
