@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -44,14 +44,15 @@ from ..core.checks import finite_array, in_range, positive
 from ..dynamics.body import G
 from ..errors import InputError
 
-if TYPE_CHECKING:
-    from typing import Protocol
 
-    class SupportsPsa(Protocol):
-        """A target spectrum: anything with a ``psa(freqs_hz)`` method giving the PSA [g]
-        (a :class:`rocking.motions.targets.TargetSpectrum`)."""
+@runtime_checkable
+class SupportsPsa(Protocol):
+    """A target spectrum: anything with a ``psa(freqs_hz)`` method giving the PSA [g] (a
+    :class:`rocking.motions.targets.TargetSpectrum`, or a user's own class)."""
 
-        def psa(self, freqs_hz: np.ndarray, /) -> ArrayLike: ...
+    def psa(self, freqs_hz: np.ndarray, /) -> ArrayLike:
+        """PSA [g] at the frequencies ``freqs_hz`` [Hz]."""
+        ...
 
 
 #: Euler's constant as used by Davenport (1964) in his peak factor.
@@ -208,7 +209,7 @@ def target_psa(
             f"{own!r}; the fit needs the target's damping"
         )
     freqs = np.asarray(freqs_hz, dtype=float)
-    if hasattr(target, "psa"):
+    if isinstance(target, SupportsPsa):
         values = target.psa(freqs)
     elif callable(target):
         values = target(freqs, damping=h)
