@@ -5,20 +5,23 @@ physics of :func:`rocking.dynamics.simulate` — the same compiled one-interval 
 :mod:`rocking.dynamics` — and keeps only what a Monte Carlo study needs: whether the block
 overturned and its largest abs(θ)/α.
 
-How it is fast (issue 6).  A *lane machine* integrates ``_LANES`` cases side by side, one sample
-interval per round.  Each round first computes the RK4 step of every lane in one loop that the
-compiler turns into SIMD code (:func:`rocking.dynamics.equation._plain_step`: branch-free,
-polynomial
-trigonometry); the lanes whose interval holds nothing else (no impact, no possible touch of θ = 0,
-no overturning; about 98.5 % of rocking intervals) keep that step, and the loop returns the
-others as bit masks.  Those — and lanes at rest — are handled one by one by
+How it is fast (issues 6 and 18).  A *lane machine* integrates ``_LANES`` cases side by side, one
+sample interval per round.  Each round first computes the RK4 step of every lane in one loop that
+the compiler turns into SIMD code (:func:`rocking.dynamics.equation._plain_step`: branch-free,
+polynomial trigonometry); the lanes whose interval holds nothing else (no impact, no possible
+touch of θ = 0, no overturning; about 98.5 % of rocking intervals) keep that step, and the loop
+returns the others as bit masks.  Every quantity the loop changes is stored for every lane (the
+state the step started from in rows of its own, which the event handling reads): a store only
+where the step is plain would compile to a masked store, which AMD processors before Zen 4
+execute in microcode.  The other lanes — and lanes at rest — are handled one by one by
 :func:`rocking.dynamics.impacts._advance_events`, exactly as :func:`~rocking.dynamics.simulate`
-handles
-them, except that after an impact from which the block swings clear of θ = 0 the rest of the
-interval goes back to the SIMD loop.  Cases of the same
-motion sit side by side (they read the same samples).  A lane whose case ends takes the next case
-of its group; when none is left, the last lane moves into its place, so the SIMD loop only runs
-over live lanes.  Work that cannot change the answer is skipped:
+handles them, except that after an impact from which the block swings clear of θ = 0 the rest of
+the interval goes back to the SIMD loop.  Cases of the same motion sit side by side (they read
+the same samples).  A lane whose case ends takes the next case of its group; when none is left,
+the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
+inputs and its lanes' state are records (:class:`Motions`, :class:`Vertical`, :class:`Blocks`,
+:class:`Cases`, :class:`Outcome`, :class:`Lanes`).  Work that cannot change the answer is
+skipped:
 
 * a case whose scaled motion never lifts the block (abs(scale·a_g)·cos α ≤ g·sin α at every sample;
   the ground acceleration is linear between samples, so the samples bound it; with a vertical
