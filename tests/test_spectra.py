@@ -18,7 +18,12 @@ from rocking.dynamics.body import G
 from rocking.errors import InputError
 from rocking.motions.ensemble import Ensemble
 from rocking.motions.records import example_record_path
-from rocking.motions.response import response_spectrum
+from rocking.motions.response import (
+    _free_vibration_extremum,
+    _hermite_extremum,
+    foh_coefficients,
+    response_spectrum,
+)
 from rocking.motions.targets import RG160, TabulatedSpectrum, rg160
 from rocking.plots.spectra import plot_mean_vs_target, plot_spectra
 
@@ -337,6 +342,56 @@ def test_shapes_linearity_and_thread_independence(random_motion):
     finally:
         numba.set_num_threads(threads)
     np.testing.assert_array_equal(serial.sd, sp.sd)
+
+
+def _lone_oscillator_peak(a, dt, f, zeta, steps_per_period):
+    """max |u| of one oscillator by the plain scalar recurrence, one sub-step after the other (the
+    method of response_spectrum, reference.md §7), in Python floats: IEEE double arithmetic
+    in the same order, without fused multiply-adds, as each SIMD lane of the kernel computes."""
+    nsub = max(1, math.ceil(steps_per_period * dt * f - 1e-9))
+    h = dt / nsub
+    omega = 2 * math.pi * f
+    c = foh_coefficients(np.array([omega]), zeta, np.array([h]))[0].tolist()
+    u = v = peak = 0.0
+    for a0, a1 in zip(a[:-1].tolist(), a[1:].tolist()):
+        da = (a1 - a0) / nsub
+        for k in range(nsub):
+            g0, g1 = a0 + k * da, a0 + (k + 1) * da
+            u1 = c[0] * u + c[1] * v + c[2] * g0 + c[3] * g1
+            v1 = c[4] * u + c[5] * v + c[6] * g0 + c[7] * g1
+            if v * v1 < 0.0:
+                peak = max(peak, abs(_hermite_extremum.py_func(u, v, u1, v1, h)))
+            peak = max(peak, abs(u1))
+            u, v = u1, v1
+    return max(peak, abs(_free_vibration_extremum.py_func(u, v, omega, zeta)))
+
+
+@pytest.mark.parametrize("zeta,steps_per_period", [(0.05, 10), (0.0, 1), (0.3, 20)])
+def test_simd_lanes_compute_what_a_lone_oscillator_does(zeta, steps_per_period):
+    # The kernel integrates 16 oscillators side by side (16 motions at one frequency, or one
+    # motion at 16 frequencies of one sub-step count) and evaluates the Hermite peak only where
+    # it can raise the peak. Each lane does the same operations in the same order as a lone
+    # oscillator (no fastmath: no reassociation, no fused multiply-add), so every result is the
+    # same to the bit, whatever the grouping: 37 motions (3 blocks, the last padded), one motion
+    # at a time, the motions in another order, and a plain scalar evaluation.
+    rng = np.random.default_rng(11)
+    dt = 0.01
+    acc = rng.standard_normal((37, 300)) * np.geomspace(0.01, 10.0, 37)[:, None]
+    acc[:, :40] = 0.0  # a quiet start: v = 0 exactly, no sign change
+    freqs = np.array([0.05, 0.7, 3.0, 9.5, 31.0, 48.0])  # 1 to 5 sub-steps at 10 per period
+    batch = response_spectrum(acc, dt, freqs, zeta, steps_per_period=steps_per_period)
+    for i in (0, 5, 36):
+        one = response_spectrum(acc[i], dt, freqs, zeta, steps_per_period=steps_per_period)
+        np.testing.assert_array_equal(one.sd, batch.sd[i])
+        for j in (0, 3, 5):
+            lone = _lone_oscillator_peak(acc[i], dt, freqs[j], zeta, steps_per_period)
+            assert batch.sd[i, j] == lone
+    perm = rng.permutation(37)
+    shuffled = response_spectrum(
+        acc[perm], dt, freqs[::-1], zeta, steps_per_period=steps_per_period
+    )
+    np.testing.assert_array_equal(shuffled.sd, batch.sd[perm][:, ::-1])
+    np.testing.assert_array_equal(shuffled.psa, batch.psa[perm][:, ::-1])
 
 
 @pytest.mark.parametrize(
