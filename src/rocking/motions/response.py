@@ -75,9 +75,9 @@ def foh_coefficients(omega: np.ndarray, zeta: float, h: np.ndarray) -> np.ndarra
     m[:, 1, 1] = -2.0 * zeta * omega * h
     m[:, 1, 2] = -h
     m[:, 2, 3] = 1.0
-    # One BLAS thread: expm multiplies 4×4 matrices, where OpenBLAS's threads only get in the way
-    # (on a busy 2-core machine they made this call take 0.3 s instead of 1 ms for 40
-    # frequencies, a known OpenBLAS behaviour with small matrices).
+    # One BLAS thread: expm multiplies 4×4 matrices, where OpenBLAS's threads only add their
+    # synchronisation, many times the products' own cost on a busy machine (a known OpenBLAS
+    # behaviour with small matrices).
     with threadpool_limits(limits=1, user_api="blas"):
         e = scipy.linalg.expm(m)
     c = np.empty((n, 8))
