@@ -1,6 +1,7 @@
 """Reports: Markdown + self-contained HTML, atomic writing, provenance (rocking.report)."""
 
 import base64
+import io
 import json
 import os
 import stat
@@ -9,8 +10,10 @@ import numpy as np
 import pandas as pd
 import pytest
 from matplotlib.figure import Figure
+from PIL import Image
 
 import rocking
+from rocking.core.files import figure_png
 from rocking.core.runs import provenance
 from rocking.dynamics.body import FOOT, Block
 from rocking.errors import InputError
@@ -53,6 +56,25 @@ def test_report_writes_markdown_html_png_and_csv(tmp_path):
     csv = pd.read_csv(tmp_path / "tables" / "table-1.csv")
     assert list(csv.columns) == ["R [m]", "ours", "paper"]
     assert csv["paper"].tolist() == [2.0, 3.0]
+
+
+def test_figure_png_draws_what_savefig_draws():
+    # One draw instead of savefig's two (a layout engine's figure), the same pixels; RGB when
+    # opaque, RGBA otherwise; the resolution recorded, the figure's canvas and dpi kept.
+    fig = Figure(figsize=(4, 3), layout="constrained")
+    ax = fig.add_subplot()
+    ax.loglog([0.1, 1.0, 10.0], [1.0, 30.0, 2.0], label="curve")
+    ax.set_title("title")
+    ax.legend()
+    saved = io.BytesIO()
+    fig.savefig(saved, format="png", dpi=110)
+    canvas, dpi = fig.canvas, fig.dpi
+    png = Image.open(io.BytesIO(figure_png(fig, 110)))
+    assert png.mode == "RGB" and png.info["dpi"] == pytest.approx((110, 110), abs=0.01)
+    assert np.array_equal(np.asarray(png), np.asarray(Image.open(saved).convert("RGB")))
+    assert fig.canvas is canvas and fig.dpi == dpi
+    fig.patch.set_alpha(0.0)
+    assert Image.open(io.BytesIO(figure_png(fig, 110))).mode == "RGBA"
 
 
 def test_text_columns_are_left_aligned_and_numbers_right_aligned(tmp_path):

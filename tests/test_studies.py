@@ -3,6 +3,7 @@ of ``rocking reproduce all --fidelity quick``."""
 
 import json
 import re
+from itertools import pairwise
 
 import numpy as np
 import pandas as pd
@@ -15,6 +16,7 @@ from rocking.cli import main
 from rocking.dynamics.body import Block, housner_sv
 from rocking.errors import InputError
 from rocking.montecarlo.statistics import wilson_interval
+from rocking.plots.studies import plot_responses
 from rocking.studies import conclusions as C
 from rocking.studies import reproduce, sec4_baseline
 from rocking.studies.config import PRESETS, load_config, to_toml
@@ -258,6 +260,27 @@ def test_reversals_of_a_sweep():
         attrs={"direction": +1},
     )
     assert reversals(sweep) == {"outcome": 1, "peak": 2, "n": 3}
+
+
+@pytest.mark.parametrize("title", ["", "R = 1.00 m, motion No. 3"])
+def test_response_panels_fit_their_fixed_margins(title):
+    # plot_responses has fixed margins, no layout engine: its widest tick labels ("−12.5",
+    # "−1000") stay inside the figure and no panel's title reaches the panel above.
+    t = np.linspace(0.0, 19.05, 400)
+    wave = np.sin(t)
+    fig = plot_responses(
+        t,
+        [wave, -12.3 * wave, -999.0 * wave],
+        ["γ = 4", "γ = 5", "γ = 50"],
+        overturned=[np.nan, 12.0, 3.0],
+        title=title,
+    )
+    fig.draw_without_rendering()
+    inside = fig.get_tightbbox()
+    width, height = fig.get_size_inches()
+    assert inside.x0 >= 0 and inside.y0 >= 0 and inside.x1 <= width and inside.y1 <= height
+    boxes = [ax.get_tightbbox() for ax in fig.axes]
+    assert not any(upper.overlaps(lower) for upper, lower in pairwise(boxes))
 
 
 # --------------------------------------------------------------------------- end to end

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import base64
 import html
-import io
 import os
 import re
 import unicodedata
@@ -28,7 +27,7 @@ from typing import TYPE_CHECKING
 import markdown as _markdown
 import numpy as np
 
-from .core.files import atomic_write
+from .core.files import atomic_write, figure_png
 from .defaults import CSV_FLOAT_FORMAT
 from .errors import InputError
 
@@ -105,9 +104,7 @@ class Report:
     def figure(self, fig: Figure, name: str, caption: str) -> Path:
         """Add a matplotlib ``Figure``: saved as ``figures/<name>.png``; returns that path."""
         name = self._claim(name)
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=DPI)
-        png = buf.getvalue()
+        png = figure_png(fig, DPI)
         path = self.out_dir / "figures" / f"{name}.png"
         path.parent.mkdir(exist_ok=True)
         atomic_write(path, png)
