@@ -240,6 +240,7 @@ def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
     steps = int(counted["steps"].sum())
     n_t = acc.shape[1]
     out = {
+        "motions_sha256": digest(acc),
         "results_sha256": digest(overturned, peak),
         "cases": int(w["body"].size),
         "steps": steps,
@@ -382,6 +383,9 @@ def bench_table2(tmp: Path, runs: int) -> dict:
         for r in range(runs)
     ]
     results = (tmp / "table2-0" / "agx50.csv").read_bytes()
+    from rocking.motions.ensemble import Ensemble
+
+    motions = Ensemble.load(tmp / "m200-0.nc").acc
     best_gen = min(gen, key=lambda x: x["wall_s"])
     best_agx = min(agx, key=lambda x: x["wall_s"])
     return {
@@ -391,6 +395,7 @@ def bench_table2(tmp: Path, runs: int) -> dict:
         "all_agx50_s": [x["wall_s"] for x in agx],
         "wall_s": best_gen["wall_s"] + best_agx["wall_s"],
         "agx50_csv_sha256": hashlib.sha256(results).hexdigest(),
+        "motions_sha256": digest(motions),
     }
 
 
@@ -754,10 +759,12 @@ def comparable_digests(runs: dict) -> dict:
     commit: results must not depend on either): the kernel's flags and peaks among runs of the
     same workload, Table 2's agx50.csv among all."""
     kernel: dict = {}
+    motions: dict = {}
     for r in runs.values():
-        kernel.setdefault(json.dumps(r["settings"], sort_keys=True), set()).add(
-            r["kernel"]["results_sha256"]
-        )
+        same_workload = json.dumps(r["settings"], sort_keys=True)
+        kernel.setdefault(same_workload, set()).add(r["kernel"]["results_sha256"])
+        if "motions_sha256" in r["kernel"]:
+            motions.setdefault(same_workload, set()).add(r["kernel"]["motions_sha256"])
     table2 = {
         r["end_to_end"]["table2"]["agx50_csv_sha256"]
         for r in runs.values()
@@ -768,6 +775,8 @@ def comparable_digests(runs: dict) -> dict:
         out["kernel"] = all(len(v) == 1 for v in kernel.values())
     if len(table2) and len(runs) > 1:
         out["table2_agx50"] = len(table2) == 1
+    if any(len(v) > 1 for v in motions.values()):
+        out["kernel_motions"] = False  # the generated motions differ: see the README
     return out
 
 
