@@ -10,7 +10,8 @@ to a Haswell CPU (``NUMBA_CPU_NAME=haswell NUMBA_CPU_FEATURES=-avx512f``: AVX2 a
 checked by the registers of compiled code) with its own cache of compiled code; on a machine
 without AVX-512 the native run is the AVX2 run, and runs once. It prints a table per run and
 writes JSON with the targets and, per instruction set the compiled code used (``runs``:
-``avx512``, ``avx2``), the machine it ran on (CPU model, SIMD flags, cores, Python/NumPy/Numba
+``avx512``, ``avx2-on-avx512`` the AVX2 run of an AVX-512 machine, ``avx2`` that of a machine
+without AVX-512), the machine it ran on (CPU model, SIMD flags, cores, Python/NumPy/Numba
 versions, date, commit), what Numba compiled for, the load averages and, measured in the same
 run:
 
@@ -38,7 +39,8 @@ run:
 
 A run on another instruction set than this machine's is kept from the file (a machine without
 AVX-512 cannot measure it), with its own machine and commit. ``bit_identical`` compares the
-SHA-256 of the kernel's flags and peaks (between runs of the same workload) and of Table 2's
+SHA-256 of the kernel's flags and peaks (between runs of the same workload, on the same CPU and
+across CPUs) and of Table 2's
 agx50.csv across all the runs kept, whatever their machine and commit: results must depend on
 neither.  Timings are best and median of
 repeats (the machine may be shared: see the load averages); compiled code comes from Numba's
@@ -737,9 +739,13 @@ def child_env(isa: str) -> dict:
     return env
 
 
-def isa_of(run: dict) -> str:
-    """The instruction set a run's compiled code used: ``avx512`` (zmm registers) or ``avx2``."""
-    return "avx512" if "zmm" in run["numba_cpu"]["vector_registers"] else "avx2"
+def run_key(run: dict, machine: dict) -> str:
+    """The key of a run in ``runs``: the instruction set its compiled code used, ``avx512`` (zmm
+    registers) or ``avx2``, and ``avx2-on-avx512`` for AVX2 code on an AVX-512 machine (kept
+    beside the AVX2 run of a machine without AVX-512: both are evidence)."""
+    if "zmm" in run["numba_cpu"]["vector_registers"]:
+        return "avx512"
+    return "avx2-on-avx512" if "avx512f" in machine["simd"] else "avx2"
 
 
 def previous_runs(path: Path) -> dict:
@@ -751,18 +757,23 @@ def previous_runs(path: Path) -> dict:
         return {}
     if "runs" in old:
         return old["runs"]
-    return {isa_of(r): {"machine": old["machine"], **r} for r in old.get("isas", {}).values()}
+    m = old["machine"]
+    return {run_key(r, m): {"machine": m, **r} for r in old.get("isas", {}).values()}
 
 
 def comparable_digests(runs: dict) -> dict:
     """Whether the results are bit-identical across the runs (whatever their machine and
     commit: results must not depend on either): the kernel's flags and peaks among runs of the
-    same workload, Table 2's agx50.csv among all."""
+    same workload, on the same machine (same motions: only the instruction set differs) and
+    across machines, Table 2's agx50.csv among all."""
     kernel: dict = {}
+    same_cpu: dict = {}
     motions: dict = {}
     for r in runs.values():
         same_workload = json.dumps(r["settings"], sort_keys=True)
         kernel.setdefault(same_workload, set()).add(r["kernel"]["results_sha256"])
+        cpu = (same_workload, r["machine"]["cpu_family_model"])
+        same_cpu.setdefault(cpu, set()).add(r["kernel"]["results_sha256"])
         if "motions_sha256" in r["kernel"]:
             motions.setdefault(same_workload, set()).add(r["kernel"]["motions_sha256"])
     table2 = {
@@ -773,6 +784,7 @@ def comparable_digests(runs: dict) -> dict:
     out = {"runs": {isa: r["machine"]["rocking_commit"] for isa, r in runs.items()}}
     if any(len(v) > 0 for v in kernel.values()) and len(runs) > 1:
         out["kernel"] = all(len(v) == 1 for v in kernel.values())
+        out["kernel_same_cpu_across_isas"] = all(len(v) == 1 for v in same_cpu.values())
     if len(table2) and len(runs) > 1:
         out["table2_agx50"] = len(table2) == 1
     if any(len(v) > 1 for v in motions.values()):
@@ -812,7 +824,7 @@ def main(argv=None) -> int:
             cmd = [sys.executable, __file__, *flags, "--isa", isa, "--out", str(part)]
             subprocess.run(cmd, env=child_env(isa), check=True)
             run = json.loads(part.read_text())
-            runs[isa_of(run)] = {"machine": machine, "requested_isa": isa, **run}
+            runs[run_key(run, machine)] = {"machine": machine, "requested_isa": isa, **run}
             print_rows(summary_rows(run))
     res = {"targets": TARGETS, "runs": runs, "bit_identical": comparable_digests(runs)}
     print(f"\nbit-identical across the runs kept in {out.name}: {res['bit_identical']}")
