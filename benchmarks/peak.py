@@ -6,7 +6,9 @@ peak rate of double-precision arithmetic then follows from the core's documented
 Both constants are for AMD Zen 4 (the CPU of the benchmark runs, "Software Optimization Guide for
 the AMD Zen4 Microarchitecture", 2023): FMA latency 4 cycles; two FMA pipes of 256 bits each
 (AVX-512 instructions issue as two halves), so 2 x 4 = 8 double-precision FMAs per cycle and core
-with AVX2 and with AVX-512 alike.  On another CPU the constants must be changed with it.
+with AVX2 and with AVX-512 alike.  AMD Zen 3 (the AVX2 machine of the runs; "Software
+Optimization Guide for AMD EPYC 7003 Processors", 2020) has the same FMA latency and the same two
+256-bit FMA pipes.  On another CPU the constants must be changed with it.
 """
 
 from __future__ import annotations
