@@ -37,6 +37,9 @@ from .engine import LEVEL_UNIT, Engine, level_agx, level_key
 from .statistics import (
     FragilityFit,
     Interval,
+    LognormalFit,
+    _mle,
+    _one_blas_thread,
     bootstrap_fragility,
     fit_lognormal,
     wilson_interval,
@@ -521,34 +524,44 @@ def im_efficiency(
         raise InputError(f"names has {len(bodies)} names for {ida.sizes['body']} bodies")
     for b, body in enumerate(bodies):
         y = ida["overturned"].values[b]  # (level, motion)
-        for measure in parsed:
-            x = measure.of_motions(ensemble)[None, :] * factors**measure.exponent
-            fit = _cloud_fit(x, y)
-            betas = [_cloud_fit(x[:, j], y[:, j]) for j in resamples]
-            betas_ok = [f.beta for f in betas if f is not None]
-            q = ((1 - confidence) / 2, (1 + confidence) / 2)
-            low, high = np.quantile(betas_ok, q) if betas_ok else (math.nan, math.nan)
-            rows.append(
-                {
-                    "body": body,
-                    "im": measure.name,
-                    "label": measure.label,
-                    "median": math.nan if fit is None else fit.median,
-                    "beta": math.nan if fit is None else fit.beta,
-                    "beta_low": low,
-                    "beta_high": high,
-                }
-            )
+        with _one_blas_thread():  # once for the 1 + n_boot fits of each IM
+            rows.extend(_efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence))
     table = pd.DataFrame(rows)
     return table.sort_values(["body", "beta"], kind="stable", ignore_index=True)
 
 
-def _cloud_fit(x: np.ndarray, y: np.ndarray):
+def _efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence) -> list[dict]:
+    """:func:`im_efficiency`'s rows of one body (outcomes ``y`` of shape (level, motion)):
+    the cloud fit against each IM and the β interval of its bootstrap ``resamples``."""
+    rows = []
+    for measure in parsed:
+        x = measure.of_motions(ensemble)[None, :] * factors**measure.exponent
+        fit = _cloud_fit(x, y)
+        betas = [_cloud_fit(x[:, j], y[:, j]) for j in resamples]
+        betas_ok = [f.beta for f in betas if f is not None]
+        q = ((1 - confidence) / 2, (1 + confidence) / 2)
+        low, high = np.quantile(betas_ok, q) if betas_ok else (math.nan, math.nan)
+        rows.append(
+            {
+                "body": body,
+                "im": measure.name,
+                "label": measure.label,
+                "median": math.nan if fit is None else fit.median,
+                "beta": math.nan if fit is None else fit.beta,
+                "beta_low": low,
+                "beta_high": high,
+            }
+        )
+    return rows
+
+
+def _cloud_fit(x: np.ndarray, y: np.ndarray) -> LognormalFit | None:
     """Maximum-likelihood lognormal of (intensity, outcome) points, one trial each (None: no
-    information on the median)."""
+    information on the median): :func:`rocking.fit_lognormal`'s fit, without its checks of
+    counts that are 0/1 here by construction; call it with one BLAS thread."""
     x, y = x.ravel(), y.ravel()
     keep = x > 0.0
     x, y = x[keep], y[keep]
     if not y.any() or y.all():
         return None
-    return fit_lognormal(x, y.astype(np.int64), 1)
+    return _mle(np.log(x), y.astype(float), np.ones(x.size))

@@ -43,11 +43,7 @@ def wilson_interval(
         Interval bounds [-], shaped like ``count``.
     """
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
-    count, n = np.broadcast_arrays(np.asarray(count), np.asarray(n))
-    if count.dtype.kind not in "iu" or n.dtype.kind not in "iu":
-        raise InputError("count and n must be integers")
-    if np.any(n < 1) or np.any(count < 0) or np.any(count > n):
-        raise InputError("count and n must satisfy 0 <= count <= n and n >= 1")
+    count, n = _counts(count, n)
     pairs, inverse = np.unique(
         np.stack([count.ravel(), n.ravel()], axis=1), axis=0, return_inverse=True
     )
@@ -55,6 +51,16 @@ def wilson_interval(
     low = bounds[inverse.ravel(), 0].reshape(count.shape)
     high = bounds[inverse.ravel(), 1].reshape(count.shape)
     return low, high
+
+
+def _counts(count: ArrayLike, n: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """``count`` and ``n`` broadcast together, checked: integers, 0 ≤ count ≤ n, n ≥ 1."""
+    count, n = np.broadcast_arrays(np.asarray(count), np.asarray(n))
+    if count.dtype.kind not in "iu" or n.dtype.kind not in "iu":
+        raise InputError("count and n must be integers")
+    if np.any(n < 1) or np.any(count < 0) or np.any(count > n):
+        raise InputError("count and n must satisfy 0 <= count <= n and n >= 1")
+    return count, n
 
 
 def _wilson(k: int, n: int, confidence: float) -> tuple[float, float]:
@@ -125,7 +131,7 @@ def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFi
     n = np.broadcast_to(np.asarray(n), count.shape)
     if count.shape != agx.shape:
         raise InputError(f"count must have one value per agx ({agx.size}), got shape {count.shape}")
-    wilson_interval(count, n)  # validates 0 <= count <= n, n >= 1 (integers)
+    count, n = _counts(count, n)
     if np.all(count == 0) or np.all(count == n):
         raise InputError("fit_lognormal needs counts that are not all 0 and not all n")
     with _one_blas_thread():
@@ -135,9 +141,9 @@ def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFi
 def _one_blas_thread():
     """Context of one BLAS thread: L-BFGS-B multiplies tiny matrices, where OpenBLAS's threads
     only add their synchronisation (on a busy machine, ten times the product itself; as for the
-    4×4 products of rocking.motions.response.foh_coefficients). Entered once per public call
-    (setting the limit is not free), after SciPy's BLAS is loaded (the limit holds for the
-    libraries loaded when it is set)."""
+    4×4 products of rocking.motions.response.foh_coefficients). Entered once per public call,
+    not once per fit of a loop (setting the limit searches the loaded libraries, ~4 ms), after
+    SciPy's BLAS is loaded (the limit holds for the libraries loaded when it is set)."""
     import scipy.optimize  # noqa: F401  (on first use, see _wilson; loads SciPy's BLAS)
 
     return threadpool_limits(limits=1, user_api="blas")
