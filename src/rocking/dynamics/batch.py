@@ -767,6 +767,8 @@ def run_cases(
     the start or at the end of the interval), up to and including the one in which it
     overturns.
     """
+    acc = _readonly(acc)
+    av = None if av is None else _readonly(av)
     asuf, avsuf = _suffix_extremes(acc, av)
     vert = None
     if av is not None:
@@ -808,6 +810,15 @@ def run_cases(
     if count_steps:
         return out.overturned, out.peak, out.steps
     return out.overturned, out.peak
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    """A read-only view of ``a``: the kernels are compiled for read-only motions only (Numba
+    compiles a specialization per writeable flag of each array, ~40 s each for the batched
+    kernel; memory-mapped ensembles are read-only, arrays built in memory are not)."""
+    view = a.view()
+    view.flags.writeable = False
+    return view
 
 
 def _acc2d(acc, name: str = "acc") -> np.ndarray:
