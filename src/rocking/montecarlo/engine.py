@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core import portable
 from ..core.checks import require_memory
 from ..core.progress import resolve as resolve_progress
 from ..defaults import IMPACT_SCHEMES
@@ -66,7 +67,7 @@ def scale_factors(level: float, basis: np.ndarray, exponent: float) -> np.ndarra
     Arias intensity): (level/basis)**(1/exponent), without a power for exponent 1 (so that
     the A_gx factor is exactly that of :meth:`rocking.Ensemble.scaled`)."""
     ratio = level / basis
-    return ratio if exponent == 1.0 else ratio ** (1.0 / exponent)
+    return ratio if exponent == 1.0 else portable.power(ratio, 1.0 / exponent)
 
 
 def _chunk_key(c: int, body: np.ndarray, level: np.ndarray, motion: np.ndarray) -> str:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import finite_array, positive
 from ..errors import InputError
 
@@ -61,7 +62,9 @@ def baseline_correct(acc: ArrayLike, dt: float, order: int = 2) -> np.ndarray:
     dt = positive("dt", dt, "s")
     tau = np.linspace(0.0, 1.0, a.shape[-1])
     k = np.arange(k_max + 1)[:, None]
-    basis_acc = (k + 1) * (k + 2) * tau**k
+    # τ^k by repeated products (each rounded once, on every CPU the same; NumPy's power is not)
+    tau_k = np.cumprod(np.vstack([np.ones_like(tau), np.tile(tau, (k_max, 1))]), axis=0)
+    basis_acc = (k + 1) * (k + 2) * tau_k
     basis_vel = _cumulative_trapezoid(basis_acc, dt)
     gram = _trapezoid(basis_vel[:, None, :] * basis_vel[None, :, :], dt)
     rows = a.reshape(-1, a.shape[-1])
@@ -73,9 +76,9 @@ def baseline_correct(acc: ArrayLike, dt: float, order: int = 2) -> np.ndarray:
         # Normal equations ∫ψ_k ψ_j dt · c_j = ∫ψ_k v dt (reference.md §6, ψ_k = basis
         # velocities). Motion by motion, not as one matrix product, so each motion's result
         # does not depend on how many motions are corrected together (BLAS may sum in a
-        # size-dependent order).
+        # size-dependent order), and solved in a fixed order (LAPACK's depends on the CPU).
         rhs = np.stack([_trapezoid(vel * psi, dt) for psi in basis_vel], axis=-1)
-        coef = np.linalg.solve(gram, rhs[..., None])[..., 0]  # one small solve per motion
+        coef = portable.lstsq(gram, rhs.T).T
         baseline = sum(coef[:, j, None] * basis_acc[j] for j in range(k_max + 1))
         out[start : start + BLOCK_ROWS] = block - baseline
     return out.reshape(a.shape)

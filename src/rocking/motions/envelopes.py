@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core import portable
 from ..core.checks import in_range, positive
 from ..errors import InputError
 
@@ -151,7 +152,7 @@ class Compound:
         t1, t2, c = self.t1, self.t2, self.c
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             rise = (t / t1) ** 2 if t1 > 0 else np.ones_like(t)
-            i = np.where(t < t1, rise, np.where(t <= t2, 1.0, np.exp(-c * (t - t2))))
+            i = np.where(t < t1, rise, np.where(t <= t2, 1.0, portable.exp(-c * (t - t2))))
         return np.where(_inside(t, self.duration), i, 0.0)
 
     def equivalent_duration(self) -> float:

@@ -54,6 +54,7 @@ import numpy as np
 import pandas as pd
 from scipy.integrate import cumulative_trapezoid
 
+from ..core import portable
 from ..defaults import IM_DAMPING, IM_SYNTAX, SAAVG_PERIODS, G
 from ..errors import InputError
 from .ensemble import Ensemble
@@ -145,7 +146,7 @@ class IntensityMeasure:
     def spectral_periods(self) -> np.ndarray:
         """Periods [s] whose Sa this IM needs (empty for the others)."""
         if self.kind == "saavg":
-            return np.geomspace(self.periods[0], self.periods[1], self.n_periods)
+            return portable.geomspace(self.periods[0], self.periods[1], self.n_periods)
         return np.asarray(self.periods, dtype=float)
 
 

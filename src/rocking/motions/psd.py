@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import nnls
 
+from ..core import portable
 from ..core.checks import finite_array, in_range, positive
 from ..dynamics.body import G
 from ..errors import InputError
@@ -136,6 +137,21 @@ def _convention_factor(convention: str) -> float:
         ) from None
 
 
+def _nonnegative_solution(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x ≥ 0 of least ‖a·x − b‖: ``scipy.optimize.nnls`` finds which x_j are positive, and the
+    least squares on those columns is then recomputed by :func:`rocking.core.portable.lstsq`
+    (nnls's arithmetic runs through BLAS kernels chosen by the CPU, so its last bits vary from
+    machine to machine; the set of positive components does not)."""
+    x, _ = nnls(a, b)
+    positive_j = np.flatnonzero(x > 0.0)
+    out = np.zeros_like(x)
+    if positive_j.size:
+        # nnls's solution is the unconstrained least squares on its positive columns; rounding
+        # could only take a component a few ulp below zero, hence the clip
+        out[positive_j] = np.maximum(portable.lstsq(a[:, positive_j], b), 0.0)
+    return out
+
+
 def log_frequencies(n_freq: int = 100, fmin: float = 0.15, fmax: float = 50.0) -> np.ndarray:
     """``n_freq`` frequencies [Hz] equally spaced on a log scale from ``fmin`` to ``fmax`` [Hz]."""
     n = int(n_freq)
@@ -145,7 +161,7 @@ def log_frequencies(n_freq: int = 100, fmin: float = 0.15, fmax: float = 50.0) -
     hi = positive("fmax", fmax, "Hz")
     if hi <= lo:
         raise InputError(f"fmax must exceed fmin, got fmin={fmin!r} Hz, fmax={fmax!r} Hz")
-    return np.geomspace(lo, hi, n)
+    return portable.geomspace(lo, hi, n)
 
 
 def frequency_increments(omega: np.ndarray) -> np.ndarray:
@@ -170,7 +186,7 @@ def peak_factor(nu_te: ArrayLike, constant: float = DEFAULT_PEAK_CONSTANT) -> np
     """
     c = positive("constant", constant)
     x = np.maximum(np.asarray(nu_te, dtype=float), math.exp(0.5 * c))
-    s = np.sqrt(2.0 * np.log(x))
+    s = np.sqrt(2.0 * portable.log(x))
     return s + c / s  # Eq. (6), first factor
 
 
@@ -262,7 +278,7 @@ def power_spectrum(
         raise InputError(f"psa_g has {rt.size} values but freqs_hz has {freqs.size}")
     if (freqs <= 0).any():
         raise InputError(f"freqs_hz must be > 0 [Hz], got {freqs[freqs <= 0][0]!r}")
-    steps = np.diff(np.log(freqs))
+    steps = np.diff(portable.log(freqs))
     if steps[0] <= 0 or not np.allclose(steps, steps[0]):
         raise InputError("freqs_hz must be increasing and equally spaced on a log scale")
     te = positive("equivalent_duration", equivalent_duration, "s")
@@ -271,6 +287,6 @@ def power_spectrum(
     r = peak_factor(freqs * te, peak_constant)  # ν_j·T_e with ν_j = ω_j/2π
     R = r[None, :] * transfer(omega[:, None], omega[None, :], h)  # R_kj, Eq. (6)
     factor = _convention_factor(convention)
-    p_g, _ = nnls(R**2, rt**2)  # Eq. (5): p_j of Eq. (4) in g² (scale-free; converted below)
+    p_g = _nonnegative_solution(R**2, rt**2)  # Eq. (5): p_j of Eq. (4) in g² (converted below)
     amplitudes = np.sqrt(factor * p_g) * G  # Eqs. (8)–(9)
     return PowerSpectrum.from_amplitudes(freqs, amplitudes, te, h, convention)

@@ -12,10 +12,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 from numpy.typing import ArrayLike
-from threadpoolctl import threadpool_limits
 
+from ..core import portable
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import highest_bit, kernel, maxnum, parallel_kernel, prange
 from ..errors import InputError
@@ -65,8 +64,10 @@ def foh_coefficients(omega: np.ndarray, zeta: float, h: np.ndarray) -> np.ndarra
     Returns c of shape (n, 8) with
     u₁ = c0·u₀ + c1·v₀ + c2·a₀ + c3·a₁ and v₁ = c4·u₀ + c5·v₀ + c6·a₀ + c7·a₁.
     These are Nigam & Jennings' (1969) coefficients. They are obtained here from the matrix
-    exponential of the system augmented with the input and its slope (scipy.linalg.expm) rather
-    than from their closed form, whose terms cancel catastrophically when ω·h is small.
+    exponential of the system augmented with the input and its slope rather than from their
+    closed form, whose terms cancel catastrophically when ω·h is small
+    (:func:`rocking.core.portable.expm`: ``scipy.linalg.expm``'s BLAS products would give bits
+    that depend on the CPU).
     """
     n = omega.size
     m = np.zeros((n, 4, 4))  # state (u, v, a, Δa); da/dt = Δa/h
@@ -75,11 +76,7 @@ def foh_coefficients(omega: np.ndarray, zeta: float, h: np.ndarray) -> np.ndarra
     m[:, 1, 1] = -2.0 * zeta * omega * h
     m[:, 1, 2] = -h
     m[:, 2, 3] = 1.0
-    # One BLAS thread: expm multiplies 4×4 matrices, where OpenBLAS's threads only add their
-    # synchronisation, many times the products' own cost on a busy machine (a known OpenBLAS
-    # behaviour with small matrices).
-    with threadpool_limits(limits=1, user_api="blas"):
-        e = scipy.linalg.expm(m)
+    e = portable.expm(m)
     c = np.empty((n, 8))
     for row in (0, 1):  # x₁ = Φ·x₀ + E[:, 2]·a₀ + E[:, 3]·(a₁ − a₀)
         c[:, 4 * row] = e[:, row, 0]

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import finite_array, positive, require_memory
 from ..core.compile import parallel_kernel, prange
 from ..defaults import FIT_BAND, G
@@ -158,6 +159,7 @@ def synthesize(
         # Eq. (9) on the grid f_j = q_j/(N·dt): Σ_j A_j sin(2π q_j i/N + φ_j) is the inverse
         # real FFT of length N whose bin q_j holds (N/2)·A_j·exp(i(φ_j − π/2)); N-periodic in i.
         coef = np.zeros((phi.shape[0], period // 2 + 1), dtype=complex)
+        # (NumPy's complex exp is the C library's, on every CPU: no portable.* needed)
         values = 0.5 * period * amp * np.exp(1j * (phi - 0.5 * np.pi))
         for j, q in enumerate(bins):  # components sharing a bin add up
             coef[:, q] += values[:, j]
@@ -166,10 +168,10 @@ def synthesize(
         stationary = scipy.fft.irfft(coef, period, axis=-1, workers=-1)
         return intensity * stationary[:, np.arange(t.size) % period]
     wt = spectrum.omega[:, None] * t
-    sin_wt, cos_wt = np.sin(wt), np.cos(wt)
+    sin_wt, cos_wt = portable.sin(wt), portable.cos(wt)
     return _superpose(
-        amp * np.cos(phi),
-        amp * np.sin(phi),
+        amp * portable.cos(phi),
+        amp * portable.sin(phi),
         sin_wt,
         cos_wt,
         intensity,
@@ -332,16 +334,16 @@ def limit_peaks(
     t = np.arange(0, _n_samples(envelope.duration, dt), step) * dt
     intensity = envelope(t)
     t, intensity = t[intensity > 0.0], intensity[intensity > 0.0]
-    basis_t = np.concatenate([np.sin(omega[:, None] * t), np.cos(omega[:, None] * t)])
+    basis_t = np.concatenate([portable.sin(omega[:, None] * t), portable.cos(omega[:, None] * t)])
     basis = np.ascontiguousarray(basis_t.T)
-    gram_inv = np.linalg.pinv(basis_t @ basis)
+    gram_inv = portable.pinv_symmetric(portable.matmul(basis_t, basis))
     free = spectrum.domega[active] / (2.0 * math.pi) * envelope.duration >= 1.0
     columns = np.flatnonzero(active)
     sub = phi[:, columns]
     for i in range(0, sub.shape[0], CHUNK):
         c, s = _limit_kernel(
-            amps * np.cos(sub[i : i + CHUNK]),
-            amps * np.sin(sub[i : i + CHUNK]),
+            amps * portable.cos(sub[i : i + CHUNK]),
+            amps * portable.sin(sub[i : i + CHUNK]),
             amps,
             free,
             basis,
@@ -352,7 +354,7 @@ def limit_peaks(
             PEAK_LIMIT_RELAXATION,
             PEAK_LIMIT_PASSES,
         )
-        out[i : i + CHUNK, columns[free]] = np.arctan2(s[:, free], c[:, free])
+        out[i : i + CHUNK, columns[free]] = portable.arctan2(s[:, free], c[:, free])
     return out
 
 

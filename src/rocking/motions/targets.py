@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import finite_array, in_range, positive
 from ..defaults import G
 from ..errors import InputError
@@ -36,7 +37,7 @@ def _freqs(freqs_hz) -> tuple[np.ndarray, tuple]:
 def _loglog(f: np.ndarray, knots_f: np.ndarray, knots_psa: np.ndarray) -> np.ndarray:
     """PSA at ``f`` from knots (increasing ``knots_f``): straight lines on log-log axes inside,
     constant SD (PSA ∝ f²) below the first knot and constant PSA above the last one."""
-    psa = np.exp(np.interp(np.log(f), np.log(knots_f), np.log(knots_psa)))
+    psa = portable.exp(np.interp(portable.log(f), portable.log(knots_f), portable.log(knots_psa)))
     low = f < knots_f[0]
     psa[low] = knots_psa[0] * (f[low] / knots_f[0]) ** 2
     return psa
@@ -134,7 +135,7 @@ class RG160(TargetSpectrum):
 
     def factors(self) -> tuple[float, float, float]:
         """Amplification factors (B, C, D) [-] at this damping (see class notes)."""
-        x = np.log(RG160_DAMPINGS)
+        x = portable.log(RG160_DAMPINGS)
         table = np.array([RG160_FACTORS[z] for z in RG160_DAMPINGS])
         b, c, d = (float(np.interp(math.log(self.damping), x, col)) for col in table.T)
         return b, c, d

@@ -7,9 +7,9 @@ displacements u (n,) under ground acceleration a_g(t) is
 
     M u'' + C u' + K u = −M 1 a_g,
 
-with classical (modal) damping C. Its modes come from ``scipy.linalg.eigh(K, M)`` and the floor
-motions from modal superposition; a body standing on a floor is driven by that floor's absolute
-acceleration (reference.md §8).
+with classical (modal) damping C. Its modes come from K φ = ω² M φ
+(:func:`rocking.core.portable.eigh`) and the floor motions from modal superposition; a body
+standing on a floor is driven by that floor's absolute acceleration (reference.md §8).
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, overload
 
 import numpy as np
-from scipy.linalg import eigh
 
+from ..core import portable
 from ..core.checks import finite_array, in_range, positive, read_toml
 from ..core.compile import parallel_kernel, prange
 from ..dynamics.body import G
@@ -284,14 +284,17 @@ class ShearFrame:
     @property
     def damping_matrix(self) -> np.ndarray:
         """Classical modal damping matrix C = M Φ diag(2ζω_r) Φᵀ M (n, n) [N·s/m]."""
-        mphi = self.mass_matrix @ self.mode_shapes
-        return mphi @ np.diag(2.0 * self.damping * self.omegas) @ mphi.T
+        mphi = portable.matmul(self.mass_matrix, self.mode_shapes)
+        return portable.matmul(mphi * (2.0 * self.damping * self.omegas), mphi.T)
 
     @cached_property
     def _modes(self) -> tuple[np.ndarray, np.ndarray]:
-        lam, phi = eigh(self.stiffness_matrix, self.mass_matrix)  # ascending ω², Φᵀ M Φ = I
-        phi = phi * np.sign(phi[-1])  # sign convention: roof component of every mode > 0
-        return np.sqrt(lam), phi
+        # K φ = ω² M φ with M diagonal: the symmetric A = M^-½ K M^-½ has eigenvectors y = M^½ φ
+        # (Φᵀ M Φ = YᵀY = I); portable.eigh (the same bits on every CPU, unlike LAPACK) gives
+        # ascending ω² and every mode's roof component > 0
+        s = 1.0 / np.sqrt(np.asarray(self.masses))
+        lam, y = portable.eigh(self.stiffness_matrix * (s[:, None] * s[None, :]))
+        return np.sqrt(lam), y * s[:, None]
 
     @property
     def omegas(self) -> np.ndarray:
@@ -318,7 +321,7 @@ class ShearFrame:
     def participation_factors(self) -> np.ndarray:
         """Modal participation factors Γ_r = φ_rᵀ M 1 (n_modes,) [kg^½] (with mass-normalised
         modes); Σ_r φ_ir Γ_r = 1 on every floor i."""
-        return self._modes[1].T @ np.asarray(self.masses)
+        return portable.matmul(self._modes[1].T, np.asarray(self.masses)[:, None])[:, 0]
 
     # ---- floor motions ------------------------------------------------------------------------
     def floor_accelerations(self, acc: ArrayLike, dt: float) -> np.ndarray:
