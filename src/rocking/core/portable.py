@@ -122,7 +122,18 @@ _EXPM_NORM = 0.5
 
 
 @kernel
-def _expm_kernel(m, out):
+def _matmul_kernel(a, b, out):
+    for i in range(a.shape[0]):
+        for j in range(b.shape[1]):
+            s = 0.0
+            for q in range(a.shape[1]):
+                s += a[i, q] * b[q, j]
+            out[i, j] = s
+
+
+@kernel
+def _expm_kernel(m, out, terms, limit):
+    # explicit loops throughout: Numba takes seconds to compile a 2-D slice assignment
     n = m.shape[1]
     a = np.empty((n, n))
     e = np.empty((n, n))
@@ -134,34 +145,29 @@ def _expm_kernel(m, out):
             for i in range(n):
                 col += abs(m[k, i, j])
             norm = max(norm, col)
+        scale = 1.0
         squarings = 0
-        while norm > _EXPM_NORM:  # scale by 2^-s (exact)
+        while norm > limit:  # scale by 2^-s (exact)
             norm *= 0.5
+            scale *= 0.5
             squarings += 1
-        scale = 0.5**squarings
         for i in range(n):
             for j in range(n):
                 a[i, j] = m[k, i, j] * scale
                 e[i, j] = 1.0 if i == j else 0.0
-        for term in range(_EXPM_TERMS, 0, -1):  # Horner: e = I + a·e/term
+        for term in range(terms, 0, -1):  # Horner: e = I + a·e/term
+            _matmul_kernel(a, e, t)
             for i in range(n):
                 for j in range(n):
-                    s = 0.0
-                    for q in range(n):
-                        s += a[i, q] * e[q, j]
-                    t[i, j] = s / term
-            for i in range(n):
-                for j in range(n):
-                    e[i, j] = t[i, j] + (1.0 if i == j else 0.0)
+                    e[i, j] = t[i, j] / term + (1.0 if i == j else 0.0)
         for _ in range(squarings):
+            _matmul_kernel(e, e, t)
             for i in range(n):
                 for j in range(n):
-                    s = 0.0
-                    for q in range(n):
-                        s += e[i, q] * e[q, j]
-                    t[i, j] = s
-            e[:, :] = t
-        out[k] = e
+                    e[i, j] = t[i, j]
+        for i in range(n):
+            for j in range(n):
+                out[k, i, j] = e[i, j]
 
 
 def expm(m: ArrayLike) -> np.ndarray:
@@ -173,7 +179,7 @@ def expm(m: ArrayLike) -> np.ndarray:
         raise ValueError(f"expm needs square matrices, got shape {a.shape}")
     flat = np.ascontiguousarray(a.reshape(-1, *a.shape[-2:]))
     out = np.empty_like(flat)
-    _expm_kernel(flat, out)
+    _expm_kernel(flat, out, _EXPM_TERMS, _EXPM_NORM)
     return out.reshape(a.shape)
 
 
@@ -322,16 +328,6 @@ def pinv_symmetric(a: ArrayLike) -> np.ndarray:
     cut = w.size * np.finfo(np.float64).eps * max(abs(w[0]), abs(w[-1]))
     inv = np.where(np.abs(w) > cut, 1.0 / np.where(w == 0.0, 1.0, w), 0.0)
     return matmul(v * inv, v.T)
-
-
-@kernel
-def _matmul_kernel(a, b, out):
-    for i in range(a.shape[0]):
-        for j in range(b.shape[1]):
-            s = 0.0
-            for q in range(a.shape[1]):
-                s += a[i, q] * b[q, j]
-            out[i, j] = s
 
 
 def matmul(a: ArrayLike, b: ArrayLike) -> np.ndarray:
