@@ -3,10 +3,11 @@
 Two kinds of proof.  Each function against an independent reference: the C library through
 Python's ``math`` module (exactly: the same functions are called), SciPy/NumPy's LAPACK
 routines and closed forms (to round-off; tolerances say why).  And the property itself: the
-motions, floor motions, response spectra and intensity measures computed in child processes
-that make NumPy use only its baseline loops (``NPY_DISABLE_CPU_FEATURES``) or OpenBLAS use
-the kernels of another CPU (``OPENBLAS_CORETYPE``) have the same bits as in this process.
-Before the portable functions, the OpenBLAS change alone altered every generated motion.
+motions, floor motions, response spectra, intensity measures and resampled records computed in
+child processes that make NumPy use only its baseline loops (``NPY_DISABLE_CPU_FEATURES``) or
+OpenBLAS use the kernels of another CPU (``OPENBLAS_CORETYPE``) have the same bits as in this
+process.  Before the portable functions, the OpenBLAS change alone altered every generated
+motion.
 """
 
 from __future__ import annotations
@@ -145,7 +146,9 @@ frame = ShearFrame.preset("paper-2.0")
 floors = frame.floor_accelerations(ens.acc[:2], ens.dt)
 rs = response_spectrum(ens.acc[:2], ens.dt, np.geomspace(0.1, 50.0, 30))
 im = intensity_measures(ens, ["pga", "pgv", "sa(1.0)", "saavg(0.2:2.0)", "arias", "cav"])
-print(json.dumps({"generate": d(ens.acc), "iterated": d(it.acc),
+from rocking.motions.records import resample
+resampled = [resample(ens.acc[0], ens.dt, new) for new in (ens.dt * 2 / 5, ens.dt * 3)]
+print(json.dumps({"resampled": d(*resampled), "generate": d(ens.acc), "iterated": d(it.acc),
                   "frame": d(frame.omegas, frame.mode_shapes, frame.participation_factors),
                   "floors": d(floors), "spectra": d(rs.psa), "ims": d(im.to_numpy())}))
 """
@@ -161,6 +164,21 @@ def _digests(**env) -> dict:
         timeout=300,
     )
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_antialias_filter_is_scipys_default():
+    from scipy.signal import firwin
+
+    from rocking.motions.records import antialias_filter
+
+    for up, down in [(1, 2), (5, 2), (2, 5), (1, 8), (3, 1)]:
+        rate = max(up, down)
+        ref = firwin(20 * rate + 1, 1.0 / rate, window=("kaiser", 5.0))  # resample_poly's design
+        got = antialias_filter(up, down)
+        # the same operations; only the sine may differ from NumPy's on AVX-512 (an ulp or so)
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-15)
+        if not _avx512_numpy():
+            assert np.array_equal(got, ref)
 
 
 def test_motions_do_not_depend_on_numpy_loops_or_blas_kernels():

@@ -76,6 +76,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import positive
 from ..dynamics.body import G
 from ..errors import InputError
@@ -526,7 +527,33 @@ def resample(acc: ArrayLike, dt: float, new_dt: float) -> np.ndarray:
     n = math.floor((x.size - 1) * up / down + 1e-9) + 1
     from scipy.signal import resample_poly  # here, not at import: scipy.signal takes ~0.3 s
 
-    return resample_poly(x, up, down, window=RESAMPLING_WINDOW)[:n]
+    return resample_poly(x, up, down, window=antialias_filter(up, down))[:n]
+
+
+def antialias_filter(up: int, down: int) -> np.ndarray:
+    """The FIR low-pass filter of :func:`resample` for factors ``up``, ``down`` (coprime): the
+    taps that ``scipy.signal.resample_poly`` designs by default (``firwin`` of 20·max(up, down)
+    + 1 taps, cut-off 1/max(up, down) of the Nyquist frequency, Kaiser window β = 5, unit gain
+    at 0 Hz), in the same operations but with the sinc's sine from
+    :func:`rocking.core.portable.sin`: NumPy's sine differs on AVX-512 machines, and so would
+    every resampled record (the Kaiser window, SciPy's Bessel function I0, is the same on all).
+
+    Returns
+    -------
+    ndarray
+        The taps [-] (resample_poly multiplies them by ``up``).
+    """
+    from scipy.signal import get_window
+
+    max_rate = max(up, down)
+    numtaps = 2 * 10 * max_rate + 1
+    cutoff = 1.0 / max_rate  # [Nyquist frequencies]
+    m = np.arange(numtaps) - 0.5 * (numtaps - 1)
+    x = cutoff * m
+    y = np.pi * np.where(x == 0, 1.0e-20, x)  # sinc(x) = sin(πx)/(πx), as numpy.sinc
+    h = cutoff * (portable.sin(y) / y)
+    h *= get_window(RESAMPLING_WINDOW, numtaps, fftbins=False)
+    return h / np.sum(h)  # unit gain at 0 Hz
 
 
 @dataclass(frozen=True)
