@@ -184,6 +184,18 @@ def expm(m: ArrayLike) -> np.ndarray:
 
 
 @kernel
+def _reflect(v, vv, j, x, first):
+    """Columns ``first``… of x (rows j…) reflected by the Householder vector v (‖v‖² = vv)."""
+    for c in range(first, x.shape[1]):
+        s = 0.0
+        for i in range(j, x.shape[0]):
+            s += v[i] * x[i, c]
+        s = 2.0 * s / vv
+        for i in range(j, x.shape[0]):
+            x[i, c] -= s * v[i]
+
+
+@kernel
 def _lstsq_kernel(a, b):
     """Householder QR of a (m, n), m ≥ n, applied to b (m, k); both overwritten. Returns x (n, k)
     of least ‖a·x − b‖, or an empty array if a column is dependent on the earlier ones."""
@@ -206,20 +218,8 @@ def _lstsq_kernel(a, b):
         for i in range(j, m):
             vv += v[i] * v[i]
         diag[j] = alpha
-        for c in range(j + 1, n):  # reflect the remaining columns of a
-            s = 0.0
-            for i in range(j, m):
-                s += v[i] * a[i, c]
-            s = 2.0 * s / vv
-            for i in range(j, m):
-                a[i, c] -= s * v[i]
-        for c in range(k):  # and every right-hand side
-            s = 0.0
-            for i in range(j, m):
-                s += v[i] * b[i, c]
-            s = 2.0 * s / vv
-            for i in range(j, m):
-                b[i, c] -= s * v[i]
+        _reflect(v, vv, j, a, j + 1)  # the remaining columns of a
+        _reflect(v, vv, j, b, 0)  # and every right-hand side
     x = np.empty((n, k))
     for c in range(k):  # back substitution with R (diag on the diagonal, a above it)
         for j in range(n - 1, -1, -1):
