@@ -40,6 +40,7 @@ def _avx512_numpy() -> bool:
         (portable.sin, math.sin, -1e3, 1e3),
         (portable.cos, math.cos, -1e3, 1e3),
         (portable.exp, math.exp, -700.0, 700.0),
+        (portable.expm1, math.expm1, -30.0, 30.0),
         (portable.log, math.log, 1e-300, 1e300),
         (portable.log10, math.log10, 1e-300, 1e300),
     ],
@@ -51,8 +52,19 @@ def test_elementary_functions_are_the_c_library_s(func, ref, lo, hi):
     # exactly: Python's math module calls the same C library functions
     assert np.array_equal(got.ravel(), np.array([ref(v) for v in x]))
     if not _avx512_numpy():  # NumPy's non-AVX-512 loops are the C library's too
-        npf = {"sin": np.sin, "cos": np.cos, "exp": np.exp, "log": np.log, "log10": np.log10}
+        npf = {"sin": np.sin, "cos": np.cos, "exp": np.exp, "expm1": np.expm1, "log": np.log}
+        npf["log10"] = np.log10
         assert np.array_equal(got.ravel(), npf[func.__name__](x))
+
+
+def test_shapes_are_kept():
+    # 0-d in, 0-d out (as NumPy's ufuncs): a scalar result must convert with float()
+    for value in (2.0, np.float64(2.0), np.array(2.0)):
+        assert portable.exp(value).shape == ()
+        assert float(portable.expm1(value)) == math.expm1(2.0)
+        assert portable.power(value, 3.0).shape == ()
+    assert portable.log(np.ones((2, 0, 3))).shape == (2, 0, 3)
+    assert portable.sin(np.ones((4, 3)).T).shape == (3, 4)  # not contiguous in
 
 
 def test_log_outside_its_domain_and_arctan2_broadcasting():
@@ -148,7 +160,15 @@ rs = response_spectrum(ens.acc[:2], ens.dt, np.geomspace(0.1, 50.0, 30))
 im = intensity_measures(ens, ["pga", "pgv", "sa(1.0)", "saavg(0.2:2.0)", "arias", "cav"])
 from rocking.motions.records import resample
 resampled = [resample(ens.acc[0], ens.dt, new) for new in (ens.dt * 2 / 5, ens.dt * 3)]
-print(json.dumps({"resampled": d(*resampled), "generate": d(ens.acc), "iterated": d(it.acc),
+from rocking import annual_rate, fit_lognormal
+from rocking.assessment.risk import HazardCurve, example_hazard_path
+x = np.linspace(0.1, 1.5, 15)
+k = np.round(40 * np.clip((x - 0.1) / 1.2, 0, 1) ** 1.3).astype(int)
+fit = fit_lognormal(x, k, np.full(15, 40))
+risk = annual_rate(fit, HazardCurve.from_csv(example_hazard_path()))
+fitted = np.array([fit.median, fit.beta, risk.annual_rate, *risk.probability_in([1.0, 50.0])])
+print(json.dumps({"resampled": d(*resampled), "risk": d(fitted),
+                  "generate": d(ens.acc), "iterated": d(it.acc),
                   "frame": d(frame.omegas, frame.mode_shapes, frame.participation_factors),
                   "floors": d(floors), "spectra": d(rs.psa), "ims": d(im.to_numpy())}))
 """
@@ -160,9 +180,9 @@ def _digests(**env) -> dict:
         env={**os.environ, **env},
         capture_output=True,
         text=True,
-        check=True,
         timeout=300,
     )
+    assert out.returncode == 0, out.stderr
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 

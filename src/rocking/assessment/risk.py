@@ -51,6 +51,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import finite_array
 from ..core.files import csv_rows
 from ..errors import InputError
@@ -128,7 +129,7 @@ class HazardCurve:
     @property
     def exponents(self) -> np.ndarray:
         """k_i of the power law λ = λ_i·(x/x_i)^(−k_i) of each segment [-], shape (n − 1,)."""
-        return -np.diff(np.log(self.rates)) / np.diff(np.log(self.values))
+        return -np.diff(portable.log(self.rates)) / np.diff(portable.log(self.values))
 
     def rate(self, x: ArrayLike) -> np.ndarray:
         """Annual rate of exceeding ``x`` [1/yr] (x > 0, the IM's unit): log-log interpolation
@@ -293,7 +294,7 @@ class RiskResult:
         t = np.asarray(years, dtype=float)
         if not np.all(np.isfinite(t)) or np.any(t < 0.0):
             raise InputError(f"years must be finite numbers >= 0, got {years!r}")
-        return -np.expm1(-self.annual_rate * t)
+        return -portable.expm1(-self.annual_rate * t)
 
     def disaggregation(self, x: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Contribution of each intensity to the rate: dλ_f/dx = P_f(x)·abs(dλ/dx).
@@ -355,11 +356,11 @@ def annual_rate(
         )
     if im is not None:
         check_hazard_im(hazard, im)
-    u = np.log(hazard.values)
+    u = portable.log(hazard.values)
     lam, k = hazard.rates, hazard.exponents
 
     def prob(ui: float) -> float:
-        return float(np.asarray(fragility.probability(np.exp(ui))).reshape(-1)[0])
+        return float(np.asarray(fragility.probability(portable.exp(ui))).reshape(-1)[0])
 
     def piece(i: int, lo: float, hi: float) -> tuple[float, float]:
         """∫ P_f(e^u)·k_i·λ_i·exp(−k_i·(u − u_i)) du over [lo, hi] of segment i's power law."""

@@ -35,6 +35,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import positive
 from ..core.progress import Reporter
 from ..dynamics.body import Block
@@ -461,7 +462,7 @@ def _annual_rates(
         "fragility_beta": (curves["beta"].values, "1", "lognormal dispersion"),
         "annual_rate": (rate, "yr-1", "mean annual rate of overturning"),
         "p_years": (
-            -np.expm1(-rate * risk.years),
+            -portable.expm1(-rate * risk.years),
             "1",
             f"P(overturning in {risk.years:g} years)",
         ),

@@ -25,41 +25,70 @@ from numpy.typing import ArrayLike
 
 from .compile import kernel, parallel_kernel, prange
 
-_SIN, _COS, _EXP, _LOG, _LOG10, _ATAN2, _POW = range(7)
+_SIN, _COS, _EXP, _EXPM1, _LOG, _LOG10, _ATAN2, _POW = range(8)
+
+
+@kernel(inline="always")
+def _value(op, x, y):
+    """f(x) (or f(x, y)) through the C library's function f of ``op``."""
+    if op == _SIN:
+        return math.sin(x)
+    if op == _COS:
+        return math.cos(x)
+    if op == _EXP:
+        return math.exp(x)
+    if op == _EXPM1:
+        return math.expm1(x)
+    if op == _LOG:
+        return math.log(x) if x >= 0.0 else math.nan
+    if op == _LOG10:
+        return math.log10(x) if x >= 0.0 else math.nan
+    if op == _ATAN2:
+        return math.atan2(x, y)
+    if y == 2.0:  # NumPy's shortcuts for a constant exponent, exact on every CPU
+        return x * x
+    if y == 0.5:
+        return math.sqrt(x)
+    if y == -1.0:
+        return 1.0 / x
+    return x**y
+
+
+@kernel
+def _unary(op, x, out):
+    for i in range(out.size):
+        out[i] = _value(op, x[i], 0.0)
 
 
 @parallel_kernel
-def _elementwise(op, x, y, out):
-    """out[i] = f(x[i]) (or f(x[i], y[i])) through the C library's function f (one per ``op``)."""
+def _unary_threads(op, x, out):
     for i in prange(out.size):
-        if op == _SIN:
-            out[i] = math.sin(x[i])
-        elif op == _COS:
-            out[i] = math.cos(x[i])
-        elif op == _EXP:
-            out[i] = math.exp(x[i])
-        elif op == _LOG:
-            out[i] = math.log(x[i]) if x[i] >= 0.0 else math.nan
-        elif op == _LOG10:
-            out[i] = math.log10(x[i]) if x[i] >= 0.0 else math.nan
-        elif op == _ATAN2:
-            out[i] = math.atan2(x[i], y[i])
-        elif y[i] == 2.0:  # NumPy's shortcuts for a constant exponent, exact on every CPU
-            out[i] = x[i] * x[i]
-        elif y[i] == 0.5:
-            out[i] = math.sqrt(x[i])
-        elif y[i] == -1.0:
-            out[i] = 1.0 / x[i]
-        else:
-            out[i] = x[i] ** y[i]
+        out[i] = _value(op, x[i], 0.0)
 
 
-def _apply(op: int, x: ArrayLike, y: ArrayLike = 0.0) -> np.ndarray:
+@kernel
+def _binary(op, x, y, out):
+    for i in range(out.size):
+        out[i] = _value(op, x[i], y[i])
+
+
+#: Elements from which an elementwise function runs on all threads (below it, starting the
+#: threads costs more than they save).
+_THREADS_FROM = 1 << 16
+
+
+def _apply(op: int, x: ArrayLike) -> np.ndarray:
+    a = np.asarray(x, dtype=np.float64)
+    out = np.empty(a.shape)  # the input's shape, 0-d included
+    run = _unary_threads if a.size >= _THREADS_FROM else _unary
+    run(op, np.ascontiguousarray(a).reshape(-1), out.reshape(-1))
+    return out
+
+
+def _apply2(op: int, x: ArrayLike, y: ArrayLike) -> np.ndarray:
     a, b = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
     out = np.empty(a.shape)
-    _elementwise(
-        op, np.ascontiguousarray(a).ravel(), np.ascontiguousarray(b).ravel(), out.reshape(-1)
-    )
+    _binary(op, np.ascontiguousarray(a).ravel(), np.ascontiguousarray(b).ravel(), out.reshape(-1))
     return out
 
 
@@ -78,6 +107,11 @@ def exp(x: ArrayLike) -> np.ndarray:
     return _apply(_EXP, x)
 
 
+def expm1(x: ArrayLike) -> np.ndarray:
+    """eˣ − 1 (accurate for small x), elementwise, as a float64 array."""
+    return _apply(_EXPM1, x)
+
+
 def log(x: ArrayLike) -> np.ndarray:
     """Natural logarithm, elementwise, as a float64 array (−inf at 0, NaN below 0)."""
     return _apply(_LOG, x)
@@ -92,7 +126,7 @@ def power(x: ArrayLike, y: ArrayLike) -> np.ndarray:
     """xʸ, elementwise with broadcasting, as a float64 array: the C library's ``pow``, except
     x·x, √x and 1/x for the exponents 2, 0.5 and −1 (as NumPy computes ``x ** c`` for these
     constants)."""
-    return _apply(_POW, x, y)
+    return _apply2(_POW, x, y)
 
 
 def geomspace(start: float, stop: float, num: int) -> np.ndarray:
@@ -112,7 +146,7 @@ def geomspace(start: float, stop: float, num: int) -> np.ndarray:
 
 def arctan2(y: ArrayLike, x: ArrayLike) -> np.ndarray:
     """Angle of the point (x, y) [rad] in [−π, π], elementwise with broadcasting."""
-    return _apply(_ATAN2, y, x)
+    return _apply2(_ATAN2, y, x)
 
 
 #: Terms of the Taylor series of :func:`expm` and the largest 1-norm it is applied to (after

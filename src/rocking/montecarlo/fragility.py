@@ -27,6 +27,7 @@ import pandas as pd
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import finite_array, in_range
 from ..defaults import AGX, DEFAULT_E, G
 from ..dynamics.batch import block_list
@@ -398,7 +399,7 @@ def _cloud(blocks, ensemble, measure: AnalysisIM, own, options: dict) -> xr.Data
     order = np.argsort(values, kind="stable")
     bins = np.array_split(order, max(1, min(10, ensemble.n // 10)))
     positive = values > 0.0
-    levels = np.array([math.exp(np.mean(np.log(values[i][positive[i]]))) for i in bins])
+    levels = np.array([math.exp(np.mean(portable.log(values[i][positive[i]]))) for i in bins])
     count = np.array([[int(flags[b, i].sum()) for i in bins] for b in range(nb)], dtype=np.int64)
     n = np.broadcast_to(np.array([i.size for i in bins], dtype=np.int64), count.shape).copy()
     return xr.Dataset(
@@ -564,4 +565,4 @@ def _cloud_fit(x: np.ndarray, y: np.ndarray) -> LognormalFit | None:
     x, y = x[keep], y[keep]
     if not y.any() or y.all():
         return None
-    return _mle(np.log(x), y.astype(float), np.ones(x.size))
+    return _mle(portable.log(x), y.astype(float), np.ones(x.size))

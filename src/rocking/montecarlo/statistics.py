@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from threadpoolctl import threadpool_limits
 
+from ..core import portable
 from ..core.checks import finite_array, in_range
 from ..errors import InputError
 
@@ -90,7 +91,8 @@ class LognormalFit:
         the median; the name is the paper's A_gx) [-]."""
         import scipy.stats  # on first use (see _wilson)
 
-        return scipy.stats.norm.cdf(np.log(np.asarray(agx, dtype=float) / self.median) / self.beta)
+        z = portable.log(np.asarray(agx, dtype=float) / self.median) / self.beta
+        return scipy.stats.norm.cdf(z)
 
 
 def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFit:
@@ -182,7 +184,7 @@ def _mle(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> LognormalFit:
         z = (x - q[0]) / beta
         lp, lq = scipy.special.log_ndtr(z), scipy.special.log_ndtr(-z)
         log_phi = log_phi0 - 0.5 * z * z
-        g = k * np.exp(log_phi - lp) - (m - k) * np.exp(log_phi - lq)
+        g = k * portable.exp(log_phi - lp) - (m - k) * portable.exp(log_phi - lq)
         return -np.sum(k * lp + (m - k) * lq), np.array([np.sum(g) / beta, np.sum(g * z)])
 
     # start: probit regression line through the empirical proportions (clipped away from 0, 1)
@@ -321,7 +323,7 @@ def bootstrap_fragility(
     if not y.any() or y.all():
         state = "overturned in every case" if y.any() else "never overturned"
         raise InputError(f"outcomes: the body {state}; there is no fragility curve to fit")
-    log_x = np.log(x)
+    log_x = portable.log(x)
     n_motions = y.shape[-1]
     with _one_blas_thread():
         if y.ndim == 2:

@@ -326,8 +326,8 @@ def _values(ens: Ensemble, ims: list[IntensityMeasure]) -> list[np.ndarray]:
             out.append(_abs_integral(a0, a1, dt))
         elif k == "saavg":
             periods = im.spectral_periods()
-            logs = np.stack([np.log(sa[(t, im.damping)]) for t in periods])
-            out.append(np.exp(logs.mean(axis=0)))
+            logs = np.stack([portable.log(sa[(t, im.damping)]) for t in periods])
+            out.append(portable.exp(logs.mean(axis=0)))
         else:  # sa, psv: PSV = PSA/ω = PSA·T/(2π)
             psa = sa[(im.periods[0], im.damping)]
             out.append(psa if k == "sa" else psa * G * im.periods[0] / (2.0 * math.pi))
