@@ -55,21 +55,17 @@ def _value(op, x, y):
 
 
 @kernel
-def _unary(op, x, out):
+def _serial(op, x, y, y_step, out):
+    """out[i] = f(x[i], y[i·y_step]): y_step 0 for the one-argument functions (y = [0])."""
     for i in range(out.size):
-        out[i] = _value(op, x[i], 0.0)
+        out[i] = _value(op, x[i], y[i * y_step])
 
 
 @parallel_kernel
-def _unary_threads(op, x, out):
+def _threads(op, x, y, y_step, out):
+    """:func:`_serial` on all threads."""
     for i in prange(out.size):
-        out[i] = _value(op, x[i], 0.0)
-
-
-@kernel
-def _binary(op, x, y, out):
-    for i in range(out.size):
-        out[i] = _value(op, x[i], y[i])
+        out[i] = _value(op, x[i], y[i * y_step])
 
 
 #: Elements from which an elementwise function runs on all threads (below it, starting the
@@ -77,18 +73,19 @@ def _binary(op, x, y, out):
 _THREADS_FROM = 1 << 16
 
 
-def _apply(op: int, x: ArrayLike) -> np.ndarray:
+_NO_Y = np.zeros(1)
+
+
+def _apply(op: int, x: ArrayLike, y: ArrayLike | None = None) -> np.ndarray:
     a = np.asarray(x, dtype=np.float64)
-    out = np.empty(a.shape)  # the input's shape, 0-d included
-    run = _unary_threads if a.size >= _THREADS_FROM else _unary
-    run(op, np.ascontiguousarray(a).reshape(-1), out.reshape(-1))
-    return out
-
-
-def _apply2(op: int, x: ArrayLike, y: ArrayLike) -> np.ndarray:
-    a, b = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
-    out = np.empty(a.shape)
-    _binary(op, np.ascontiguousarray(a).ravel(), np.ascontiguousarray(b).ravel(), out.reshape(-1))
+    if y is None:
+        b, y_step = _NO_Y, 0
+    else:
+        a, b = np.broadcast_arrays(a, np.asarray(y, dtype=np.float64))
+        b, y_step = np.ascontiguousarray(b).reshape(-1), 1
+    out = np.empty(a.shape)  # the (broadcast) input's shape, 0-d included
+    run = _threads if a.size >= _THREADS_FROM else _serial
+    run(op, np.ascontiguousarray(a).reshape(-1), b, y_step, out.reshape(-1))
     return out
 
 
@@ -126,7 +123,7 @@ def power(x: ArrayLike, y: ArrayLike) -> np.ndarray:
     """xʸ, elementwise with broadcasting, as a float64 array: the C library's ``pow``, except
     x·x, √x and 1/x for the exponents 2, 0.5 and −1 (as NumPy computes ``x ** c`` for these
     constants)."""
-    return _apply2(_POW, x, y)
+    return _apply(_POW, x, y)
 
 
 def geomspace(start: float, stop: float, num: int) -> np.ndarray:
@@ -146,7 +143,7 @@ def geomspace(start: float, stop: float, num: int) -> np.ndarray:
 
 def arctan2(y: ArrayLike, x: ArrayLike) -> np.ndarray:
     """Angle of the point (x, y) [rad] in [−π, π], elementwise with broadcasting."""
-    return _apply2(_ATAN2, y, x)
+    return _apply(_ATAN2, y, x)
 
 
 #: Terms of the Taylor series of :func:`expm` and the largest 1-norm it is applied to (after
@@ -196,9 +193,7 @@ def _expm_kernel(m, out, terms, limit):
                     e[i, j] = t[i, j] / term + (1.0 if i == j else 0.0)
         for _ in range(squarings):
             _matmul_kernel(e, e, t)
-            for i in range(n):
-                for j in range(n):
-                    e[i, j] = t[i, j]
+            e, t = t, e
         for i in range(n):
             for j in range(n):
                 out[k, i, j] = e[i, j]

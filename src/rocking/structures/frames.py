@@ -284,7 +284,7 @@ class ShearFrame:
     @property
     def damping_matrix(self) -> np.ndarray:
         """Classical modal damping matrix C = M Φ diag(2ζω_r) Φᵀ M (n, n) [N·s/m]."""
-        mphi = portable.matmul(self.mass_matrix, self.mode_shapes)
+        mphi = self.mode_shapes * np.asarray(self.masses)[:, None]  # M Φ, M diagonal
         return portable.matmul(mphi * (2.0 * self.damping * self.omegas), mphi.T)
 
     @cached_property
