@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from rocking.core import portable
 from rocking.core.progress import Reporter
 from rocking.dynamics.body import Block
 from rocking.dynamics.simulate import simulate
@@ -66,6 +67,32 @@ def test_wilson_interval_published_values():
     expected = np.array(list(cases.values()))
     np.testing.assert_allclose(low, expected[:, 0], atol=5e-5)
     np.testing.assert_allclose(high, expected[:, 1], atol=5e-5)
+
+
+def test_wilson_interval_is_scipys_bit_for_bit():
+    # Independent implementation: scipy.stats.binomtest(k, n).proportion_ci(method="wilson").
+    # wilson_interval evaluates the same formula in the same operations (vectorized, without
+    # the exact test SciPy also computes), so the bounds must be equal, not merely close.
+    import scipy.stats
+
+    for confidence in (0.5, 0.9, 0.95, 0.99):
+        for n in (1, 2, 7, 20, 199, 1000):
+            k = np.arange(n + 1)
+            low, high = wilson_interval(k, np.full(k.shape, n), confidence)
+            ref = [scipy.stats.binomtest(int(i), n).proportion_ci(confidence, "wilson") for i in k]
+            np.testing.assert_array_equal(low, [c.low for c in ref])
+            np.testing.assert_array_equal(high, [c.high for c in ref])
+
+
+def test_lognormal_probability_is_the_normal_cdf():
+    # Reference: scipy.stats.norm.cdf of ln(IM/median)/beta, the definition of the curve; Φ by
+    # scipy.special.ndtr is what norm.cdf evaluates, so the values are equal, not merely close.
+    import scipy.stats
+
+    fit = LognormalFit(0.3, 0.4)
+    agx = np.geomspace(1e-3, 10.0, 200)
+    expected = scipy.stats.norm.cdf(portable.log(agx / 0.3) / 0.4)
+    np.testing.assert_array_equal(fit.probability(agx), expected)
 
 
 def test_interval_in_dataset_brackets_probability(ensemble):

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba.extending import overload
 from numpy.typing import ArrayLike
 
 from ..core import portable
@@ -166,15 +167,15 @@ def _lane_steps(ab, db, i, k, W):
     recurrence, the peak raised to |u| at the sub-step's end.
 
     ``ab[:, j]`` is lane j's ground acceleration, linear over each interval, and ``db[i, j]`` its
-    change over one sub-step of interval i.  Returns the lanes where v changed sign as a bit mask
-    (bit j for lane j).  Each lane does a lone oscillator's operations in the same order (no
-    fastmath: no reassociation, no fused multiply-add), so its bits do not depend on its lane.
+    change over one sub-step of interval i (1-D ``ab`` and ``db``: the same for every lane).
+    Returns the lanes where v changed sign as a bit mask (bit j for lane j).  Each lane does a
+    lone oscillator's operations in the same order (no fastmath: no reassociation, no fused
+    multiply-add), so its bits do not depend on its lane.
     """
     L = _LANES
     bits = np.uint64(0)
     for j in range(L):
-        a0 = ab[i, j]
-        da = db[i, j]
+        a0, da = _lane_input(ab, db, i, j)
         g0 = a0 + k * da
         g1 = a0 + (k + 1) * da
         u = W[_U * L + j]
@@ -189,6 +190,21 @@ def _lane_steps(ab, db, i, k, W):
         W[_PEAK * L + j] = maxnum(W[_PEAK * L + j], abs(u1))
         bits |= np.uint64(1 if v * v1 < 0.0 else 0) << np.uint64(j)
     return bits
+
+
+def _lane_input(ab, db, i, j):
+    """(a, Δa) of lane j at interval i: ``ab[i, j], db[i, j]``, or ``ab[i], db[i]`` for 1-D
+    arrays (one motion in every lane; compiled per number of dimensions)."""
+    if np.ndim(ab) == 1:
+        return ab[i], db[i]
+    return ab[i, j], db[i, j]
+
+
+@overload(_lane_input)
+def _lane_input_in_kernels(ab, db, i, j):
+    if ab.ndim == 1:
+        return lambda ab, db, i, j: (ab[i], db[i])
+    return lambda ab, db, i, j: (ab[i, j], db[i, j])
 
 
 @kernel
@@ -216,7 +232,8 @@ def _lane_extrema(W, bits, h):
 def _block_peaks(ab, diff, W, nsub, h, zeta, out):
     """max |u(t)| [length] of each lane into ``out``: the oscillators of W's ω and coefficient
     rows, starting at rest, under the accelerations ``ab`` (``diff``: their changes over the
-    sample intervals) in sub-steps of h = dt/nsub [s], then in free vibration (ground at rest).
+    sample intervals; 1-D: the same for every lane) in sub-steps of h = dt/nsub [s], then in
+    free vibration (ground at rest).
     """
     L = _LANES
     W[: _OMEGA * L] = 0.0
@@ -259,9 +276,11 @@ def _lane_layout(acc, nsub):
     (zero motions after the last) or, when that integrates fewer sub-steps (few motions), one
     motion at ``_LANES`` frequencies of equal nsub (the last one repeated).
 
-    Returns the blocks of accelerations, shape (n_blocks, n_t, _LANES), the motion of each lane
-    of each block, shape (n_blocks, _LANES), and the groups of frequencies (indices of ``nsub``),
-    shape (n_groups, _LANES); every block goes with every group.
+    Returns the blocks of accelerations, shape (n_blocks, n_t, _LANES), or in the second layout
+    ``acc`` itself, shape (n_motions, n_t): one motion read by every lane (not copied into each);
+    the motion of each lane of each block, shape (n_blocks, _LANES); and the groups of
+    frequencies (indices of ``nsub``), shape (n_groups, _LANES); every block goes with every
+    group.
     """
     L = _LANES
     n_m, n_t = acc.shape
@@ -275,7 +294,7 @@ def _lane_layout(acc, nsub):
         lane_motion = np.arange(n_blocks * L).reshape(n_blocks, L)
         groups = np.repeat(np.arange(nsub.size)[:, None], L, axis=1)
     else:
-        at = np.repeat(acc[:, :, None], L, axis=2)
+        at = np.require(acc, requirements=["C", "W"])  # one compiled variant
         lane_motion = np.repeat(np.arange(n_m)[:, None], L, axis=1)
         chunks = [run[q : q + L] for run in runs for q in range(0, run.size, L)]
         groups = np.stack([np.pad(c, (0, L - c.size), mode="edge") for c in chunks])
