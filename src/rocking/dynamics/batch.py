@@ -543,15 +543,18 @@ def _lane_machine(motions, vert, blocks, cases, out, located, c0, c1):
                     _move_lane(lanes, live, j)
 
 
-@kernel
-def _suffix_extremes(acc, av):
+@parallel_kernel
+def _suffix_extremes(acc, av, used):
     """Suffix maximum of abs(acc) and suffix minimum of ``av`` (None: None) from each sample to
     the end of its motion [m/s²], the motions (rows) end to end: a block at rest that no later
-    sample can lift is at rest to the end (:func:`_rest_until_uplift`)."""
+    sample can lift is at rest to the end (:func:`_rest_until_uplift`).  Only the motions
+    ``used[m]`` are computed (the others' values are undefined: no case reads them)."""
     n_m, n_t = acc.shape
     asuf = np.empty(n_m * n_t)
     avsuf = np.empty(0 if av is None else n_m * n_t)
-    for m in range(n_m):
+    for m in prange(n_m):
+        if not used[m]:
+            continue
         top = 0.0
         low = math.inf
         for k in range(n_t - 1, -1, -1):
@@ -769,7 +772,9 @@ def run_cases(
     """
     acc = _readonly(acc)
     av = None if av is None else _readonly(av)
-    asuf, avsuf = _suffix_extremes(acc, av)
+    used = np.zeros(acc.shape[0], dtype=np.bool_)
+    used[motion] = True  # the suffix extremes of these motions only (a call may use few)
+    asuf, avsuf = _suffix_extremes(acc, av, used)
     vert = None
     if av is not None:
         avmin = av.min(axis=1)
