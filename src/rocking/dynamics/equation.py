@@ -237,31 +237,59 @@ def _rk4_rotated(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
     and every abs(δ) ≤ ROTATION_DMAX; returns (θ, θ', max abs(δ)) so that the caller can check
     the second condition.
     """
+    k1w, Pm, Qm, Pb, Qb = _stage_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca)
+    return _rk4_from_terms(theta, omega, k1w, Pm, Qm, Pb, Qb, h, p2)
+
+
+@kernel(inline="always")
+def _stage_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca):
+    """What the stages of :func:`_rk4_rotated` take from θ and the ground motion (not from θ'):
+    θ''_1 and the brackets P = gv·S + u·C, Q = u·S − gv·C at the middle (Pm, Qm) and the end
+    (Pb, Qb) of the step."""
     ua, ub = _u_ends(u0, du, tau, h)
     um = fma(du * 0.5, h, ua)
     ga, gm, gb = _gv_ends(g0, dg, tau, h)
     S, C = _angle_terms(st, ct, s, sa, ca)
-    hh = 0.5 * h
     # stage 1 at θ: −p²·(gv·S + u·C); at θ = 0 its sign is that of gv·s·sin α + u·cos α,
     # exactly the uplift test of _advance
     k1w = -p2 * fma(ua, C, _gv_times(ga, S))
     Pm = fma(um, C, _gv_times(gm, S))
     Qm = fma(um, S, -_gv_times(gm, C))
+    Pb = fma(ub, C, _gv_times(gb, S))
+    Qb = fma(ub, S, -_gv_times(gb, C))
+    return k1w, Pm, Qm, Pb, Qb
+
+
+@kernel(inline="always")
+def _rk4_from_terms(theta, omega, k1w, Pm, Qm, Pb, Qb, h, p2):
+    """The RK4 step of :func:`_rk4_rotated` from its :func:`_stage_terms`: (θ, θ', max abs(δ))."""
+    k2w, k3w, d23 = _rk4_middle(omega, k1w, Pm, Qm, h, p2)
+    return _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2)
+
+
+@kernel(inline="always")
+def _rk4_middle(omega, k1w, Pm, Qm, h, p2):
+    """Stages 2 and 3 of :func:`_rk4_from_terms`: θ''_2, θ''_3 and max(abs(δ_2), abs(δ_3))."""
+    hh = 0.5 * h
     d2 = hh * omega
     k2w = -p2 * _rot(Pm, Qm, d2)
     d3 = hh * fma(hh, k1w, omega)
     k3w = -p2 * _rot(Pm, Qm, d3)
-    d4 = h * fma(hh, k2w, omega)
-    k4w = -p2 * _rot(fma(ub, C, _gv_times(gb, S)), fma(ub, S, -_gv_times(gb, C)), d4)
+    a2 = abs(d2)
+    a3 = abs(d3)
+    return k2w, k3w, a2 if a2 > a3 else a3
+
+
+@kernel(inline="always")
+def _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2):
+    """Stage 4 of :func:`_rk4_from_terms` and the step: (θ, θ', max abs(δ))."""
+    d4 = h * fma(0.5 * h, k2w, omega)
+    k4w = -p2 * _rot(Pb, Qb, d4)
     # θ_1 = θ + h/6·(θ'_1 + 2θ'_2 + 2θ'_3 + θ'_4) = θ + h·(θ' + h/6·(θ''_1 + θ''_2 + θ''_3))
     th = fma(h, fma(h / 6.0, k1w + k2w + k3w, omega), theta)
     om = fma(h / 6.0, (k1w + k4w) + 2.0 * (k2w + k3w), omega)
-    a2 = abs(d2)
-    a3 = abs(d3)
     a4 = abs(d4)
-    dmax = a2 if a2 > a3 else a3
-    dmax = dmax if dmax > a4 else a4
-    return th, om, dmax
+    return th, om, d23 if d23 > a4 else a4
 
 
 @kernel(inline="always")
@@ -318,10 +346,21 @@ def _no_touch(theta, omega, s, ua, ub, ga, gb, h, p2, sa):
     [0, h] is at an end: s·θ ≥ 0 at τ = 0, and the test at τ = h.  ``ua``, ``ub``: u at the
     ends of the step; ``ga``, ``gb``: gv there (or None: gv = 1).
     """
+    return _clear_of_zero(theta, omega, s, h, _pull_bound(s, ua, ub, ga, gb, p2, sa))
+
+
+@kernel(inline="always")
+def _pull_bound(s, ua, ub, ga, gb, p2, sa):
+    """The bound a⁺ [rad/s²] of :func:`_no_touch`."""
     sua = _signed(s, ua)
     sub = _signed(s, ub)
     push = sua if sua > sub else sub  # ground acceleration towards θ = 0, if positive
-    amax = p2 * (_gv_times(_gv_max(ga, gb), sa) + (push if push > 0.0 else 0.0))
+    return p2 * (_gv_times(_gv_max(ga, gb), sa) + (push if push > 0.0 else 0.0))
+
+
+@kernel(inline="always")
+def _clear_of_zero(theta, omega, s, h, amax):
+    """:func:`_no_touch` given its bound a⁺ = ``amax`` [rad/s²]."""
     return _signed(s, fma(omega, h, theta)) > (0.5 * h) * h * amax
 
 
@@ -348,14 +387,32 @@ def _plain_step(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca, th_ov):
     step equals :func:`_rk4`'s when fast_valid.  Branch-free (SIMD lanes of the batched kernel);
     :func:`_advance` takes the same decision with it, so both paths agree bit for bit.
     """
-    th1, om1, dmax = _rk4_fast(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
-    valid = _fast_valid(theta, dmax)
+    st, ct = _sincos(theta)
+    k1w, Pm, Qm, Pb, Qb = _stage_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca)
     ua, ub = _u_ends(u0, du, tau, h)
     ga, _gm, gb = _gv_ends(g0, dg, tau, h)
+    amax = _pull_bound(s, ua, ub, ga, gb, p2, sa)
+    return _plain_step_terms(theta, omega, s, k1w, Pm, Qm, Pb, Qb, amax, h, p2, th_ov)
+
+
+@kernel(inline="always")
+def _plain_step_terms(theta, omega, s, k1w, Pm, Qm, Pb, Qb, amax, h, p2, th_ov):
+    """:func:`_plain_step` given the step's :func:`_stage_terms` and the bound a⁺ of
+    :func:`_no_touch` (``amax``, :func:`_pull_bound`): what depends on θ'."""
+    k2w, k3w, d23 = _rk4_middle(omega, k1w, Pm, Qm, h, p2)
+    return _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th_ov)
+
+
+@kernel(inline="always")
+def _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th_ov):
+    """:func:`_plain_step_terms` given stages 2 and 3 (:func:`_rk4_middle`).  The batched kernel
+    computes each part in a SIMD loop of its own."""
+    th1, om1, dmax = _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2)
+    valid = _fast_valid(theta, dmax)
     plain = (
         valid
         & (_signed(s, th1) > 0.0)
-        & _no_touch(theta, omega, s, ua, ub, ga, gb, h, p2, sa)
+        & _clear_of_zero(theta, omega, s, h, amax)
         & (abs(th1) < th_ov)
     )
     return th1, om1, valid, plain
