@@ -71,6 +71,19 @@ def kernel(*args: Any, **kw: Any) -> Any:
     return _decorator({**_COMMON, **kw}, args)
 
 
+def borrowing_kernel(*args: Any, **kw: Any) -> Any:
+    """:func:`kernel` compiled without reference counting (Numba's ``_nrt=False``): the arrays it
+    takes are borrowed from its caller, which keeps them alive, and it may not allocate any.
+
+    For the lane machine of the batched kernel, which reads a dozen arrays in every round:
+    Numba increments and decrements their reference counts around calls and inlined helpers,
+    atomically, on counters that all threads share (the motions), which cost ~9 % of its time on
+    two threads.  The option has an underscore in Numba (not in its documented API) but is the
+    one its own tests use; a Numba without it fails at compilation, not silently.
+    """
+    return _decorator({**_COMMON, "_nrt": False, **kw}, args)
+
+
 def parallel_kernel(*args: Any, **kw: Any) -> Any:
     """``numba.njit(parallel=True)`` with the package's settings."""
     return _decorator({**_COMMON, "parallel": True, **kw}, args)

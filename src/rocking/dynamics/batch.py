@@ -55,7 +55,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
-from ..core.compile import highest_bit, kernel, maxnum, parallel_kernel, prange
+from ..core.compile import (
+    borrowing_kernel,
+    highest_bit,
+    kernel,
+    maxnum,
+    parallel_kernel,
+    prange,
+)
 from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
@@ -205,7 +212,7 @@ _D23 = 36
 _ROWS = 37
 
 
-@kernel
+@borrowing_kernel
 def _lane_steps(lanes, n, motions, g, vert):
     """One sample interval of lanes 0 … n−1 (SIMD loops): the RK4 step from each lane's state
     (:func:`rocking.dynamics.equation._plain_step`), kept where it is all that happens in the
@@ -360,7 +367,7 @@ def _row_or_none(vert, x):
     return x
 
 
-@kernel
+@borrowing_kernel
 def _start_case(lanes, j, i, motions, vert, blocks, cases):
     """Put case i in lane j at the first interval in which its block may lift; False (lane left
     as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
@@ -584,11 +591,12 @@ def _new_lanes(vert):
     )
 
 
-@kernel
-def _lane_machine(motions, vert, blocks, cases, out, located, c0, c1):
-    """Integrate cases order[c0] … order[c1 − 1] and write their results (see the module
-    docstring)."""
-    lanes = _new_lanes(vert)
+@borrowing_kernel
+def _lane_machine(lanes, motions, vert, blocks, cases, out, located, c0, c1):
+    """Integrate cases order[c0] … order[c1 − 1] in the empty lane machine ``lanes``
+    (:func:`_new_lanes`; allocated by the caller: this function is compiled without reference
+    counting, :func:`~rocking.core.compile.borrowing_kernel`) and write their results (see the
+    module docstring)."""
     nxt = c0  # next case to start
     live = 0  # lanes 0 … live−1 hold a case
     while live < _LANES and nxt < c1:
@@ -652,7 +660,7 @@ def _may_lift(amax, avmin, i, sc, g, sa, ca):
     return _uplifts(abs(sc * amax) / g, _gv_sample(avmin, i, sc, g), sa, ca)
 
 
-@kernel
+@borrowing_kernel
 def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
     """First interval k' ≥ k of a block at rest in which it may lift (u and gv at its start), or
     (n_t − 1, u, gv) if none: the intervals skipped are those where _advance leaves it at rest
@@ -684,7 +692,15 @@ def _cases_kernel(motions, vert, blocks, cases, out, located, group):
     n = cases.body.shape[0]
     for q in prange((n + group - 1) // group):
         _lane_machine(
-            motions, vert, blocks, cases, out, located, q * group, min(n, (q + 1) * group)
+            _new_lanes(vert),
+            motions,
+            vert,
+            blocks,
+            cases,
+            out,
+            located,
+            q * group,
+            min(n, (q + 1) * group),
         )
 
 
