@@ -156,8 +156,6 @@ class Lanes(NamedTuple):
     """
 
     W: np.ndarray
-    acc1: np.ndarray  #: ground acceleration at the end of each lane's interval [m/s²]
-    av1: np.ndarray  #: vertical one [m/s²] (only with vertical motion)
     nxt: np.ndarray  #: index in Motions.acc of that sample (one past it after a SIMD round)
     case: np.ndarray  #: the lane's case, −1 for none
     base: np.ndarray  #: index in Motions.acc of the case's first sample
@@ -209,7 +207,9 @@ _AM = 33
 _K2 = 34
 _K3 = 35
 _D23 = 36
-_ROWS = 37
+_A1 = 37  # the samples that end the lanes' intervals (_gather): a_g [m/s²], a_v [m/s²]
+_AV1 = 38
+_ROWS = 39
 
 
 @borrowing_kernel
@@ -234,15 +234,14 @@ def _lane_steps(lanes, n, motions, g, vert):
     W = lanes.W
     nxt = lanes.nxt
     base = lanes.base
-    acc1 = lanes.acc1
     dt = motions.dt
     n_t = motions.n_t
     for j in range(n):  # what depends on the samples and θ only
         u0 = W[_U0 * L + j]
         sc = W[_SC * L + j]
-        u1 = sc * acc1[j] / g  # as simulate(block, scale * acc, dt)
+        u1 = sc * W[_A1 * L + j] / g  # as simulate(block, scale * acc, dt)
         g0 = _vertical_row(vert, W, _G0 * L + j)
-        g1 = _vertical_end(vert, lanes.av1, j, sc, g)  # as simulate(..., av=abs(scale) * av)
+        g1 = _vertical_end(vert, W, _AV1 * L + j, sc, g)  # as simulate(..., av=abs(scale) * av)
         st, ct = _sincos(W[_TH * L + j])
         W[_ST * L + j] = st
         W[_CT * L + j] = ct
@@ -332,11 +331,12 @@ def _vertical_row(vert, W, r):
 
 
 @kernel(inline="always")
-def _vertical_end(vert, av1, j, sc, g):
-    """gv at the end of lane j's interval (:func:`_gv_sample` of the gathered sample), or None."""
+def _vertical_end(vert, W, r, sc, g):
+    """gv at the end of a lane's interval (:func:`_gv_sample` of its gathered sample W[r]), or
+    None without vertical motion."""
     if vert is None:
         return None
-    return _gv_sample(av1, j, sc, g)
+    return _gv_sample(W, r, sc, g)
 
 
 @kernel(inline="always")
@@ -350,13 +350,13 @@ def _store_vertical(vert, W, j, g0, g1):
 
 @kernel(inline="always")
 def _gather(lanes, n, motions, vert):
-    """The samples that end lanes 0 … n−1's intervals: acc1[j] = acc[nxt[j]] [m/s²] (and av1
-    likewise), as an unsigned index: no test for negative ones."""
+    """The samples that end lanes 0 … n−1's intervals into rows _A1 (acc[nxt[j]] [m/s²]) and _AV1
+    (av likewise), as an unsigned index: no test for negative ones."""
     for j in range(n):
-        lanes.acc1[j] = motions.acc[np.uint64(lanes.nxt[j])]
+        lanes.W[_A1 * _LANES + j] = motions.acc[np.uint64(lanes.nxt[j])]
     if vert is not None:
         for j in range(n):
-            lanes.av1[j] = vert.av[np.uint64(lanes.nxt[j])]
+            lanes.W[_AV1 * _LANES + j] = vert.av[np.uint64(lanes.nxt[j])]
 
 
 @kernel(inline="always")
@@ -582,8 +582,6 @@ def _new_lanes(vert):
     L = _LANES
     return Lanes(
         np.zeros(_ROWS * L),
-        np.zeros(L),
-        np.zeros(L if vert is not None else 0),
         np.zeros(L, np.int64),
         np.full(L, -1, np.int64),
         np.zeros(L, np.int64),
