@@ -1,8 +1,9 @@
 """All Numba settings in one place.
 
-Every compiled kernel of the package is declared with :func:`kernel` (serial) or
-:func:`parallel_kernel`, so that ``cache=True`` (compiled code stored on disk and reused by later
-processes) and ``fastmath``/``error_model`` choices are uniform.
+Every compiled kernel of the package is declared with :func:`kernel` (serial),
+:func:`borrowing_kernel` (serial, without reference counting) or :func:`parallel_kernel`, so that
+``cache=True`` (compiled code stored on disk and reused by later processes) and
+``fastmath``/``error_model`` choices are uniform.
 
 The compiled code goes to the user's cache folder (:func:`cache_dir`), not next to the sources:
 an installation may be read-only (a system or container install), and one cache per user serves
