@@ -392,21 +392,16 @@ def _plain_step(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca, th_ov):
     ua, ub = _u_ends(u0, du, tau, h)
     ga, _gm, gb = _gv_ends(g0, dg, tau, h)
     amax = _pull_bound(s, ua, ub, ga, gb, p2, sa)
-    return _plain_step_terms(theta, omega, s, k1w, Pm, Qm, Pb, Qb, amax, h, p2, th_ov)
-
-
-@kernel(inline="always")
-def _plain_step_terms(theta, omega, s, k1w, Pm, Qm, Pb, Qb, amax, h, p2, th_ov):
-    """:func:`_plain_step` given the step's :func:`_stage_terms` and the bound a⁺ of
-    :func:`_no_touch` (``amax``, :func:`_pull_bound`): what depends on θ'."""
     k2w, k3w, d23 = _rk4_middle(omega, k1w, Pm, Qm, h, p2)
     return _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th_ov)
 
 
 @kernel(inline="always")
 def _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th_ov):
-    """:func:`_plain_step_terms` given stages 2 and 3 (:func:`_rk4_middle`).  The batched kernel
-    computes each part in a SIMD loop of its own."""
+    """The end of :func:`_plain_step`: stage 4, the step and its tests, given what comes before
+    them (:func:`_stage_terms`, the bound a⁺ = ``amax`` of :func:`_no_touch` from
+    :func:`_pull_bound`, and stages 2 and 3 from :func:`_rk4_middle`).  The batched kernel
+    computes each of these parts in a SIMD loop of its own."""
     th1, om1, dmax = _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2)
     valid = _fast_valid(theta, dmax)
     plain = (
