@@ -67,15 +67,12 @@ from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .equation import (
-    _gv_ends,
     _gv_sample,
     _gv_slope,
     _plain_step_end,
-    _pull_bound,
+    _plain_terms,
     _rk4_middle,
     _sincos,
-    _stage_terms,
-    _u_ends,
     _uplifts,
 )
 from .impacts import (
@@ -220,12 +217,11 @@ def _lane_steps(lanes, n, motions, g, vert):
 
     The step is computed in four loops over the lanes, through rows of W: (1) the ground
     motion's change and sin θ, cos θ; (2) the stages' brackets and the bound of
-    :func:`~rocking.dynamics.equation._no_touch` (:func:`~rocking.dynamics.equation._stage_terms`,
-    :func:`~rocking.dynamics.equation._pull_bound`); (3) stages 2 and 3; (4) stage 4, the step
-    and its tests.  The same operations on the same values as one loop, but the dependency
-    chain of a lane's step, about 110 cycles, is cut into four short ones, which the processor
-    overlaps across lanes: one loop of the whole step is longer than its reorder window (Zen 3:
-    20 % less time per step than one loop).
+    :func:`~rocking.dynamics.equation._no_touch` (:func:`~rocking.dynamics.equation._plain_terms`);
+    (3) stages 2 and 3; (4) stage 4, the step and its tests.  The same operations on the same
+    values as one loop, but the dependency chain of a lane's step, about 110 cycles, is cut into
+    four short ones, which the processor overlaps across lanes: one loop of the whole step is
+    longer than its reorder window (Zen 3: 20 % less time per step than one loop).
 
     Returns the lanes that need attention (the step is not plain, or the motion has ended) as bit
     masks: lanes 0 … 63, lanes 64 … 127.
@@ -258,20 +254,26 @@ def _lane_steps(lanes, n, motions, g, vert):
         h = dt - tau
         g0 = _vertical_row(vert, W, _G0S * L + j)
         dg = _gv_slope(g0, _vertical_row(vert, W, _G0 * L + j), dt)
-        s = W[_SG * L + j]
-        p2 = W[_P2 * L + j]
-        sa = W[_SA * L + j]
-        k1w, Pm, Qm, Pb, Qb = _stage_terms(
-            W[_ST * L + j], W[_CT * L + j], s, u0, du, g0, dg, tau, h, p2, sa, W[_CA * L + j]
+        k1w, Pm, Qm, Pb, Qb, amax = _plain_terms(
+            W[_ST * L + j],
+            W[_CT * L + j],
+            W[_SG * L + j],
+            u0,
+            du,
+            g0,
+            dg,
+            tau,
+            h,
+            W[_P2 * L + j],
+            W[_SA * L + j],
+            W[_CA * L + j],
         )
-        ua, ub = _u_ends(u0, du, tau, h)
-        ga, _gm, gb = _gv_ends(g0, dg, tau, h)
         W[_K1 * L + j] = k1w
         W[_PM * L + j] = Pm
         W[_QM * L + j] = Qm
         W[_PB * L + j] = Pb
         W[_QB * L + j] = Qb
-        W[_AM * L + j] = _pull_bound(s, ua, ub, ga, gb, p2, sa)
+        W[_AM * L + j] = amax
         W[_H * L + j] = h
     for j in range(n):
         k2w, k3w, d23 = _rk4_middle(

@@ -238,7 +238,8 @@ def _rk4_rotated(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca):
     the second condition.
     """
     k1w, Pm, Qm, Pb, Qb = _stage_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca)
-    return _rk4_from_terms(theta, omega, k1w, Pm, Qm, Pb, Qb, h, p2)
+    k2w, k3w, d23 = _rk4_middle(omega, k1w, Pm, Qm, h, p2)
+    return _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2)
 
 
 @kernel(inline="always")
@@ -261,15 +262,8 @@ def _stage_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca):
 
 
 @kernel(inline="always")
-def _rk4_from_terms(theta, omega, k1w, Pm, Qm, Pb, Qb, h, p2):
-    """The RK4 step of :func:`_rk4_rotated` from its :func:`_stage_terms`: (θ, θ', max abs(δ))."""
-    k2w, k3w, d23 = _rk4_middle(omega, k1w, Pm, Qm, h, p2)
-    return _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2)
-
-
-@kernel(inline="always")
 def _rk4_middle(omega, k1w, Pm, Qm, h, p2):
-    """Stages 2 and 3 of :func:`_rk4_from_terms`: θ''_2, θ''_3 and max(abs(δ_2), abs(δ_3))."""
+    """Stages 2 and 3 of :func:`_rk4_rotated`: θ''_2, θ''_3 and max(abs(δ_2), abs(δ_3))."""
     hh = 0.5 * h
     d2 = hh * omega
     k2w = -p2 * _rot(Pm, Qm, d2)
@@ -282,7 +276,7 @@ def _rk4_middle(omega, k1w, Pm, Qm, h, p2):
 
 @kernel(inline="always")
 def _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2):
-    """Stage 4 of :func:`_rk4_from_terms` and the step: (θ, θ', max abs(δ))."""
+    """Stage 4 of :func:`_rk4_rotated` and the step: (θ, θ', max abs(δ))."""
     d4 = h * fma(0.5 * h, k2w, omega)
     k4w = -p2 * _rot(Pb, Qb, d4)
     # θ_1 = θ + h/6·(θ'_1 + 2θ'_2 + 2θ'_3 + θ'_4) = θ + h·(θ' + h/6·(θ''_1 + θ''_2 + θ''_3))
@@ -388,19 +382,25 @@ def _plain_step(theta, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca, th_ov):
     :func:`_advance` takes the same decision with it, so both paths agree bit for bit.
     """
     st, ct = _sincos(theta)
-    k1w, Pm, Qm, Pb, Qb = _stage_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca)
-    ua, ub = _u_ends(u0, du, tau, h)
-    ga, _gm, gb = _gv_ends(g0, dg, tau, h)
-    amax = _pull_bound(s, ua, ub, ga, gb, p2, sa)
+    k1w, Pm, Qm, Pb, Qb, amax = _plain_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca)
     k2w, k3w, d23 = _rk4_middle(omega, k1w, Pm, Qm, h, p2)
     return _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th_ov)
 
 
 @kernel(inline="always")
+def _plain_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca):
+    """What :func:`_plain_step` takes from θ and the ground motion: the :func:`_stage_terms` and
+    the bound a⁺ [rad/s²] of :func:`_no_touch` (:func:`_pull_bound`)."""
+    ua, ub = _u_ends(u0, du, tau, h)
+    ga, _gm, gb = _gv_ends(g0, dg, tau, h)
+    k1w, Pm, Qm, Pb, Qb = _stage_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca)
+    return k1w, Pm, Qm, Pb, Qb, _pull_bound(s, ua, ub, ga, gb, p2, sa)
+
+
+@kernel(inline="always")
 def _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th_ov):
     """The end of :func:`_plain_step`: stage 4, the step and its tests, given what comes before
-    them (:func:`_stage_terms`, the bound a⁺ = ``amax`` of :func:`_no_touch` from
-    :func:`_pull_bound`, and stages 2 and 3 from :func:`_rk4_middle`).  The batched kernel
+    them (:func:`_plain_terms`, and stages 2 and 3 from :func:`_rk4_middle`).  The batched kernel
     computes each of these parts in a SIMD loop of its own."""
     th1, om1, dmax = _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2)
     valid = _fast_valid(theta, dmax)

@@ -45,8 +45,7 @@ def wilson_interval(
     """
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     count, n = _counts(count, n)
-    import scipy.special  # here and below on first use: SciPy's subpackages take 0.2-0.8 s to
-    # import, which most commands do not need
+    import scipy.special  # here and below on first use: 0.2-0.8 s that most commands skip
 
     # Newcombe (1998, Statistics in Medicine 17: 857-872, method 3) in the operations of SciPy's
     # binomtest(k, n).proportion_ci(method="wilson"), which gives the same bits
