@@ -17,7 +17,7 @@ from rocking.core.files import figure_png
 from rocking.core.runs import provenance
 from rocking.dynamics.body import FOOT, Block
 from rocking.errors import InputError
-from rocking.report import Report, markdown_to_html, remove_report, slug
+from rocking.report import Report, drawing_pool, markdown_to_html, remove_report, slug
 
 
 def _figure():
@@ -56,6 +56,43 @@ def test_report_writes_markdown_html_png_and_csv(tmp_path):
     csv = pd.read_csv(tmp_path / "tables" / "table-1.csv")
     assert list(csv.columns) == ["R [m]", "ours", "paper"]
     assert csv["paper"].tolist() == [2.0, 3.0]
+
+
+def test_figures_drawn_by_worker_processes_are_the_same_files(tmp_path):
+    # A report whose figures are drawn by a pool of worker processes (each Figure pickled and
+    # drawn there) writes the same bytes, pages and files as one drawn here: same Matplotlib,
+    # same figure, so the same pixels; every figure is written by write() at the latest.
+    def build(out, drawer):
+        rep = Report("Study", out, drawer)
+        rep.text("before")
+        for i in range(3):
+            fig = Figure(figsize=(3, 2), layout="constrained")
+            ax = fig.add_subplot()
+            ax.semilogy([1, 2, 3], [1.0, 10.0 ** (i + 1), 5.0], label=f"curve {i}")
+            ax.set_title(f"θ(t), figure {i}")
+            ax.legend()
+            rep.figure(fig, f"f{i}", f"Figure {i}.")
+        rep.text("after")
+        rep.write()
+        return rep.files
+
+    files_here = build(tmp_path / "here", None)
+    with drawing_pool(2) as pool:
+        assert pool is not None
+        files_pool = build(tmp_path / "pool", pool)
+    assert (
+        files_here
+        == files_pool
+        == [f"figures/f{i}.png" for i in range(3)]
+        + [
+            "report.md",
+            "report.html",
+        ]
+    )
+    for name in files_here:
+        assert (tmp_path / "pool" / name).read_bytes() == (tmp_path / "here" / name).read_bytes()
+    with drawing_pool(1) as pool:
+        assert pool is None  # one processor: drawn in this process
 
 
 def test_figure_png_draws_what_savefig_draws():

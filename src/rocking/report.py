@@ -3,6 +3,8 @@
 A :class:`Report` collects headings, Markdown text, figures and tables in order and writes them
 with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tables also as CSV) and
 ``report.html`` (one file: figures embedded as base64 PNG, so it can be mailed or archived alone).
+Figures can be drawn by worker processes (``drawer``: a pool in which Matplotlib draws each
+pickled ``Figure``, the same pixels as in this process), while this process builds the next ones.
 
 Every file is written atomically by :func:`rocking.core.files.atomic_write` (a temporary file in
 the same folder renamed over the final name; mode 0666 less the umask, as ``open`` gives). Both
@@ -17,9 +19,14 @@ from __future__ import annotations
 
 import base64
 import html
+import multiprocessing
 import os
 import re
+import signal
 import unicodedata
+from collections.abc import Iterator
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -63,6 +70,15 @@ class _Block:
     html: str
 
 
+@dataclass(frozen=True)
+class _Drawing:
+    """A figure being drawn by a worker of the report's ``drawer``: its PNG comes from ``png``."""
+
+    name: str
+    caption: str
+    png: Future
+
+
 class Report:
     """An ordered report written to ``out_dir`` as report.md and a self-contained report.html.
 
@@ -74,13 +90,21 @@ class Report:
         Output folder; created if missing. Figures go to ``out_dir/figures/<name>.png`` and
         tables to ``out_dir/tables/<name>.csv`` as they are added; the two pages only on
         :meth:`write`.
+    drawer : concurrent.futures.Executor, optional
+        A pool of worker processes that draws the figures (:func:`rocking.core.files.figure_png`
+        of the pickled ``Figure``) while the caller goes on; their PNG files are then written
+        as they are needed, at the latest by :meth:`write`. None: each figure is drawn and
+        written when it is added.
     """
 
-    def __init__(self, title: str, out_dir: str | os.PathLike[str]) -> None:
+    def __init__(
+        self, title: str, out_dir: str | os.PathLike[str], drawer: Executor | None = None
+    ) -> None:
         self.title = str(title)
         self.out_dir = Path(out_dir)
         self.out_dir.mkdir(parents=True, exist_ok=True)
-        self._blocks: list[_Block] = []
+        self.drawer = drawer
+        self._blocks: list[_Block | _Drawing] = []
         self._names: set[str] = set()
         self._n_tables = 0
         #: Files written so far, relative to ``out_dir`` ('/'-separated).
@@ -102,23 +126,35 @@ class Report:
         self._blocks.append(_Block(markdown, markdown_to_html(markdown)))
 
     def figure(self, fig: Figure, name: str, caption: str) -> Path:
-        """Add a matplotlib ``Figure``: saved as ``figures/<name>.png``; returns that path."""
+        """Add a matplotlib ``Figure``, saved as ``figures/<name>.png``; returns that path (with
+        a ``drawer``, the file is written once drawn: by :meth:`write` at the latest)."""
         name = self._claim(name)
-        png = figure_png(fig, DPI)
+        cap = " ".join(str(caption).split())
+        if self.drawer is None:
+            self._blocks.append(self._figure_block(name, cap, figure_png(fig, DPI)))
+        else:
+            self._blocks.append(_Drawing(name, cap, self.drawer.submit(figure_png, fig, DPI)))
+        return self.out_dir / "figures" / f"{name}.png"
+
+    def _figure_block(self, name: str, cap: str, png: bytes) -> _Block:
+        """Write a figure's PNG file; its block."""
         path = self.out_dir / "figures" / f"{name}.png"
         path.parent.mkdir(exist_ok=True)
         atomic_write(path, png)
         self.files.append(f"figures/{name}.png")
         b64 = base64.b64encode(png).decode("ascii")
-        cap = " ".join(str(caption).split())
-        self._blocks.append(
-            _Block(
-                f"![{_md_alt(cap)}](figures/{name}.png)\n\n*{cap}*",
-                f'<figure><img alt="{html.escape(cap)}" src="data:image/png;base64,{b64}">'
-                f"<figcaption>{_inline(cap)}</figcaption></figure>",
-            )
+        return _Block(
+            f"![{_md_alt(cap)}](figures/{name}.png)\n\n*{cap}*",
+            f'<figure><img alt="{html.escape(cap)}" src="data:image/png;base64,{b64}">'
+            f"<figcaption>{_inline(cap)}</figcaption></figure>",
         )
-        return path
+
+    def _drawn(self) -> list[_Block]:
+        """The blocks, every figure drawn by the ``drawer`` waited for and written (in order)."""
+        for i, b in enumerate(self._blocks):
+            if isinstance(b, _Drawing):
+                self._blocks[i] = self._figure_block(b.name, b.caption, b.png.result())
+        return [b for b in self._blocks if isinstance(b, _Block)]  # all of them now
 
     def table(
         self,
@@ -193,12 +229,12 @@ class Report:
     # ---- output --------------------------------------------------------------------------------
     def markdown(self) -> str:
         """The report as Markdown (figures linked as ``figures/<name>.png``)."""
-        return "\n\n".join([f"# {self.title}"] + [b.md for b in self._blocks]) + "\n"
+        return "\n\n".join([f"# {self.title}"] + [b.md for b in self._drawn()]) + "\n"
 
     def html(self) -> str:
         """The report as one self-contained HTML page (figures embedded)."""
         title = html.escape(self.title)
-        body = "\n".join(b.html for b in self._blocks)
+        body = "\n".join(b.html for b in self._drawn())
         return (
             f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
             f"<title>{title}</title><style>{_CSS}</style></head>\n<body>\n<h1>{title}</h1>\n"
@@ -222,6 +258,44 @@ class Report:
             raise
         self.files += ["report.md", "report.html"]
         return md_path, html_path
+
+
+@contextmanager
+def drawing_pool(workers: int | None = None) -> Iterator[Executor | None]:
+    """A pool of worker processes to draw a :class:`Report`'s figures (its ``drawer``), or None
+    (draw in this process) on a machine with one processor.
+
+    ``workers`` defaults to the number of processors, at most 4.  The workers are started at
+    once and import Matplotlib in the background (about 1 s each), so that a pool opened before
+    the figures' data are computed is ready when they are; they ignore Ctrl-C (this process
+    stops them).  They are fresh interpreters
+    ("spawn"), never a fork of this process and its threads.  Leaving the context waits for the
+    drawings still running; on an error, those not started are dropped.
+    """
+    n = min(4, os.cpu_count() or 1) if workers is None else workers
+    if n < 2:
+        yield None
+        return
+    pool = ProcessPoolExecutor(
+        n, mp_context=multiprocessing.get_context("spawn"), initializer=_drawing_worker
+    )
+    try:
+        for _ in range(n):  # each task starts a worker while none is idle
+            pool.submit(os.getpid)
+        yield pool
+    except BaseException:
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _drawing_worker() -> None:
+    """Start of a worker of :func:`drawing_pool`: it leaves Ctrl-C to the process that owns the
+    pool (which stops it), and imports what drawing a figure needs."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    import matplotlib.backends.backend_agg
+    import matplotlib.figure  # noqa: F401
+    import PIL.PngImagePlugin  # noqa: F401
 
 
 def slug(text: str) -> str:

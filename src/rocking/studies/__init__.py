@@ -21,6 +21,8 @@ from ..defaults import STUDY_SECTIONS
 from ..errors import InputError
 
 if TYPE_CHECKING:
+    from concurrent.futures import Executor
+
     from ..core.progress import Reporter
     from ..report import Report
     from .conclusions import Verdict
@@ -85,7 +87,7 @@ def reproduce(
     from ..core.progress import resolve
     from ..core.runs import RunFolder
     from ..montecarlo.backends import get_backend
-    from ..report import remove_report
+    from ..report import drawing_pool, remove_report
     from .config import PRESETS, RunContext, load_config, validate
 
     echo = echo or (lambda _msg: None)
@@ -112,7 +114,11 @@ def reproduce(
         "seeds": {s: cfg[s]["seed"] for s in cfg if "seed" in cfg[s]},
         "backend": repr(backend),
     }
-    with RunFolder(out, command="reproduce", params={"parameters": cfg}) as run, reporter:
+    with (
+        RunFolder(out, command="reproduce", params={"parameters": cfg}) as run,
+        reporter,
+        drawing_pool() as drawer,  # started now: ready when the figures are
+    ):
         # the pages of an earlier run must not look like this run's result if it fails
         remove_report(out)
         run.update(**run_info)
@@ -130,7 +136,7 @@ def reproduce(
                 echo(f"section {s}: {wall[s]:.1f} s")
         t0 = time.perf_counter()
         with reporter.stage("report", unit="sections"):
-            for name in _write_report(out, ctx, results):
+            for name in _write_report(out, ctx, results, drawer):
                 run.file(name)
         wall["report"] = round(time.perf_counter() - t0, 2)
         wall["total"] = round(time.perf_counter() - start, 2)
@@ -139,9 +145,12 @@ def reproduce(
     return out / "report.html"
 
 
-def _write_report(out: Path, ctx: RunContext, results: dict) -> list[str]:
-    """Report of the studies in ``results`` (by section), conclusions first; returns the files
-    it wrote (relative to ``out``)."""
+def _write_report(
+    out: Path, ctx: RunContext, results: dict, drawer: Executor | None = None
+) -> list[str]:
+    """Report of the studies in ``results`` (by section), conclusions first, its figures drawn
+    by ``drawer`` (:class:`rocking.report.Report`); returns the files it wrote (relative to
+    ``out``)."""
     from ..report import Report
     from . import conclusions
 
@@ -150,6 +159,7 @@ def _write_report(out: Path, ctx: RunContext, results: dict) -> list[str]:
         f"Reproduction of the rocking paper: sections {', '.join(sections)} "
         f"({ctx.fidelity} fidelity)",
         out,
+        drawer,
     )
     _introduction(rep, ctx, sections, ctx.fidelity, ctx.modified)
     _conclusions(rep, conclusions.evaluate(results), conclusions.robustness(results), ctx.label())
