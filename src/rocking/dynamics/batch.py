@@ -16,8 +16,11 @@ state the step started from in rows of its own, which the event handling reads):
 where the step is plain would compile to a masked store, which AMD processors before Zen 4
 execute in microcode.  The other lanes — and lanes at rest — are handled one by one by
 :func:`rocking.dynamics.impacts._advance_events`, exactly as :func:`~rocking.dynamics.simulate`
-handles them, except that after an impact from which the block swings clear of θ = 0 the rest of
-the interval goes back to the SIMD loop.  Cases of the same motion sit side by side (they read
+handles them, except that the impact of a step that ends on the other side of θ = 0 is located
+with the partial Runge–Kutta steps of its Newton iteration computed in the lane's next SIMD rounds
+(:func:`_start_locating`; the same operations as :func:`rocking.dynamics.impacts._locate`: a
+scalar partial step is a chain of ~100 cycles of latency), and that after an impact from which the
+block swings clear of θ = 0 the rest of the interval goes back to the SIMD loop.  Cases of the same motion sit side by side (they read
 the same samples).  A lane whose case ends takes the next case of its group; when none is left,
 the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
 inputs and its lanes' state are records (:class:`Motions`, :class:`Vertical`, :class:`Blocks`,
@@ -72,10 +75,12 @@ from .equation import (
     _plain_step_end,
     _plain_terms,
     _rk4_middle,
+    _rk4_stages,
     _sincos,
     _uplifts,
 )
 from .impacts import (
+    _NEWTON_MAX,
     _OVERTURNED,
     _REST,
     _ROCKING,
@@ -83,6 +88,9 @@ from .impacts import (
     Interval,
     Swing,
     _advance_events,
+    _impact,
+    _locate_start,
+    _newton,
     resolve_impacts,
 )
 
@@ -167,7 +175,7 @@ class Lanes(NamedTuple):
 _TH = 0  # θ [rad] at the start of the lane's interval; after a SIMD round, the RK4 step's θ
 _OM = 1  # θ' [rad/s] likewise
 _SG = 2  # pivot side s = ±1
-_RK = 3  # 1.0 if rocking, 0.0 if at rest
+_RK = 3  # 1.0 if rocking, 0.0 if at rest or locating an impact (the step cannot be plain)
 _U0 = 4  # u = a_g/g at the start of the interval; after a SIMD round, u at its end
 _G0 = 5  # vertical factor gv = 1 + a_v/g likewise (with a_v only)
 _TAU = 6  # local time [s] from which the interval is still to be integrated (0 but after events)
@@ -206,7 +214,14 @@ _K3 = 35
 _D23 = 36
 _A1 = 37  # the samples that end the lanes' intervals (_gather): a_g [m/s²], a_v [m/s²]
 _AV1 = 38
-_ROWS = 39
+# A lane locating an impact (:func:`_attend`): the partial step length of its next SIMD round
+# [s] (0: none, the step to the interval's end), the bracket of _newton [s] and the Newton
+# corrections made so far.
+_HL = 39
+_LO = 40
+_HI = 41
+_NI = 42
+_ROWS = 43
 
 
 @borrowing_kernel
@@ -251,7 +266,8 @@ def _lane_steps(lanes, n, motions, g, vert):
         u0 = W[_U0S * L + j]
         tau = W[_TAUS * L + j]
         du = W[_DU * L + j]
-        h = dt - tau
+        hl = W[_HL * L + j]
+        h = hl if hl > 0.0 else dt - tau  # hl: a partial step locating an impact
         g0 = _vertical_row(vert, W, _G0S * L + j)
         dg = _gv_slope(g0, _vertical_row(vert, W, _G0 * L + j), dt)
         k1w, Pm, Qm, Pb, Qb, amax = _plain_terms(
@@ -406,6 +422,7 @@ def _start_case(lanes, j, i, motions, vert, blocks, cases):
     W[_OM * L + j] = 0.0
     W[_SG * L + j] = 1.0
     W[_RK * L + j] = 0.0
+    W[_HL * L + j] = 0.0
     W[_U0 * L + j] = u0
     W[_TAU * L + j] = 0.0
     W[_PK * L + j] = 0.0
@@ -477,31 +494,44 @@ def _attend(lanes, j, motions, vert, blocks, cases, located):
     u1 = W[_U0 * L + j]
     g0 = _row_or_none(vert, W[_G0S * L + j])
     g1 = _row_or_none(vert, W[_G0 * L + j])
-    sw, _ni, _te, deferred = _advance_events(
-        Swing(
-            W[_THS * L + j],
-            W[_OMS * L + j],
-            W[_SG * L + j],
-            state,
-            W[_TAUS * L + j],
-            W[_TST * L + j],
-            W[_FS * L + j],
-        ),
-        Interval(u0, u1, g0, g1, dt),
-        Body(
-            W[_P2 * L + j],
-            W[_SA * L + j],
-            W[_CA * L + j],
-            blocks.tan_a[b],
-            blocks.e[b],
-            W[_OV * L + j],
-        ),
-        W[_TH * L + j],
-        W[_OM * L + j],
-        (state == _ROCKING) & (W[_VAL * L + j] != 0.0),
-        True,
-        located,
+    iv = Interval(u0, u1, g0, g1, dt)
+    body = Body(
+        W[_P2 * L + j],
+        W[_SA * L + j],
+        W[_CA * L + j],
+        blocks.tan_a[b],
+        blocks.e[b],
+        W[_OV * L + j],
     )
+    sw = Swing(
+        W[_THS * L + j],
+        W[_OMS * L + j],
+        W[_SG * L + j],
+        state,
+        W[_TAUS * L + j],
+        W[_TST * L + j],
+        W[_FS * L + j],
+    )
+    if W[_HL * L + j] > 0.0:  # locating an impact: the round computed a partial step
+        found, sw, deferred = _lane_impact(W, j, sw, iv, body, located)
+        if not found:  # the next partial step in the next round
+            _repeat_interval(lanes, j, vert)
+            return False, False, k
+    elif _crosses(W, j, sw, dt, located):
+        _start_locating(W, j, sw, iv)
+        _repeat_interval(lanes, j, vert)
+        return False, False, k
+    else:
+        sw, _ni, _te, deferred = _advance_events(
+            sw,
+            iv,
+            body,
+            W[_TH * L + j],
+            W[_OM * L + j],
+            (state == _ROCKING) & (W[_VAL * L + j] != 0.0),
+            True,
+            located,
+        )
     W[_TH * L + j] = sw.theta
     W[_OM * L + j] = sw.omega
     W[_SG * L + j] = sw.s
@@ -535,6 +565,127 @@ def _attend(lanes, j, motions, vert, blocks, cases, located):
     W[_RK * L + j] = 1.0 if sw.state == _ROCKING else 0.0
     lanes.nxt[j] = lanes.base[j] + k + 1
     return k >= n_t - 1, False, k
+
+
+@kernel(inline="always")
+def _crosses(W, j, sw, dt, located):
+    """Whether lane j's SIMD step ``sw`` → (θ, θ') of its rows TH, OM is an RK4 step that ends on
+    the other side of θ = 0, so that :func:`~rocking.dynamics.impacts._advance_events` would
+    begin by locating that impact (:func:`~rocking.dynamics.impacts._locate` on the bracket
+    (0, dt − tau)): the kernel then locates it in the lane (:func:`_start_locating`)."""
+    L = _LANES
+    th1 = W[_TH * L + j]
+    s = sw.s
+    return (
+        located
+        & (sw.state == _ROCKING)
+        & (W[_VAL * L + j] != 0.0)
+        & (dt - sw.tau > 0.0)
+        & ((s * th1 < 0.0) | ((th1 == 0.0) & (s * W[_OM * L + j] < 0.0)))
+    )
+
+
+@kernel(inline="always")
+def _start_locating(W, j, sw, iv):
+    """Lane j locates the impact of its SIMD step (:func:`_crosses`) in the next rounds: each
+    computes the partial RK4 step of length W[_HL] from ``sw`` (the SIMD loop: the same
+    operations as :func:`~rocking.dynamics.impacts._locate`'s scalar ones, sin θ and cos θ of
+    the round in rows ST, CT), and :func:`_lane_impact` makes the Newton correction."""
+    L = _LANES
+    dt = iv.dt
+    h = dt - sw.tau
+    W[_HL * L + j] = _locate_start(
+        sw.theta,
+        W[_ST * L + j],
+        W[_CT * L + j],
+        sw.omega,
+        sw.s,
+        iv.u0,
+        (iv.u1 - iv.u0) / dt,
+        iv.g0,
+        _gv_slope(iv.g0, iv.g1, dt),
+        sw.tau,
+        0.0,
+        h,
+        sw.theta,
+        W[_TH * L + j],
+        0.0,
+        -sw.s,
+        W[_P2 * L + j],
+        W[_SA * L + j],
+        W[_CA * L + j],
+    )
+    W[_LO * L + j] = 0.0
+    W[_HI * L + j] = h
+    W[_NI * L + j] = 0.0
+    W[_RK * L + j] = 0.0  # never plain
+
+
+@kernel(inline="always")
+def _lane_impact(W, j, sw, iv, body, located):
+    """The Newton correction of lane j's impact location after the round's partial step
+    (:func:`~rocking.dynamics.impacts._newton`, as in
+    :func:`~rocking.dynamics.impacts._locate`).  Returns (found, swing, deferred): when found,
+    the impact and the rest of the interval as :func:`~rocking.dynamics.impacts._advance_events`
+    goes on after it (``deferred`` as it returns it); else W[_HL] is the next length to try."""
+    L = _LANES
+    dt = iv.dt
+    du = (iv.u1 - iv.u0) / dt
+    dg = _gv_slope(iv.g0, iv.g1, dt)
+    s = sw.s
+    h = W[_HL * L + j]
+    th = W[_TH * L + j]
+    om = W[_OM * L + j]
+    if W[_VAL * L + j] == 0.0:  # the fast step is not valid: _rk4_sc's other branch
+        th, om = _rk4_stages(
+            sw.theta, sw.omega, s, iv.u0, du, iv.g0, dg, sw.tau, h, body.p2, body.sa, body.ca
+        )
+    ni = W[_NI * L + j]
+    if ni < _NEWTON_MAX:
+        found, h, lo, hi, th, om = _newton(
+            th,
+            om,
+            h,
+            W[_LO * L + j],
+            W[_HI * L + j],
+            0.0,
+            -s,
+            s,
+            iv.u0,
+            du,
+            iv.g0,
+            dg,
+            sw.tau,
+            body.p2,
+            body.sa,
+            body.ca,
+        )
+        W[_LO * L + j] = lo
+        W[_HI * L + j] = hi
+        W[_NI * L + j] = ni + 1.0
+        if not found:
+            W[_HL * L + j] = h
+            return False, sw, False
+    W[_HL * L + j] = 0.0
+    arrived = Swing(sw.theta, sw.omega, s, sw.state, sw.tau + h, sw.t_start, sw.false_side)
+    sw, _n, hand_over = _impact(arrived, om, iv, du, dg, body, True)
+    if hand_over:  # what _advance_events' next iteration does with it
+        return True, sw, dt - sw.tau > 0.0
+    sw, _n, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
+    return True, sw, deferred
+
+
+@kernel(inline="always")
+def _repeat_interval(lanes, j, vert):
+    """Lane j back at the state its SIMD round started from, to integrate from it again."""
+    L = _LANES
+    W = lanes.W
+    W[_TH * L + j] = W[_THS * L + j]
+    W[_OM * L + j] = W[_OMS * L + j]
+    W[_U0 * L + j] = W[_U0S * L + j]
+    W[_TAU * L + j] = W[_TAUS * L + j]
+    _set_vertical(vert, W, _G0 * L + j, _row_or_none(vert, W[_G0S * L + j]))
+    lanes.nxt[j] -= 1
 
 
 @kernel(inline="always")

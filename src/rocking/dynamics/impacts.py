@@ -66,6 +66,8 @@ ZENO_TIME_FRACTION = 1e-4
 CHATTER_FRACTION = 1.0 / 64.0
 #: Partial-step probes for a return to θ = 0 inside a step that starts near θ = 0.
 _N_PROBES = 8
+#: Newton corrections of an impact location at most (:func:`_locate`).
+_NEWTON_MAX = 100
 #: Safety cap on events handled within one time step (impacts, uplifts).
 _MAX_EVENTS_PER_STEP = 10_000
 # Block state codes
@@ -93,14 +95,33 @@ def _locate(theta, omega, s, u0, du, g0, dg, tau, lo, hi, th_lo, th_hi, target, 
     caller guarantees f(lo) ≤ 0 ≤ f(hi); the root kept is the first one after leaving ``lo``
     (f(lo) = 0 happens when the arc starts at θ = 0, and that trivial root is never returned).
 
-    Newton's method on h (dθ/dh = θ') safeguarded by bisection, from the first root of the
-    cubic Taylor polynomial of θ at the start when lo = 0 (:func:`_taylor_root`), else from the
-    secant.  It ends when the next Newton correction δh would leave an error below 1e-15 s
-    (round-off for steps of a few ms): the state is then the last RK4 state carried over δh by
-    Taylor (θ → target, θ' → θ' − θ''·δh; the error, of order θ''' δh², is at round-off level).
-    Returns (h, theta_h, omega_h).
+    Newton's method on h (dθ/dh = θ') safeguarded by bisection (:func:`_newton`), from the
+    first root of the cubic Taylor polynomial of θ at the start when lo = 0, else from the
+    secant (:func:`_locate_start`); at most _NEWTON_MAX corrections.  Returns (h, theta_h,
+    omega_h).  The batched kernel runs the same iteration with its partial steps in SIMD lanes.
     """
     st, ct = _sincos_any(theta)
+    h = _locate_start(
+        theta, st, ct, omega, s, u0, du, g0, dg, tau, lo, hi, th_lo, th_hi, target, sgn, p2, sa, ca
+    )
+    th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
+    for _ in range(_NEWTON_MAX):
+        done, h, lo, hi, thn, omn = _newton(
+            th, om, h, lo, hi, target, sgn, s, u0, du, g0, dg, tau, p2, sa, ca
+        )
+        if done:
+            return h, thn, omn
+        th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
+    return h, th, om
+
+
+@kernel(inline="always")
+def _locate_start(
+    theta, st, ct, omega, s, u0, du, g0, dg, tau, lo, hi, th_lo, th_hi, target, sgn, p2, sa, ca
+):
+    """The first partial step length [s] that :func:`_locate` tries (st, ct = sin θ, cos θ):
+    the first root of the Taylor cubic (:func:`_taylor_root`) when lo = 0, else (or if it
+    has none) the secant of the bracket, or its middle."""
     h = -1.0
     if lo == 0.0:
         S, C = _angle_terms(st, ct, s, sa, ca)
@@ -113,27 +134,37 @@ def _locate(theta, omega, s, u0, du, g0, dg, tau, lo, hi, th_lo, th_hi, target, 
         h = lo - (hi - lo) * flo / (fhi - flo) if fhi > flo else 0.5 * (lo + hi)
         if not (lo < h < hi):
             h = 0.5 * (lo + hi)
-    th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
-    for _ in range(100):
-        f = sgn * (th - target)
-        if f == 0.0:
-            break
-        if f < 0.0:
-            lo = h
-        else:
-            hi = h
-        hn = 0.5 * (lo + hi)
-        if om != 0.0:
-            step = (th - target) / om
-            # the error left by this Newton correction is about θ''·step²/(2θ') [s]
-            acc = _accel(th, s, fma(du, tau + h, u0), _gv_at(g0, dg, tau + h), p2, sa, ca)
-            if abs(acc) * step * step <= 2e-15 * abs(om) and lo <= h - step <= hi:
-                return h - step, target, fma(-acc, step, om)
-            if lo < h - step < hi:
-                hn = h - step
-        h = hn
-        th, om = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, h, p2, sa, ca)
-    return h, th, om
+    return h
+
+
+@kernel(inline="always")
+def _newton(th, om, h, lo, hi, target, sgn, s, u0, du, g0, dg, tau, p2, sa, ca):
+    """One correction of :func:`_locate` after its RK4 partial step of length h, which gave
+    (th, om): returns (done, h, lo, hi, θ, θ').  Done: (h, θ, θ') is the result.  Else h is the
+    next length to try in the bracket (lo, hi), narrowed by this step.
+
+    Done when f = sgn·(th − target) is 0, or when the Newton correction δh would leave an error
+    below 1e-15 s (round-off for steps of a few ms): the state is then the RK4 state carried
+    over δh by Taylor (θ → target, θ' → θ' − θ''·δh; the error, of order θ'''·δh², is at
+    round-off level).  Otherwise the Newton step, or bisection where it would leave the bracket.
+    """
+    f = sgn * (th - target)
+    if f == 0.0:
+        return True, h, lo, hi, th, om
+    if f < 0.0:
+        lo = h
+    else:
+        hi = h
+    hn = 0.5 * (lo + hi)
+    if om != 0.0:
+        step = (th - target) / om
+        # the error left by this Newton correction is about θ''·step²/(2θ') [s]
+        acc = _accel(th, s, fma(du, tau + h, u0), _gv_at(g0, dg, tau + h), p2, sa, ca)
+        if abs(acc) * step * step <= 2e-15 * abs(om) and lo <= h - step <= hi:
+            return True, h - step, lo, hi, target, fma(-acc, step, om)
+        if lo < h - step < hi:
+            hn = h - step
+    return False, hn, lo, hi, th, om
 
 
 @kernel(inline="always")
