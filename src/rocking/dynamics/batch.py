@@ -20,12 +20,12 @@ handles them, except that the impact of a step that ends on the other side of θ
 with the partial Runge–Kutta steps of its Newton iteration computed in the lane's next SIMD rounds
 (:func:`_start_locating`; the same operations as :func:`rocking.dynamics.impacts._locate`: a
 scalar partial step is a chain of ~100 cycles of latency), and that after an impact from which the
-block swings clear of θ = 0 the rest of the interval goes back to the SIMD loop.  Cases of the same motion sit side by side (they read
-the same samples).  A lane whose case ends takes the next case of its group; when none is left,
-the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
-inputs and its lanes' state are records (:class:`Motions`, :class:`Vertical`, :class:`Blocks`,
-:class:`Cases`, :class:`Outcome`, :class:`Lanes`).  Work that cannot change the answer is
-skipped:
+block swings clear of θ = 0 the rest of the interval goes back to the SIMD loop.  Cases of the
+same motion sit side by side (they read the same samples).  A lane whose case ends takes the
+next case of its group; when none is left, the last lane moves into its place, so the SIMD loop
+only runs over live lanes.  The kernel's inputs and its lanes' state are records
+(:class:`Motions`, :class:`Vertical`, :class:`Blocks`, :class:`Cases`, :class:`Outcome`,
+:class:`Lanes`).  Work that cannot change the answer is skipped:
 
 * a case whose scaled motion never lifts the block (abs(scale·a_g)·cos α ≤ g·sin α at every sample;
   the ground acceleration is linear between samples, so the samples bound it; with a vertical
