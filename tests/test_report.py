@@ -5,6 +5,8 @@ import io
 import json
 import os
 import stat
+from concurrent.futures import Executor, Future
+from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 import pandas as pd
@@ -93,6 +95,40 @@ def test_figures_drawn_by_worker_processes_are_the_same_files(tmp_path):
         assert (tmp_path / "pool" / name).read_bytes() == (tmp_path / "here" / name).read_bytes()
     with drawing_pool(1) as pool:
         assert pool is None  # one processor: drawn in this process
+
+
+def test_figures_are_drawn_here_where_worker_processes_fail(tmp_path, monkeypatch):
+    # No processes or semaphores (some sandboxes: OSError when the pool is made): no pool. A
+    # worker that died (BrokenProcessPool, before or after the figure was submitted): the
+    # figure is drawn in this process, the same bytes as a report without workers.
+    import rocking.report as report_module
+
+    def no_pool(*args, **kwargs):
+        raise OSError(38, "Function not implemented")
+
+    with monkeypatch.context() as m:
+        m.setattr(report_module, "ProcessPoolExecutor", no_pool)
+        with drawing_pool(2) as pool:
+            assert pool is None
+
+    class DiedAfterSubmit(Executor):
+        def submit(self, fn, /, *args, **kwargs):
+            future = Future()
+            future.set_exception(BrokenProcessPool("a worker died"))
+            return future
+
+    class DiedBefore(Executor):
+        def submit(self, fn, /, *args, **kwargs):
+            raise BrokenProcessPool("a worker died")
+
+    pngs = []
+    for name, drawer in (("here", None), ("after", DiedAfterSubmit()), ("before", DiedBefore())):
+        rep = Report("Study", tmp_path / name, drawer)
+        rep.figure(_figure(), "f", "Figure.")
+        rep.write()
+        pngs.append((tmp_path / name / "figures" / "f.png").read_bytes())
+    assert pngs[0][:8] == b"\x89PNG\r\n\x1a\n"
+    assert pngs[1] == pngs[0] and pngs[2] == pngs[0]
 
 
 def test_figure_png_draws_what_savefig_draws():

@@ -25,7 +25,7 @@ import re
 import signal
 import unicodedata
 from collections.abc import Iterator
-from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from concurrent.futures import BrokenExecutor, Executor, Future, ProcessPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -72,10 +72,12 @@ class _Block:
 
 @dataclass(frozen=True)
 class _Drawing:
-    """A figure being drawn by a worker of the report's ``drawer``: its PNG comes from ``png``."""
+    """A figure being drawn by a worker of the report's ``drawer``: its PNG comes from ``png``
+    (``fig`` is kept to draw it here if the pool breaks)."""
 
     name: str
     caption: str
+    fig: Figure
     png: Future
 
 
@@ -130,10 +132,15 @@ class Report:
         a ``drawer``, the file is written once drawn: by :meth:`write` at the latest)."""
         name = self._claim(name)
         cap = " ".join(str(caption).split())
-        if self.drawer is None:
-            self._blocks.append(self._figure_block(name, cap, figure_png(fig, DPI)))
-        else:
-            self._blocks.append(_Drawing(name, cap, self.drawer.submit(figure_png, fig, DPI)))
+        if self.drawer is not None:
+            try:
+                self._blocks.append(
+                    _Drawing(name, cap, fig, self.drawer.submit(figure_png, fig, DPI))
+                )
+                return self.out_dir / "figures" / f"{name}.png"
+            except BrokenExecutor:  # a worker died (e.g. out of memory): draw here from now on
+                self.drawer = None
+        self._blocks.append(self._figure_block(name, cap, figure_png(fig, DPI)))
         return self.out_dir / "figures" / f"{name}.png"
 
     def _figure_block(self, name: str, cap: str, png: bytes) -> _Block:
@@ -153,7 +160,11 @@ class Report:
         """The blocks, every figure drawn by the ``drawer`` waited for and written (in order)."""
         for i, b in enumerate(self._blocks):
             if isinstance(b, _Drawing):
-                self._blocks[i] = self._figure_block(b.name, b.caption, b.png.result())
+                try:
+                    png = b.png.result()
+                except BrokenExecutor:  # its worker died: drawn here instead
+                    png = figure_png(b.fig, DPI)
+                self._blocks[i] = self._figure_block(b.name, b.caption, png)
         return [b for b in self._blocks if isinstance(b, _Block)]  # all of them now
 
     def table(
@@ -263,25 +274,38 @@ class Report:
 @contextmanager
 def drawing_pool(workers: int | None = None) -> Iterator[Executor | None]:
     """A pool of worker processes to draw a :class:`Report`'s figures (its ``drawer``), or None
-    (draw in this process) on a machine with one processor.
+    (draw in this process) on a machine with one processor, or where processes cannot be
+    started (some sandboxes have no semaphores; :class:`Report` also draws in its own process
+    from the moment a worker dies).
 
-    ``workers`` defaults to the number of processors, at most 4.  The workers are started at
-    once and import Matplotlib in the background (about 1 s each), so that a pool opened before
-    the figures' data are computed is ready when they are; they ignore Ctrl-C (this process
-    stops them).  They are fresh interpreters
-    ("spawn"), never a fork of this process and its threads.  Leaving the context waits for the
-    drawings still running; on an error, those not started are dropped.
+    ``workers`` defaults to the processors this process may use, at most 4.  The workers are
+    started at once and import Matplotlib in the background (about 1 s each), so that a pool
+    opened before the figures' data are computed is ready when they are; they ignore Ctrl-C
+    (this process stops them).  They are fresh interpreters ("spawn"), never a fork of this
+    process and its threads.  Leaving the context waits for the drawings still running; on an
+    error, those not started are dropped.
     """
-    n = min(4, os.cpu_count() or 1) if workers is None else workers
-    if n < 2:
+    if workers is None:
+        cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+        workers = min(4, cpus or 1)
+    if workers < 2:
         yield None
         return
-    pool = ProcessPoolExecutor(
-        n, mp_context=multiprocessing.get_context("spawn"), initializer=_drawing_worker
-    )
+    pool = None
     try:
-        for _ in range(n):  # each task starts a worker while none is idle
+        pool = ProcessPoolExecutor(
+            workers, mp_context=multiprocessing.get_context("spawn"), initializer=_drawing_worker
+        )
+        for _ in range(workers):  # each task starts a worker while none is idle
             pool.submit(os.getpid)
+    except OSError:
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
+        pool = None
+    if pool is None:
+        yield None
+        return
+    try:
         yield pool
     except BaseException:
         pool.shutdown(wait=True, cancel_futures=True)
