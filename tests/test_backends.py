@@ -58,6 +58,26 @@ def test_get_backend():
         LocalBackend(n_threads=0)
 
 
+def test_dask_without_the_cluster_extra_is_named(monkeypatch):
+    # Dask is the optional "cluster" extra: without it, asking for a Dask scheduler is refused
+    # at once with the install command (never an ImportError in the middle of a run).
+    import importlib.util
+
+    find_spec = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util,
+        "find_spec",
+        lambda name, *args: None if name == "distributed" else find_spec(name, *args),
+    )
+    for scheduler in ("dask-local", "tcp://127.0.0.1:8786"):
+        with pytest.raises(
+            InputError,
+            match=r"scheduler: Dask distributed is not installed.*"
+            r"rocking\[cluster\]",
+        ):
+            get_backend(scheduler)
+
+
 def test_local_results_do_not_depend_on_chunks_or_threads(ensemble):
     one = overturning_probability(
         BLOCKS, ensemble, AGX, members=True, chunk_size=8, backend=LocalBackend(n_threads=1)

@@ -23,6 +23,7 @@ worker processes started on demand.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import weakref
 from abc import ABC, abstractmethod
@@ -143,6 +144,11 @@ class DaskBackend(Backend):
     """
 
     def __init__(self, address: str | None = None, n_workers: int = 2):
+        if importlib.util.find_spec("distributed") is None:
+            raise InputError(
+                "scheduler: Dask distributed is not installed; install the cluster extra "
+                "(pip install 'rocking[cluster]') to run on a Dask cluster"
+            )
         if address is not None and not isinstance(address, str):
             raise InputError(f"address must be a scheduler address string, got {address!r}")
         if not (isinstance(n_workers, int) and n_workers >= 1):
