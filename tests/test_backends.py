@@ -2,6 +2,7 @@
 
 import os
 import signal
+import time
 
 import numba
 import numpy as np
@@ -110,6 +111,17 @@ def test_dask_cluster_gives_identical_results(ensemble, dask_backend):
         agx_50(BLOCKS, cases, resolution=0.02),
         agx_50(BLOCKS, cases, resolution=0.02, backend=dask_backend, chunk_size=16),
     )
+
+
+def test_local_cluster_keeps_every_copy_of_the_shared_inputs(dask_backend):
+    # The inputs are broadcast so that they survive the loss of a worker; distributed's Active
+    # Memory Manager (on by default, every 2 s) would reduce them to one copy within seconds,
+    # and killing that worker then ended a run with "cancelled ... already forgotten" (seen
+    # once in CI). 5 s: at least two of its rounds.
+    handle = dask_backend.scatter(np.arange(1000.0))
+    workers = len(dask_backend.client.nthreads())
+    time.sleep(5.0)
+    assert workers == 2 and len(dask_backend.client.who_has(handle)[handle.key]) == workers
 
 
 class KillWorkerAfterFirstChunk(Backend):

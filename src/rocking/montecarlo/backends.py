@@ -140,7 +140,11 @@ class DaskBackend(Backend):
     client receives exactly one result per task index; tasks are pure (the same task always
     gives the same arrays) and chunk files are written by the client only, keyed by the cases they
     hold and replaced atomically, so a repeated task changes nothing.  The shared inputs are
-    broadcast to every worker, so they survive the loss of any one worker.
+    broadcast to every worker, so they survive the loss of any one worker: in the local cluster,
+    whose Active Memory Manager is off (distributed's default one runs ReduceReplicas, which
+    leaves one copy within seconds).  On a cluster of yours, disable it (or its ReduceReplicas
+    policy) for the same guarantee; otherwise a lost worker may hold the only copy, and the
+    command stops with one line (BackendError) and resumes from its chunks when run again.
     """
 
     def __init__(self, address: str | None = None, n_workers: int = 2):
@@ -169,6 +173,7 @@ class DaskBackend(Backend):
         return self._client
 
     def _connect(self):
+        import dask
         from distributed import Client, LocalCluster
 
         if self.address is not None:
@@ -180,9 +185,15 @@ class DaskBackend(Backend):
         # NUMBA_NUM_THREADS in distributed.nanny.pre-spawn-environ: Dask also writes those
         # variables into this process's environment, and Numba re-reads it at every compilation,
         # failing ("Cannot set NUMBA_NUM_THREADS to a different value") once its threads run.
-        cluster = LocalCluster(
-            n_workers=self.n_workers, threads_per_worker=1, processes=True, dashboard_address=":0"
-        )
+        # The Active Memory Manager (on by default) would reduce the broadcast inputs to one
+        # copy within seconds (ReduceReplicas), and losing that worker would end the run.
+        with dask.config.set({"distributed.scheduler.active-memory-manager.start": False}):
+            cluster = LocalCluster(
+                n_workers=self.n_workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=":0",
+            )
         return Client(cluster), cluster
 
     @property
