@@ -389,11 +389,25 @@ def _start(sw, tau, iv, du):
 
 
 @kernel(inline="always")
+def _ends_across(s, th1, om1):
+    """Whether a step on pivot side ``s`` that ends at (th1, om1) ends on the other side of θ = 0
+    (or at θ = 0 moving across)."""
+    return (s * th1 < 0.0) | ((th1 == 0.0) & (s * om1 < 0.0))
+
+
+@kernel(inline="always")
+def _slopes(iv):
+    """du/dt [1/s] and the slope of gv [1/s] (or None) over the interval ``iv``: one place,
+    so that the batched kernel's event handling computes exactly :func:`_advance_events`'s."""
+    return (iv.u1 - iv.u0) / iv.dt, _gv_slope(iv.g0, iv.g1, iv.dt)
+
+
+@kernel(inline="always")
 def _find_hit(sw, th1, om1, h, iv, du, dg, body, located):
     """Bracket (lo, hit, θ(lo), θ(hit)) of partial step lengths around the block's first arrival
     at θ = 0 in the step of length h from ``sw`` that ends at (th1, om1), or hit = −1 if none
     (with ``located`` False only a step that ends on the other side counts, at its end)."""
-    if sw.s * th1 < 0.0 or (th1 == 0.0 and sw.s * om1 < 0.0):
+    if _ends_across(sw.s, th1, om1):
         return 0.0, h, sw.theta, th1
     if located:
         return _interior_touch(
@@ -512,8 +526,7 @@ def _advance_events(sw, iv, body, th_step, om_step, have_step, defer, located):
     [s], or −1; ``deferred`` says that the interval goes on from swing.tau < dt (else it is done).
     """
     dt = iv.dt
-    du = (iv.u1 - iv.u0) / dt
-    dg = _gv_slope(iv.g0, iv.g1, dt)
+    du, dg = _slopes(iv)
     n_imp = 0
     hand_over = False  # with defer: the next step is likely plain, leave it to the caller
     for _ in range(_MAX_EVENTS_PER_STEP):
