@@ -68,13 +68,15 @@ def test_fit_recovers_known_parameters_of_a_cloud():
     assert abs(fit.beta - TRUE.beta) < 4 * se_beta
 
 
-@pytest.mark.parametrize("layout", ["stripes", "cloud"])
+@pytest.mark.parametrize("layout", ["stripes", "cloud", "three levels"])
 def test_fit_equals_an_independent_maximisation_of_the_likelihood(layout):
     rng = np.random.default_rng(3)
     if layout == "stripes":  # multiple-stripe analysis: 12 levels of 15 motions each
         x = np.geomspace(0.1, 1.5, 12)
         n = np.full(x.size, 15)
         k = rng.binomial(n, TRUE.probability(x))
+    elif layout == "three levels":  # a small IDA with a flat likelihood (β ≈ 0.1)
+        x, n, k = np.array([0.2, 0.5, 0.8]), np.full(3, 8), np.array([1, 5, 8])
     else:
         x, y = _cloud(60, seed=4)
         n, k = np.ones(x.size, int), y.astype(int)
@@ -96,6 +98,45 @@ def test_separated_outcomes_follow_the_documented_convention():
     assert fit.median == pytest.approx(math.sqrt(0.4 * 0.5), rel=1e-12)
     p = fit.probability(x)
     assert np.sum(stats.binom.logpmf(k, 1, p)) > -1e-9
+
+
+def _loglik(x, k, n, fit):
+    return np.sum(stats.binom.logpmf(k, n, fit.probability(x)))
+
+
+def test_quasi_separated_outcomes_take_the_lower_bound_of_beta():
+    # Only survivors below 0.5, only overturns above, 5 of 8 at 0.5: ℓ < its supremum, the
+    # binomial log-probability of 5 of 8 at p = 5/8 (the others' terms → 0), for every β > 0 and
+    # reaches it as β → 0 with P(0.5) = 5/8. So the fit is β at its lower bound with P(0.5) = 5/8;
+    # at β = 1e-3 the other levels are ≥ 470 standard deviations away, so both hold to rounding.
+    x, n, k = np.array([0.2, 0.5, 0.8]), np.full(3, 8), np.array([0, 5, 8])
+    fit = fit_lognormal(x, k, n)
+    assert fit.beta == BETA_BOUNDS[0]
+    assert fit.probability(0.5) == pytest.approx(5 / 8, rel=1e-12)
+    sup = stats.binom.logpmf(5, 8, 5 / 8)
+    assert _loglik(x, k, n, fit) == pytest.approx(sup, abs=1e-12)
+    # and an unconstrained optimiser, which stops somewhere on the ridge towards β → 0, does
+    # not find a higher likelihood
+    median, beta = _independent_mle(x, k, n)
+    assert beta > BETA_BOUNDS[0]
+    assert _loglik(x, k, n, LognormalFit(median, beta)) <= _loglik(x, k, n, fit)
+
+
+def test_a_falling_proportion_holds_beta_at_its_upper_bound_with_the_best_median():
+    # 3, 4 and 3 of 8 at rising intensities: the unconstrained maximum has a negative slope
+    # (a falling curve), so the fit is β at its upper bound, 10, with the median that maximises
+    # the likelihood at that β (checked with SciPy's bounded scalar minimiser; the likelihood is
+    # smooth and unimodal in ln median, both stop within 1e-7 of it).
+    x, n, k = np.array([0.2, 0.5, 0.8]), np.full(3, 8), np.array([3, 4, 3])
+    fit = fit_lognormal(x, k, n)
+    assert fit.beta == BETA_BOUNDS[1]
+    best = optimize.minimize_scalar(
+        lambda mu: -_loglik(x, k, n, LognormalFit(math.exp(mu), BETA_BOUNDS[1])),
+        bounds=(-20.0, 20.0),
+        method="bounded",
+        options={"xatol": 1e-10},
+    )
+    assert math.log(fit.median) == pytest.approx(best.x, abs=1e-6)
 
 
 def test_bootstrap_interval_width_matches_the_sampling_error():

@@ -40,7 +40,6 @@ from .statistics import (
     Interval,
     LognormalFit,
     _mle,
-    _one_blas_thread,
     bootstrap_fragility,
     fit_lognormal,
     wilson_interval,
@@ -525,8 +524,7 @@ def im_efficiency(
         raise InputError(f"names has {len(bodies)} names for {ida.sizes['body']} bodies")
     for b, body in enumerate(bodies):
         y = ida["overturned"].values[b]  # (level, motion)
-        with _one_blas_thread():  # once for the 1 + n_boot fits of each IM
-            rows.extend(_efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence))
+        rows.extend(_efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence))
     table = pd.DataFrame(rows)
     return table.sort_values(["body", "beta"], kind="stable", ignore_index=True)
 
@@ -559,7 +557,7 @@ def _efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence) 
 def _cloud_fit(x: np.ndarray, y: np.ndarray) -> LognormalFit | None:
     """Maximum-likelihood lognormal of (intensity, outcome) points, one trial each (None: no
     information on the median): :func:`rocking.fit_lognormal`'s fit, without its checks of
-    counts that are 0/1 here by construction; call it with one BLAS thread."""
+    counts that are 0/1 here by construction."""
     x, y = x.ravel(), y.ravel()
     keep = x > 0.0
     x, y = x[keep], y[keep]
