@@ -251,3 +251,27 @@ def test_scaling_a_vertical_to_minus_g_is_refused_before_any_run(ens):
         rocking.fragility_analysis(
             BLOCKS[:1], both, im="pga", method="msa", stripes=stripes, n_boot=0, progress=False
         )
+
+
+def test_im_efficiency_intervals_are_those_of_each_resample_fitted_alone(ens):
+    # im_efficiency fits its bootstrap resamples all at once: each β must be the cloud fit of
+    # that resample alone (the same NumPy draws: one resample of the motions per bootstrap
+    # round, whole motions), so the interval is the quantiles of those fits, to the bit.
+    levels = np.array([0.2, 0.4, 0.6, 0.8, 1.0])
+    table = rocking.im_efficiency(BLOCKS[0], ens, ["pgv"], levels=levels, n_boot=30, seed=3)
+    base = rocking.intensity_measures(ens, "pga").iloc[:, 0].to_numpy()
+    factors = levels[:, None] / base[None, :]
+    x = rocking.intensity_measures(ens, "pgv").iloc[:, 0].to_numpy()[None, :] * factors
+    ida = rocking.fragility_analysis(
+        BLOCKS[0], ens, im="pga", method="ida", levels=levels, n_boot=0, progress=False
+    )
+    y = ida["overturned"].values[0]
+    rng = np.random.default_rng(3)
+    betas = []
+    for _ in range(30):
+        j = rng.integers(0, ens.n, ens.n)
+        xb, yb = x[:, j].ravel(), y[:, j].ravel()
+        if yb.any() and not yb.all():
+            betas.append(rocking.fit_lognormal(xb, yb.astype(int), 1).beta)
+    low, high = np.quantile(betas, [(1 - 0.95) / 2, (1 + 0.95) / 2])
+    assert table["beta_low"].iloc[0] == low and table["beta_high"].iloc[0] == high

@@ -186,6 +186,33 @@ def test_bootstrap_of_an_ida_resamples_whole_motions():
     assert res.beta_ci.low < TRUE.beta < res.beta_ci.high
 
 
+@pytest.mark.parametrize("layout", ["cloud", "ida"])
+def test_bootstrap_fits_every_resample_as_fit_lognormal_fits_it_alone(layout):
+    # The resamples are fitted all at once; each must be fitted exactly as fit_lognormal fits
+    # it alone (same draws of NumPy's generator, motions resampled whole), so the intervals
+    # are the quantiles of those single fits, to the bit.
+    im, y = _cloud(60, seed=9)
+    if layout == "ida":  # motion j overturns from level y-independent capacity im_j upwards
+        levels = np.geomspace(0.1, 2.0, 12)
+        y = levels[:, None] >= im[None, :] * np.exp(np.random.default_rng(1).normal(0, 0.3, 60))
+        im = levels
+    res = bootstrap_fragility(im, y, n_boot=40, seed=4)
+    rng = np.random.default_rng(4)
+    fits = []
+    for _ in range(40):
+        idx = rng.integers(0, 60, 60)
+        if layout == "ida":
+            k, n, x = y[:, idx].sum(axis=1), 60, im
+        else:
+            k, n, x = y[idx].astype(int), 1, im[idx]
+        if np.any(k > 0) and np.any(k < n):
+            fits.append(fit_lognormal(x, k, n))
+    q = [(1 - 0.95) / 2, (1 + 0.95) / 2]  # as computed from the default confidence
+    assert res.n_unfitted == 40 - len(fits)
+    assert res.median_ci == tuple(np.quantile([f.median for f in fits], q))
+    assert res.beta_ci == tuple(np.quantile([f.beta for f in fits], q))
+
+
 def test_same_seed_same_numbers_and_other_seed_other_numbers():
     im, y = _cloud(80, seed=2)
     a = bootstrap_fragility(im, y, n_boot=60, seed=7)

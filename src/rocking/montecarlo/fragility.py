@@ -39,6 +39,7 @@ from .statistics import (
     FragilityFit,
     Interval,
     LognormalFit,
+    _fit_rows,
     _mle,
     bootstrap_fragility,
     fit_lognormal,
@@ -517,7 +518,9 @@ def im_efficiency(
     if AnalysisIM.parse(scale_im).exponent == 2:
         factors = np.sqrt(factors)
     rng = np.random.default_rng(seed)
-    resamples = [rng.integers(0, ensemble.n, ensemble.n) for _ in range(n_boot)]
+    resamples = np.array(
+        [rng.integers(0, ensemble.n, ensemble.n) for _ in range(n_boot)], dtype=np.int64
+    ).reshape(n_boot, ensemble.n)
     rows = []
     bodies = list(ida["body"].values) if names is None else [str(n) for n in names]
     if len(bodies) != ida.sizes["body"]:
@@ -536,10 +539,9 @@ def _efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence) 
     for measure in parsed:
         x = measure.of_motions(ensemble)[None, :] * factors**measure.exponent
         fit = _cloud_fit(x, y)
-        betas = [_cloud_fit(x[:, j], y[:, j]) for j in resamples]
-        betas_ok = [f.beta for f in betas if f is not None]
+        betas_ok = _cloud_betas(x, y, resamples)
         q = ((1 - confidence) / 2, (1 + confidence) / 2)
-        low, high = np.quantile(betas_ok, q) if betas_ok else (math.nan, math.nan)
+        low, high = np.quantile(betas_ok, q) if betas_ok.size else (math.nan, math.nan)
         rows.append(
             {
                 "body": body,
@@ -552,6 +554,21 @@ def _efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence) 
             }
         )
     return rows
+
+
+def _cloud_betas(x: np.ndarray, y: np.ndarray, resamples: np.ndarray) -> np.ndarray:
+    """β of :func:`_cloud_fit` of every resample of the motions (rows of ``resamples``, the
+    motions' indices) that has information on the median, all fitted at once; x and y of
+    shape (level, motion). A resample's β is the one _cloud_fit gives it alone."""
+    if not np.all(x > 0.0):  # points left out: resamples of different sizes, one at a time
+        fits = [_cloud_fit(x[:, j], y[:, j]) for j in resamples]
+        return np.array([f.beta for f in fits if f is not None])
+    # (resample, level, motion), each resample's points in the order of x[:, j].ravel()
+    xb = np.transpose(x[:, resamples], (1, 0, 2)).reshape(len(resamples), -1)
+    yb = np.transpose(y[:, resamples], (1, 0, 2)).reshape(len(resamples), -1)
+    some = np.any(yb, axis=1) & ~np.all(yb, axis=1)
+    xb, yb = portable.log(xb[some]), yb[some].astype(float)
+    return _fit_rows(xb, yb, np.ones(yb.shape))[1]
 
 
 def _cloud_fit(x: np.ndarray, y: np.ndarray) -> LognormalFit | None:

@@ -138,21 +138,23 @@ def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFi
     count, n = _counts(count, n)
     if np.all(count == 0) or np.all(count == n):
         raise InputError("fit_lognormal needs counts that are not all 0 and not all n")
-    return _mle(np.log(agx), count.astype(float), n.astype(float))
+    return _mle(portable.log(agx), count.astype(float), n.astype(float))
 
 
 #: Bounds of the dispersion β of a fit [-].
 BETA_BOUNDS = (1e-3, 10.0)
 
 
-def _separated(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[float, float] | None:
-    """(largest ln x with a survivor, smallest ln x with an overturn) when the first is not above
-    the second, else None: complete separation when it is below (no intensity has both
-    outcomes), quasi-complete when they are equal (one intensity has both, every lower one only
-    survivors, every higher one only overturns)."""
-    hi_survive = x[k < m].max()
-    lo_overturn = x[k > 0].min()
-    return (hi_survive, lo_overturn) if hi_survive <= lo_overturn else None
+def _separation(
+    x: np.ndarray, k: np.ndarray, m: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per row of (ln x, k of m trials), shape (B, n): whether the outcomes are completely
+    separated by x (no x has both outcomes: every survivor below every overturn), whether they
+    are quasi-completely separated (one x has both, every lower one only survivors, every higher
+    one only overturns), and that x (the largest with a survivor)."""
+    hi_survive = np.max(np.where(k < m, x, -np.inf), axis=1)
+    lo_overturn = np.min(np.where(k > 0, x, np.inf), axis=1)
+    return hi_survive < lo_overturn, hi_survive == lo_overturn, hi_survive
 
 
 #: Newton iterations of a fit at most: from the probit-regression start a fit takes 3-8 (the
@@ -161,98 +163,127 @@ _NEWTON_MAX = 100
 
 
 def _probit_loglik(
-    x: np.ndarray, k: np.ndarray, m: np.ndarray, c: float, s: float
-) -> tuple[float, np.ndarray, np.ndarray]:
-    """Binomial probit log-likelihood ℓ = Σ k·ln Φ(z) + (m − k)·ln Φ(−z) with z = c + s·x,
-    and its first and second derivatives with respect to each z (k of m trials at x).
+    x: np.ndarray, k: np.ndarray, m: np.ndarray, c: np.ndarray, s: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Binomial probit log-likelihoods ℓ = Σ k·ln Φ(z) + (m − k)·ln Φ(−z) with z = c + s·x,
+    one per row of x, k, m (shape (B, n); c, s of shape (B,)), and the first and second
+    derivatives of ℓ with respect to each z.
 
     With the inverse Mills ratios a = φ(z)/Φ(z) and b = φ(z)/Φ(−z):
     dℓ/dz = k·a − (m − k)·b and d²ℓ/dz² = −k·a·(z + a) − (m − k)·b·(b − z) < 0.
     """
     import scipy.special  # on first use (see wilson_interval)
 
-    z = c + s * x
+    z = c[:, None] + s[:, None] * x
     lp, lq = scipy.special.log_ndtr(z), scipy.special.log_ndtr(-z)
     log_phi = -0.5 * math.log(2.0 * math.pi) - 0.5 * z * z
     a, b = portable.exp(log_phi - lp), portable.exp(log_phi - lq)
     g = k * a - (m - k) * b
     h = -k * a * (z + a) - (m - k) * b * (b - z)
-    return float(np.sum(k * lp + (m - k) * lq)), g, h
+    return np.sum(k * lp + (m - k) * lq, axis=1), g, h
 
 
-def _mle(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> LognormalFit:
-    """The maximum-likelihood fit of :func:`fit_lognormal` on x = ln(IM), k of m trials (checked,
-    not all 0, not all m).
+def _fit_rows(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Maximum-likelihood fits of :func:`fit_lognormal`, one per row of x = ln(IM), k of m
+    trials (shape (B, n); checked: no row all 0 or all m): (medians, βs), shape (B,). A row's
+    fit does not depend on the other rows (the same operations on its values whatever B is).
 
     Newton's method on the probit coefficients (c, s), z = c + s·x (median = exp(−c/s),
     β = 1/s), where the log-likelihood is concave (second derivatives of
     :func:`_probit_loglik` negative). From the probit-regression line through the empirical
     proportions, each step solves the 2×2 Newton system; a step that would take β beyond a
     bound of :data:`BETA_BOUNDS` moves c alone (β stays at the bound), or is shortened to reach
-    it; a step is halved until the likelihood does not decrease (to its rounding). The fit ends
-    when the gain the step predicts (half the Newton decrement) is below the rounding of ℓ,
+    it; a step is halved until the likelihood does not decrease (to its rounding). A fit ends
+    when the gain its step predicts (half the Newton decrement) is below the rounding of ℓ,
     after that step: the convergence is quadratic, so what is left is rounding.
 
-    Quasi-complete separation (one intensity with both outcomes, only survivors below it and
-    only overturns above) has no finite maximum either: the likelihood grows as β → 0 with the
-    probability at that intensity fixed, so the fit is β at its lower bound, c by Newton.
+    Complete separation: no finite maximum, the likelihood grows as β → 0; the fit is β at its
+    lower bound with the median at the geometric middle of the gap. Quasi-complete separation
+    has no finite maximum either (the likelihood grows as β → 0 with the probability at the
+    mixed intensity fixed): β at its lower bound, c by Newton.
 
     Written here rather than with ``scipy.optimize.minimize``: its L-BFGS-B on
     (ln median, ln β) took 300-700 evaluations of this ill-conditioned likelihood (90 ms per
     fit, 90 s for a bootstrap of 1000 resamples) and stopped on flat ridges wherever the
-    rounding of ℓ stopped it; SciPy's bounded second-order method (trust-constr) costs more per
-    iteration than these few iterations in all.
+    rounding of ℓ stopped it; its bounded second-order method (trust-constr) costs more per
+    iteration than these few iterations in all, and neither fits a thousand resamples at once.
     """
     import scipy.special  # on first use (see wilson_interval)
 
     s_lo, s_hi = 1.0 / BETA_BOUNDS[1], 1.0 / BETA_BOUNDS[0]
-    gap = _separated(x, k, m)
-    if gap is not None and gap[0] < gap[1]:
-        return LognormalFit(median=math.exp(0.5 * (gap[0] + gap[1])), beta=BETA_BOUNDS[0])
-    if gap is not None:  # quasi-complete: β at its bound, Φ(z) = k/m where the outcomes mix
-        at = x == gap[0]
-        s = s_hi
-        c = float(scipy.special.ndtri(np.sum(k[at]) / np.sum(m[at]))) - s * gap[0]
-    else:  # start: probit regression line through the empirical proportions (away from 0, 1)
-        p = np.clip((k + 0.5) / (m + 1.0), 1e-3, 1 - 1e-3)
-        slope, icpt = np.polyfit(x, scipy.special.ndtri(p), 1, w=np.sqrt(m))
-        if slope > 0.1:  # a slope outside the bounds is clipped, keeping the line's median
-            s = min(max(float(slope), s_lo), s_hi)
-            c = float(icpt) / float(slope) * s
-        else:
-            s, c = 1.0, -float(np.average(x, weights=m))
+    median, beta = np.empty(x.shape[0]), np.empty(x.shape[0])
+    complete, quasi, mixed_x = _separation(x, k, m)
+    gap_end = np.min(np.where(k > 0, x, np.inf), axis=1)
+    median[complete] = portable.exp(0.5 * (mixed_x + gap_end))[complete]
+    beta[complete] = BETA_BOUNDS[0]
+    rows = np.flatnonzero(~complete)
+    x, k, m, quasi, mixed_x = x[rows], k[rows], m[rows], quasi[rows], mixed_x[rows]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # start: the weighted least-squares line of Φ⁻¹ of the empirical proportions (clipped
+        # away from 0 and 1) on x, weights m; a slope outside the bounds is clipped, keeping
+        # the line's median; no rising line: s = 1 at the weighted mean of x
+        v = scipy.special.ndtri(np.clip((k + 0.5) / (m + 1.0), 1e-3, 1 - 1e-3))
+        sw = np.sum(m, axis=1)
+        xm, vm = np.sum(m * x, axis=1) / sw, np.sum(m * v, axis=1) / sw
+        dx = x - xm[:, None]
+        slope = np.sum(m * dx * (v - vm[:, None]), axis=1) / np.sum(m * dx * dx, axis=1)
+        rising = slope > 0.1
+        s = np.where(rising, np.clip(slope, s_lo, s_hi), 1.0)
+        c = np.where(rising, (vm / slope - xm) * s, -xm)
+        # quasi-complete separation: β at its bound, Φ(z) = k/m where the outcomes mix
+        at = x == mixed_x[:, None]
+        p_mixed = np.sum(np.where(at, k, 0.0), axis=1) / np.sum(np.where(at, m, 0.0), axis=1)
+        s = np.where(quasi, s_hi, s)
+        c = np.where(quasi, scipy.special.ndtri(p_mixed) - s_hi * mixed_x, c)
     ll, g, h = _probit_loglik(x, k, m, c, s)
+    on = np.arange(rows.size)  # rows still iterating, into x, k, m, c, s
     for _ in range(_NEWTON_MAX):
-        gc, gs = float(np.sum(g)), float(np.sum(g * x))
-        hcc, hcs, hss = float(np.sum(h)), float(np.sum(h * x)), float(np.sum(h * x * x))
-        det = hcc * hss - hcs * hcs
-        dc, ds = -gc / hcc, 0.0  # c alone: β held at a bound, or one distinct x
-        if det > 1e-12 * hcc * hss:
+        if on.size == 0:
+            break
+        xo, co, so = x[on], c[on], s[on]
+        gc, gs = np.sum(g, axis=1), np.sum(g * xo, axis=1)
+        hcc, hcs, hss = np.sum(h, axis=1), np.sum(h * xo, axis=1), np.sum(h * xo * xo, axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            det = hcc * hss - hcs * hcs
             ds = (hcs * gc - hcc * gs) / det
-            if (s > s_lo or ds > 0.0) and (s < s_hi or ds < 0.0):
-                dc = (hcs * gs - hss * gc) / det
-            else:
-                ds = 0.0
-        t = 1.0
-        if s + ds > s_hi:
-            t = (s_hi - s) / ds
-        elif s + ds < s_lo:
-            t = (s_lo - s) / ds
-        rounding = 8.0 * np.finfo(float).eps * max(1.0, abs(ll))
-        if 0.5 * t * (gc * dc + gs * ds) <= rounding:  # the gain left is rounding: last step
-            c, s = c + t * dc, min(max(s + t * ds, s_lo), s_hi)
-            break
-        while True:
-            c_new, s_new = c + t * dc, min(max(s + t * ds, s_lo), s_hi)
-            ll_new, g_new, h_new = _probit_loglik(x, k, m, c_new, s_new)
-            if ll_new >= ll - rounding or t < 1e-12:
-                break
-            t *= 0.5
-        if ll_new < ll - rounding:  # no gain along the Newton direction: at the optimum
-            break
-        c, s, ll, g, h = c_new, s_new, ll_new, g_new, h_new
-    beta = BETA_BOUNDS[0] if s >= s_hi else BETA_BOUNDS[1] if s <= s_lo else 1.0 / s
-    return LognormalFit(median=math.exp(-c / s), beta=beta)
+            inward = ((so > s_lo) | (ds > 0.0)) & ((so < s_hi) | (ds < 0.0))
+            both = (det > 1e-12 * hcc * hss) & inward  # else c alone: β at a bound, or one x
+            dc = np.where(both, (hcs * gs - hss * gc) / det, -gc / hcc)
+            ds = np.where(both, ds, 0.0)
+            t = np.where(so + ds > s_hi, (s_hi - so) / ds, 1.0)
+            t = np.where(so + ds < s_lo, (s_lo - so) / ds, t)
+        rounding = 8.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(ll))
+        last = 0.5 * t * (gc * dc + gs * ds) <= rounding  # the gain left is rounding
+        c[on[last]] = (co + t * dc)[last]
+        s[on[last]] = np.clip(so + t * ds, s_lo, s_hi)[last]
+        # the others: halve the step until the likelihood does not decrease
+        step = ~last
+        trial = np.flatnonzero(step)
+        ll_new, g_new, h_new = np.empty(on.size), np.empty_like(g), np.empty_like(h)
+        while trial.size:
+            ct = co[trial] + t[trial] * dc[trial]
+            st = np.clip(so[trial] + t[trial] * ds[trial], s_lo, s_hi)
+            ll_new[trial], g_new[trial], h_new[trial] = _probit_loglik(
+                xo[trial], k[on[trial]], m[on[trial]], ct, st
+            )
+            worse = ll_new[trial] < ll[trial] - rounding[trial]
+            t[trial[worse]] *= 0.5
+            trial = trial[worse & (t[trial] >= 1e-12)]
+        gain = step & (ll_new >= ll - rounding)  # no gain along the Newton direction: done
+        moved = on[gain]
+        c[moved] = co[gain] + t[gain] * dc[gain]
+        s[moved] = np.clip(so[gain] + t[gain] * ds[gain], s_lo, s_hi)
+        on, ll, g, h = moved, ll_new[gain], g_new[gain], h_new[gain]
+    median[rows] = portable.exp(-c / s)
+    beta[rows] = np.where(s >= s_hi, BETA_BOUNDS[0], np.where(s <= s_lo, BETA_BOUNDS[1], 1.0 / s))
+    return median, beta
+
+
+def _mle(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> LognormalFit:
+    """The maximum-likelihood fit of :func:`fit_lognormal` on x = ln(IM), k of m trials (1-D,
+    checked, not all 0, not all m): :func:`_fit_rows` of one row."""
+    median, beta = _fit_rows(x[None, :], k[None, :], m[None, :])
+    return LognormalFit(median=float(median[0]), beta=float(beta[0]))
 
 
 class Interval(NamedTuple):
@@ -381,22 +412,19 @@ def bootstrap_fragility(
     else:
         point = _mle(log_x, y.astype(float), np.ones(x.size))
     rng = np.random.default_rng(int(seed))
-    fits, unfitted, separated = [], 0, 0
-    for _ in range(n_boot):
-        idx = rng.integers(0, n_motions, n_motions)
-        if y.ndim == 2:
-            xb, kb, mb = log_x, y[:, idx].sum(axis=1).astype(float), np.full(x.size, n_motions)
-        else:
-            xb, kb, mb = log_x[idx], y[idx].astype(float), np.ones(n_motions)
-        if not kb.any() or np.all(kb == mb):
-            unfitted += 1
-            continue
-        separated += _separated(xb, kb, mb) is not None
-        fits.append(_mle(xb, kb, mb.astype(float)))
+    idx = np.array([rng.integers(0, n_motions, n_motions) for _ in range(n_boot)])
+    if y.ndim == 2:  # whole motions: the count of each level over the resampled motions
+        kb = np.sum(y[:, idx], axis=2).T.astype(float)
+        xb, mb = np.broadcast_to(log_x, kb.shape), np.full(kb.shape, float(n_motions))
+    else:
+        xb, kb, mb = log_x[idx], y[idx].astype(float), np.ones(idx.shape)
+    fitted = np.any(kb > 0, axis=1) & np.any(kb < mb, axis=1)
+    xb, kb, mb = np.ascontiguousarray(xb[fitted]), kb[fitted], mb[fitted]
+    complete, quasi, _ = _separation(xb, kb, mb)
+    medians, betas = _fit_rows(xb, kb, mb)
     q = [(1.0 - confidence) / 2.0, (1.0 + confidence) / 2.0]
-    if fits:
-        med = np.quantile([f.median for f in fits], q)
-        beta = np.quantile([f.beta for f in fits], q)
+    if medians.size:
+        med, beta = np.quantile(medians, q), np.quantile(betas, q)
     else:
         med = beta = np.full(2, np.nan)
     return FragilityFit(
@@ -406,8 +434,8 @@ def bootstrap_fragility(
         confidence=confidence,
         n_boot=int(n_boot),
         seed=int(seed),
-        n_unfitted=unfitted,
-        n_separated=separated,
+        n_unfitted=int(n_boot - medians.size),
+        n_separated=int(np.sum(complete | quasi)),
     )
 
 
