@@ -10,9 +10,11 @@ import json
 import os
 import shutil
 import stat
+import struct
 import subprocess
 import sys
 import threading
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -179,6 +181,30 @@ def test_losing_every_dask_worker_is_a_clear_error_and_the_folder_resumes(motion
     xr.testing.assert_identical(
         _science(resumed), _science(overturning_probability(BLOCKS, a, agx))
     )
+
+
+def test_chunks_a_system_crash_damaged_are_computed_again(motions, tmp_path):
+    # Chunks are not flushed to the disk one by one (ChunkStore.save, durable=False): after a
+    # power loss a chunk may hold zeros or another file's blocks. Each kind of damage must make
+    # the chunk count as missing and be computed again, never be loaded as results.
+    a, _ = motions
+    ref = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    chunks = sorted(tmp_path.glob("chunk-*.npz"))
+    assert len(chunks) >= 3
+    raw = chunks[0].read_bytes()
+    chunks[0].write_bytes(bytes(len(raw)))  # zeros
+    raw = bytearray(chunks[1].read_bytes())  # the last byte of one array's data flipped
+    with zipfile.ZipFile(chunks[1]) as z:
+        member = z.infolist()[-1]
+    start = member.header_offset  # local header: 30 bytes, then the name and the extra field
+    name_len, extra_len = struct.unpack("<HH", raw[start + 26 : start + 30])
+    raw[start + 30 + name_len + extra_len + member.compress_size - 1] ^= 0xFF
+    chunks[1].write_bytes(bytes(raw))
+    chunks[2].write_bytes(b"")  # nothing
+    resumed = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert resumed.attrs["chunks_loaded"] == len(chunks) - 3
+    assert resumed.attrs["chunks_computed"] == 3
+    xr.testing.assert_identical(_science(resumed), _science(ref))
 
 
 def test_files_follow_the_umask(tmp_path):

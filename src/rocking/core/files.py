@@ -1,11 +1,12 @@
 """Writing files so that nothing half-written ever carries its final name (figures as PNG drawn
 once, :func:`figure_png`); reading the rows of the small CSV tables users give (:func:`csv_rows`).
 
-:func:`atomic_write` writes to a temporary file in the destination folder, flushes it to disk and
-renames it over the final name (:func:`os.replace`, atomic on POSIX and Windows): a process killed
-at any instant leaves either the old file or the new one, never a truncated one (at worst a stray
-hidden temporary file).  The file gets the permissions an ordinary ``open(path, "w")`` would give
-(0666 minus the umask in force); :func:`tempfile.mkstemp` would leave it private (0600).
+:func:`atomic_write` writes to a temporary file in the destination folder, flushes it to disk
+(unless told the file need not survive a system crash) and renames it over the final name
+(:func:`os.replace`, atomic on POSIX and Windows): a process killed at any instant leaves either
+the old file or the new one, never a truncated one (at worst a stray hidden temporary file).
+The file gets the permissions an ordinary ``open(path, "w")`` would give (0666 minus the umask
+in force); :func:`tempfile.mkstemp` would leave it private (0600).
 """
 
 from __future__ import annotations
@@ -25,7 +26,10 @@ if TYPE_CHECKING:
 
 
 def atomic_write(
-    path: str | os.PathLike[str], data: bytes | str | Callable[[IO[bytes]], Any]
+    path: str | os.PathLike[str],
+    data: bytes | str | Callable[[IO[bytes]], Any],
+    *,
+    durable: bool = True,
 ) -> Path:
     """Write ``data`` to ``path`` atomically; return the path.
 
@@ -36,6 +40,12 @@ def atomic_write(
     data : bytes, str or callable
         The content (str is written as UTF-8), or a function called with a binary file object
         that writes it (e.g. ``lambda f: numpy.savez(f, ...)``).
+    durable : bool
+        Flush the content to the disk (``fsync``) before the file takes its name, so that it
+        survives a power loss or a crash of the system, not only of the process. Without it
+        the file still appears whole or not at all to every process, but after a system crash
+        it may hold garbage: only for files whose reader detects that (checksums) and can make
+        them again.
     """
     path = Path(path)
     tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
@@ -49,7 +59,8 @@ def atomic_write(
             else:
                 fh.write(data.encode("utf-8") if isinstance(data, str) else data)
             fh.flush()
-            os.fsync(fh.fileno())
+            if durable:
+                os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
