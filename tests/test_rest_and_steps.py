@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from rocking.dynamics.batch import BlockTable, motion_peaks, run_cases
+from rocking.dynamics.batch import BlockTable, motion_peaks, motion_suffixes, run_cases
 from rocking.dynamics.body import Block, G
 from rocking.dynamics.simulate import simulate
 from rocking.motions.synthesis import generate
@@ -42,13 +42,17 @@ def _run(blocks, acc, body, motion, scale, **kw):
     return run_cases(table, acc, motion_peaks(acc), DT, body, motion, scale, **kw)
 
 
-def test_a_late_pulse_after_rest_is_not_skipped():
+@pytest.mark.parametrize("given", [False, True], ids=["suffixes computed", "suffixes given"])
+def test_a_late_pulse_after_rest_is_not_skipped(given):
+    # also with the suffix extremes computed once for the motions (motion_suffixes, as the
+    # Monte Carlo engine passes them) instead of in the call: the same answers, bit for bit
     block = Block(0.5, 4.0)
     acc = _late_pulse_motions(block, 2000)  # 10 s, the late pulse at 9.4 s
     body = np.zeros(6, np.int64)
     motion = np.array([0, 1, 2, 0, 1, 2])
     scale = np.array([1.0, 1.0, 1.0, -1.0, -1.0, -1.0])
-    overturned, peak = _run([block], acc, body, motion, scale)
+    kw = {"suffixes": motion_suffixes(acc)} if given else {}
+    overturned, peak = _run([block], acc, body, motion, scale, **kw)
     for i in range(body.size):
         r = simulate(block, scale[i] * acc[motion[i]], DT)
         # the same floating-point operations as simulate (no tolerance: bit for bit)
@@ -67,7 +71,8 @@ def test_a_late_pulse_after_rest_is_not_skipped():
     assert not overturned[2] and peak[2] == 0.0
 
 
-def test_a_late_pulse_with_vertical_motion_is_not_skipped():
+@pytest.mark.parametrize("given", [False, True], ids=["suffixes computed", "suffixes given"])
+def test_a_late_pulse_with_vertical_motion_is_not_skipped(given):
     # with a_v the uplift level is (g + a_v)·tan α: a late downward a_v lowers it, so a late
     # sample below g·tan α may lift the block; the suffix minimum of a_v must keep the case
     block = Block.from_mass_properties(0.6, 0.15, radius_of_gyration=0.45)
@@ -79,7 +84,8 @@ def test_a_late_pulse_with_vertical_motion_is_not_skipped():
     body = np.zeros(1, np.int64)
     motion = np.zeros(1, np.int64)
     scale = np.ones(1)
-    overturned, peak = _run([block], acc, body, motion, scale, av=av)
+    kw = {"suffixes": motion_suffixes(acc, av)} if given else {}
+    overturned, peak = _run([block], acc, body, motion, scale, av=av, **kw)
     r = simulate(block, acc[0], DT, av=av[0])
     assert overturned[0] == r.overturned and peak[0] == r.max_abs_theta / block.alpha
     assert peak[0] > 0.0  # it lifts (0.8 > 0.6), which a test without a_v would not see

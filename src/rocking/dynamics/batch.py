@@ -953,6 +953,18 @@ def motion_peaks(acc: np.ndarray) -> np.ndarray:
     return np.abs(acc).max(axis=1)
 
 
+def motion_suffixes(
+    acc: np.ndarray, av: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """The rest test's suffix extremes of every motion of ``acc`` (n_motions, n_t) and of its
+    vertical accelerations ``av`` (or None) [m/s²], flat (see :func:`_suffix_extremes`), for
+    :func:`run_cases` calls on the same motions: computed once for them instead of in every
+    call (with a thousand motions, as long as the simulations of a call)."""
+    acc = _readonly(np.ascontiguousarray(acc))
+    av = None if av is None else _readonly(np.ascontiguousarray(av))
+    return _suffix_extremes(acc, av, np.ones(acc.shape[0], dtype=np.bool_))
+
+
 @overload
 def run_cases(
     table: BlockTable,
@@ -966,6 +978,7 @@ def run_cases(
     impacts: str = IMPACT_SCHEMES[0],
     *,
     count_steps: Literal[False] = False,
+    suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]: ...
 
 
@@ -982,6 +995,7 @@ def run_cases(
     impacts: str = IMPACT_SCHEMES[0],
     *,
     count_steps: Literal[True],
+    suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
 
 
@@ -997,25 +1011,30 @@ def run_cases(
     impacts: str = IMPACT_SCHEMES[0],
     *,
     count_steps: bool = False,
+    suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
 ) -> tuple[np.ndarray, ...]:
     """Kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
-    ``amax`` is :func:`motion_peaks` of ``acc``.  ``av``: vertical ground accelerations [m/s², up
-    positive], finite, shape and samples as ``acc``, or None (no vertical motion: exactly the
-    results without it); case i scales it by abs(scale[i]) (a negative scale mirrors the
-    horizontal motion only).  ``impacts``: "located" (default) or "step-end", as in
-    :func:`rocking.simulate`.  The checks made here: a scaled ``av`` that reaches −g, and an
-    unknown ``impacts``, raise :class:`~rocking.errors.InputError`.  Returns (overturned bool,
-    peak float), shape like ``body``; with ``count_steps``, also the integrated steps of each
-    case (int64): the sample intervals in which the block is not at rest throughout (it rocks at
-    the start or at the end of the interval), up to and including the one in which it
-    overturns.
+    ``amax`` is :func:`motion_peaks` of ``acc``; ``suffixes``, if given, :func:`motion_suffixes`
+    of ``acc`` and ``av`` (else computed here for the motions this call uses).  ``av``: vertical
+    ground accelerations [m/s², up positive], finite, shape and samples as ``acc``, or None (no
+    vertical motion: exactly the results without it); case i scales it by abs(scale[i]) (a
+    negative scale mirrors the horizontal motion only).  ``impacts``: "located" (default) or
+    "step-end", as in :func:`rocking.simulate`.  The checks made here: a scaled ``av`` that
+    reaches −g, and an unknown ``impacts``, raise :class:`~rocking.errors.InputError`.  Returns
+    (overturned bool, peak float), shape like ``body``; with ``count_steps``, also the
+    integrated steps of each case (int64): the sample intervals in which the block is not at
+    rest throughout (it rocks at the start or at the end of the interval), up to and including
+    the one in which it overturns.
     """
     acc = _readonly(acc)
     av = None if av is None else _readonly(av)
-    used = np.zeros(acc.shape[0], dtype=np.bool_)
-    used[motion] = True  # the suffix extremes of these motions only (a call may use few)
-    asuf, avsuf = _suffix_extremes(acc, av, used)
+    if suffixes is None:
+        used = np.zeros(acc.shape[0], dtype=np.bool_)
+        used[motion] = True  # the suffix extremes of these motions only (a call may use few)
+        asuf, avsuf = _suffix_extremes(acc, av, used)
+    else:
+        asuf, avsuf = suffixes
     vert = None
     if av is not None:
         avmin = av.min(axis=1)

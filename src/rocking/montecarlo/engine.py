@@ -29,7 +29,7 @@ from ..core import portable
 from ..core.checks import require_memory
 from ..core.progress import resolve as resolve_progress
 from ..defaults import IMPACT_SCHEMES
-from ..dynamics.batch import BlockTable, block_list, motion_peaks, run_cases
+from ..dynamics.batch import BlockTable, block_list, motion_peaks, motion_suffixes, run_cases
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from .backends import Backend, LocalBackend
@@ -258,6 +258,7 @@ class Engine:
                     motion_peaks(ens.acc),
                     ens.dt,
                     None if ens.av is None else np.ascontiguousarray(ens.av),
+                    motion_suffixes(ens.acc, ens.av),
                 )
                 for ens in self.cases
             ]
@@ -396,14 +397,24 @@ def run_chunk(data: dict, task: tuple) -> tuple[np.ndarray, np.ndarray]:
 
     Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process,
     which is why it lives in this light module.  ``data`` = {"table": BlockTable, "cases":
-    [(acc, amax, dt, av), …], "impacts": str} (``av``: the vertical accelerations, or None; one
-    entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body indices,
+    [(acc, amax, dt, av, suffixes), …], "impacts": str} (``av``: the vertical accelerations, or
+    None; one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
+    indices,
     motion indices (int64), scale factors (float64)), one entry per simulation.
 
     Returns (overturned, peak), one entry per simulation.
     """
     c, body, motion, scale = task
-    acc, amax, dt, av = data["cases"][c]
+    acc, amax, dt, av, suffixes = data["cases"][c]
     return run_cases(
-        data["table"], acc, amax, dt, body, motion, scale, av=av, impacts=data["impacts"]
+        data["table"],
+        acc,
+        amax,
+        dt,
+        body,
+        motion,
+        scale,
+        av=av,
+        impacts=data["impacts"],
+        suffixes=suffixes,
     )
