@@ -777,14 +777,13 @@ def _lane_machine(lanes, motions, vert, blocks, cases, out, located, c0, c1):
 
 
 @parallel_kernel
-def _suffix_extremes(acc, av, used):
-    """Suffix maximum of abs(acc) and suffix minimum of ``av`` (None: None) from each sample to
-    the end of its motion [m/s²], the motions (rows) end to end: a block at rest that no later
-    sample can lift is at rest to the end (:func:`_rest_until_uplift`).  Only the motions
-    ``used[m]`` are computed (the others' values are undefined: no case reads them)."""
+def _suffix_extremes(acc, av, used, asuf, avsuf):
+    """Suffix maximum of abs(acc) ``asuf`` and suffix minimum of ``av`` ``avsuf`` (unused when
+    ``av`` is None) from each sample to the end of its motion [m/s²], the motions (rows) end to
+    end, filled: a block at rest that no later sample can lift is at rest to the end
+    (:func:`_rest_until_uplift`).  Only the motions ``used[m]`` are computed (the others'
+    values are left as they were: no case reads them)."""
     n_m, n_t = acc.shape
-    asuf = np.empty(n_m * n_t)
-    avsuf = np.empty(0 if av is None else n_m * n_t)
     for m in prange(n_m):
         if not used[m]:
             continue
@@ -796,7 +795,18 @@ def _suffix_extremes(acc, av, used):
             if av is not None:
                 low = min(low, av[m, k])
                 avsuf[m * n_t + k] = low
-    return asuf, None if av is None else avsuf
+
+
+def _suffixes_of(
+    acc: np.ndarray, av: np.ndarray | None, used: np.ndarray
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`_suffix_extremes` of the motions ``used`` into arrays allocated here by NumPy,
+    which asks Linux for huge pages for large arrays (allocated by the kernel, a thousand
+    motions' 64 MB took 16,000 page faults, ~0.25 s of system time on a VM, per call)."""
+    asuf = np.empty(acc.size)
+    avsuf = None if av is None else np.empty(av.size)
+    _suffix_extremes(acc, av, used, asuf, np.empty(0) if avsuf is None else avsuf)
+    return asuf, avsuf
 
 
 @kernel(inline="always")
@@ -962,7 +972,7 @@ def motion_suffixes(
     call (with a thousand motions, as long as the simulations of a call)."""
     acc = _readonly(np.ascontiguousarray(acc))
     av = None if av is None else _readonly(np.ascontiguousarray(av))
-    return _suffix_extremes(acc, av, np.ones(acc.shape[0], dtype=np.bool_))
+    return _suffixes_of(acc, av, np.ones(acc.shape[0], dtype=np.bool_))
 
 
 @overload
@@ -1032,7 +1042,7 @@ def run_cases(
     if suffixes is None:
         used = np.zeros(acc.shape[0], dtype=np.bool_)
         used[motion] = True  # the suffix extremes of these motions only (a call may use few)
-        asuf, avsuf = _suffix_extremes(acc, av, used)
+        asuf, avsuf = _suffixes_of(acc, av, used)
     else:
         asuf, avsuf = suffixes
     vert = None
@@ -1046,6 +1056,7 @@ def run_cases(
                 f"{low[i]:g} m/s², at or below -g = {-table.g:g} m/s²: the block would leave "
                 "the ground, which is not modelled"
             )
+        assert avsuf is not None  # computed with av
         vert = Vertical(av.reshape(-1), avmin, avsuf)
     out = Outcome(
         np.empty(body.shape, dtype=np.bool_),
