@@ -275,3 +275,17 @@ def test_im_efficiency_intervals_are_those_of_each_resample_fitted_alone(ens):
             betas.append(rocking.fit_lognormal(xb, yb.astype(int), 1).beta)
     low, high = np.quantile(betas, [(1 - 0.95) / 2, (1 + 0.95) / 2])
     assert table["beta_low"].iloc[0] == low and table["beta_high"].iloc[0] == high
+
+
+def test_im_efficiency_in_blocks_of_resamples_is_the_same(ens, monkeypatch):
+    # the bootstrap resamples are fitted a block at a time (memory): blocks of 4 resamples
+    # must give the table that one block gives, to the bit
+    from rocking.montecarlo import fragility
+
+    levels = np.array([0.2, 0.4, 0.6, 0.8, 1.0])
+    args = (BLOCKS[0], ens, ["pgv", "arias"])
+    whole = rocking.im_efficiency(*args, levels=levels, n_boot=30, seed=3)
+    monkeypatch.setattr(fragility, "_FIT_BLOCK_ELEMENTS", 4 * levels.size * ens.n)
+    pd.testing.assert_frame_equal(
+        rocking.im_efficiency(*args, levels=levels, n_boot=30, seed=3), whole, check_exact=True
+    )

@@ -251,3 +251,14 @@ def test_top_level_names_and_bad_input():
         bootstrap_fragility([0.1, -0.2, 0.3], np.array([0, 1, 1]))
     with pytest.raises(InputError, match="2 distinct"):
         bootstrap_fragility([0.2, 0.2], np.array([0, 1]))
+
+
+def test_fits_in_blocks_are_the_fits_of_all_rows_at_once(monkeypatch):
+    # Many resamples are fitted in blocks of rows (memory); a block's rows must be fitted as
+    # all rows at once would fit them: the same intervals to the bit with blocks of 7 rows.
+    from rocking.montecarlo import statistics
+
+    im, y = _cloud(80, seed=12)
+    whole = bootstrap_fragility(im, y, n_boot=50, seed=2)
+    monkeypatch.setattr(statistics, "_FIT_BLOCK_ELEMENTS", 7 * 80)
+    assert bootstrap_fragility(im, y, n_boot=50, seed=2) == whole

@@ -36,6 +36,7 @@ from ..motions.ensemble import Ensemble
 from ..motions.intensity import IntensityMeasure, intensity_measures, parse_im
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
 from .statistics import (
+    _FIT_BLOCK_ELEMENTS,
     FragilityFit,
     Interval,
     LognormalFit,
@@ -563,12 +564,16 @@ def _cloud_betas(x: np.ndarray, y: np.ndarray, resamples: np.ndarray) -> np.ndar
     if not np.all(x > 0.0):  # points left out: resamples of different sizes, one at a time
         fits = [_cloud_fit(x[:, j], y[:, j]) for j in resamples]
         return np.array([f.beta for f in fits if f is not None])
-    # (resample, level, motion), each resample's points in the order of x[:, j].ravel()
-    xb = np.transpose(x[:, resamples], (1, 0, 2)).reshape(len(resamples), -1)
-    yb = np.transpose(y[:, resamples], (1, 0, 2)).reshape(len(resamples), -1)
-    some = np.any(yb, axis=1) & ~np.all(yb, axis=1)
-    xb, yb = portable.log(xb[some]), yb[some].astype(float)
-    return _fit_rows(xb, yb, np.ones(yb.shape))[1]
+    betas = [np.empty(0)]
+    step = max(1, _FIT_BLOCK_ELEMENTS // x.size)  # resamples at a time (memory)
+    for block in (resamples[i : i + step] for i in range(0, len(resamples), step)):
+        # (resample, level, motion), each resample's points in the order of x[:, j].ravel()
+        xb = np.transpose(x[:, block], (1, 0, 2)).reshape(len(block), -1)
+        yb = np.transpose(y[:, block], (1, 0, 2)).reshape(len(block), -1)
+        some = np.any(yb, axis=1) & ~np.all(yb, axis=1)
+        xb, yb = portable.log(xb[some]), yb[some].astype(float)
+        betas.append(_fit_rows(xb, yb, np.ones(yb.shape))[1])
+    return np.concatenate(betas)
 
 
 def _cloud_fit(x: np.ndarray, y: np.ndarray) -> LognormalFit | None:

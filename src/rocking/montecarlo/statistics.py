@@ -183,10 +183,28 @@ def _probit_loglik(
     return np.sum(k * lp + (m - k) * lq, axis=1), g, h
 
 
+#: Elements (rows × points) of the arrays a block of fits works on: ~15 temporaries of this
+#: many float64 each (~120 MB in all); more rows are fitted block by block.
+_FIT_BLOCK_ELEMENTS = 1 << 20
+
+
 def _fit_rows(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Maximum-likelihood fits of :func:`fit_lognormal`, one per row of x = ln(IM), k of m
-    trials (shape (B, n); checked: no row all 0 or all m): (medians, βs), shape (B,). A row's
-    fit does not depend on the other rows (the same operations on its values whatever B is).
+    trials (shape (B, n); checked: no row all 0 or all m): (medians, βs), shape (B,), by
+    :func:`_fit_block` on blocks of at most :data:`_FIT_BLOCK_ELEMENTS` elements. A row's fit
+    does not depend on the other rows (the same operations on its values whatever B is)."""
+    rows = max(1, _FIT_BLOCK_ELEMENTS // max(1, x.shape[1]))
+    if x.shape[0] <= rows:
+        return _fit_block(x, k, m)
+    fits = [
+        _fit_block(x[i : i + rows], k[i : i + rows], m[i : i + rows])
+        for i in range(0, x.shape[0], rows)
+    ]
+    return np.concatenate([f[0] for f in fits]), np.concatenate([f[1] for f in fits])
+
+
+def _fit_block(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_fit_rows` of rows that fit in memory at once.
 
     Newton's method on the probit coefficients (c, s), z = c + s·x (median = exp(−c/s),
     β = 1/s), where the log-likelihood is concave (second derivatives of
