@@ -430,16 +430,23 @@ def bootstrap_fragility(
     else:
         point = _mle(log_x, y.astype(float), np.ones(x.size))
     rng = np.random.default_rng(int(seed))
-    idx = np.array([rng.integers(0, n_motions, n_motions) for _ in range(n_boot)])
-    if y.ndim == 2:  # whole motions: the count of each level over the resampled motions
-        kb = np.sum(y[:, idx], axis=2).T.astype(float)
-        xb, mb = np.broadcast_to(log_x, kb.shape), np.full(kb.shape, float(n_motions))
-    else:
-        xb, kb, mb = log_x[idx], y[idx].astype(float), np.ones(idx.shape)
-    fitted = np.any(kb > 0, axis=1) & np.any(kb < mb, axis=1)
-    xb, kb, mb = np.ascontiguousarray(xb[fitted]), kb[fitted], mb[fitted]
-    complete, quasi, _ = _separation(xb, kb, mb)
-    medians, betas = _fit_rows(xb, kb, mb)
+    resamples = np.array([rng.integers(0, n_motions, n_motions) for _ in range(n_boot)])
+    median_parts, beta_parts, separated = [np.empty(0)], [np.empty(0)], 0
+    step = max(1, _FIT_BLOCK_ELEMENTS // max(x.size, n_motions))  # resamples at a time
+    for idx in (resamples[i : i + step] for i in range(0, n_boot, step)):
+        if y.ndim == 2:  # whole motions: the count of each level over the resampled motions
+            kb = np.sum(y[:, idx], axis=2).T.astype(float)
+            xb, mb = np.broadcast_to(log_x, kb.shape), np.full(kb.shape, float(n_motions))
+        else:
+            xb, kb, mb = log_x[idx], y[idx].astype(float), np.ones(idx.shape)
+        fitted = np.any(kb > 0, axis=1) & np.any(kb < mb, axis=1)
+        xb, kb, mb = np.ascontiguousarray(xb[fitted]), kb[fitted], mb[fitted]
+        complete, quasi, _ = _separation(xb, kb, mb)
+        separated += int(np.sum(complete | quasi))
+        fit = _fit_rows(xb, kb, mb)
+        median_parts.append(fit[0])
+        beta_parts.append(fit[1])
+    medians, betas = np.concatenate(median_parts), np.concatenate(beta_parts)
     q = [(1.0 - confidence) / 2.0, (1.0 + confidence) / 2.0]
     if medians.size:
         med, beta = np.quantile(medians, q), np.quantile(betas, q)
@@ -453,7 +460,7 @@ def bootstrap_fragility(
         n_boot=int(n_boot),
         seed=int(seed),
         n_unfitted=int(n_boot - medians.size),
-        n_separated=int(np.sum(complete | quasi)),
+        n_separated=separated,
     )
 
 
