@@ -122,12 +122,21 @@ def test_quasi_separated_outcomes_take_the_lower_bound_of_beta():
     assert _loglik(x, k, n, LognormalFit(median, beta)) <= _loglik(x, k, n, fit)
 
 
-def test_a_falling_proportion_holds_beta_at_its_upper_bound_with_the_best_median():
-    # 3, 4 and 3 of 8 at rising intensities: the unconstrained maximum has a negative slope
-    # (a falling curve), so the fit is β at its upper bound, 10, with the median that maximises
-    # the likelihood at that β (checked with SciPy's bounded scalar minimiser; the likelihood is
-    # smooth and unimodal in ln median, both stop within 1e-7 of it).
-    x, n, k = np.array([0.2, 0.5, 0.8]), np.full(3, 8), np.array([3, 4, 3])
+@pytest.mark.parametrize(
+    "x, n, k",
+    [
+        ([0.2, 0.5, 0.8], 8, [3, 4, 3]),
+        # reached in two steps, the first cut to end on the bound (it once stopped a rounding
+        # short of it, and the next step was cut to that rounding: median 0.61 instead of 5.1)
+        ([0.114, 0.508, 1.447, 1.877], 3, [1, 3, 1, 0]),
+    ],
+)
+def test_a_falling_proportion_holds_beta_at_its_upper_bound_with_the_best_median(x, n, k):
+    # Proportions that do not rise with the intensity: the unconstrained maximum has a
+    # negative slope (a falling curve), so the fit is β at its upper bound, 10, with the median
+    # that maximises the likelihood at that β (checked with SciPy's bounded scalar minimiser;
+    # the likelihood is smooth and unimodal in ln median, both stop within 1e-7 of it).
+    x, n, k = np.array(x), np.full(len(x), n), np.array(k)
     fit = fit_lognormal(x, k, n)
     assert fit.beta == BETA_BOUNDS[1]
     best = optimize.minimize_scalar(

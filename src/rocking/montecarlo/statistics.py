@@ -268,21 +268,26 @@ def _fit_block(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray,
             both = (det > 1e-12 * hcc * hss) & inward  # else c alone: β at a bound, or one x
             dc = np.where(both, (hcs * gs - hss * gc) / det, -gc / hcc)
             ds = np.where(both, ds, 0.0)
-            t = np.where(so + ds > s_hi, (s_hi - so) / ds, 1.0)
-            t = np.where(so + ds < s_lo, (s_lo - so) / ds, t)
+            # a step that would cross a bound of s is shortened to end on it (_s_after)
+            bound = np.where(so + ds > s_hi, s_hi, np.where(so + ds < s_lo, s_lo, np.nan))
+            t_bound = np.where(np.isnan(bound), 1.0, (bound - so) / ds)
+        t = t_bound.copy()
         rounding = 8.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(ll))
         last = 0.5 * t * (gc * dc + gs * ds) <= rounding  # the gain left is rounding
         c[on[last]] = (co + t * dc)[last]
-        s[on[last]] = np.clip(so + t * ds, s_lo, s_hi)[last]
+        s[on[last]] = _s_after(so, ds, t, t_bound, bound, np.flatnonzero(last))
         # the others: halve the step until the likelihood does not decrease
         step = ~last
         trial = np.flatnonzero(step)
         ll_new, g_new, h_new = np.empty(on.size), np.empty_like(g), np.empty_like(h)
         while trial.size:
             ct = co[trial] + t[trial] * dc[trial]
-            st = np.clip(so[trial] + t[trial] * ds[trial], s_lo, s_hi)
             ll_new[trial], g_new[trial], h_new[trial] = _probit_loglik(
-                xo[trial], k[on[trial]], m[on[trial]], ct, st
+                xo[trial],
+                k[on[trial]],
+                m[on[trial]],
+                ct,
+                _s_after(so, ds, t, t_bound, bound, trial),
             )
             worse = ll_new[trial] < ll[trial] - rounding[trial]
             t[trial[worse]] *= 0.5
@@ -290,11 +295,20 @@ def _fit_block(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray,
         gain = step & (ll_new >= ll - rounding)  # no gain along the Newton direction: done
         moved = on[gain]
         c[moved] = co[gain] + t[gain] * dc[gain]
-        s[moved] = np.clip(so[gain] + t[gain] * ds[gain], s_lo, s_hi)
+        s[moved] = _s_after(so, ds, t, t_bound, bound, np.flatnonzero(gain))
         on, ll, g, h = moved, ll_new[gain], g_new[gain], h_new[gain]
     median[rows] = portable.exp(-c / s)
     beta[rows] = np.where(s >= s_hi, BETA_BOUNDS[0], np.where(s <= s_lo, BETA_BOUNDS[1], 1.0 / s))
     return median, beta
+
+
+def _s_after(so, ds, t, t_bound, bound, i) -> np.ndarray:
+    """s of the rows ``i`` after steps ``t`` along ``ds`` from ``so``: exactly the ``bound``
+    (NaN: none) where the step is the one cut to end on it (so + t·ds would miss it by a
+    rounding, and the next step be cut to that), else so + t·ds within the bounds of s."""
+    s_lo, s_hi = 1.0 / BETA_BOUNDS[1], 1.0 / BETA_BOUNDS[0]
+    on_bound = (t[i] == t_bound[i]) & ~np.isnan(bound[i])
+    return np.where(on_bound, bound[i], np.clip(so[i] + t[i] * ds[i], s_lo, s_hi))
 
 
 def _mle(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> LognormalFit:
