@@ -147,14 +147,14 @@ BETA_BOUNDS = (1e-3, 10.0)
 
 def _separation(
     x: np.ndarray, k: np.ndarray, m: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Per row of (ln x, k of m trials), shape (B, n): whether the outcomes are completely
     separated by x (no x has both outcomes: every survivor below every overturn), whether they
     are quasi-completely separated (one x has both, every lower one only survivors, every higher
-    one only overturns), and that x (the largest with a survivor)."""
+    one only overturns), the largest x with a survivor and the smallest with an overturn."""
     hi_survive = np.max(np.where(k < m, x, -np.inf), axis=1)
     lo_overturn = np.min(np.where(k > 0, x, np.inf), axis=1)
-    return hi_survive < lo_overturn, hi_survive == lo_overturn, hi_survive
+    return hi_survive < lo_overturn, hi_survive == lo_overturn, hi_survive, lo_overturn
 
 
 #: Newton iterations of a fit at most: from the probit-regression start a fit takes 3-8 (the
@@ -230,8 +230,7 @@ def _fit_block(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray,
 
     s_lo, s_hi = 1.0 / BETA_BOUNDS[1], 1.0 / BETA_BOUNDS[0]
     median, beta = np.empty(x.shape[0]), np.empty(x.shape[0])
-    complete, quasi, mixed_x = _separation(x, k, m)
-    gap_end = np.min(np.where(k > 0, x, np.inf), axis=1)
+    complete, quasi, mixed_x, gap_end = _separation(x, k, m)  # mixed_x: where quasi mixes
     median[complete] = portable.exp(0.5 * (mixed_x + gap_end))[complete]
     beta[complete] = BETA_BOUNDS[0]
     rows = np.flatnonzero(~complete)
@@ -455,7 +454,7 @@ def bootstrap_fragility(
             xb, kb, mb = log_x[idx], y[idx].astype(float), np.ones(idx.shape)
         fitted = np.any(kb > 0, axis=1) & np.any(kb < mb, axis=1)
         xb, kb, mb = np.ascontiguousarray(xb[fitted]), kb[fitted], mb[fitted]
-        complete, quasi, _ = _separation(xb, kb, mb)
+        complete, quasi, _, _ = _separation(xb, kb, mb)
         separated += int(np.sum(complete | quasi))
         fit = _fit_rows(xb, kb, mb)
         median_parts.append(fit[0])
