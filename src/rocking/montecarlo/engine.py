@@ -252,16 +252,11 @@ class Engine:
 
     def _data(self):
         if self._handle is None:
-            cases = [
-                (
-                    np.ascontiguousarray(ens.acc),
-                    motion_peaks(ens.acc),
-                    ens.dt,
-                    None if ens.av is None else np.ascontiguousarray(ens.av),
-                    motion_suffixes(ens.acc, ens.av),
-                )
-                for ens in self.cases
-            ]
+            cases = []
+            for ens in self.cases:
+                acc = np.ascontiguousarray(ens.acc)
+                av = None if ens.av is None else np.ascontiguousarray(ens.av)
+                cases.append((acc, motion_peaks(acc), ens.dt, av, motion_suffixes(acc, av)))
             data = {"table": self.table, "cases": cases, "impacts": self.impacts}
             self._handle = self.backend.scatter(data)
         return self._handle
@@ -399,8 +394,7 @@ def run_chunk(data: dict, task: tuple) -> tuple[np.ndarray, np.ndarray]:
     which is why it lives in this light module.  ``data`` = {"table": BlockTable, "cases":
     [(acc, amax, dt, av, suffixes), …], "impacts": str} (``av``: the vertical accelerations, or
     None; one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
-    indices,
-    motion indices (int64), scale factors (float64)), one entry per simulation.
+    indices, motion indices (int64), scale factors (float64)), one entry per simulation.
 
     Returns (overturned, peak), one entry per simulation.
     """

@@ -40,6 +40,7 @@ from .statistics import (
     FragilityFit,
     Interval,
     LognormalFit,
+    _bootstrap_resamples,
     _fit_rows,
     _mle,
     bootstrap_fragility,
@@ -518,10 +519,7 @@ def im_efficiency(
     factors = ida["level"].values[:, None] / base[None, :]  # (level, motion)
     if AnalysisIM.parse(scale_im).exponent == 2:
         factors = np.sqrt(factors)
-    rng = np.random.default_rng(seed)
-    resamples = np.array(
-        [rng.integers(0, ensemble.n, ensemble.n) for _ in range(n_boot)], dtype=np.int64
-    ).reshape(n_boot, ensemble.n)
+    resamples = _bootstrap_resamples(seed, n_boot, ensemble.n)
     rows = []
     bodies = list(ida["body"].values) if names is None else [str(n) for n in names]
     if len(bodies) != ida.sizes["body"]:

@@ -183,28 +183,31 @@ def _probit_loglik(
     return np.sum(k * lp + (m - k) * lq, axis=1), g, h
 
 
-#: Elements (rows × points) of the arrays a block of fits works on: ~15 temporaries of this
-#: many float64 each (~120 MB in all); more rows are fitted block by block.
+#: Elements (rows × points) at most that the callers of :func:`_fit_rows` give it at once:
+#: it holds ~15 temporaries of this many float64 (~120 MB in all); more resamples are fitted
+#: block by block (:func:`_bootstrap_resamples` draws them).
 _FIT_BLOCK_ELEMENTS = 1 << 20
 
+#: Bounds of s = 1/β, the probit slope of a fit (:data:`BETA_BOUNDS`) [-].
+_S_LO, _S_HI = 1.0 / BETA_BOUNDS[1], 1.0 / BETA_BOUNDS[0]
 
-def _fit_rows(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+
+def _bootstrap_resamples(seed: int, n_boot: int, n: int) -> np.ndarray:
+    """``n_boot`` resamples with replacement of ``n`` motions, drawn from NumPy's default
+    generator seeded with ``seed``: their indices, shape (n_boot, n)."""
+    rng = np.random.default_rng(int(seed))
+    draws = [rng.integers(0, n, n) for _ in range(n_boot)]
+    return np.array(draws, dtype=np.int64).reshape(n_boot, n)
+
+
+def _fit_rows(
+    x: np.ndarray, k: np.ndarray, m: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Maximum-likelihood fits of :func:`fit_lognormal`, one per row of x = ln(IM), k of m
-    trials (shape (B, n); checked: no row all 0 or all m): (medians, βs), shape (B,), by
-    :func:`_fit_block` on blocks of at most :data:`_FIT_BLOCK_ELEMENTS` elements. A row's fit
-    does not depend on the other rows (the same operations on its values whatever B is)."""
-    rows = max(1, _FIT_BLOCK_ELEMENTS // max(1, x.shape[1]))
-    if x.shape[0] <= rows:
-        return _fit_block(x, k, m)
-    fits = [
-        _fit_block(x[i : i + rows], k[i : i + rows], m[i : i + rows])
-        for i in range(0, x.shape[0], rows)
-    ]
-    return np.concatenate([f[0] for f in fits]), np.concatenate([f[1] for f in fits])
-
-
-def _fit_block(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_fit_rows` of rows that fit in memory at once.
+    trials (shape (B, n); checked: no row all 0 or all m; at most :data:`_FIT_BLOCK_ELEMENTS`
+    elements): (medians, βs, separated), shape (B,), separated saying which rows are
+    completely or quasi-completely separated. A row's fit does not depend on the other rows
+    (the same operations on its values whatever B is).
 
     Newton's method on the probit coefficients (c, s), z = c + s·x (median = exp(−c/s),
     β = 1/s), where the log-likelihood is concave (second derivatives of
@@ -228,9 +231,10 @@ def _fit_block(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray,
     """
     import scipy.special  # on first use (see wilson_interval)
 
-    s_lo, s_hi = 1.0 / BETA_BOUNDS[1], 1.0 / BETA_BOUNDS[0]
+    s_lo, s_hi = _S_LO, _S_HI
     median, beta = np.empty(x.shape[0]), np.empty(x.shape[0])
     complete, quasi, mixed_x, gap_end = _separation(x, k, m)  # mixed_x: where quasi mixes
+    separated = complete | quasi
     median[complete] = portable.exp(0.5 * (mixed_x + gap_end))[complete]
     beta[complete] = BETA_BOUNDS[0]
     rows = np.flatnonzero(~complete)
@@ -298,22 +302,21 @@ def _fit_block(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray,
         on, ll, g, h = moved, ll_new[gain], g_new[gain], h_new[gain]
     median[rows] = portable.exp(-c / s)
     beta[rows] = np.where(s >= s_hi, BETA_BOUNDS[0], np.where(s <= s_lo, BETA_BOUNDS[1], 1.0 / s))
-    return median, beta
+    return median, beta, separated
 
 
 def _s_after(so, ds, t, t_bound, bound, i) -> np.ndarray:
     """s of the rows ``i`` after steps ``t`` along ``ds`` from ``so``: exactly the ``bound``
     (NaN: none) where the step is the one cut to end on it (so + t·ds would miss it by a
     rounding, and the next step be cut to that), else so + t·ds within the bounds of s."""
-    s_lo, s_hi = 1.0 / BETA_BOUNDS[1], 1.0 / BETA_BOUNDS[0]
     on_bound = (t[i] == t_bound[i]) & ~np.isnan(bound[i])
-    return np.where(on_bound, bound[i], np.clip(so[i] + t[i] * ds[i], s_lo, s_hi))
+    return np.where(on_bound, bound[i], np.clip(so[i] + t[i] * ds[i], _S_LO, _S_HI))
 
 
 def _mle(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> LognormalFit:
     """The maximum-likelihood fit of :func:`fit_lognormal` on x = ln(IM), k of m trials (1-D,
     checked, not all 0, not all m): :func:`_fit_rows` of one row."""
-    median, beta = _fit_rows(x[None, :], k[None, :], m[None, :])
+    median, beta, _ = _fit_rows(x[None, :], k[None, :], m[None, :])
     return LognormalFit(median=float(median[0]), beta=float(beta[0]))
 
 
@@ -442,8 +445,7 @@ def bootstrap_fragility(
         point = _mle(log_x, y.sum(axis=1).astype(float), np.full(x.size, float(n_motions)))
     else:
         point = _mle(log_x, y.astype(float), np.ones(x.size))
-    rng = np.random.default_rng(int(seed))
-    resamples = np.array([rng.integers(0, n_motions, n_motions) for _ in range(n_boot)])
+    resamples = _bootstrap_resamples(seed, n_boot, n_motions)
     median_parts, beta_parts, separated = [np.empty(0)], [np.empty(0)], 0
     step = max(1, _FIT_BLOCK_ELEMENTS // max(x.size, n_motions))  # resamples at a time
     for idx in (resamples[i : i + step] for i in range(0, n_boot, step)):
@@ -454,11 +456,10 @@ def bootstrap_fragility(
             xb, kb, mb = log_x[idx], y[idx].astype(float), np.ones(idx.shape)
         fitted = np.any(kb > 0, axis=1) & np.any(kb < mb, axis=1)
         xb, kb, mb = np.ascontiguousarray(xb[fitted]), kb[fitted], mb[fitted]
-        complete, quasi, _, _ = _separation(xb, kb, mb)
-        separated += int(np.sum(complete | quasi))
         fit = _fit_rows(xb, kb, mb)
         median_parts.append(fit[0])
         beta_parts.append(fit[1])
+        separated += int(np.sum(fit[2]))
     medians, betas = np.concatenate(median_parts), np.concatenate(beta_parts)
     q = [(1.0 - confidence) / 2.0, (1.0 + confidence) / 2.0]
     if medians.size:
