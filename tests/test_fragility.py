@@ -16,7 +16,7 @@ from rocking.core.progress import Reporter
 from rocking.dynamics.body import Block
 from rocking.dynamics.simulate import simulate
 from rocking.errors import InputError
-from rocking.montecarlo.probability import agx_50, overturning_probability
+from rocking.montecarlo.probability import agx_50, member_outcomes, overturning_probability
 from rocking.montecarlo.statistics import LognormalFit, fit_lognormal, wilson_interval
 from rocking.motions.ensemble import Ensemble
 from rocking.motions.synthesis import generate
@@ -50,6 +50,37 @@ def test_probability_is_the_fraction_of_motions_that_overturn(ensemble):
     assert ds["count"].values.max() > 0 and ds["count"].values.min() < ensemble.n
     assert list(ds["body"].values) == [b.label for b in blocks]
     assert ds["agx"].attrs["units"] == "g" and ds["R"].attrs["units"] == "m"
+
+
+def test_member_outcomes_are_each_bodys_own_simulations(ensemble):
+    # each body at intensities of its own, in one batch: every flag and peak must be the one
+    # simulate gives for that motion scaled to that body's A_gx (the paper's definition), and
+    # the bits of overturning_probability(members=True) for that body alone
+    blocks = [Block(1.22, 4.0), Block(0.6, 3.0)]
+    agx = np.array([[0.3, 0.7, 1.2], [0.25, 0.55, 0.95]])
+    ds = member_outcomes(blocks, ensemble, agx)
+    assert ds["overturned"].dims == ("body", "level", "member")
+    assert ds["overturned"].values.any() and not ds["overturned"].values.all()
+    for b, blk in enumerate(blocks):
+        alone = overturning_probability([blk], ensemble, agx[b], members=True)
+        assert ds["agx"].values[b].tobytes() == alone["agx"].values.tobytes()
+        for name in ("overturned", "peak"):
+            assert ds[name].values[b].tobytes() == alone[name].values[0].tobytes()
+        for j, a in enumerate(agx[b]):
+            scaled = ensemble.scaled(a)
+            for m, row in enumerate(scaled.acc):
+                assert ds["overturned"].values[b, j, m] == simulate(blk, row, scaled.dt).overturned
+    # one level per body, and a dict of ensembles: a leading case axis
+    one = member_outcomes(blocks, {"x": ensemble, "y": ensemble}, agx[:, 1])
+    assert one["overturned"].dims == ("case", "body", "level", "member")
+    for c in range(2):
+        assert (
+            one["overturned"].values[c, :, 0].tobytes() == ds["overturned"].values[:, 1].tobytes()
+        )
+    with pytest.raises(InputError, match="one row of levels per body"):
+        member_outcomes(blocks, ensemble, [0.3, 0.5, 0.7])
+    with pytest.raises(InputError, match="agx"):
+        member_outcomes(blocks, ensemble, [0.3, np.nan])
 
 
 def test_wilson_interval_published_values():

@@ -187,6 +187,89 @@ def overturning_probability(
     )
 
 
+def member_outcomes(
+    blocks: Block | Sequence[Block],
+    ensemble: Ensemble | dict[str, Ensemble],
+    agx: ArrayLike,
+    *,
+    e: float | str | Sequence[float | str] | np.ndarray = DEFAULT_E,
+    overturn_angle: float | str | Sequence[float | str] | np.ndarray = math.pi / 2,
+    g: float = G,
+    backend: Backend | None = None,
+    out: str | os.PathLike[str] | None = None,
+    progress: Reporter | bool | None = None,
+    chunk_size: int | None = None,
+    impacts: str = IMPACT_SCHEMES[0],
+) -> xr.Dataset:
+    """Whether each motion overturns each body, every body at intensities of its own.
+
+    The outcomes of :func:`overturning_probability` with ``members=True`` for one body at a
+    time (the same simulations, bit for bit), computed in one batch: a study that needs each
+    body at its own A_gx (e.g. at its A_gx50) makes one call instead of one per body.
+
+    Parameters
+    ----------
+    blocks : sequence of Block
+        The bodies.
+    ensemble : Ensemble or dict of str -> Ensemble
+        The motions [m/s²]; a dict gives a leading ``case`` dimension (ensembles with the same
+        number of motions).
+    agx : array_like, shape (n_bodies,) or (n_bodies, n_levels)
+        Intensities A_gx [g], > 0, of each body: one per body, or a row per body.
+    e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
+        As for :func:`overturning_probability`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ([case,] body, level, member): ``overturned`` (bool) and ``peak`` =
+        max|θ|/α [-]; coordinate ``agx`` (body, level) [g], the intensities simulated (each
+        rounded to the engine's level unit, as :func:`overturning_probability` rounds them);
+        body coordinates and attributes as for :func:`overturning_probability`.
+    """
+    labels, cases = _cases(ensemble)
+    if len({ens.n for ens in cases}) > 1:
+        raise InputError("member_outcomes needs ensembles with the same number of motions")
+    nb = len(block_list(blocks))
+    values = np.asarray(agx, dtype=float)
+    if values.ndim == 1:
+        values = values[:, None]
+    if values.ndim != 2 or values.shape[0] != nb:
+        raise InputError(
+            f"agx must hold one level or one row of levels per body ({nb} bodies), "
+            f"got shape {np.shape(agx)}"
+        )
+    levels = [_levels(row) for row in values]
+    engine = Engine(
+        blocks,
+        cases,
+        desc="P(overturn)",
+        e=e,
+        overturn_angle=overturn_angle,
+        g=g,
+        backend=backend,
+        out=out,
+        progress=progress,
+        chunk_size=chunk_size,
+        impacts=impacts,
+    )
+    engine.require_memory(values.size * 2, "agx")
+    keys = [[[(c, b, k) for k in levels[b]] for b in range(nb)] for c in range(len(cases))]
+    with engine:
+        engine.run([k for per_case in keys for per_body in per_case for k in per_body])
+    coords: dict[str, Any] = {
+        "agx": (
+            ("body", "level"),
+            np.array([[level_agx(k) for k in row] for row in levels]),
+            {"units": "g", "long_name": "mean PGA of the ensemble"},
+        ),
+        "member": ("member", list(cases[0].labels) if labels is None else np.arange(cases[0].n)),
+    }
+    return _dataset(
+        blocks, engine.table, labels, _member_vars(engine, keys, "level"), coords, engine.stats
+    )
+
+
 def _levels(agx) -> list[int]:
     """The level keys of the intensities ``agx`` [g] (checked: finite, one axis, >= LEVEL_UNIT)."""
     agx = finite_array("agx", np.atleast_1d(agx), ndim=(1,))
@@ -216,12 +299,13 @@ def _probability_vars(engine: Engine, keys: list, confidence: float) -> dict[str
     }
 
 
-def _member_vars(engine: Engine, keys: list) -> dict[str, Any]:
-    """``overturned`` and ``peak`` of every motion at every (case, body, level) of ``keys``."""
+def _member_vars(engine: Engine, keys: list, level_dim: str = "agx") -> dict[str, Any]:
+    """``overturned`` and ``peak`` of every motion at every (case, body, level) of ``keys``
+    (nested [case][body][level]; the levels' dimension named ``level_dim``)."""
     flags, peaks = (
         np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys]) for i in (0, 1)
     )
-    dims = ("body", "agx", "member")
+    dims = ("body", level_dim, "member")
     return {
         "overturned": (dims, flags, {}),
         "peak": (dims, peaks, {"units": "1", "long_name": "max |theta| / alpha"}),

@@ -16,6 +16,7 @@ import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Final
 
@@ -136,10 +137,15 @@ class Ensemble:
         """Time of the last sample [s]."""
         return (self.n_t - 1) * self.dt
 
-    @property
+    @cached_property
     def pga(self) -> np.ndarray:
-        """Peak ground acceleration of each member, max abs(a) [g], shape (n,)."""
-        return np.abs(self.acc).max(axis=1) / G
+        """Peak ground acceleration of each member, max abs(a) [g], shape (n,), read-only.
+
+        Computed once (``acc`` cannot change): the engine asks for it, through :attr:`agx`,
+        in every Monte Carlo call."""
+        pga = np.abs(self.acc).max(axis=1) / G
+        pga.setflags(write=False)
+        return pga
 
     @property
     def agx(self) -> float:

@@ -46,7 +46,7 @@ from numpy.typing import ArrayLike
 
 from ..assessment.energy import available_sv, band_frequencies, energy_balance
 from ..errors import InputError
-from ..montecarlo.probability import agx_50, overturning_probability
+from ..montecarlo.probability import agx_50, member_outcomes
 from ..motions.baseline import baseline_correct
 from ..motions.ensemble import Ensemble
 from ..motions.envelopes import make_envelope
@@ -281,17 +281,14 @@ def _balance(
     return energy_balance(blocks, ens, a50, band_hz=p["band_hz"])
 
 
-def _outcomes(ctx: RunContext, block, ens: Ensemble, level: float, impacts: str) -> np.ndarray:
-    """Overturned (bool, per motion) of ``block`` under ``ens`` scaled to A_gx ``level``."""
-    return overturning_probability(
-        [block],
-        ens,
-        [level],
-        e=ctx.cfg["common"]["e"],
-        backend=ctx.backend,
-        members=True,
-        impacts=impacts,
-    )["overturned"].values[0, 0]
+def _outcomes(ctx: RunContext, blocks, ensemble, levels, impacts: str = "located") -> xr.Dataset:
+    """Overturned (bool) of every motion of ``ensemble`` (an Ensemble, or a dict of them: a
+    leading case axis), each of ``blocks`` at its own A_gx ``levels`` [g] (one per block, or a
+    row per block), in one batch (:func:`~rocking.montecarlo.probability.member_outcomes`);
+    axes ([case,] block, level, motion)."""
+    return member_outcomes(
+        blocks, ensemble, levels, e=ctx.cfg["common"]["e"], backend=ctx.backend, impacts=impacts
+    )
 
 
 def _by_dt(ctx: RunContext, impacts: str, store: str):
@@ -315,15 +312,19 @@ def run_convergence(ctx: RunContext, done: dict) -> xr.Dataset:
     # outcome of every motion at each body's A_gx50 of the finest step, at every step
     levels = ds["agx50"].values[-1]
     fine = ensembles[-1]
-    flags = np.zeros((len(dts), len(blocks), fine.n), bool)
-    for i, ens in enumerate(ensembles):
-        for b, (block, level) in enumerate(zip(blocks, levels)):
-            if np.isfinite(level):
-                flags[i, b] = _outcomes(ctx, block, ens, level, "located")
     done_bodies = np.isfinite(levels)
+    # (dt, body, motion), the bodies whose A_gx50 was found at the finest step
+    flags = np.zeros((len(dts), int(done_bodies.sum()), fine.n), bool)
+    if done_bodies.any():
+        flags[:] = _outcomes(
+            ctx,
+            [b for b, done in zip(blocks, done_bodies) if done],
+            {str(dt): ens for dt, ens in zip(dts, ensembles)},
+            levels[done_bodies],
+        )["overturned"].values[:, :, 0]
     ds["flipped"] = (
         "dt",
-        (flags[:, done_bodies] != flags[-1, done_bodies]).mean(axis=(1, 2)),
+        (flags != flags[-1]).mean(axis=(1, 2)),
         {"units": "1", "long_name": "share of outcomes unlike the finest step's"},
     )
     ds.attrs.update(n=fine.n, resolution=ctx.cfg["soundness"]["convergence_resolution"])
@@ -339,15 +340,18 @@ def run_impacts(ctx: RunContext, done: dict) -> xr.Dataset:
     located = done["convergence"]
     flipped = []
     for dt, ens in zip(dts, ensembles):
-        share = [
-            np.mean(
-                _outcomes(ctx, block, ens, level, "located")
-                != _outcomes(ctx, block, ens, level, "step-end")
-            )
-            for block, level in zip(blocks, located["agx50"].sel(dt=dt).values)
-            if np.isfinite(level)
-        ]
-        flipped.append(float(np.mean(share)) if share else math.nan)
+        levels = located["agx50"].sel(dt=dt).values
+        found = np.isfinite(levels)
+        if not found.any():
+            flipped.append(math.nan)
+            continue
+        bodies = [b for b, f in zip(blocks, found) if f]
+        loc, fixed = (
+            _outcomes(ctx, bodies, ens, levels[found], scheme)["overturned"].values[:, 0]
+            for scheme in ("located", "step-end")
+        )
+        share = [np.mean(a != b) for a, b in zip(loc, fixed)]  # per body, then their mean
+        flipped.append(float(np.mean(share)))
     ds["flipped"] = (
         "dt",
         flipped,
@@ -359,7 +363,7 @@ def run_impacts(ctx: RunContext, done: dict) -> xr.Dataset:
 
 def run_ensemble(ctx: RunContext, done: dict) -> dict[str, Any]:
     """A_gx50 and the ratios of every body with their bootstrap distributions."""
-    p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
+    p = ctx.cfg["soundness"]
     blocks = resolve_bodies(p["bodies"], "soundness.bodies")
     ground = ctx.motions("soundness", p["n"])
     balance = _balance(ctx, blocks, ground, "agx50", p["resolution"])
@@ -368,15 +372,15 @@ def run_ensemble(ctx: RunContext, done: dict) -> dict[str, Any]:
     per_g = _band_strength(psv, ground.pga, counts)
     span = np.linspace(1.0 - p["grid_span"], 1.0 + p["grid_span"], p["grid_levels"])
     boot = np.full((len(blocks), counts.shape[0]), np.nan)
-    for b, block in enumerate(blocks):
-        a = float(balance["agx50"].values[b])
-        if not np.isfinite(a):
-            continue
-        curve = overturning_probability(
-            [block], ground, a * span, e=e, backend=ctx.backend, members=True
-        )
-        levels = curve["agx"].values
-        boot[b] = bootstrap_agx50(curve["overturned"].values[0], levels, ground.pga, counts)
+    a50 = balance["agx50"].values
+    found = np.flatnonzero(np.isfinite(a50))
+    if found.size:
+        # every body on the grid a50 * span around its own A_gx50, in one batch
+        curves = _outcomes(ctx, [blocks[b] for b in found], ground, a50[found, None] * span)
+        for i, b in enumerate(found):
+            boot[b] = bootstrap_agx50(
+                curves["overturned"].values[i], curves["agx"].values[i], ground.pga, counts
+            )
     sv_req = balance["sv_required"].values[:, None]
     return {
         "balance": balance,
