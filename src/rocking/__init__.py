@@ -50,6 +50,7 @@ _EXPORTS = {
     "im_efficiency": "montecarlo.fragility",
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
+    "member_outcomes": "montecarlo.probability",
     "wilson_interval": "montecarlo.statistics",
     "PRESETS": "structures.frames",
     "ShearFrame": "structures.frames",
@@ -120,7 +121,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
     from .montecarlo.fragility import fragility_analysis, im_efficiency
-    from .montecarlo.probability import agx_50, overturning_probability
+    from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
     from .montecarlo.statistics import (
         FragilityFit,
         LognormalFit,

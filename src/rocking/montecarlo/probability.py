@@ -243,7 +243,7 @@ def member_outcomes(
     engine = Engine(
         blocks,
         cases,
-        desc="P(overturn)",
+        desc="outcomes",
         e=e,
         overturn_angle=overturn_angle,
         g=g,
