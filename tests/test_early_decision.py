@@ -87,6 +87,54 @@ def test_early_decision_gives_the_exhaustive_result_with_fewer_simulations(ensem
     assert simulations[0] < 0.9 * exhaustive
 
 
+def _engine(ensemble):
+    return Engine(
+        BLOCKS[:1],
+        [ensemble],
+        e=DEFAULT_E,
+        overturn_angle=np.pi / 2,
+        g=G,
+        backend=None,
+        out=None,
+        progress=False,
+        chunk_size=None,
+        desc="order",
+    )
+
+
+def test_decision_order_puts_the_motions_likeliest_to_decide_first(ensemble):
+    # outcomes known at the body's other levels (recorded by hand, nothing simulated) rank the
+    # motions of level 500: a motion that overturned at a lower level is likely to overturn,
+    # one survived at a higher level likely not to, the others rank by their peak at the
+    # nearest lower level survived (or overturning above); the likely side comes first
+    n, motions = ensemble.n, np.arange(ensemble.n)
+    assert n == 24
+    assert _engine(ensemble).decision_order((0, 0, 500)).tolist() == list(range(n))  # unknown
+    # 0-15 overturned at 400, 16-23 survived with peaks 0.67-0.96: likely >= half, likeliest
+    # first (the overturned in their order, then the survivors by falling peak)
+    eng = _engine(ensemble)
+    eng._record(0, 0, 400, motions, motions < 16, np.where(motions < 16, 2.0, motions / n))
+    assert eng.decision_order((0, 0, 500)).tolist() == [*range(16), *range(23, 15, -1)]
+    # 0-3 overturned at 400, 4-23 survived with peaks 0.04-0.23: fewer than half likely, the
+    # least likely first (the survivors by rising peak, the overturned last)
+    eng = _engine(ensemble)
+    eng._record(0, 0, 400, motions, motions < 4, np.where(motions < 4, 2.0, motions / 100))
+    assert eng.decision_order((0, 0, 500)).tolist() == [*range(4, 24), *range(4)]
+    # only a higher level known: 0-4 survived there (likely safe), 5-23 overturned there
+    # (slightly likely): likely >= half, 5-23 first
+    eng = _engine(ensemble)
+    eng._record(0, 0, 600, motions, motions >= 5, np.where(motions >= 5, 2.0, 0.5))
+    assert eng.decision_order((0, 0, 500)).tolist() == [*range(5, 24), *range(5)]
+    # the order is only the order: the answer of at_least_half is that of the full count
+    full = overturning_probability(BLOCKS[:1], ensemble, [0.5], members=True)
+    eng = _engine(ensemble)
+    with eng:
+        key = (0, 0, level_key(0.5))
+        eng._record(0, 0, level_key(0.4), motions, motions < 16, np.full(n, 0.5))
+        answer = eng.at_least_half([key])[key]
+    assert answer == (2 * int(full["count"].values[0, 0]) >= n)
+
+
 def test_partial_chunks_resume_and_complete(ensemble, tmp_path, simulations):
     early = agx_50(BLOCKS, ensemble, resolution=0.05, out=tmp_path)
     computed = simulations[0]

@@ -177,6 +177,8 @@ class Engine:
         self.results: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray]] = {}
         # triples with some motions simulated: (overturned, peak, simulated) over the motions
         self._partial: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        # level keys with some outcome, per (case, body): what decision_order reads
+        self._levels: dict[tuple[int, int], set[int]] = {}
         self.chunks_loaded = 0
         self.chunks_computed = 0
         self.store = None if out is None else ChunkStore(out, self._params())
@@ -242,6 +244,7 @@ class Engine:
         if key in self.results:
             return
         if key not in self._partial:
+            self._levels.setdefault((c, b), set()).add(k)
             n = self.cases[c].n
             self._partial[key] = (np.zeros(n, np.bool_), np.zeros(n), np.zeros(n, np.bool_))
         ov, pk, done = self._partial[key]
@@ -270,6 +273,61 @@ class Engine:
             n = self.cases[key[0]].n
             return np.zeros(n, np.bool_), np.zeros(n, np.bool_)
         return part[0], part[2]
+
+    def _known(self, key: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(overturned, peak, simulated) over the motions of a triple with some outcome."""
+        if key in self.results:
+            ov, pk = self.results[key]
+            return ov, pk, np.ones(ov.size, np.bool_)
+        return self._partial[key]
+
+    def decision_order(self, key: tuple[int, int, int]) -> np.ndarray:
+        """The motions of ``key`` = (case, body, level key) in the order :meth:`at_least_half`
+        simulates them: first those most likely to decide the comparison with n/2, predicted
+        from the outcomes known at the body's other levels.
+
+        A motion that overturned the body at a lower level is taken as likely to overturn it
+        here, one that it survived at a higher level as likely not to (overturning is nearly
+        monotone in the scale of one motion, not exactly); otherwise the peak rotation
+        max|θ|/α of the nearest lower level it survived ranks it, and a motion overturning
+        only at a higher level counts as slightly likely.  If the motions likely to overturn
+        make half or more, the likeliest come first (a decision "at least half" needs
+        ⌈n/2⌉ overturns, and overturning simulations stop early), else the least likely (a
+        decision "below" needs ⌊n/2⌋ + 1 safe motions).  Ties keep the ensemble's order, which
+        is the whole order where nothing is known.  Only which motions are simulated depends
+        on it, never an answer: the comparisons are exact.
+        """
+        c, b, k = key
+        n = self.cases[c].n
+        over_below = np.zeros(n, np.bool_)  # overturned at some lower level
+        safe_above = np.zeros(n, np.bool_)  # survived at some higher level
+        over_above = np.zeros(n, np.bool_)
+        peak = np.full(n, np.nan)  # max|θ|/α at the nearest lower level survived
+        nearest = np.full(n, -1, np.int64)
+        for other in sorted(self._levels.get((c, b), ())):
+            if other == k:
+                continue
+            ov, pk, sim = self._known((c, b, other))
+            if other < k:
+                over_below |= sim & ov
+                survived = sim & ~ov & (other > nearest)
+                peak[survived] = pk[survived]
+                nearest[survived] = other
+            else:
+                safe_above |= sim & ~ov
+                over_above |= sim & ov
+        # score: 3 likely overturning, -3 likely safe, in [-1, 1) by the peak, else 0.5 or 0
+        score = np.zeros(n)
+        unclear = over_below == safe_above
+        score[over_below & ~safe_above] = 3.0
+        score[safe_above & ~over_below] = -3.0
+        ranked = unclear & ~np.isnan(peak)
+        score[ranked] = 2.0 * np.minimum(peak[ranked], 1.0) - 1.0
+        score[unclear & np.isnan(peak) & over_above] = 0.5
+        likely = np.clip((score + 1.0) / 2.0, 0.0, 1.0)
+        if 2.0 * likely.sum() >= n:
+            return np.argsort(-score, kind="stable")
+        return np.argsort(score, kind="stable")
 
     def run(self, keys: list[tuple[int, int, int]]) -> None:
         """Make sure every (case, body, level key) in ``keys`` has a result for every motion."""
@@ -338,14 +396,15 @@ class Engine:
         """Whether at least half the motions of the case overturn the body, for every (case,
         body, level key) of ``keys`` (2·count ≥ n, exactly in integers).
 
-        The motions are simulated in the order of the ensemble, in rounds, each key asking for
-        the fewest further motions that could decide it
+        The motions are simulated in the order of :meth:`decision_order` (fixed for the call),
+        in rounds, each key asking for the fewest further motions that could decide it
         (:func:`rocking.montecarlo.search.motions_to_decide`; after its first round at least the
         fraction :data:`DECIDE_STEP` of the motions), until every key is decided: the answers
         are those of the full counts, without most motions that cannot change them.  Which
         motions are simulated depends only on the outcomes, never on the backend or chunks.
         """
         answer: dict[tuple[int, int, int], bool] = {}
+        order: dict[tuple[int, int, int], np.ndarray] = {}
         while True:
             requests = {}
             for key in dict.fromkeys(keys):
@@ -357,7 +416,10 @@ class Engine:
                 if need:
                     if m:
                         need = max(need, math.ceil(n * DECIDE_STEP))
-                    requests[key] = np.flatnonzero(~simulated)[:need]
+                    if key not in order:
+                        order[key] = self.decision_order(key)
+                    first = order[key]
+                    requests[key] = first[~simulated[first]][:need]
                 else:
                     answer[key] = 2 * count >= n
             if not requests:

@@ -347,8 +347,9 @@ def agx_50(
     P(A_hi − resolution) < 0.5 (``probability`` and ``probability_below``).  Where P is monotone
     on the grid it is the smallest grid A_gx with P ≥ 0.5.  P ≥ 0.5 means count ≥ n/2.  Each
     round evaluates one level for every body (and case) still searching, in batched calls:
-    the motions are simulated in the order of the ensemble only until the count has decided
-    the comparison with n/2 (:meth:`rocking.montecarlo.engine.Engine.at_least_half`), then
+    the motions are simulated, those likeliest to decide first (predicted from the body's other
+    levels), only until the count has decided the comparison with n/2
+    (:meth:`rocking.montecarlo.engine.Engine.at_least_half`), then
     every motion at the two levels whose probabilities are returned.  The result does not
     depend on this: ``exhaustive`` simulates every motion at every level visited instead.
 
