@@ -14,6 +14,7 @@ from rocking.montecarlo.engine import Engine, level_key
 from rocking.montecarlo.probability import agx_50, overturning_probability
 from rocking.montecarlo.search import motions_to_decide
 from rocking.motions.synthesis import generate
+from rocking.studies.soundness import refine
 
 RUN_STATS = ("chunks_computed", "chunks_loaded")
 BLOCKS = [Block(0.8, 3.0), Block(1.22, 4.0), Block(2.0, 2.5)]
@@ -133,6 +134,22 @@ def test_decision_order_puts_the_motions_likeliest_to_decide_first(ensemble):
         eng._record(0, 0, level_key(0.4), motions, motions < 16, np.full(n, 0.5))
         answer = eng.at_least_half([key])[key]
     assert answer == (2 * int(full["count"].values[0, 0]) >= n)
+
+
+def test_same_motions_give_the_same_search_with_fewer_simulations(ensemble, simulations):
+    # the ensemble and its refinement to half the step (the same piecewise-linear motions, as
+    # in the soundness section): searched as the same motions, the finer one simulates first
+    # the motions whose outcome at a level the coarser one found; the results must be those of
+    # the two searches made apart, bit for bit, from fewer simulations
+    cases = {"coarse": ensemble, "fine": refine(ensemble, 2)}
+    apart = agx_50(BLOCKS, cases, resolution=0.05)
+    n_apart = simulations[0]
+    simulations[0] = 0
+    together = agx_50(BLOCKS, cases, resolution=0.05, same_motions=True)
+    _bytes_equal(apart, together)
+    assert simulations[0] < n_apart
+    with pytest.raises(InputError, match="same number of motions"):
+        agx_50(BLOCKS, {"a": ensemble, "b": ensemble.subset(range(10))}, same_motions=True)
 
 
 def test_partial_chunks_resume_and_complete(ensemble, tmp_path, simulations):

@@ -148,6 +148,7 @@ class Engine:
         basis: list[np.ndarray] | None = None,
         exponent: float = 1.0,
         impacts: str = IMPACT_SCHEMES[0],
+        same_motions: bool = False,
     ):
         self.blocks = block_list(blocks)
         self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle, g=g)
@@ -166,6 +167,11 @@ class Engine:
         if impacts not in IMPACT_SCHEMES:
             raise InputError(f"impacts must be one of {', '.join(IMPACT_SCHEMES)}, got {impacts!r}")
         self.impacts = impacts
+        if same_motions and len({ens.n for ens in cases}) > 1:
+            raise InputError("same_motions needs ensembles with the same number of motions")
+        #: The cases hold the same motions (e.g. refined or filtered): :meth:`decision_order`
+        #: reads the outcomes of the other cases at the same level.
+        self.same_motions = bool(same_motions)
         self.backend = LocalBackend() if backend is None else backend
         if not isinstance(self.backend, Backend):
             raise InputError(f"backend must come from rocking.montecarlo.backends, got {backend!r}")
@@ -294,11 +300,20 @@ class Engine:
         make half or more, the likeliest come first (a decision "at least half" needs
         ⌈n/2⌉ overturns, and overturning simulations stop early), else the least likely (a
         decision "below" needs ⌊n/2⌋ + 1 safe motions).  Ties keep the ensemble's order, which
-        is the whole order where nothing is known.  Only which motions are simulated depends
-        on it, never an answer: the comparisons are exact.
+        is the whole order where nothing is known.  With :attr:`same_motions`, a motion's
+        outcome at this level in another case decides its rank before all of this.  Only which
+        motions are simulated depends on it, never an answer: the comparisons are exact.
         """
         c, b, k = key
         n = self.cases[c].n
+        over_here = np.zeros(n, np.bool_)  # overturned at this level in another case
+        safe_here = np.zeros(n, np.bool_)
+        if self.same_motions:
+            for other_case in range(len(self.cases)):
+                if other_case != c and k in self._levels.get((other_case, b), ()):
+                    ov, _, sim = self._known((other_case, b, k))
+                    over_here |= sim & ov
+                    safe_here |= sim & ~ov
         over_below = np.zeros(n, np.bool_)  # overturned at some lower level
         safe_above = np.zeros(n, np.bool_)  # survived at some higher level
         over_above = np.zeros(n, np.bool_)
@@ -324,6 +339,9 @@ class Engine:
         ranked = unclear & ~np.isnan(peak)
         score[ranked] = 2.0 * np.minimum(peak[ranked], 1.0) - 1.0
         score[unclear & np.isnan(peak) & over_above] = 0.5
+        # the same motion at this level in another case (same_motions) outweighs the rest
+        score[over_here & ~safe_here] = 4.0
+        score[safe_here & ~over_here] = -4.0
         likely = np.clip((score + 1.0) / 2.0, 0.0, 1.0)
         if 2.0 * likely.sum() >= n:
             return np.argsort(-score, kind="stable")
@@ -400,14 +418,26 @@ class Engine:
         in rounds, each key asking for the fewest further motions that could decide it
         (:func:`rocking.montecarlo.search.motions_to_decide`; after its first round at least the
         fraction :data:`DECIDE_STEP` of the motions), until every key is decided: the answers
-        are those of the full counts, without most motions that cannot change them.  Which
-        motions are simulated depends only on the outcomes, never on the backend or chunks.
+        are those of the full counts, without most motions that cannot change them.  With
+        :attr:`same_motions` the cases are decided one after the other, in their order, so that
+        each reads the outcomes of those before it.  Which motions are simulated depends only on
+        the outcomes, never on the backend or chunks.
         """
+        keys = list(dict.fromkeys(keys))
+        if not self.same_motions:
+            return self._decide(keys)
+        answer: dict[tuple[int, int, int], bool] = {}
+        for c in sorted({key[0] for key in keys}):
+            answer.update(self._decide([key for key in keys if key[0] == c]))
+        return answer
+
+    def _decide(self, keys: list[tuple[int, int, int]]) -> dict[tuple[int, int, int], bool]:
+        """:meth:`at_least_half` of ``keys`` (distinct), decided together."""
         answer: dict[tuple[int, int, int], bool] = {}
         order: dict[tuple[int, int, int], np.ndarray] = {}
         while True:
             requests = {}
-            for key in dict.fromkeys(keys):
+            for key in keys:
                 overturned, simulated = self.outcomes(key)
                 n = overturned.size
                 count = int(np.count_nonzero(overturned))

@@ -328,6 +328,7 @@ def agx_50(
     chunk_size: int | None = None,
     impacts: str = IMPACT_SCHEMES[0],
     exhaustive: bool = False,
+    same_motions: bool = False,
 ) -> xr.Dataset:
     """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
 
@@ -370,6 +371,12 @@ def agx_50(
     exhaustive : bool
         Simulate every motion at every level the search visits (the same result, with more
         simulations; the chunks in ``out`` then hold every count).
+    same_motions : bool
+        The ensembles of a dict are the same motions in other forms (e.g. sampled at other time
+        steps): the cases are searched one after the other, in the dict's order, and each
+        simulates first the motions whose outcome at a level another case already knows
+        decides the comparison with n/2 (the same result, with fewer simulations when the
+        outcomes mostly agree).  Needs ensembles of the same number of motions.
 
     Returns
     -------
@@ -398,6 +405,7 @@ def agx_50(
         progress=progress,
         chunk_size=chunk_size,
         impacts=impacts,
+        same_motions=same_motions,
     )
 
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)

@@ -262,10 +262,16 @@ def _variant(ctx: RunContext, n: int, how: dict) -> Ensemble:
 
 
 def _balance(
-    ctx: RunContext, blocks, ens: Ensemble, store: str, resolution: float, impacts="located"
-) -> xr.Dataset:
+    ctx: RunContext,
+    blocks,
+    ens: Ensemble | dict[str, Ensemble],
+    store: str,
+    resolution: float,
+    impacts="located",
+) -> list[xr.Dataset]:
     """A_gx50 (kept in the run folder's store ``store``) and the energy balance of ``blocks``
-    under ``ens``."""
+    under ``ens``, or under each ensemble of a dict of the same motions in other forms
+    (searched as such: ``agx_50(..., same_motions=True)``)."""
     p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
     a50 = agx_50(
         blocks,
@@ -277,8 +283,14 @@ def _balance(
         progress=ctx.progress,
         out=ctx.store("soundness", store),
         impacts=impacts,
+        same_motions=isinstance(ens, dict),
     )
-    return energy_balance(blocks, ens, a50, band_hz=p["band_hz"])
+    if isinstance(ens, Ensemble):
+        return [energy_balance(blocks, ens, a50, band_hz=p["band_hz"])]
+    return [
+        energy_balance(blocks, one, a50.isel(case=i), band_hz=p["band_hz"])
+        for i, one in enumerate(ens.values())
+    ]
 
 
 def _outcomes(ctx: RunContext, blocks, ensemble, levels, impacts: str = "located") -> xr.Dataset:
@@ -299,10 +311,16 @@ def _by_dt(ctx: RunContext, impacts: str, store: str):
     blocks = resolve_bodies(p["convergence_bodies"], "soundness.convergence_bodies")
     coarse = ctx.motions("soundness", p["convergence_n"], dt=dts[0])
     ensembles = [refine(coarse, round(dts[0] / dt)) for dt in dts]
-    rows = [
-        _balance(ctx, blocks, ens, f"{store}-{1 / dt:.0f}", p["convergence_resolution"], impacts)
-        for dt, ens in zip(dts, ensembles)
-    ]
+    # one search of the same motions at every dt, the coarsest first: each finer step
+    # simulates first the motions whose outcome the coarser ones know
+    rows = _balance(
+        ctx,
+        blocks,
+        {str(dt): ens for dt, ens in zip(dts, ensembles)},
+        store,
+        p["convergence_resolution"],
+        impacts,
+    )
     return dts, blocks, ensembles, xr.concat(rows, pd.Index(dts, name="dt"))
 
 
@@ -366,7 +384,7 @@ def run_ensemble(ctx: RunContext, done: dict) -> dict[str, Any]:
     p = ctx.cfg["soundness"]
     blocks = resolve_bodies(p["bodies"], "soundness.bodies")
     ground = ctx.motions("soundness", p["n"])
-    balance = _balance(ctx, blocks, ground, "agx50", p["resolution"])
+    (balance,) = _balance(ctx, blocks, ground, "agx50", p["resolution"])
     counts = resample_counts(ground.n, p["bootstrap"], p["bootstrap_seed"])
     psv = response_spectrum(ground.acc, ground.dt, band_frequencies(p["band_hz"]), DAMPING).psv
     per_g = _band_strength(psv, ground.pga, counts)
@@ -500,7 +518,7 @@ def run_floor(ctx: RunContext, done: dict) -> dict[str, Any]:
     frame = frame_variant(base, max(own), base.damping)
     floor = frame.floor_ensemble(ground, 1)
     blocks = resolve_bodies(p["bodies"], "soundness.bodies")
-    floor_bal = _balance(ctx, blocks, floor, "agx50-matched-floor", p["resolution"])
+    (floor_bal,) = _balance(ctx, blocks, floor, "agx50-matched-floor", p["resolution"])
     balance = xr.concat(
         [done["ensemble"]["balance"], floor_bal],
         pd.Index(["ground", f"floor 1 of {frame.name}"], name="location"),
