@@ -11,7 +11,10 @@ part is added or left out as a whole):
   and refined (:func:`refine`): the integrator takes the ground acceleration as linear
   between samples, and the refined motions are that same piecewise-linear function sampled
   more finely, so every step integrates exactly the same earthquakes (same PGA, same A_gx)
-  and only the integration step changes: the convergence of the integrator itself.
+  and only the integration step changes: the convergence of the integrator itself.  The four
+  steps are searched as the same motions (``agx_50(..., same_motions=True)``, the coarsest
+  first: a finer step simulates first the motions whose outcome a coarser one found at that
+  level; the same A_gx50 with fewer simulations).
   (Decimating motions made at the finest step instead would also change the motions, whose
   content between coarse samples is lost; that measures the sampling of the motion, not the
   integrator.)
