@@ -169,7 +169,7 @@ class Engine:
         self.impacts = impacts
         if same_motions and len({ens.n for ens in cases}) > 1:
             raise InputError("same_motions needs ensembles with the same number of motions")
-        #: The cases hold the same motions (e.g. refined or filtered): :meth:`decision_order`
+        #: The cases hold the same motions (e.g. sampled at other steps): :meth:`decision_order`
         #: reads the outcomes of the other cases at the same level.
         self.same_motions = bool(same_motions)
         self.backend = LocalBackend() if backend is None else backend
