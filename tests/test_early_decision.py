@@ -88,7 +88,7 @@ def test_early_decision_gives_the_exhaustive_result_with_fewer_simulations(ensem
     assert simulations[0] < 0.9 * exhaustive
 
 
-def _engine(ensemble):
+def _engine(ensemble, out=None):
     return Engine(
         BLOCKS[:1],
         [ensemble],
@@ -96,10 +96,10 @@ def _engine(ensemble):
         overturn_angle=np.pi / 2,
         g=G,
         backend=None,
-        out=None,
+        out=out,
         progress=False,
         chunk_size=None,
-        desc="order",
+        desc="one body",
     )
 
 
@@ -174,18 +174,7 @@ def test_chunks_with_every_motion_of_a_pair_still_load(ensemble, tmp_path):
     # motion indices; a folder holding one is resumed from it
     agx = 0.6
     ref = overturning_probability(BLOCKS[:1], ensemble, [agx], members=True)
-    old = Engine(
-        BLOCKS[:1],
-        [ensemble],
-        e=DEFAULT_E,
-        overturn_angle=np.pi / 2,
-        g=G,
-        backend=None,
-        out=tmp_path,
-        progress=False,
-        chunk_size=None,
-        desc="old",
-    )
+    old = _engine(ensemble, out=tmp_path)
     with old:
         old.store.save(
             "old-format",

@@ -272,20 +272,19 @@ class Engine:
 
     def outcomes(self, key: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
         """(overturned, simulated) masks over the motions of ``key`` = (case, body, level key)."""
-        if key in self.results:
-            return self.results[key][0], np.ones(self.cases[key[0]].n, np.bool_)
-        part = self._partial.get(key)
-        if part is None:
-            n = self.cases[key[0]].n
-            return np.zeros(n, np.bool_), np.zeros(n, np.bool_)
-        return part[0], part[2]
+        overturned, _peak, simulated = self._known(key)
+        return overturned, simulated
 
     def _known(self, key: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(overturned, peak, simulated) over the motions of a triple with some outcome."""
+        """(overturned, peak, simulated) over the motions of ``key`` (none simulated: zeros)."""
         if key in self.results:
             ov, pk = self.results[key]
             return ov, pk, np.ones(ov.size, np.bool_)
-        return self._partial[key]
+        part = self._partial.get(key)
+        if part is None:
+            n = self.cases[key[0]].n
+            return np.zeros(n, np.bool_), np.zeros(n), np.zeros(n, np.bool_)
+        return part
 
     def decision_order(self, key: tuple[int, int, int]) -> np.ndarray:
         """The motions of ``key`` = (case, body, level key) in the order :meth:`at_least_half`
@@ -319,7 +318,7 @@ class Engine:
         over_above = np.zeros(n, np.bool_)
         peak = np.full(n, np.nan)  # max|θ|/α at the nearest lower level survived
         nearest = np.full(n, -1, np.int64)
-        for other in sorted(self._levels.get((c, b), ())):
+        for other in self._levels.get((c, b), ()):  # any order: "nearest" compares levels
             if other == k:
                 continue
             ov, pk, sim = self._known((c, b, other))

@@ -151,23 +151,23 @@ def overturning_probability(
     if members and len({ens.n for ens in cases}) > 1:
         raise InputError("members=True needs ensembles with the same number of motions")
     nb = len(block_list(blocks))
-    engine = Engine(
+    engine, keys = _run_levels(
         blocks,
         cases,
-        desc="P(overturn)",
-        e=e,
-        overturn_angle=overturn_angle,
-        g=g,
-        backend=backend,
-        out=out,
-        progress=progress,
-        chunk_size=chunk_size,
-        impacts=impacts,
+        [levels] * nb,
+        "P(overturn)",
+        nb * len(levels) * (2 if members else 1),
+        dict(
+            e=e,
+            overturn_angle=overturn_angle,
+            g=g,
+            backend=backend,
+            out=out,
+            progress=progress,
+            chunk_size=chunk_size,
+            impacts=impacts,
+        ),
     )
-    engine.require_memory(nb * len(levels) * (2 if members else 1), "agx")
-    keys = [[[(c, b, k) for k in levels] for b in range(nb)] for c in range(len(cases))]
-    with engine:
-        engine.run([k for per_case in keys for per_body in per_case for k in per_body])
     data_vars = _probability_vars(engine, keys, confidence)
     coords: dict[str, Any] = {
         "agx": (
@@ -240,23 +240,23 @@ def member_outcomes(
             f"got shape {np.shape(agx)}"
         )
     levels = [_levels(row) for row in values]
-    engine = Engine(
+    engine, keys = _run_levels(
         blocks,
         cases,
-        desc="outcomes",
-        e=e,
-        overturn_angle=overturn_angle,
-        g=g,
-        backend=backend,
-        out=out,
-        progress=progress,
-        chunk_size=chunk_size,
-        impacts=impacts,
+        levels,
+        "outcomes",
+        values.size * 2,
+        dict(
+            e=e,
+            overturn_angle=overturn_angle,
+            g=g,
+            backend=backend,
+            out=out,
+            progress=progress,
+            chunk_size=chunk_size,
+            impacts=impacts,
+        ),
     )
-    engine.require_memory(values.size * 2, "agx")
-    keys = [[[(c, b, k) for k in levels[b]] for b in range(nb)] for c in range(len(cases))]
-    with engine:
-        engine.run([k for per_case in keys for per_body in per_case for k in per_body])
     coords: dict[str, Any] = {
         "agx": (
             ("body", "level"),
@@ -268,6 +268,23 @@ def member_outcomes(
     return _dataset(
         blocks, engine.table, labels, _member_vars(engine, keys, "level"), coords, engine.stats
     )
+
+
+def _run_levels(
+    blocks, cases: list[Ensemble], levels: list[list[int]], desc: str, pairs: int, options: dict
+) -> tuple[Engine, list]:
+    """Every motion of every case at the level keys ``levels[b]`` of each body b, on an engine
+    made with ``options`` (refused first if ``pairs`` (body, level) pairs per case would not fit
+    in memory); returns the engine and the keys, nested [case][body][level]."""
+    engine = Engine(blocks, cases, desc=desc, **options)
+    engine.require_memory(pairs, "agx")
+    keys = [
+        [[(c, b, k) for k in per_body] for b, per_body in enumerate(levels)]
+        for c in range(len(cases))
+    ]
+    with engine:
+        engine.run([k for per_case in keys for per_body in per_case for k in per_body])
+    return engine, keys
 
 
 def _levels(agx) -> list[int]:
