@@ -47,26 +47,22 @@ def run(ctx: RunContext) -> Sec7Result:
     blocks = resolve_bodies(p["bodies"], "sec7.bodies")
     ground = ctx.motions("sec7", p["n"])
     freqs = np.geomspace(*SPECTRA_BAND_HZ, p["n_freq"])
+    options = {"e": e, "backend": ctx.backend, "progress": ctx.progress}
+    # the ground is the same for every frame: its probabilities and spectrum once
+    on_ground = overturning_probability(
+        blocks, {"ground": ground}, p["agx"], out=ctx.store("sec7", "ground"), **options
+    )
+    ground_psv = _mean_psv(ground, p["spectra_agx"], freqs)
     probs, spectra, periods = [], [], []
     for i, name in enumerate(p["frames"]):
         frame = resolve_frame(name)
-        floors = frame.floor_ensembles(ground)
-        cases = {("ground" if k == 0 else f"floor {k}"): ens for k, ens in floors.items()}
+        floors = {f"floor {k}": ens for k, ens in frame.floor_ensembles(ground).items() if k}
         ds = overturning_probability(
-            blocks,
-            cases,
-            p["agx"],
-            e=e,
-            backend=ctx.backend,
-            progress=ctx.progress,
-            out=ctx.store("sec7", f"frame-{i}"),
+            blocks, floors, p["agx"], out=ctx.store("sec7", f"frame-{i}"), **options
         )
-        probs.append(ds.rename({"case": "location"}))
+        probs.append(xr.concat([on_ground, ds], "case").rename({"case": "location"}))
         spectra.append(
-            [
-                response_spectrum(ens.scaled(p["spectra_agx"]).acc, ens.dt, freqs, 0.05).mean().psv
-                for ens in cases.values()
-            ]
+            [ground_psv, *(_mean_psv(ens, p["spectra_agx"], freqs) for ens in floors.values())]
         )
         periods.append(float(frame.periods[0]))
     prob = xr.concat(probs, pd.Index(p["frames"], name="frame"))
@@ -76,13 +72,18 @@ def run(ctx: RunContext) -> Sec7Result:
         dims=("frame", "location", "freq"),
         coords={
             "frame": p["frames"],
-            "location": list(cases),
+            "location": list(probs[0]["location"].values),
             "freq": ("freq", freqs, {"units": "Hz"}),
             "T1": ("frame", periods, {"units": "s"}),
         },
         attrs={"units": "m s-1", "agx": p["spectra_agx"], "damping": 0.05},
     )
     return Sec7Result(prob, psv, ctx.label(n=ground.n))
+
+
+def _mean_psv(ens, agx: float, freqs: np.ndarray) -> np.ndarray:
+    """Ensemble-mean 5 %-damped PSV [m/s] of ``ens`` scaled to ``agx`` [g] at ``freqs`` [Hz]."""
+    return response_spectrum(ens.scaled(agx).acc, ens.dt, freqs, 0.05).mean().psv
 
 
 def floor_order(psv: xr.DataArray, frame: str, freq_hz: float = ORDER_FREQ_HZ) -> list[str]:
