@@ -137,16 +137,21 @@ def test_interval_in_dataset_brackets_probability(ensemble):
 def test_agx50_is_an_upward_crossing_of_one_half(ensemble):
     blocks = [Block(0.8, 3.0), Block(1.22, 4.0), Block(2.5, 2.5)]
     res = 0.02
-    ds = agx_50(blocks, ensemble, resolution=res, agx_max=4.0)
+    ds = agx_50(blocks, ensemble, resolution=res, agx_max=4.0, members=True)
     a50 = ds["agx50"].values
     assert np.all(np.isfinite(a50))
-    # recomputed independently, at agx50 and one grid step below
+    # recomputed independently, at agx50 and one grid step below; members=True gives the
+    # outcomes of every motion at agx50, as member_outcomes simulates them there
     for b, blk in enumerate(blocks):
-        check = overturning_probability([blk], ensemble, [a50[b], round(a50[b] - res, 12)])
+        check = overturning_probability(
+            [blk], ensemble, [a50[b], round(a50[b] - res, 12)], members=True
+        )
         p_at, p_below = check["probability"].values[0]
         assert p_at >= 0.5 > p_below
         assert ds["probability"].values[b] == p_at
         assert ds["probability_below"].values[b] == p_below
+        assert ds["overturned"].values[b].tobytes() == check["overturned"].values[0, 0].tobytes()
+    assert ds["overturned"].dims == ("body", "member")
 
 
 def test_agx50_not_reached_is_nan_and_cases_stack(ensemble):
@@ -163,6 +168,12 @@ def test_agx50_not_reached_is_nan_and_cases_stack(ensemble):
     # R = 1.22 m, gamma = 2 already); the small slender block overturns below 0.5 g
     assert np.isnan(ds["agx50"].sel(body=big.label)).all()
     assert np.isfinite(ds["agx50"].sel(body=small.label)).all()
+    # no agx50, no outcomes there: all False
+    one = agx_50([big, small], ensemble, resolution=0.05, agx_max=0.5, members=True)
+    assert not one["overturned"].values[0].any() and one["overturned"].values[1].any()
+    # the outcomes at agx50 need one member axis: refused for ensembles of other sizes
+    with pytest.raises(InputError, match="same number of motions"):
+        agx_50([small], {"all": ensemble, "half": ensemble.subset(range(4))}, members=True)
 
 
 def test_lognormal_fit_recovers_known_parameters():

@@ -178,10 +178,7 @@ def overturning_probability(
     }
     if members:
         data_vars.update(_member_vars(engine, keys))
-        coords["member"] = (
-            "member",
-            list(cases[0].labels) if labels is None else np.arange(cases[0].n),
-        )
+        coords["member"] = _member_coord(labels, cases)
     return _dataset(
         blocks, engine.table, labels, data_vars, coords, {"confidence": confidence, **engine.stats}
     )
@@ -263,7 +260,7 @@ def member_outcomes(
             np.array([[level_agx(k) for k in row] for row in levels]),
             {"units": "g", "long_name": "mean PGA of the ensemble"},
         ),
-        "member": ("member", list(cases[0].labels) if labels is None else np.arange(cases[0].n)),
+        "member": _member_coord(labels, cases),
     }
     return _dataset(
         blocks, engine.table, labels, _member_vars(engine, keys, "level"), coords, engine.stats
@@ -285,6 +282,12 @@ def _run_levels(
     with engine:
         engine.run([k for per_case in keys for per_body in per_case for k in per_body])
     return engine, keys
+
+
+def _member_coord(labels, cases: list[Ensemble]) -> tuple:
+    """The ``member`` coordinate: the motions' labels for one ensemble, their indices for a
+    dict of ensembles (of the same size)."""
+    return ("member", list(cases[0].labels) if labels is None else np.arange(cases[0].n))
 
 
 def _levels(agx) -> list[int]:
@@ -346,6 +349,7 @@ def agx_50(
     impacts: str = IMPACT_SCHEMES[0],
     exhaustive: bool = False,
     same_motions: bool = False,
+    members: bool = False,
 ) -> xr.Dataset:
     """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
 
@@ -394,13 +398,19 @@ def agx_50(
         simulates first the motions whose outcome at a level another case already knows
         decides the comparison with n/2 (the same result, with fewer simulations when the
         outcomes mostly agree).  Needs ensembles of the same number of motions.
+    members : bool
+        Also return whether each motion overturns the body at agx50 (the simulations the
+        search made there; those of :func:`member_outcomes` at agx50, bit for bit).  Needs
+        ensembles of the same number of motions.
 
     Returns
     -------
     xarray.Dataset
         Dimension ([case,] body): ``agx50`` [g] (NaN if not reached), ``probability`` at agx50
         and ``probability_below`` at agx50 − resolution [-]; coordinates as for
-        :func:`overturning_probability`; attributes ``resolution``, ``agx_max`` [g].
+        :func:`overturning_probability`; attributes ``resolution``, ``agx_max`` [g].  With
+        ``members``, ``overturned`` (bool, dimensions ([case,] body, member); False where agx50
+        is NaN) and the ``member`` coordinate as :func:`member_outcomes` gives them.
     """
     labels, cases = _cases(ensemble)
     resolution = in_range("resolution", resolution, 1e-6, math.inf, unit="g")
@@ -408,6 +418,8 @@ def agx_50(
     K = math.floor(agx_max / resolution * (1.0 + 1e-12))
     if K < 1:
         raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
+    if members and len({ens.n for ens in cases}) > 1:
+        raise InputError("agx_50(members=True) needs ensembles with the same number of motions")
     nb = len(block_list(blocks))
     search = CrossingSearch([(c, b) for c in range(len(cases)) for b in range(nb)], K, coarse)
     engine = Engine(
@@ -448,8 +460,8 @@ def agx_50(
         agx50[c, b] = level_agx(key(c, b, k)[2])
         p_at[c, b] = engine.count(*key(c, b, k)) / cases[c].n
         p_below[c, b] = engine.count(*key(c, b, k - 1)) / cases[c].n if k > 1 else 0.0
-    dims = ("body",)
-    data_vars = {
+    dims: tuple[str, ...] = ("body",)
+    data_vars: dict[str, tuple] = {
         "agx50": (dims, agx50, {"units": "g", "long_name": "A_gx of 50 % overturning probability"}),
         "probability": (dims, p_at, {"units": "1", "long_name": "probability at agx50"}),
         "probability_below": (
@@ -458,11 +470,22 @@ def agx_50(
             {"units": "1", "long_name": "probability at agx50 - resolution"},
         ),
     }
+    coords: dict[str, Any] = {}
+    if members:
+        overturned = np.zeros((*shape, cases[0].n), np.bool_)
+        for (c, b), k in hi.items():
+            overturned[c, b] = engine.outcomes(key(c, b, k))[0]
+        data_vars["overturned"] = (
+            ("body", "member"),
+            overturned,
+            {"long_name": "the motion overturns the body at agx50"},
+        )
+        coords["member"] = _member_coord(labels, cases)
     return _dataset(
         blocks,
         engine.table,
         labels,
         data_vars,
-        {},
+        coords,
         {"resolution": resolution, "agx_max": agx_max, **engine.stats},
     )

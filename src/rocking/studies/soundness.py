@@ -343,10 +343,12 @@ def _balance(
     store: str,
     resolution: float,
     impacts="located",
+    members: bool = False,
 ) -> list[xr.Dataset]:
     """A_gx50 (kept in the run folder's store ``store``) and the energy balance of ``blocks``
     under ``ens``, or under each ensemble of a dict of the same motions in other forms
-    (searched as such: ``agx_50(..., same_motions=True)``)."""
+    (searched as such: ``agx_50(..., same_motions=True)``); with ``members``, each dataset also
+    holds ``overturned`` (body, member) at the A_gx50 (``agx_50(..., members=True)``)."""
     p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
     a50 = agx_50(
         blocks,
@@ -359,13 +361,18 @@ def _balance(
         out=ctx.store("soundness", store),
         impacts=impacts,
         same_motions=isinstance(ens, dict),
+        members=members,
     )
-    if isinstance(ens, Ensemble):
-        return [energy_balance(blocks, ens, a50, band_hz=p["band_hz"])]
-    return [
-        energy_balance(blocks, one, a50.isel(case=i), band_hz=p["band_hz"])
-        for i, one in enumerate(ens.values())
-    ]
+    pairs = (
+        [(ens, a50)]
+        if isinstance(ens, Ensemble)
+        else [(one, a50.isel(case=i)) for i, one in enumerate(ens.values())]
+    )
+    rows = [energy_balance(blocks, one, res, band_hz=p["band_hz"]) for one, res in pairs]
+    if members:
+        for row, (_one, res) in zip(rows, pairs):
+            row["overturned"] = res["overturned"]
+    return rows
 
 
 def _outcomes(ctx: RunContext, blocks, ensemble, levels, impacts: str = "located") -> xr.Dataset:
@@ -380,7 +387,8 @@ def _outcomes(ctx: RunContext, blocks, ensemble, levels, impacts: str = "located
 
 def _by_dt(ctx: RunContext, impacts: str, store: str):
     """(dts from the coarsest, the convergence bodies, their motions refined to every dt, the
-    energy balance at every dt with the impact scheme ``impacts``)."""
+    energy balance at every dt with the impact scheme ``impacts``, with ``overturned`` (dt,
+    body, member) at each dt's A_gx50)."""
     p = ctx.cfg["soundness"]
     dts = sorted(p["dts"], reverse=True)
     blocks = resolve_bodies(p["convergence_bodies"], "soundness.convergence_bodies")
@@ -395,6 +403,7 @@ def _by_dt(ctx: RunContext, impacts: str, store: str):
         store,
         p["convergence_resolution"],
         impacts,
+        members=True,
     )
     return dts, blocks, ensembles, xr.concat(rows, pd.Index(dts, name="dt"))
 
@@ -444,13 +453,16 @@ def run_convergence(ctx: RunContext, done: dict) -> xr.Dataset:
     levels = ds["agx50"].values[-1]
     fine = ensembles[-1]
     done_bodies = np.isfinite(levels)
-    # (dt, body, motion), the bodies whose A_gx50 was found at the finest step
+    # (dt, body, motion), the bodies whose A_gx50 was found at the finest step: there, the
+    # outcomes its search simulated; at the coarser steps, simulated at that A_gx50
     flags = np.zeros((len(dts), int(done_bodies.sum()), fine.n), bool)
     if done_bodies.any():
-        flags[:] = _outcomes(
+        flags[-1] = ds["overturned"].values[-1][done_bodies]
+    if done_bodies.any() and len(dts) > 1:
+        flags[:-1] = _outcomes(
             ctx,
             [b for b, done in zip(blocks, done_bodies) if done],
-            {str(dt): ens for dt, ens in zip(dts, ensembles)},
+            {str(dt): ens for dt, ens in zip(dts[:-1], ensembles[:-1])},
             levels[done_bodies],
         )["overturned"].values[:, :, 0]
     ds["flipped"] = (
@@ -477,10 +489,9 @@ def run_impacts(ctx: RunContext, done: dict) -> xr.Dataset:
             flipped.append(math.nan)
             continue
         bodies = [b for b, f in zip(blocks, found) if f]
-        loc, fixed = (
-            _outcomes(ctx, bodies, ens, levels[found], scheme)["overturned"].values[:, 0]
-            for scheme in ("located", "step-end")
-        )
+        # the located search's outcomes at its A_gx50, the step-end scheme's there
+        loc = located["overturned"].sel(dt=dt).values[found]
+        fixed = _outcomes(ctx, bodies, ens, levels[found], "step-end")["overturned"].values[:, 0]
         share = [np.mean(a != b) for a, b in zip(loc, fixed)]  # per body, then their mean
         flipped.append(float(np.mean(share)))
     ds["flipped"] = (
