@@ -210,3 +210,6 @@ def test_bad_time_steps_are_refused(tmp_path):
         )  # 20 s is not a whole number of 0.003 s steps
     with pytest.raises(InputError, match="soundness.dts"):
         reproduce(["soundness"], out_dir=tmp_path / "o", sets=["soundness.dts=[0.004, 0.002]"])
+    # a bootstrap grid reaching 0 g or below (A_gx50 × (1 - grid_span)) cannot be simulated
+    with pytest.raises(InputError, match="grid_span must lie in"):
+        reproduce(["soundness"], out_dir=tmp_path / "o", sets=["soundness.grid_span=1.0"])

@@ -440,6 +440,13 @@ def validate(cfg: dict) -> None:
             f"of the smallest and dividing the duration ({duration:g} s) into whole steps, "
             f"got {cfg['soundness']['dts']}"
         )
+    span, levels = cfg["soundness"]["grid_span"], cfg["soundness"]["grid_levels"]
+    if not (0.0 < span < 1.0 and isinstance(levels, int) and levels >= 3):
+        raise InputError(
+            "soundness: grid_span must lie in (0, 1) (the bootstrap grid spans A_gx50 × "
+            f"(1 ± grid_span), above 0 g) and grid_levels be an integer >= 3, got {span!r} "
+            f"and {levels!r}"
+        )
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
 
