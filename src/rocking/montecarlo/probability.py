@@ -148,8 +148,8 @@ def overturning_probability(
     labels, cases = _cases(ensemble)
     levels = _levels(agx)
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
-    if members and len({ens.n for ens in cases}) > 1:
-        raise InputError("members=True needs ensembles with the same number of motions")
+    if members:
+        _same_size(cases, "members=True")
     nb = len(block_list(blocks))
     engine, keys = _run_levels(
         blocks,
@@ -225,8 +225,7 @@ def member_outcomes(
         body coordinates and attributes as for :func:`overturning_probability`.
     """
     labels, cases = _cases(ensemble)
-    if len({ens.n for ens in cases}) > 1:
-        raise InputError("member_outcomes needs ensembles with the same number of motions")
+    _same_size(cases, "member_outcomes")
     nb = len(block_list(blocks))
     values = np.asarray(agx, dtype=float)
     if values.ndim == 1:
@@ -282,6 +281,12 @@ def _run_levels(
     with engine:
         engine.run([k for per_case in keys for per_body in per_case for k in per_body])
     return engine, keys
+
+
+def _same_size(cases: list[Ensemble], what: str) -> None:
+    """Refuse ensembles of different numbers of motions for ``what`` (one member axis)."""
+    if len({ens.n for ens in cases}) > 1:
+        raise InputError(f"{what} needs ensembles with the same number of motions")
 
 
 def _member_coord(labels, cases: list[Ensemble]) -> tuple:
@@ -418,8 +423,8 @@ def agx_50(
     K = math.floor(agx_max / resolution * (1.0 + 1e-12))
     if K < 1:
         raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
-    if members and len({ens.n for ens in cases}) > 1:
-        raise InputError("agx_50(members=True) needs ensembles with the same number of motions")
+    if members:
+        _same_size(cases, "agx_50(members=True)")
     nb = len(block_list(blocks))
     search = CrossingSearch([(c, b) for c in range(len(cases)) for b in range(nb)], K, coarse)
     engine = Engine(

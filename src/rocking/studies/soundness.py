@@ -349,16 +349,13 @@ def _balance(
     under ``ens``, or under each ensemble of a dict of the same motions in other forms
     (searched as such: ``agx_50(..., same_motions=True)``); with ``members``, each dataset also
     holds ``overturned`` (body, member) at the A_gx50 (``agx_50(..., members=True)``)."""
-    p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
-    a50 = agx_50(
+    p = ctx.cfg["soundness"]
+    a50 = _search(
+        ctx,
         blocks,
         ens,
-        resolution=resolution,
-        agx_max=p["agx_max"],
-        e=e,
-        backend=ctx.backend,
-        progress=ctx.progress,
-        out=ctx.store("soundness", store),
+        store,
+        resolution,
         impacts=impacts,
         same_motions=isinstance(ens, dict),
         members=members,
@@ -373,6 +370,23 @@ def _balance(
         for row, (_one, res) in zip(rows, pairs):
             row["overturned"] = res["overturned"]
     return rows
+
+
+def _search(ctx: RunContext, blocks, ens, store: str, resolution: float, **options) -> xr.Dataset:
+    """:func:`~rocking.montecarlo.probability.agx_50` of ``blocks`` under ``ens`` to
+    ``resolution`` [g] with the section's A_gx limit, restitution, backend and progress, kept
+    in the run folder's store ``store``; ``options``: further arguments of agx_50."""
+    return agx_50(
+        blocks,
+        ens,
+        resolution=resolution,
+        agx_max=ctx.cfg["soundness"]["agx_max"],
+        e=ctx.cfg["common"]["e"],
+        backend=ctx.backend,
+        progress=ctx.progress,
+        out=ctx.store("soundness", store),
+        **options,
+    )
 
 
 def _outcomes(ctx: RunContext, blocks, ensemble, levels, impacts: str = "located") -> xr.Dataset:
@@ -458,13 +472,13 @@ def run_convergence(ctx: RunContext, done: dict) -> xr.Dataset:
     flags = np.zeros((len(dts), int(done_bodies.sum()), fine.n), bool)
     if done_bodies.any():
         flags[-1] = ds["overturned"].values[-1][done_bodies]
-    if done_bodies.any() and len(dts) > 1:
-        flags[:-1] = _outcomes(
-            ctx,
-            [b for b, done in zip(blocks, done_bodies) if done],
-            {str(dt): ens for dt, ens in zip(dts[:-1], ensembles[:-1])},
-            levels[done_bodies],
-        )["overturned"].values[:, :, 0]
+        if len(dts) > 1:
+            flags[:-1] = _outcomes(
+                ctx,
+                [b for b, done in zip(blocks, done_bodies) if done],
+                {str(dt): ens for dt, ens in zip(dts[:-1], ensembles[:-1])},
+                levels[done_bodies],
+            )["overturned"].values[:, :, 0]
     ds["flipped"] = (
         "dt",
         (flags != flags[-1]).mean(axis=(1, 2)),
@@ -536,22 +550,13 @@ def run_ensemble(ctx: RunContext, done: dict) -> dict[str, Any]:
 def run_strength(ctx: RunContext, done: dict) -> pd.DataFrame:
     """Band maximum of the mean PSV per g and A_gx50 for each modelling choice of
     :data:`VARIANTS`."""
-    p, e = ctx.cfg["soundness"], ctx.cfg["common"]["e"]
+    p = ctx.cfg["soundness"]
     blocks = resolve_bodies(p["variant_bodies"], "soundness.variant_bodies")
     freqs = band_frequencies(p["band_hz"])
     counts = resample_counts(p["n"], p["bootstrap"], p["bootstrap_seed"])
     ensembles = {name: _variant(ctx, p["n"], how) for name, (_what, how) in VARIANTS.items()}
     # every variant's A_gx50 in one search (larger kernel calls than one search each)
-    a50 = agx_50(
-        blocks,
-        ensembles,
-        resolution=p["resolution"],
-        agx_max=p["agx_max"],
-        e=e,
-        backend=ctx.backend,
-        progress=ctx.progress,
-        out=ctx.store("soundness", "strength"),
-    )["agx50"].values
+    a50 = _search(ctx, blocks, ensembles, "strength", p["resolution"])["agx50"].values
     rows: list[dict[str, Any]] = []
     boots: list[np.ndarray] = []
     for (name, (what, _how)), ens, own in zip(VARIANTS.items(), ensembles.values(), a50):
