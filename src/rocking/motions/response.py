@@ -162,15 +162,20 @@ _ROWS = 14
 
 
 @kernel(inline="always")
-def _lane_steps(ab, db, i, k, W):
-    """Sub-step k of sample interval i of every lane (a SIMD loop): (u, v) advanced by the
-    recurrence, the peak raised to |u| at the sub-step's end.
+def _lane_steps(ab, db, i, k, h, W):
+    """Sub-step k (of length h [s]) of sample interval i of every lane (a SIMD loop): (u, v)
+    advanced by the recurrence, the peak raised to |u| at the sub-step's end.
 
     ``ab[:, j]`` is lane j's ground acceleration, linear over each interval, and ``db[i, j]`` its
     change over one sub-step of interval i (1-D ``ab`` and ``db``: the same for every lane).
-    Returns the lanes where v changed sign as a bit mask (bit j for lane j).  Each lane does a
-    lone oscillator's operations in the same order (no fastmath: no reassociation, no fused
-    multiply-add), so its bits do not depend on its lane.
+    Returns as a bit mask (bit j for lane j) the lanes whose peak the extremum inside the
+    sub-step may still raise: v changed sign and :func:`_hermite_bound` is not below the peak.
+    The bound is tested here, in every lane, rather than in :func:`_lane_extrema`: after the
+    first strong cycles almost no lane is left, the mask is almost always 0 and the branch on
+    it predictable (v changes sign in one sub-step in five of a lane at 10 steps per period, so
+    some lane of 16 did in almost every one).  Each lane does a lone oscillator's operations in
+    the same order (no fastmath: no reassociation, no fused multiply-add), so its bits do not
+    depend on its lane.
     """
     L = _LANES
     bits = np.uint64(0)
@@ -187,8 +192,10 @@ def _lane_steps(ab, db, i, k, W):
         W[_V0 * L + j] = v
         W[_U * L + j] = u1
         W[_V * L + j] = v1
-        W[_PEAK * L + j] = maxnum(W[_PEAK * L + j], abs(u1))
-        bits |= np.uint64(1 if v * v1 < 0.0 else 0) << np.uint64(j)
+        peak = maxnum(W[_PEAK * L + j], abs(u1))
+        W[_PEAK * L + j] = peak
+        open_ = (v * v1 < 0.0) & (not _hermite_bound(u, v, u1, v1, h) < peak)
+        bits |= np.uint64(1 if open_ else 0) << np.uint64(j)
     return bits
 
 
@@ -210,22 +217,16 @@ def _lane_input_in_kernels(ab, db, i, j):
 @kernel
 def _lane_extrema(W, bits, h):
     """The peaks of the lanes in ``bits`` (v changed sign in their last sub-step, of length h
-    [s]) raised to the extremum inside that sub-step (:func:`_hermite_extremum`).
-
-    Where :func:`_hermite_bound` is below the peak the extremum cannot raise it and is not
-    evaluated (most sign changes after the first strong cycles): the peak is the same.
-    """
+    [s], and the bound there is not below their peak: :func:`_lane_steps`) raised to the
+    extremum inside that sub-step (:func:`_hermite_extremum`)."""
     L = _LANES
     while bits:
         j = highest_bit(bits)
         bits ^= np.uint64(1) << np.uint64(j)
         u0 = W[_U0 * L + j]
         v0 = W[_V0 * L + j]
-        u1 = W[_U * L + j]
-        v1 = W[_V * L + j]
-        peak = W[_PEAK * L + j]
-        if not _hermite_bound(u0, v0, u1, v1, h) < peak:
-            W[_PEAK * L + j] = max(peak, abs(_hermite_extremum(u0, v0, u1, v1, h)))
+        extremum = abs(_hermite_extremum(u0, v0, W[_U * L + j], W[_V * L + j], h))
+        W[_PEAK * L + j] = max(W[_PEAK * L + j], extremum)
 
 
 @kernel
@@ -242,7 +243,7 @@ def _block_peaks(ab, diff, W, nsub, h, zeta, out):
     db = diff if nsub == 1 else diff / nsub
     for i in range(ab.shape[0] - 1):
         for k in range(nsub):
-            bits = _lane_steps(ab, db, i, k, W)
+            bits = _lane_steps(ab, db, i, k, h, W)
             if bits:
                 _lane_extrema(W, bits, h)
     for j in range(L):
