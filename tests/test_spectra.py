@@ -378,6 +378,7 @@ def test_simd_lanes_compute_what_a_lone_oscillator_does(zeta, steps_per_period):
     dt = 0.01
     acc = rng.standard_normal((37, 300)) * np.geomspace(0.01, 10.0, 37)[:, None]
     acc[:, :40] = 0.0  # a quiet start: v = 0 exactly, no sign change
+    acc[::2, :40] = -0.0  # in half the motions with zeros of the other sign (see _lane_steps)
     freqs = np.array([0.05, 0.7, 3.0, 9.5, 31.0, 48.0])  # 1 to 5 sub-steps at 10 per period
     batch = response_spectrum(acc, dt, freqs, zeta, steps_per_period=steps_per_period)
     for i in (0, 5, 36):

@@ -181,8 +181,15 @@ def _lane_steps(ab, db, i, k, h, W):
     bits = np.uint64(0)
     for j in range(L):
         a0, da = _lane_input(ab, db, i, j)
-        g0 = a0 + k * da
-        g1 = a0 + (k + 1) * da
+        if k == 0:  # the only sub-step where nsub = 1: two products and a sum fewer
+            # a0 + 0·da is a0 but for the sign of a zero (−0 + 0 = +0), which moves only the
+            # signs of zeros of u and v: not max |u|, nor the tail (where v is a zero of either
+            # sign, _free_vibration_extremum's tail is at most |u|, which the peak holds)
+            g0 = a0
+            g1 = a0 + da  # (0 + 1)·da is da exactly
+        else:
+            g0 = a0 + k * da
+            g1 = a0 + (k + 1) * da
         u = W[_U * L + j]
         v = W[_V * L + j]
         c = _C * L + j
