@@ -156,7 +156,9 @@ ens = generate(6, duration=8.0, seed=5)
 it = generate(3, duration=6.0, seed=6, iterations=1, pilot=4)
 frame = ShearFrame.preset("paper-2.0")
 floors = frame.floor_accelerations(ens.acc[:2], ens.dt)
-rs = response_spectrum(ens.acc[:2], ens.dt, np.geomspace(0.1, 50.0, 30))
+from rocking.assessment.energy import band_frequencies
+from rocking.core.portable import geomspace
+rs = response_spectrum(ens.acc[:2], ens.dt, geomspace(0.1, 50.0, 30))
 im = intensity_measures(ens, ["pga", "pgv", "sa(1.0)", "saavg(0.2:2.0)", "arias", "cav"])
 from rocking.motions.records import resample
 resampled = [resample(ens.acc[0], ens.dt, new) for new in (ens.dt * 2 / 5, ens.dt * 3)]
@@ -170,7 +172,8 @@ fitted = np.array([fit.median, fit.beta, risk.annual_rate, *risk.probability_in(
 print(json.dumps({"resampled": d(*resampled), "risk": d(fitted),
                   "generate": d(ens.acc), "iterated": d(it.acc),
                   "frame": d(frame.omegas, frame.mode_shapes, frame.participation_factors),
-                  "floors": d(floors), "spectra": d(rs.psa), "ims": d(im.to_numpy())}))
+                  "floors": d(floors), "spectra": d(rs.psa), "ims": d(im.to_numpy()),
+                  "band": d(band_frequencies())}))
 """
 
 

@@ -25,6 +25,7 @@ import pandas as pd
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from ..core import portable
 from ..core.checks import in_range, positive
 from ..defaults import BAND_HZ
 from ..dynamics.batch import block_list
@@ -56,7 +57,7 @@ def band_frequencies(band_hz: Sequence[float] = BAND_HZ, n_freqs: int = N_FREQS)
     lo, hi = _band(band_hz)
     if isinstance(n_freqs, bool) or not isinstance(n_freqs, (int, np.integer)) or n_freqs < 2:
         raise InputError(f"n_freqs must be an integer ≥ 2, got {n_freqs!r}")
-    return np.geomspace(lo, hi, int(n_freqs))
+    return portable.geomspace(lo, hi, int(n_freqs))
 
 
 def mean_psv(ensemble: Ensemble, freqs_hz: ArrayLike, damping: float = 0.05) -> np.ndarray:

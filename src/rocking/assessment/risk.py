@@ -311,7 +311,7 @@ class RiskResult:
             rate (and x·dλ_f/dx is the density over ln x, for a logarithmic axis).
         """
         if x is None:
-            x = np.geomspace(self.hazard.values[0], self.hazard.values[-1], 200)
+            x = portable.geomspace(self.hazard.values[0], self.hazard.values[-1], 200)
         x = finite_array("x", x)
         if np.any(x <= 0.0):
             raise InputError("x must be > 0")

@@ -440,7 +440,7 @@ def _annual_rates(
     at one location (``motions``: the location's motions at the design level, member i the
     response to the ground motion i, whose IM is ``risk.ground_im[i]``)."""
     hazard = risk.hazard
-    levels = np.geomspace(hazard.values[0], hazard.values[-1], N_RISK_LEVELS)
+    levels = portable.geomspace(hazard.values[0], hazard.values[-1], N_RISK_LEVELS)
     curves = fragility_analysis(
         blocks,
         motions,

@@ -153,11 +153,12 @@ def spectra(
         raise InputError("--n and --seed describe generated motions; leave them out with --motions")
     import numpy as np
 
+    from ..core import portable
     from ..motions.ensemble import Ensemble
     from ..motions.response import response_spectrum
     from ..motions.synthesis import generate
 
-    freqs_hz = np.geomspace(*_FREQS)
+    freqs_hz = portable.geomspace(*_FREQS)
     start = time.perf_counter()
     progress = reporter(quiet)
     with progress:

@@ -29,8 +29,10 @@ _TABLE_FREQS = (0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0)
 def _table_rows(freqs: np.ndarray) -> np.ndarray:
     import numpy as np
 
+    from ..core import portable
+
     wanted = [f for f in _TABLE_FREQS if freqs[0] <= f <= freqs[-1]] or [freqs[0], freqs[-1]]
-    return np.unique([int(np.argmin(np.abs(np.log(freqs / f)))) for f in wanted])
+    return np.unique([int(np.argmin(np.abs(portable.log(freqs / f)))) for f in wanted])
 
 
 @click.command("spectrum")
@@ -110,13 +112,13 @@ def spectrum(
         raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
     writable_file(csv_path, "--csv")
     writable_file(plot_path, "--plot")
-    import numpy as np
 
+    from ..core import portable
     from ..motions.records import read_records
     from ..motions.response import response_spectrum
 
     records = read_records(files, dt=dt, units=units)
-    freqs = np.geomspace(fmin, _highest_frequency(records, fmin, fmax), n_freq)
+    freqs = portable.geomspace(fmin, _highest_frequency(records, fmin, fmax), n_freq)
     with reporter():
         spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]
     _print_spectra(records, spectra, freqs, damping)

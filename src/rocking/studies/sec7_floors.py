@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from ..core import portable
 from ..dynamics.body import Block
 from ..montecarlo.probability import overturning_probability
 from ..motions.response import response_spectrum
@@ -46,7 +47,7 @@ def run(ctx: RunContext) -> Sec7Result:
     p, e = ctx.cfg["sec7"], ctx.cfg["common"]["e"]
     blocks = resolve_bodies(p["bodies"], "sec7.bodies")
     ground = ctx.motions("sec7", p["n"])
-    freqs = np.geomspace(*SPECTRA_BAND_HZ, p["n_freq"])
+    freqs = portable.geomspace(*SPECTRA_BAND_HZ, p["n_freq"])
     options = {"e": e, "backend": ctx.backend, "progress": ctx.progress}
     # the ground is the same for every frame: its probabilities and spectrum once
     on_ground = overturning_probability(

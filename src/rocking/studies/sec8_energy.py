@@ -20,6 +20,7 @@ import xarray as xr
 
 from ..assessment.energy import assess, energy_balance, grid_table
 from ..assessment.screen import eq11_vs_monte_carlo, eq11_vs_monte_carlo_note
+from ..core import portable
 from ..dynamics.body import housner_sv
 from ..montecarlo.probability import agx_50, overturning_probability
 from ..motions.response import response_spectrum
@@ -30,8 +31,9 @@ from .config import RunContext, resolve_bodies, resolve_frame
 from .paper import paper_table, paper_values
 
 TITLE = "Section 8: Housner's energy balance equation (Figs. 13-16, Tables 1-3)"
-#: Frequencies of the Fig. 14 spectrum [Hz].
-FIG14_FREQS_HZ = np.geomspace(0.04, 30.0, 120)
+#: Band [Hz] and number of the log-spaced frequencies of the Fig. 14 spectrum.
+FIG14_BAND_HZ = (0.04, 30.0)
+FIG14_N_FREQS = 120
 
 
 @dataclass(frozen=True)
@@ -95,10 +97,11 @@ def run(ctx: RunContext) -> Sec8Result:
                 backend=ctx.backend,
             )["agx50"][0]
         )
+    freqs = portable.geomspace(*FIG14_BAND_HZ, FIG14_N_FREQS)
     psv = (
-        response_spectrum(ground.scaled(a50_ex).acc, ground.dt, FIG14_FREQS_HZ, 0.05).mean().psv
+        response_spectrum(ground.scaled(a50_ex).acc, ground.dt, freqs, 0.05).mean().psv
         if np.isfinite(a50_ex)
-        else np.full(FIG14_FREQS_HZ.size, np.nan)
+        else np.full(freqs.size, np.nan)
     )
     verdicts = assess(examples, floor, agx=p["example_agx"], band_hz=p["band_hz"])
     sim = overturning_probability(examples, floor, [p["example_agx"]], e=e, backend=ctx.backend)
@@ -113,9 +116,7 @@ def run(ctx: RunContext) -> Sec8Result:
     )
     ex.attrs.update(agx=p["example_agx"], location=f"{floor_name} of {p['frame']}")
     fig13.attrs.update(agx50=a50_ex, sv_required=housner_sv(examples[0]))
-    return Sec8Result(
-        balance, fig13, (FIG14_FREQS_HZ, psv), ex, ctx.label(n=ground.n, bodies=len(blocks))
-    )
+    return Sec8Result(balance, fig13, (freqs, psv), ex, ctx.label(n=ground.n, bodies=len(blocks)))
 
 
 def report(result: Sec8Result, rep: Report, ctx: RunContext) -> None:

@@ -51,6 +51,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..assessment.energy import available_sv, band_frequencies, energy_balance
+from ..core import portable
 from ..dynamics.body import G
 from ..errors import InputError
 from ..montecarlo.engine import Engine, level_agx, level_key
@@ -134,7 +135,7 @@ def observed_order(values: ArrayLike, dts: Sequence[float]) -> tuple[np.ndarray,
     ok = np.isfinite(d).all(axis=0)
     rms = np.sqrt(np.mean(d[:, ok] ** 2, axis=1)) if ok.any() else np.full(h.size - 1, np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
-        p = np.log(rms[:-1] / rms[1:]) / np.log(h[:-2] / h[1:-1])
+        p = portable.log(rms[:-1] / rms[1:]) / portable.log(h[:-2] / h[1:-1])
     return rms, np.where(np.isfinite(p), p, np.nan)
 
 
