@@ -1,28 +1,36 @@
 """The arithmetic ceiling of this machine, for the benchmarks' "physical limit" (issue 18).
 
-The clock is measured, not read from a label (a VM does not show it): a chain of N dependent
-fused multiply-adds takes N x (FMA latency) cycles, so the clock is N * FMA_LATENCY / time.  The
-peak rate of double-precision arithmetic then follows from the core's documented issue width.
-Both constants are for AMD Zen 4 (the CPU of the benchmark runs, "Software Optimization Guide for
-the AMD Zen4 Microarchitecture", 2023): FMA latency 4 cycles; two FMA pipes of 256 bits each
-(AVX-512 instructions issue as two halves), so 2 x 4 = 8 double-precision FMAs per cycle and core
-with AVX2 and with AVX-512 alike.  AMD Zen 3 (the AVX2 machine of the runs; "Software
-Optimization Guide for AMD EPYC 7003 Processors", 2020) has the same FMA latency and the same two
-256-bit FMA pipes.  On another CPU the constants must be changed with it.
+Both numbers the ceiling rests on are measured here, in the process and with the instruction set
+of the run, not read from a label (a VM shows neither its clock nor its FMA units):
+
+* the clock: a chain of N dependent fused multiply-adds takes N x (FMA latency) cycles, so the
+  clock is N * FMA_LATENCY / time.  FMA_LATENCY is 4 cycles on every CPU the runs have used
+  (AMD Zen 3 and Zen 4: AMD's "Software Optimization Guide" for EPYC 7003 (2020) and for Zen 4
+  (2023); Intel Golden Cove / Raptor Cove server cores (Sapphire and Emerald Rapids): Intel's
+  "64 and IA-32 Architectures Optimization Reference Manual", 2023);
+* the double-precision FMAs a core starts per cycle: 64 independent FMA chains (enough to fill
+  two pipes of latency 4 with 256-bit or 512-bit vectors) compiled as Numba compiles the kernels
+  in this process, timed, and rounded to the nearest power of two (the issue widths CPUs have;
+  a shared VM's timing is off by 10-20 %).  This is 8 with AVX2 code on all of these CPUs and
+  with AVX-512 code on Zen 4 (its 512-bit instructions issue as two 256-bit halves), and 16 with
+  AVX-512 code on Intel's Xeons with two 512-bit FMA units: assuming 8 there would put the floor
+  at twice its true value.
 """
 
 from __future__ import annotations
 
+import math
 import time
 
 import numba
+import numpy as np
 
 from rocking.core.compile import fma
 
-#: Cycles from an FMA's inputs to its result (Zen 4).
+#: Cycles from an FMA's inputs to its result (Zen 3, Zen 4, Golden Cove; see above).
 FMA_LATENCY = 4
-#: Double-precision FMAs a core can start per cycle (Zen 4: two 256-bit pipes).
-FMAS_PER_CYCLE = 8
+#: Independent FMA chains of the throughput loop: 8 zmm or 16 ymm registers, 2 pipes x 4 cycles.
+CHAINS = 64
 #: Arithmetic operations (multiplies, adds and fused multiply-adds, each counted once) of one plain
 #: step of the batched kernel without vertical motion: dynamics/equation.py's _plain_step, counted
 #: by hand from its source (the sin/cos polynomials 21, the four RK4 stages with their three
@@ -40,28 +48,52 @@ def _chain(n, a, b):
     return x
 
 
+@numba.njit(cache=True)
+def _chains(n, a, b):
+    # The inner loop over a fixed-size local array is vectorised and unrolled by LLVM into
+    # CHAINS / (lanes per register) independent vector FMAs per iteration.
+    acc = np.empty(CHAINS)
+    for j in range(CHAINS):
+        acc[j] = 1.0 + j * 1e-3
+    for _ in range(n):
+        for j in range(CHAINS):
+            acc[j] = fma(acc[j], a, b)
+    return acc.sum()
+
+
+def _best(f, *args) -> float:
+    """Least wall time [s] of five calls of ``f(*args)`` (after one to compile or load it)."""
+    f(10, 0.5, 0.25)
+    best = math.inf
+    for _ in range(5):
+        t0 = time.perf_counter()
+        f(*args)
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
 def clock_ghz(n: int = 200_000_000) -> float:
     """The core's clock [GHz] from a dependent FMA chain (best of 5 timings)."""
-    _chain(10, 0.5, 0.25)
-    best = min(_timed(n) for _ in range(5))
-    return n * FMA_LATENCY / best / 1e9
+    return n * FMA_LATENCY / _best(_chain, n, 0.999999, 1e-9) / 1e9
 
 
-def _timed(n: int) -> float:
-    t0 = time.perf_counter()
-    _chain(n, 0.999999, 1e-9)
-    return time.perf_counter() - t0
+def fmas_per_cycle(ghz: float, n: int = 5_000_000) -> dict:
+    """Double-precision FMAs one core starts per cycle at ``ghz`` [GHz]: measured and rounded."""
+    measured = n * CHAINS / _best(_chains, n, 0.999999, 1e-9) / (ghz * 1e9)
+    return {"measured": measured, "issue_width": 2 ** round(math.log2(measured))}
 
 
 def ceiling(cores: int) -> dict:
     """Peak arithmetic rate of ``cores`` cores and the least time a plain step can take."""
     ghz = clock_ghz()
-    ops_per_s = ghz * 1e9 * FMAS_PER_CYCLE * cores
+    width = fmas_per_cycle(ghz)
+    ops_per_s = ghz * 1e9 * width["issue_width"] * cores
     return {
         "clock_ghz": ghz,
         "cores": cores,
         "fma_latency_cycles": FMA_LATENCY,
-        "fmas_per_cycle_per_core": FMAS_PER_CYCLE,
+        "fmas_per_cycle_per_core": width["issue_width"],
+        "fmas_per_cycle_measured": width["measured"],
         "peak_gflops": 2 * ops_per_s / 1e9,  # an FMA is two floating-point operations
         "ops_per_step": OPS_PER_STEP,
         "floor_ns_per_step": OPS_PER_STEP / ops_per_s * 1e9,

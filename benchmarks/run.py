@@ -26,8 +26,8 @@ run:
   sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
   in ns per step it integrates, and the ratio to the kernel;
 * ``ceiling``: the arithmetic floor of a step on this machine (``peak.py``: the clock measured by
-  a chain of dependent FMAs, the peak rate of the cores, the operations of one plain step), and
-  the kernel's time as a multiple of it;
+  a chain of dependent FMAs, the FMAs a core starts per cycle measured with the run's own vector
+  width, the operations of one plain step), and the kernel's time as a multiple of it;
 * ``scipy``: :func:`rocking.dynamics.reference.simulate_reference` (``solve_ivp`` DOP853 with
   events) on a few of the cases, seconds per simulation, and the ratio to the kernel's time per
   simulation;
@@ -533,7 +533,8 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
             "arithmetic floor [ns/step]",
             f"{c['floor_ns_per_step']:.2f}",
             f"{c['ops_per_step']} ops per step at {c['peak_gflops']:.0f} GFLOP/s "
-            f"({c['cores']} cores at {c['clock_ghz']:.2f} GHz); the kernel takes "
+            f"({c['cores']} cores at {c['clock_ghz']:.2f} GHz, {c['fmas_per_cycle_per_core']} FMAs "
+            f"per cycle); the kernel takes "
             f"{c['kernel_vs_floor']:.1f}× the floor, 10× the plain loop needs "
             f"{p['parallel']['ns_per_step'] / TARGETS['vs_plain_loop']:.2f}",
         )
