@@ -8,13 +8,14 @@ of the run, not read from a label (a VM shows neither its clock nor its FMA unit
   (AMD Zen 3 and Zen 4: AMD's "Software Optimization Guide" for EPYC 7003 (2020) and for Zen 4
   (2023); Intel Golden Cove / Raptor Cove server cores (Sapphire and Emerald Rapids): Intel's
   "64 and IA-32 Architectures Optimization Reference Manual", 2023);
-* the double-precision FMAs a core starts per cycle: 64 independent FMA chains (enough to fill
-  two pipes of latency 4 with 256-bit or 512-bit vectors) compiled as Numba compiles the kernels
-  in this process, timed, and rounded to the nearest power of two (the issue widths CPUs have;
-  a shared VM's timing is off by 10-20 %).  This is 8 with AVX2 code on all of these CPUs and
-  with AVX-512 code on Zen 4 (its 512-bit instructions issue as two 256-bit halves), and 16 with
-  AVX-512 code on Intel's Xeons with two 512-bit FMA units: assuming 8 there would put the floor
-  at twice its true value.
+* the double-precision FMAs a core starts per cycle: 256 independent FMA chains, each taken
+  through 8 dependent FMAs per visit (far more than two pipes of latency 4 need, with 256-bit or
+  512-bit vectors), compiled as Numba compiles the kernels in this process, timed, and rounded to
+  the nearest power of two (the issue widths CPUs have; a shared VM's timing is off by 10-20 %).
+  This is 8 with AVX2 code on all of these CPUs and with AVX-512 code on Zen 4 (its 512-bit
+  instructions issue as two 256-bit halves), and 16 with AVX-512 code on Intel's Xeons with two
+  512-bit FMA units (the Emerald Rapids VM of the runs): assuming 8 there put the floor at twice
+  its true value.
 """
 
 from __future__ import annotations
@@ -29,8 +30,10 @@ from rocking.core.compile import fma
 
 #: Cycles from an FMA's inputs to its result (Zen 3, Zen 4, Golden Cove; see above).
 FMA_LATENCY = 4
-#: Independent FMA chains of the throughput loop: 8 zmm or 16 ymm registers, 2 pipes x 4 cycles.
-CHAINS = 64
+#: Independent FMA chains of the throughput loop: 2 KB, held in the L1 cache.
+CHAINS = 256
+#: Dependent FMAs per chain and visit: one load and one store per 8 vector FMAs.
+DEPTH = 8
 #: Arithmetic operations (multiplies, adds and fused multiply-adds, each counted once) of one plain
 #: step of the batched kernel without vertical motion: dynamics/equation.py's _plain_step, counted
 #: by hand from its source (the sin/cos polynomials 21, the four RK4 stages with their three
@@ -49,21 +52,22 @@ def _chain(n, a, b):
 
 
 @numba.njit(cache=True)
-def _chains(n, a, b):
-    # The inner loop over a fixed-size local array is vectorised and unrolled by LLVM into
-    # CHAINS / (lanes per register) independent vector FMAs per iteration.
-    acc = np.empty(CHAINS)
-    for j in range(CHAINS):
-        acc[j] = 1.0 + j * 1e-3
+def _chains(n, acc, a, b):
+    # LLVM vectorises the loop over the chains (the one over DEPTH is unrolled in it): each
+    # vector of chains is loaded, taken through DEPTH dependent FMAs and stored, and the
+    # out-of-order core overlaps successive vectors, so the FMA pipes, not the latency nor the
+    # loads and stores, bound the loop.
     for _ in range(n):
-        for j in range(CHAINS):
-            acc[j] = fma(acc[j], a, b)
-    return acc.sum()
+        for j in range(acc.size):
+            x = acc[j]
+            for _ in range(DEPTH):
+                x = fma(x, a, b)
+            acc[j] = x
 
 
 def _best(f, *args) -> float:
     """Least wall time [s] of five calls of ``f(*args)`` (after one to compile or load it)."""
-    f(10, 0.5, 0.25)
+    f(10, *args[1:])
     best = math.inf
     for _ in range(5):
         t0 = time.perf_counter()
@@ -77,9 +81,10 @@ def clock_ghz(n: int = 200_000_000) -> float:
     return n * FMA_LATENCY / _best(_chain, n, 0.999999, 1e-9) / 1e9
 
 
-def fmas_per_cycle(ghz: float, n: int = 5_000_000) -> dict:
+def fmas_per_cycle(ghz: float, n: int = 200_000) -> dict:
     """Double-precision FMAs one core starts per cycle at ``ghz`` [GHz]: measured and rounded."""
-    measured = n * CHAINS / _best(_chains, n, 0.999999, 1e-9) / (ghz * 1e9)
+    acc = 1.0 + 1e-3 * np.arange(CHAINS)
+    measured = n * CHAINS * DEPTH / _best(_chains, n, acc, 0.999999, 1e-9) / (ghz * 1e9)
     return {"measured": measured, "issue_width": 2 ** round(math.log2(measured))}
 
 
