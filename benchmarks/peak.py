@@ -65,13 +65,14 @@ def _chains(n, acc, a, b):
             acc[j] = x
 
 
-def _best(f, *args) -> float:
-    """Least wall time [s] of five calls of ``f(*args)`` (after one to compile or load it)."""
-    f(10, *args[1:])
+def _best(f, n: int, *args) -> float:
+    """Least wall time [s] of five calls of ``f(n, *args)`` (after a short one, ``f(10, *args)``,
+    to compile or load it).  Not run.py's ``timed``: run.py imports this module."""
+    f(10, *args)
     best = math.inf
     for _ in range(5):
         t0 = time.perf_counter()
-        f(*args)
+        f(n, *args)
         best = min(best, time.perf_counter() - t0)
     return best
 
