@@ -127,6 +127,31 @@ def test_results_do_not_depend_on_thread_count(ensemble):
     np.testing.assert_array_equal(one[1], many[1])
 
 
+def test_lanes_take_new_cases_from_the_shared_queue_as_simulate_computes_them(ensemble):
+    # More cases than the lane machines hold (128 lanes each, one machine per thread), so that
+    # lanes whose case ended take the next from the queue the machines share, on one thread and
+    # on all: every case still equals simulate().
+    rng = np.random.default_rng(14)
+    blocks = _random_blocks(rng, 6)
+    n = 2 * 128 * numba.config.NUMBA_NUM_THREADS + 37
+    body = rng.integers(0, len(blocks), n)
+    motion = rng.integers(0, ensemble.n, n)
+    scale = rng.uniform(0.05, 1.5, n) / ensemble.agx
+    before = numba.get_num_threads()
+    try:
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            numba.set_num_threads(threads)
+            overturned, peak = overturn_cases(
+                blocks, ensemble.acc, ensemble.dt, body, motion, scale
+            )
+            kinds = _check_against_simulate(
+                blocks, ensemble.acc, ensemble.dt, body, motion, scale, overturned, peak
+            )
+            assert kinds == {"overturned", "rest", "rocked"}
+    finally:
+        numba.set_num_threads(before)
+
+
 def test_bad_input_is_named(ensemble):
     blk = [Block(1.0, 3.0)]
     with pytest.raises(InputError, match="blocks"):

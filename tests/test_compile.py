@@ -10,7 +10,7 @@ import numba
 import numpy as np
 import pytest
 
-from rocking.core.compile import borrowing_kernel, fma, maxnum
+from rocking.core.compile import borrowing_kernel, fetch_add, fma, maxnum
 
 
 @numba.njit
@@ -21,6 +21,27 @@ def _maxnum_compiled(a, b):
 @numba.njit
 def _fma_compiled(a, b, c):
     return fma(a, b, c)
+
+
+@numba.njit(parallel=True)
+def _take_all(n, takers, taken):
+    queue = np.zeros(1, np.int64)
+    for _ in numba.prange(takers):
+        while True:
+            i = fetch_add(queue, 1)
+            if i >= n:
+                break
+            taken[i] += 1
+
+
+def test_fetch_add_hands_every_position_of_a_queue_to_exactly_one_thread():
+    # The batched kernel's lane machines (one per thread) take their cases from one queue with
+    # fetch_add: every case must be taken once, none twice (a queue copied per thread would
+    # take each case once per thread), however the threads interleave.
+    n, takers = 200_000, 4 * numba.get_num_threads()
+    taken = np.zeros(n, np.int64)
+    _take_all(n, takers, taken)
+    assert (taken == 1).all()
 
 
 def test_maxnum_is_the_larger_number_and_ignores_a_nan():

@@ -168,3 +168,25 @@ def _fma_in_kernels(a, b, c):
     if all(isinstance(x, types.Float) for x in (a, b, c)):
         return lambda a, b, c: _llvm_fma(a, b, c)
     return None
+
+
+@intrinsic
+def fetch_add(typingctx: Any, counter: Any, amount: Any) -> tuple[Any, Any] | None:
+    """In kernels: add ``amount`` to ``counter[0]`` (a 1-D int64 array) atomically and return
+    the value before (LLVM's ``atomicrmw add``, sequentially consistent), so that the threads of
+    a parallel loop can take work from one queue.  Numba's CPU target has no atomic operations
+    (only its CUDA target does), hence the few lines here."""
+    if not (
+        isinstance(counter, types.Array)
+        and counter.dtype == types.int64
+        and counter.ndim == 1
+        and isinstance(amount, types.Integer)
+    ):
+        return None
+    sig = types.int64(counter, types.int64)
+
+    def codegen(context, builder, signature, args):
+        array = context.make_array(signature.args[0])(context, builder, args[0])
+        return builder.atomic_rmw("add", array.data, args[1], "seq_cst")
+
+    return sig, codegen

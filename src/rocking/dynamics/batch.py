@@ -22,10 +22,10 @@ with the partial Runge–Kutta steps of its Newton iteration computed in the lan
 scalar partial step is a chain of ~100 cycles of latency), and that after an impact from which the
 block swings clear of θ = 0 the rest of the interval goes back to the SIMD loop.  Cases of the
 same motion sit side by side (they read the same samples).  A lane whose case ends takes the
-next case of its group; when none is left, the last lane moves into its place, so the SIMD loop
-only runs over live lanes.  The kernel's inputs and its lanes' state are records
-(:class:`Motions`, :class:`Vertical`, :class:`Blocks`, :class:`Cases`, :class:`Outcome`,
-:class:`Lanes`).  Work that cannot change the answer is skipped:
+next case of the call's queue, which the lane machines of all threads share; when none is left,
+the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
+inputs and its lanes' state are records (:class:`Motions`, :class:`Vertical`, :class:`Blocks`,
+:class:`Cases`, :class:`Outcome`, :class:`Lanes`).  Work that cannot change the answer is skipped:
 
 * a case whose scaled motion never lifts the block (abs(scale·a_g)·cos α ≤ g·sin α at every sample;
   the ground acceleration is linear between samples, so the samples bound it; with a vertical
@@ -36,9 +36,10 @@ only runs over live lanes.  The kernel's inputs and its lanes' state are records
   suffix minimum of a_v, in the same test) ends there: at rest to the end;
 * everything after overturning.
 
-Every case is computed by the same operations wherever its lane, group or thread, and writes only
-its own output slot, so results do not depend on the number of threads or on how cases are grouped
-into calls; they equal :func:`~rocking.dynamics.simulate` bit for bit.
+Every case is computed by the same operations wherever its lane, machine or thread, and writes
+only its own output slot, so results do not depend on the number of threads, on which machine
+takes a case or on how cases are grouped into calls; they equal :func:`~rocking.dynamics.simulate`
+bit for bit.
 
 :func:`overturn_batch` runs the full product blocks × scales × motions;
 :func:`overturn_cases` runs an explicit list of (block, motion, scale) triples, for searches that
@@ -60,6 +61,7 @@ from numpy.typing import ArrayLike
 from ..core.checks import finite_array, positive
 from ..core.compile import (
     borrowing_kernel,
+    fetch_add,
     highest_bit,
     kernel,
     maxnum,
@@ -101,8 +103,6 @@ PerBlock = float | str | Sequence[float | str] | np.ndarray
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
-#: Cases per lane machine, at most (a group is run by one thread; results do not depend on it).
-_GROUP_MAX = 1024
 
 
 class Motions(NamedTuple):
@@ -699,20 +699,22 @@ def _finish(lanes, j, overturned, k, blocks, cases, out):
 
 
 @kernel(inline="always")
-def _fill(lanes, j, nxt, c1, motions, vert, blocks, cases, out):
-    """Start in lane j the next of the cases order[nxt] … order[c1 − 1] that lifts its block
-    (those that don't get their result at once); returns the position after it, and
-    lanes.case[j] = −1 if none is left."""
+def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
+    """Start in lane j the next case of the shared queue (positions in ``cases.order``, taken
+    with :func:`~rocking.core.compile.fetch_add` on ``queue``) that lifts its block (those that
+    don't get their result at once); lanes.case[j] = −1 if none is left."""
     lanes.case[j] = -1
-    while nxt < c1:
-        i = cases.order[nxt]
-        nxt += 1
+    n = cases.order.size
+    while True:
+        pos = fetch_add(queue, 1)
+        if pos >= n:
+            return
+        i = cases.order[pos]
         if _start_case(lanes, j, i, motions, vert, blocks, cases):
-            break
+            return
         out.overturned[i] = False
         out.peak[i] = 0.0
         out.steps[i] = 0
-    return nxt
 
 
 @kernel(inline="always")
@@ -742,17 +744,17 @@ def _new_lanes(vert):
 
 
 @borrowing_kernel
-def _lane_machine(lanes, motions, vert, blocks, cases, out, located, c0, c1):
-    """Integrate cases order[c0] … order[c1 − 1] in the empty lane machine ``lanes``
-    (:func:`_new_lanes`; allocated by the caller: this function is compiled without reference
-    counting, :func:`~rocking.core.compile.borrowing_kernel`) and write their results (see the
-    module docstring)."""
-    nxt = c0  # next case to start
+def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue):
+    """Integrate cases taken from the shared ``queue`` (see :func:`_fill`) in the empty lane
+    machine ``lanes`` (:func:`_new_lanes`; allocated by the caller: this function is compiled
+    without reference counting, :func:`~rocking.core.compile.borrowing_kernel`) until none is
+    left, and write their results (see the module docstring)."""
     live = 0  # lanes 0 … live−1 hold a case
-    while live < _LANES and nxt < c1:
-        nxt = _fill(lanes, live, nxt, c1, motions, vert, blocks, cases, out)
-        if lanes.case[live] >= 0:
-            live += 1
+    while live < _LANES:
+        _fill(lanes, live, queue, motions, vert, blocks, cases, out)
+        if lanes.case[live] < 0:
+            break
+        live += 1
     while live > 0:
         _gather(lanes, live, motions, vert)
         low, high = _lane_steps(lanes, live, motions, blocks.g, vert)
@@ -769,7 +771,7 @@ def _lane_machine(lanes, motions, vert, blocks, cases, out, located, c0, c1):
             if not done:
                 continue
             _finish(lanes, j, overturned, k, blocks, cases, out)
-            nxt = _fill(lanes, j, nxt, c1, motions, vert, blocks, cases, out)
+            _fill(lanes, j, queue, motions, vert, blocks, cases, out)
             if lanes.case[j] < 0:  # no case left
                 live -= 1
                 if j < live:
@@ -845,23 +847,13 @@ def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
 
 
 @parallel_kernel
-def _cases_kernel(motions, vert, blocks, cases, out, located, group):
-    """Integrate the cases from rest, ``group`` consecutive ones of ``cases.order`` per lane
-    machine (a thread each, dynamically scheduled), and write their :class:`Outcome`; the
-    impact scheme ``located`` (bool) as in :func:`rocking.simulate`."""
-    n = cases.body.shape[0]
-    for q in prange((n + group - 1) // group):
-        _lane_machine(
-            _new_lanes(vert),
-            motions,
-            vert,
-            blocks,
-            cases,
-            out,
-            located,
-            q * group,
-            min(n, (q + 1) * group),
-        )
+def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
+    """Integrate the cases from rest in ``machines`` lane machines (a thread each), which take
+    them in the order ``cases.order`` from one shared queue, and write their :class:`Outcome`;
+    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`."""
+    queue = np.zeros(1, np.int64)
+    for _ in prange(machines):
+        _lane_machine(_new_lanes(vert), motions, vert, blocks, cases, out, located, queue)
 
 
 @dataclass(frozen=True, eq=False)
@@ -1063,15 +1055,13 @@ def run_cases(
         np.empty(body.shape, dtype=np.float64),
         np.empty(body.shape, dtype=np.int64),
     )
-    # about four groups per thread (dynamic scheduling), of at least _LANES cases so that the
-    # lanes are filled
-    group = max(_LANES, min(_GROUP_MAX, -(-body.size // (4 * numba.get_num_threads()))))
-    # cases of the same motion side by side, so that their lanes read the same samples (cache);
-    # every ng-th of them in a group, so that the groups have about the same mix of motions and
-    # cost (the threads finish together)
+    # one lane machine per thread, all taking cases from one queue: the threads finish
+    # together, and each machine's lanes empty only once per call, at its end (a lane machine
+    # per group of cases instead, four per thread, spent ~20 % more time per step in the
+    # Monte Carlo engine's chunks of ~4,000 cases, in their groups' partly filled ends);
+    # cases of the same motion side by side, so that the lanes read the same samples (cache)
+    machines = max(1, min(numba.get_num_threads(), body.size))
     order = np.argsort(motion, kind="stable")
-    ng = max(1, -(-body.size // group))
-    order = np.concatenate([order[q::ng] for q in range(ng)])
     motions = Motions(acc.reshape(-1), acc.shape[1], float(dt), amax, asuf)
     with numba.parallel_chunksize(1):
         _cases_kernel(
@@ -1081,7 +1071,7 @@ def run_cases(
             Cases(body, motion, scale, order),
             out,
             resolve_impacts(impacts),
-            group,
+            machines,
         )
     if count_steps:
         return out.overturned, out.peak, out.steps
