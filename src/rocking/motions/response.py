@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 from ..core import portable
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import highest_bit, kernel, maxnum, parallel_kernel, prange
+from ..core.reuse import reused
 from ..errors import InputError
 from .targets import _freqs
 
@@ -372,7 +373,11 @@ def response_spectrum(
     nsub = np.maximum(1, np.ceil(spp * dt * f - 1e-9)).astype(np.int64)
     h = dt / nsub
     coef = foh_coefficients(omega, zeta, h)
-    sd = _peak_displacements(np.atleast_2d(a), coef, nsub, h, omega, zeta)
+    sd = reused(
+        "response_spectrum",
+        (a, dt, f, zeta, int(spp)),
+        lambda: _peak_displacements(np.atleast_2d(a), coef, nsub, h, omega, zeta),
+    )
     if a.ndim == 1:
         sd = sd[0]
     return ResponseSpectrum(f, zeta, sd, omega * sd, omega**2 * sd)

@@ -85,6 +85,7 @@ def reproduce(
         The report.html written.
     """
     from ..core.progress import resolve
+    from ..core.reuse import reusing
     from ..core.runs import RunFolder
     from ..montecarlo.backends import get_backend
     from ..report import drawing_pool, remove_report
@@ -125,7 +126,9 @@ def reproduce(
         ctx = RunContext(cfg, fidelity, modified, backend, reporter, out / "chunks")
         start = time.perf_counter()
         results, wall = {}, {}
-        with backend:
+        # the same spectra recur across sections (e.g. the mean PSV of Section 8's ground
+        # motions in the soundness checks): computed once (rocking.core.reuse)
+        with backend, reusing():
             for s in sections:
                 t0 = time.perf_counter()
                 reporter.write(f"section {s}: {STUDY_SECTIONS[s]}")
