@@ -80,3 +80,37 @@ def test_the_digest_sees_every_bit_of_the_inputs():
         digest((object(),))
     with pytest.raises(TypeError, match="cannot key"):
         digest(np.array([object()]))  # its bytes would be addresses, not contents
+
+
+def test_a_case_searched_before_in_the_run_is_not_searched_again():
+    # agx_50's result for one case depends on that case's motions and the settings only (the
+    # comparisons with n/2 are exact counts): a second search of the same motions inside
+    # reusing() (as the soundness section repeats Section 8's ground search) simulates nothing
+    # and returns what a search from scratch returns, bit for bit.
+    from rocking.dynamics.body import Block
+    from rocking.montecarlo.probability import agx_50
+    from rocking.motions.synthesis import generate
+
+    ground = generate(12, duration=6.0, dt=1 / 200, seed=21)
+    floor = generate(12, duration=6.0, dt=1 / 200, seed=22)
+    blocks = [Block(0.5, 3.0), Block(1.0, 4.0)]
+    kw = dict(resolution=0.05, agx_max=3.0)
+    fresh = agx_50(blocks, ground, **kw)
+    assert fresh.attrs["chunks_computed"] > 0 and np.isfinite(fresh["agx50"].values).all()
+    with reusing():
+        both = agx_50(blocks, {"ground": ground, "floor": floor}, **kw)
+        again = agx_50(blocks, ground, **kw)
+        assert again.attrs["chunks_computed"] == 0
+        for var in ("agx50", "probability", "probability_below"):
+            np.testing.assert_array_equal(again[var].values, fresh[var].values)
+            np.testing.assert_array_equal(both[var].sel(case="ground").values, fresh[var].values)
+        # other settings, other motions or the outcomes of every motion: searched
+        assert agx_50(blocks, ground, resolution=0.1, agx_max=3.0).attrs["chunks_computed"] > 0
+        assert agx_50(blocks[:1], ground, **kw).attrs["chunks_computed"] > 0
+        assert agx_50(blocks, ground, members=True, **kw).attrs["chunks_computed"] > 0
+        mixed = agx_50(
+            blocks, {"floor": floor, "other": generate(12, duration=6.0, dt=1 / 200, seed=23)}, **kw
+        )
+        np.testing.assert_array_equal(
+            mixed["agx50"].sel(case="floor").values, both["agx50"].sel(case="floor").values
+        )

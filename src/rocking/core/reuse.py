@@ -48,13 +48,36 @@ def reused(kind: str, inputs: tuple, compute: Callable[[], T]) -> T:
     """``compute()``, or a copy of its value from an earlier call of the same ``kind`` whose
     ``inputs`` had the same contents, inside a :func:`reusing` block.  ``inputs`` must determine
     the value (arrays, numbers, strings, None, and tuples/lists/dicts of them)."""
-    memo = _MEMO.get()
-    if memo is None:
+    if _MEMO.get() is None:
         return compute()
     key = (kind, digest(inputs))
-    if key not in memo:
-        memo[key] = compute()
+    found = recall(key)
+    if found is None:
+        found = compute()
+        remember(key, found)
+    return found
+
+
+def key_of(kind: str, inputs: tuple) -> tuple[str, str] | None:
+    """The key of a result of ``kind`` from ``inputs`` (see :func:`reused`), or None outside a
+    :func:`reusing` block (nothing to recall or remember: the inputs are not even hashed)."""
+    return None if _MEMO.get() is None else (kind, digest(inputs))
+
+
+def recall(key: tuple[str, str] | None) -> Any:
+    """A copy of the value remembered under ``key`` (:func:`key_of`), or None."""
+    memo = _MEMO.get()
+    if memo is None or key is None or key not in memo:
+        return None
     return copy.deepcopy(memo[key])
+
+
+def remember(key: tuple[str, str] | None, value: Any) -> None:
+    """Keep a copy of ``value`` under ``key`` (:func:`key_of`) to the end of the
+    :func:`reusing` block (nothing outside one)."""
+    memo = _MEMO.get()
+    if memo is not None and key is not None:
+        memo[key] = copy.deepcopy(value)
 
 
 def digest(value: Any) -> str:

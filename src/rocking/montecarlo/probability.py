@@ -19,6 +19,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive
+from ..core.reuse import key_of, recall, remember
 from ..defaults import DEFAULT_E, IMPACT_SCHEMES, G
 from ..dynamics.batch import BlockTable, block_list
 from ..errors import InputError
@@ -426,7 +427,6 @@ def agx_50(
     if members:
         _same_size(cases, "agx_50(members=True)")
     nb = len(block_list(blocks))
-    search = CrossingSearch([(c, b) for c in range(len(cases)) for b in range(nb)], K, coarse)
     engine = Engine(
         blocks,
         cases,
@@ -441,13 +441,26 @@ def agx_50(
         impacts=impacts,
         same_motions=same_motions,
     )
+    # a case's results depend on its own motions and the settings only (the other cases change
+    # at most which motions decide first): inside rocking.core.reuse.reusing (e.g. in
+    # reproduce, where the soundness section searches Section 8's ground motions again), a case
+    # searched before is not searched again
+    t = engine.table
+    settings = (t.p2, t.sin_a, t.cos_a, t.tan_a, t.e, t.theta_ov, t.alpha, t.g, K, resolution)
+    reuse = [
+        None if members else key_of("agx_50", (ens.acc, ens.av, ens.dt, *settings, coarse, impacts))
+        for ens in cases
+    ]
+    known = {c: found for c, rk in enumerate(reuse) if (found := recall(rk)) is not None}
+    todo = [c for c in range(len(cases)) if c not in known]
+    search = CrossingSearch([(c, b) for c in todo for b in range(nb)], K, coarse)
 
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
         return (c, b, level_key(round(k * resolution, 12)))
 
     engine.require_memory(nb * search.max_levels, "resolution")
     with engine:
-        engine.expect(search.typical_rounds * nb * sum(ens.n for ens in cases))
+        engine.expect(search.typical_rounds * nb * sum(cases[c].n for c in todo))
         while level := search.pending():  # one batch of simulations per round
             keys = {item: key(*item, k) for item, k in level.items()}
             if exhaustive:
@@ -465,6 +478,10 @@ def agx_50(
         agx50[c, b] = level_agx(key(c, b, k)[2])
         p_at[c, b] = engine.count(*key(c, b, k)) / cases[c].n
         p_below[c, b] = engine.count(*key(c, b, k - 1)) / cases[c].n if k > 1 else 0.0
+    for c in todo:
+        remember(reuse[c], (agx50[c], p_at[c], p_below[c]))
+    for c, (a50, at, below) in known.items():
+        agx50[c], p_at[c], p_below[c] = a50, at, below
     dims: tuple[str, ...] = ("body",)
     data_vars: dict[str, tuple] = {
         "agx50": (dims, agx50, {"units": "g", "long_name": "A_gx of 50 % overturning probability"}),
