@@ -1,11 +1,14 @@
 """Results computed once per run from the same inputs (issue 18).
 
-``rocking reproduce all`` computes the same response spectra several times: the studies of
-Section 8 and the soundness checks take the mean PSV of the same ground motions, and the
-soundness check's located and step-end searches that of the same refined motions (at paper
-fidelity 3.3 s of its 26 s of spectra).  Inside :func:`reusing`, :func:`reused` returns the value
-computed earlier from inputs with the same bytes instead of computing it again; outside, it just
-computes.  The key is a SHA-256 digest of the inputs' contents (about 1 GB/s), never an object's
+``rocking reproduce all`` computed the same results several times: the studies of Section 8
+and the soundness checks take the mean PSV of the same ground motions, the soundness check's
+located and step-end searches that of the same refined motions (at paper fidelity 3.3 s of its
+26 s of spectra), and the soundness check searched Section 8's ground motions for the same
+bodies' A_gx50 again (517 M steps).  Inside :func:`reusing`, :func:`reused` returns the value
+computed earlier from inputs with the same bytes instead of computing it again (and
+:func:`key_of`, :func:`recall`, :func:`remember` do it in steps, for a caller that computes
+several values at once: :func:`rocking.montecarlo.probability.agx_50`'s cases); outside, it
+just computes.  The key is a SHA-256 digest of the inputs' contents (about 1 GB/s), never an object's
 identity, so that an array changed in place or a new array with the old one's address can never
 return another input's result.  Only small results belong here (the memory is kept to the end of
 the block); callers get a copy, which they may change.
