@@ -8,10 +8,10 @@ bodies' A_gx50 again (517 M steps).  Inside :func:`reusing`, :func:`reused` retu
 computed earlier from inputs with the same bytes instead of computing it again (and
 :func:`key_of`, :func:`recall`, :func:`remember` do it in steps, for a caller that computes
 several values at once: :func:`rocking.montecarlo.probability.agx_50`'s cases); outside, it
-just computes.  The key is a SHA-256 digest of the inputs' contents (about 1 GB/s), never an object's
-identity, so that an array changed in place or a new array with the old one's address can never
-return another input's result.  Only small results belong here (the memory is kept to the end of
-the block); callers get a copy, which they may change.
+just computes.  The key is a SHA-256 digest of the inputs' contents (about 1 GB/s), never an
+object's identity, so that an array changed in place or a new array with the old one's address
+can never return another input's result.  Only small results belong here (the memory is kept to
+the end of the block); callers get a copy, which they may change.
 
 Python's ``functools.lru_cache`` keys by hashable arguments and keeps results past the run; NumPy
 arrays are not hashable, hence this small module.
