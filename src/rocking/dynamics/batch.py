@@ -20,7 +20,7 @@ handles them, except that the impact of a step that ends on the other side of θ
 with the partial Runge–Kutta steps of its Newton iteration computed in the lane's next SIMD rounds
 (:func:`_start_locating`; the same operations as :func:`rocking.dynamics.impacts._locate`: a
 scalar partial step is a chain of ~100 cycles of latency), and that after an impact from which the
-block swings clear of θ = 0 the rest of the interval goes back to the SIMD loop.  Cases of the
+block rocks on the rest of the interval goes back to the SIMD loop.  Cases of the
 same motion sit side by side (they read the same samples).  A lane whose case ends takes the
 next case of the call's queue, which the lane machines of all threads share; when none is left,
 the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
@@ -669,7 +669,7 @@ def _lane_impact(W, j, sw, iv, body, located):
     arrived = Swing(sw.theta, sw.omega, s, sw.state, sw.tau + h, sw.t_start, sw.false_side)
     sw, _n, hand_over = _impact(arrived, om, iv, du, dg, body, True)
     if hand_over:  # what _advance_events' next iteration does with it (here without a call:
-        return True, sw, dt - sw.tau > 0.0  # nearly every impact; the call costs ~4 %)
+        return True, sw, dt - sw.tau > 0.0  # every impact from which the block rocks on)
     sw, _n, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
     return True, sw, deferred
 

@@ -460,7 +460,7 @@ def _impact(sw, omz, iv, du, dg, body, defer):
     ends at rest (Zeno) or a chatter summed in closed form, or an impact after which it rocks on.
 
     Returns (swing, impacts counted, hand_over): ``hand_over`` (with ``defer``) says that the
-    block cannot come back to θ = 0 before dt (:func:`_no_touch`).
+    block rocks on from the impact, so that the caller can compute the rest of the interval.
     """
     dt = iv.dt
     tau = sw.tau
@@ -480,8 +480,8 @@ def _impact(sw, omz, iv, du, dg, body, defer):
     s = -sw.s
     omega = e * omz
     # Zeno check: how long would the next free flight last?
-    ua, ub = _u_ends(iv.u0, du, tau, dt - tau)
-    ga, _gm, gb = _gv_ends(iv.g0, dg, tau, dt - tau)
+    ua, _ub = _u_ends(iv.u0, du, tau, dt - tau)
+    ga, _gm, _gb = _gv_ends(iv.g0, dg, tau, dt - tau)
     acc0 = -p2 * fma(ua, ca, _gv_times(ga, s * sa))  # θ'' at θ = 0 on the new side
     if omega == 0.0 or (
         acc0 * omega < 0.0 and 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)
@@ -501,9 +501,7 @@ def _impact(sw, omz, iv, du, dg, body, defer):
         if t_end < dt and fma(abs(fma(du, t_end, iv.u0)), ca, -sa_end) < 0.0:
             n_imp += _chatter_impacts(2.0 * abs(omega / acc0), e, dt)
             return Swing(0.0, 0.0, s, _REST, t_end, sw.t_start, sw.false_side), n_imp, False
-    # a block that cannot come back to θ = 0 before dt (not a bounce of a chatter)
-    hand_over = defer and _no_touch(0.0, omega, s, ua, ub, ga, gb, dt - tau, p2, sa)
-    return Swing(0.0, omega, s, _ROCKING, tau, sw.t_start, sw.false_side), n_imp, hand_over
+    return Swing(0.0, omega, s, _ROCKING, tau, sw.t_start, sw.false_side), n_imp, defer
 
 
 @kernel(inline="always")
@@ -542,9 +540,8 @@ def _advance_events(sw, iv, body, th_step, om_step, have_step, defer, located):
 
     ``th_step``, ``om_step``: the RK4 step from (θ, θ') at tau to dt, already computed when
     ``have_step`` (it is the same as :func:`_rk4`'s).  With ``defer``, it stops after an impact
-    from which the block cannot come back to θ = 0 before dt (:func:`_no_touch`), so that the
-    caller computes the rest of the interval (the batched kernel: in a SIMD lane) and calls again
-    if that step is not plain.
+    from which the block rocks on, so that the caller computes the rest of the interval (the
+    batched kernel: in a SIMD lane) and calls again if that step is not plain.
 
     Returns (swing, n_impacts, t_event, deferred): ``t_event`` is the local time of overturning
     [s], or −1; ``deferred`` says that the interval goes on from swing.tau < dt (else it is done).
@@ -552,7 +549,7 @@ def _advance_events(sw, iv, body, th_step, om_step, have_step, defer, located):
     dt = iv.dt
     du, dg = _slopes(iv)
     n_imp = 0
-    hand_over = False  # with defer: the next step is likely plain, leave it to the caller
+    hand_over = False  # with defer: the rest of the interval is left to the caller
     for _ in range(_MAX_EVENTS_PER_STEP):
         if sw.state == _REST:
             tstart = _uplift_time(sw, iv, du, dg, body)
