@@ -667,9 +667,9 @@ def _lane_impact(W, j, sw, iv, body, located):
             return False, sw, False
     W[_HL * L + j] = 0.0
     arrived = Swing(sw.theta, sw.omega, s, sw.state, sw.tau + h, sw.t_start, sw.false_side)
-    sw, _n, hand_over = _impact(arrived, om, iv, du, dg, body, True)
-    if hand_over:  # what _advance_events' next iteration does with it (here without a call:
-        return True, sw, dt - sw.tau > 0.0  # every impact from which the block rocks on)
+    sw, _n = _impact(arrived, om, iv, du, dg, body)
+    if sw.state == _ROCKING:  # what _advance_events does after it (here without a call)
+        return True, sw, dt - sw.tau > 0.0
     sw, _n, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
     return True, sw, deferred
 

@@ -258,8 +258,8 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, g0, dg, tau, h, p2, sa, c
             return 0.0, hm, theta, tm
     # The probes side by side (a loop the compiler turns into SIMD code: the branch-free fast
     # step of _rk4_sc, the first touch as a min-reduction; the step itself as padding, never
-    # taken), then the bracket of the first touch by _rk4_sc: the same values as probing one
-    # by one.  Where the fast step is not valid for some probe, one by one with _rk4_sc.
+    # taken); where the fast step is not valid for some probe, one at a time with _rk4_sc.
+    # Then the bracket of the first touch by _rk4_sc: the same values as probing one by one.
     first = _N_PROBES
     fast = True
     for j in range(1, _N_PROBES + 1):
@@ -269,33 +269,23 @@ def _interior_touch(theta, omega, th1, om1, s, u0, du, g0, dg, tau, h, p2, sa, c
         inside = j < _N_PROBES
         fast &= _fast_valid(theta, dmax) | (not inside)
         first = min(first, j if (s * tj <= 0.0) & inside else _N_PROBES)
-    if fast:
-        if first == _N_PROBES:
-            return -1.0, -1.0, 0.0, 0.0
-        hi = h * first / _N_PROBES
-        th_hi, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, hi, p2, sa, ca)
-        if first == 1:
-            return 0.0, hi, theta, th_hi
-        lo = h * (first - 1) / _N_PROBES
-        th_lo, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, lo, p2, sa, ca)
-        return lo, hi, th_lo, th_hi
-    lo = -1.0
-    hi = -1.0
-    th_lo = 0.0
-    th_hi = 0.0
-    prev = 0.0
-    th_prev = theta
-    for j in range(1, _N_PROBES):
-        hj = h * j / _N_PROBES
-        tj, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, hj, p2, sa, ca)
-        if hi < 0.0:
+    if not fast:
+        first = _N_PROBES
+        for j in range(1, _N_PROBES):
+            tj, _w = _rk4_sc(
+                theta, st, ct, omega, s, u0, du, g0, dg, tau, h * j / _N_PROBES, p2, sa, ca
+            )
             if s * tj <= 0.0:
-                lo = prev
-                hi = hj
-                th_lo = th_prev
-                th_hi = tj
-            prev = hj
-            th_prev = tj
+                first = j
+                break
+    if first == _N_PROBES:
+        return -1.0, -1.0, 0.0, 0.0
+    hi = h * first / _N_PROBES
+    th_hi, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, hi, p2, sa, ca)
+    if first == 1:
+        return 0.0, hi, theta, th_hi
+    lo = h * (first - 1) / _N_PROBES
+    th_lo, _w = _rk4_sc(theta, st, ct, omega, s, u0, du, g0, dg, tau, lo, p2, sa, ca)
     return lo, hi, th_lo, th_hi
 
 
@@ -454,13 +444,12 @@ def _find_hit(sw, th1, om1, h, iv, du, dg, body, located):
 
 
 @kernel(inline="always")
-def _impact(sw, omz, iv, du, dg, body, defer):
+def _impact(sw, omz, iv, du, dg, body):
     """The block at θ = 0 with angular velocity ``omz`` at local time ``sw.tau`` (after an arrival
     located or taken at the step's end): a start from rest that landed at once, an impact that
     ends at rest (Zeno) or a chatter summed in closed form, or an impact after which it rocks on.
 
-    Returns (swing, impacts counted, hand_over): ``hand_over`` (with ``defer``) says that the
-    block rocks on from the impact, so that the caller can compute the rest of the interval.
+    Returns (swing, impacts counted).
     """
     dt = iv.dt
     tau = sw.tau
@@ -475,18 +464,18 @@ def _impact(sw, omz, iv, du, dg, body, defer):
         # restart on it would land again at the same instant, forever; only a
         # crossing of the threshold on the other side can start it in this interval.
         fs = 1.0 if fma(du, sw.t_start, iv.u0) > 0.0 else -1.0
-        return Swing(0.0, 0.0, sw.s, _REST, tau, sw.t_start, fs), 0, False
+        return Swing(0.0, 0.0, sw.s, _REST, tau, sw.t_start, fs), 0
     n_imp = 1
     s = -sw.s
     omega = e * omz
     # Zeno check: how long would the next free flight last?
-    ua, _ub = _u_ends(iv.u0, du, tau, dt - tau)
-    ga, _gm, _gb = _gv_ends(iv.g0, dg, tau, dt - tau)
+    ua = fma(du, tau, iv.u0)  # u and gv at tau, as _u_ends and _gv_ends compute them
+    ga = _gv_at(iv.g0, dg, tau)
     acc0 = -p2 * fma(ua, ca, _gv_times(ga, s * sa))  # θ'' at θ = 0 on the new side
     if omega == 0.0 or (
         acc0 * omega < 0.0 and 2.0 * abs(omega) < ZENO_TIME_FRACTION * dt * abs(acc0)
     ):
-        return Swing(0.0, 0.0, s, _REST, tau, sw.t_start, sw.false_side), n_imp, False
+        return Swing(0.0, 0.0, s, _REST, tau, sw.t_start, sw.false_side), n_imp
     if (
         e < 1.0
         and acc0 * omega < 0.0
@@ -500,8 +489,8 @@ def _impact(sw, omz, iv, du, dg, body, defer):
         sa_end = _gv_times(_gv_at(iv.g0, dg, t_end), sa)
         if t_end < dt and fma(abs(fma(du, t_end, iv.u0)), ca, -sa_end) < 0.0:
             n_imp += _chatter_impacts(2.0 * abs(omega / acc0), e, dt)
-            return Swing(0.0, 0.0, s, _REST, t_end, sw.t_start, sw.false_side), n_imp, False
-    return Swing(0.0, omega, s, _ROCKING, tau, sw.t_start, sw.false_side), n_imp, defer
+            return Swing(0.0, 0.0, s, _REST, t_end, sw.t_start, sw.false_side), n_imp
+    return Swing(0.0, omega, s, _ROCKING, tau, sw.t_start, sw.false_side), n_imp
 
 
 @kernel(inline="always")
@@ -549,14 +538,12 @@ def _advance_events(sw, iv, body, th_step, om_step, have_step, defer, located):
     dt = iv.dt
     du, dg = _slopes(iv)
     n_imp = 0
-    hand_over = False  # with defer: the rest of the interval is left to the caller
     for _ in range(_MAX_EVENTS_PER_STEP):
         if sw.state == _REST:
             tstart = _uplift_time(sw, iv, du, dg, body)
             if tstart < 0.0:
                 break  # at rest through the whole interval
             sw = _start(sw, tstart, iv, du)
-            hand_over = False
             if tstart >= dt:
                 break
             continue
@@ -567,8 +554,6 @@ def _advance_events(sw, iv, body, th_step, om_step, have_step, defer, located):
             th1 = th_step
             om1 = om_step
             have_step = False
-        elif hand_over:
-            return sw, n_imp, -1.0, True
         else:
             th1, om1 = _rk4(
                 sw.theta,
@@ -611,8 +596,10 @@ def _advance_events(sw, iv, body, th_step, om_step, have_step, defer, located):
             arrived = Swing(
                 sw.theta, sw.omega, sw.s, sw.state, sw.tau + hz, sw.t_start, sw.false_side
             )
-            sw, n, hand_over = _impact(arrived, omz, iv, du, dg, body, defer)
+            sw, n = _impact(arrived, omz, iv, du, dg, body)
             n_imp += n
+            if defer and sw.state == _ROCKING:  # the rest of the interval, if any, to the caller
+                return sw, n_imp, -1.0, dt - sw.tau > 0.0
             continue
         if abs(th1) >= body.th_ov:
             sw, t_event = _overturn(sw, th1, h, iv, du, dg, body)
