@@ -18,6 +18,7 @@ import rocking.motions.baseline as baseline_module
 import rocking.motions.ensemble as ensemble_module
 import rocking.motions.synthesis as synthesis
 from rocking.cli import main
+from rocking.core import portable
 from rocking.dynamics.body import G
 from rocking.errors import InputError
 from rocking.motions.baseline import baseline_correct
@@ -55,11 +56,10 @@ def test_result_does_not_depend_on_chunking_or_threads(monkeypatch):
     ref = generate(8)
     corrected = generate(5, iterations=1, pilot=5)  # peak limiting has its own kernel
     monkeypatch.setattr(synthesis, "CHUNK", 3)
-    # tiles of the synthesis and blocks of the baseline correction that split the members and
-    # samples unevenly (8 motions of 8001 samples)
+    # tiles of the synthesis that split the members and samples unevenly (8 motions of 8001
+    # samples)
     monkeypatch.setattr(synthesis, "TILE_SAMPLES", 1000)
     monkeypatch.setattr(synthesis, "TILE_MEMBERS", 3)
-    monkeypatch.setattr(baseline_module, "BLOCK_ROWS", 3)
     np.testing.assert_array_equal(generate(8).acc, ref.acc)
     np.testing.assert_array_equal(generate(5, iterations=1, pilot=5).acc, corrected.acc)
     threads = numba.get_num_threads()
@@ -208,11 +208,17 @@ def test_baseline_matches_the_continuous_normal_equations_to_second_order():
     assert 3.5 < errors[0] / errors[1] < 4.5
 
 
-@pytest.mark.parametrize("shape", [(2,), (7,), (3, 1001), (2, 3, 50)])
+@pytest.mark.parametrize(
+    "shape", [(2,), (7,), (9,), (3, 130), (3, 1001), (2, 3, 50), (2, 8194), (1, 12001)]
+)
 def test_trapezoidal_rules_are_scipys_bit_for_bit(shape):
-    # The baseline correction integrates with its own two-line trapezoidal rules (importing
-    # scipy.integrate is slow): they must be SciPy's, the same operations in the same order,
-    # so exact equality (the correction of a motion then has the bits it had with SciPy).
+    # The baseline correction integrates with its own compiled trapezoidal rules (importing
+    # scipy.integrate is slow, NumPy's temporaries were most of the correction's time): they
+    # must be SciPy's, the same operations in the same order, so exact equality (the correction
+    # of a motion then has the bits it had with SciPy). The lengths cover every branch of
+    # NumPy's pairwise summation that SciPy's sum goes through: fewer than 8 terms, one block of
+    # at most 128, and ranges cut in halves once or many times (8193 terms: halves that are not
+    # multiples of 8; 12,000: the correction's motions of 30 s at 400 Hz).
     from scipy.integrate import trapezoid
 
     y = np.random.default_rng(len(shape)).normal(size=shape) * 37.0
@@ -222,6 +228,30 @@ def test_trapezoidal_rules_are_scipys_bit_for_bit(shape):
             baseline_module._cumulative_trapezoid(y, dx),
             cumulative_trapezoid(y, dx=dx, initial=0.0),
         )
+
+
+@pytest.mark.parametrize("order", [0, 1, 2, 3])
+def test_baseline_correct_is_the_scipy_normal_equations_bit_for_bit(order):
+    # The correction of reference.md §6 formed with SciPy's trapezoidal rules and solved by
+    # portable.lstsq, written out here with NumPy arrays: the compiled correction must give
+    # these bits exactly (it does the same operations in the same order, motion by motion).
+    from scipy.integrate import trapezoid
+
+    rng = np.random.default_rng(order)
+    dt = 0.0025
+    for n_t in (order + 2, 9, 130, 12001):
+        acc = rng.normal(size=(3, n_t)) * np.exp(rng.normal(size=(3, 1)))
+        tau = np.linspace(0.0, 1.0, n_t)
+        tau_k = np.cumprod(np.vstack([np.ones_like(tau), np.tile(tau, (order, 1))]), axis=0)
+        basis_acc = (np.arange(order + 1)[:, None] + 1) * (np.arange(order + 1)[:, None] + 2)
+        basis_acc = basis_acc * tau_k
+        psi = cumulative_trapezoid(basis_acc, dx=dt, initial=0.0)
+        gram = trapezoid(psi[:, None, :] * psi[None, :, :], dx=dt)
+        vel = cumulative_trapezoid(acc, dx=dt, initial=0.0)
+        rhs = np.stack([trapezoid(vel * p, dx=dt) for p in psi], axis=-1)
+        coef = portable.lstsq(gram, rhs.T).T
+        expected = acc - sum(coef[:, j, None] * basis_acc[j] for j in range(order + 1))
+        assert np.array_equal(baseline_correct(acc, dt, order), expected)
 
 
 def test_baseline_correct_input_checks_and_shapes():
