@@ -225,9 +225,11 @@ def _reflect(v, vv, j, x, first):
 
 
 @kernel
-def _lstsq_kernel(a, b):
+def lstsq_kernel(a, b):
     """Householder QR of a (m, n), m ≥ n, applied to b (m, k); both overwritten. Returns x (n, k)
-    of least ‖a·x − b‖, or an empty array if a column is dependent on the earlier ones."""
+    of least ‖a·x − b‖ (units of b over those of a), or an empty array if a column is dependent
+    on the earlier ones.  Compiled: :func:`lstsq` for Python callers, this for kernels (e.g. the
+    baseline correction's solve per motion); each column of b is solved as if alone."""
     m, n = a.shape
     k = b.shape[1]
     v = np.empty(m)
@@ -271,7 +273,7 @@ def lstsq(a: ArrayLike, b: ArrayLike) -> np.ndarray:
         raise ValueError(
             f"lstsq needs a (m, n), m >= n, and b (m[, k]); got {am.shape}, {bm.shape}"
         )
-    x = _lstsq_kernel(am, bm)
+    x = lstsq_kernel(am, bm)
     if x.shape[0] != am.shape[1]:
         raise np.linalg.LinAlgError("lstsq: the columns of a are linearly dependent")
     return x[:, 0] if vector else x

@@ -8,7 +8,6 @@ from numpy.typing import ArrayLike
 from ..core import portable
 from ..core.checks import finite_array, positive
 from ..core.compile import kernel, parallel_kernel, prange
-from ..core.portable import _lstsq_kernel
 from ..errors import InputError
 
 # The trapezoidal rules below give SciPy's bits (scipy.integrate.trapezoid and
@@ -141,7 +140,7 @@ def _correct(rows, dx, basis_acc, basis_vel, gram, out):
             for i in range(n_t):
                 product[i] = vel[i] * basis_vel[k, i]
             rhs[k, 0] = _trapezoid_1d(product, dx, terms)
-        coef = _lstsq_kernel(gram.copy(), rhs)
+        coef = portable.lstsq_kernel(gram.copy(), rhs)
         for i in range(n_t):
             baseline = 0.0
             for j in range(n_k):
