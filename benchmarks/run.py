@@ -386,17 +386,17 @@ def run_command(args: list[str], cwd: Path) -> dict:
     )
     with ThreadPoolExecutor(1) as pool:
         tree = pool.submit(_tree_rss_peak, proc.pid, done)
-        _pid, status, _usage = os.wait4(proc.pid, 0)
+        code = proc.wait()
         wall = time.perf_counter() - t0
         done.set()
         tree_peak = tree.result()
     err = proc.stderr.read().decode(errors="replace")
     proc.stderr.close()
-    code = os.waitstatus_to_exitcode(status)
+    peak = hwm.read_text() if hwm.exists() else ""
+    hwm.unlink(missing_ok=True)
     if code != 0:
         raise RuntimeError(f"rocking {' '.join(args)} failed ({code}): {err[-2000:]}")
-    peak_kb = float(hwm.read_text())
-    hwm.unlink()
+    peak_kb = float(peak)
     return {
         "command": "rocking " + " ".join(args),
         "wall_s": wall,

@@ -82,18 +82,19 @@ def _pairwise_sum(x, n):
     return sums[0]
 
 
-@kernel
-def _trapezoid_terms(y, dx, terms):
-    """terms[i] = dx·(y[i+1] + y[i])/2 [y·s]: the trapezoids of y (1-D) with step dx [s]."""
-    for i in range(y.size - 1):
-        terms[i] = dx * (y[i + 1] + y[i]) / 2.0
+@kernel(inline="always")
+def _trapezoid_term(y, i, dx):
+    """dx·(y[i+1] + y[i])/2 [y·s]: the trapezoid of y over sample interval i (step dx [s]), with
+    SciPy's operations in SciPy's order."""
+    return dx * (y[i + 1] + y[i]) / 2.0
 
 
 @kernel
 def _trapezoid_1d(y, dx, terms):
     """∫ y dt [y·s] of the 1-D y by the trapezoidal rule with step dx [s] (SciPy's
     ``trapezoid``); ``terms``: scratch of y.size − 1."""
-    _trapezoid_terms(y, dx, terms)
+    for i in range(y.size - 1):
+        terms[i] = _trapezoid_term(y, i, dx)
     return 0.0 + _pairwise_sum(terms, y.size - 1)
 
 
@@ -103,7 +104,7 @@ def _cumulative_trapezoid_1d(y, dx, out):
     ``cumulative_trapezoid`` with ``initial=0``)."""
     out[0] = 0.0
     for i in range(y.size - 1):  # out[1] = 0 + term: a zero's sign at most differs from SciPy's
-        out[i + 1] = out[i] + dx * (y[i + 1] + y[i]) / 2.0
+        out[i + 1] = out[i] + _trapezoid_term(y, i, dx)
 
 
 def _trapezoid(y: np.ndarray, dx: float) -> np.ndarray:
