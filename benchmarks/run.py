@@ -25,6 +25,10 @@ run:
 * ``plain_loop``: the same cases by the plain compiled scalar loop of ``plain_loop.py`` (libm
   sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
   in ns per step it integrates, and the ratio to the kernel;
+* ``paired``: the kernel and the plain loop timed in interleaved pairs, on all threads and on
+  one, and the median of the pairs' ratios per step (``ratios``: ``vs_plain_loop_paired``): a
+  slow spell of a shared host falls on both calls of a pair, where the best times of the two
+  separate series (``vs_plain_loop``) may come from different spells;
 * ``ceiling``: the arithmetic floor of a step on this machine (``peak.py``: the clock measured by
   a chain of dependent FMAs, the FMAs a core starts per cycle measured with the run's own vector
   width, the operations of one plain step), and the kernel's time as a multiple of it;
@@ -275,18 +279,19 @@ def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
     return out
 
 
-def bench_plain(w: dict, repeats: int) -> dict:
+def plain_calls(w: dict):
+    """``call(kind, m)``: the plain loop (``"serial"`` or ``"parallel"``) on the first ``m``
+    cases of the workload ``w``; returns (overturned, peak, steps)."""
     blocks = w["blocks"]
     body = w["body"]
     acc = np.ascontiguousarray(w["ensemble"].acc)
-    n = body.size
     per_case = {
         "motion": w["motion"],
         "scale": w["scale"],
         "p2": np.array([blocks[b].p ** 2 for b in body]),
         "alpha": np.array([blocks[b].alpha for b in body]),
-        "e": np.full(n, 0.925),
-        "th_ov": np.full(n, math.pi / 2),
+        "e": np.full(body.size, 0.925),
+        "th_ov": np.full(body.size, math.pi / 2),
     }
 
     def call(kind, m):
@@ -295,12 +300,64 @@ def bench_plain(w: dict, repeats: int) -> dict:
             kind, acc, c["motion"], c["scale"], G, DT, c["p2"], c["alpha"], c["e"], c["th_ov"]
         )
 
+    return call
+
+
+def bench_plain(w: dict, repeats: int) -> dict:
+    call = plain_calls(w)
+    n = w["body"].size
     out = {}
     for kind, reps in (("serial", 1), ("parallel", repeats)):
         call(kind, 50)  # compile / load
         _ov, _pk, steps = call(kind, n)
         t = timed(lambda kind=kind: call(kind, n), reps)
         out[kind] = {**t, "steps": int(steps.sum()), "ns_per_step": t["best_s"] / steps.sum() * 1e9}
+    return out
+
+
+def paired(fast, slow, pairs: int) -> dict:
+    """Wall times [s] of ``pairs`` calls of ``fast`` and of ``slow``, interleaved (each pair in
+    alternating order), and their ratios slow/fast pair by pair: a slow spell of the shared host
+    then falls on both calls of a pair, where the best times of two separate series may come
+    from different spells (the host moves times by 20-35 % from one run to the next)."""
+    times: dict = {fast: [], slow: []}
+    for i in range(pairs):
+        for f in (fast, slow) if i % 2 == 0 else (slow, fast):
+            t0 = time.perf_counter()
+            f()
+            times[f].append(time.perf_counter() - t0)
+    ratios = [s / f for f, s in zip(times[fast], times[slow])]
+    return {
+        "fast_s": times[fast],
+        "slow_s": times[slow],
+        "ratios": ratios,
+        "median_ratio": statistics.median(ratios),
+    }
+
+
+def bench_paired(w: dict, kernel_steps: int, plain: dict, pairs: int) -> dict:
+    """The kernel against the plain loop per integrated step, timed in interleaved pairs
+    (:func:`paired`): on all threads (``pairs`` pairs) and on one thread (the kernel on one
+    Numba thread against the serial loop; fewer pairs, the serial loop takes seconds)."""
+    table = BlockTable.from_blocks(w["blocks"])
+    acc = np.ascontiguousarray(w["ensemble"].acc)
+    args = (table, acc, motion_peaks(acc), DT, w["body"], w["motion"], w["scale"])
+    call = plain_calls(w)
+    n = w["body"].size
+    # ns per step of the plain loop over that of the kernel: the times' ratio scaled by the
+    # steps each integrates
+    per_step = kernel_steps / plain["parallel"]["steps"]
+    out = {"all_threads": paired(lambda: run_cases(*args), lambda: call("parallel", n), pairs)}
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        out["one_thread"] = paired(
+            lambda: run_cases(*args), lambda: call("serial", n), max(1, pairs // 3)
+        )
+    finally:
+        numba.set_num_threads(before)
+    for r in out.values():
+        r["median_ratio_per_step"] = r["median_ratio"] * per_step
     return out
 
 
@@ -574,7 +631,9 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
         (
             "plain loop, all threads [ns/step]",
             f"{p['parallel']['ns_per_step']:.1f}",
-            f"kernel is {res['ratios']['vs_plain_loop']:.1f}× faster (target ≥ "
+            f"kernel is {res['ratios']['vs_plain_loop']:.1f}× faster (best times; median of "
+            f"{len(res['paired']['all_threads']['ratios'])} interleaved pairs "
+            f"{res['ratios']['vs_plain_loop_paired']:.1f}×; target ≥ "
             f"{TARGETS['vs_plain_loop']:g}×)",
         )
     )
@@ -582,7 +641,9 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
         (
             "plain loop, one thread [ns/step]",
             f"{p['serial']['ns_per_step']:.1f}",
-            f"kernel on one thread is {res['ratios']['vs_plain_loop_one_thread']:.1f}× faster",
+            f"kernel on one thread is {res['ratios']['vs_plain_loop_one_thread']:.1f}× faster "
+            f"(median of {len(res['paired']['one_thread']['ratios'])} interleaved pairs "
+            f"{res['ratios']['vs_plain_loop_one_thread_paired']:.1f}×)",
         )
     )
     c = res["ceiling"]
@@ -751,6 +812,8 @@ def run_isa(a) -> dict:
     res["kernel"]["agx_per_body_g"] = w["agx"].tolist()
     print("plain compiled loop ...", flush=True)
     res["plain_loop"] = bench_plain(w, repeats)
+    print("kernel and plain loop in interleaved pairs ...", flush=True)
+    res["paired"] = bench_paired(w, res["kernel"]["steps"], res["plain_loop"], repeats)
     print("SciPy solve_ivp ...", flush=True)
     res["scipy"] = bench_scipy(w, counted, 2 if a.quick else 3)
     k = res["kernel"]
@@ -758,6 +821,8 @@ def run_isa(a) -> dict:
         "vs_plain_loop": res["plain_loop"]["parallel"]["ns_per_step"] / k["ns_per_step"],
         "vs_plain_loop_one_thread": res["plain_loop"]["serial"]["ns_per_step"]
         / k["ns_per_step_one_thread"],
+        "vs_plain_loop_paired": res["paired"]["all_threads"]["median_ratio_per_step"],
+        "vs_plain_loop_one_thread_paired": res["paired"]["one_thread"]["median_ratio_per_step"],
         "vs_scipy": res["scipy"]["s_per_simulation"] / k["s_per_simulation"],
     }
     res["ceiling"] = peak.ceiling(numba.get_num_threads())
