@@ -26,9 +26,10 @@ run:
   sin/cos at every stage, one simulation at a time; serially, and over all cores with prange),
   in ns per step it integrates, and the ratio to the kernel;
 * ``paired``: the kernel and the plain loop timed in interleaved pairs, on all threads and on
-  one, and the median of the pairs' ratios per step (``ratios``: ``vs_plain_loop_paired``): a
-  slow spell of a shared host falls on both calls of a pair, where the best times of the two
-  separate series (``vs_plain_loop``) may come from different spells;
+  one: each pair's ratio of wall times (``ratios``) and per integrated step
+  (``ratios_per_step``), and the median per step (also ``ratios.vs_plain_loop_paired``): a slow
+  spell of a shared host falls on both calls of a pair, where the best times of the two
+  separate series (``ratios.vs_plain_loop``) may come from different spells;
 * ``ceiling``: the arithmetic floor of a step on this machine (``peak.py``: the clock measured by
   a chain of dependent FMAs, the FMAs a core starts per cycle measured with the run's own vector
   width, the operations of one plain step), and the kernel's time as a multiple of it;
@@ -357,6 +358,7 @@ def bench_paired(w: dict, kernel_steps: int, plain: dict, pairs: int) -> dict:
     finally:
         numba.set_num_threads(before)
     for r in out.values():
+        r["ratios_per_step"] = [x * per_step for x in r["ratios"]]
         r["median_ratio_per_step"] = r["median_ratio"] * per_step
     return out
 
