@@ -241,12 +241,16 @@ def count_with_simulate(w: dict) -> dict:
     }
 
 
-def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
-    ens = w["ensemble"]
+def kernel_args(w: dict) -> tuple:
+    """The arguments of :func:`run_cases` for every case of the workload ``w``."""
+    acc = np.ascontiguousarray(w["ensemble"].acc)
     table = BlockTable.from_blocks(w["blocks"])
-    acc = np.ascontiguousarray(ens.acc)
-    amax = motion_peaks(acc)
-    args = (table, acc, amax, DT, w["body"], w["motion"], w["scale"])
+    return (table, acc, motion_peaks(acc), DT, w["body"], w["motion"], w["scale"])
+
+
+def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
+    args = kernel_args(w)
+    table, acc, amax = args[:3]
     run_cases(table, acc, amax, DT, w["body"][:200], w["motion"][:200], w["scale"][:200])
     overturned, peak = run_cases(*args)
     same = bool(
@@ -321,16 +325,18 @@ def paired(fast, slow, pairs: int) -> dict:
     alternating order), and their ratios slow/fast pair by pair: a slow spell of the shared host
     then falls on both calls of a pair, where the best times of two separate series may come
     from different spells (the host moves times by 20-35 % from one run to the next)."""
-    times: dict = {fast: [], slow: []}
+    fast_s: list[float] = []
+    slow_s: list[float] = []
     for i in range(pairs):
-        for f in (fast, slow) if i % 2 == 0 else (slow, fast):
+        calls = [(fast, fast_s), (slow, slow_s)]
+        for f, times in calls if i % 2 == 0 else calls[::-1]:
             t0 = time.perf_counter()
             f()
-            times[f].append(time.perf_counter() - t0)
-    ratios = [s / f for f, s in zip(times[fast], times[slow])]
+            times.append(time.perf_counter() - t0)
+    ratios = [s / f for f, s in zip(fast_s, slow_s)]
     return {
-        "fast_s": times[fast],
-        "slow_s": times[slow],
+        "fast_s": fast_s,
+        "slow_s": slow_s,
         "ratios": ratios,
         "median_ratio": statistics.median(ratios),
     }
@@ -340,9 +346,7 @@ def bench_paired(w: dict, kernel_steps: int, plain: dict, pairs: int) -> dict:
     """The kernel against the plain loop per integrated step, timed in interleaved pairs
     (:func:`paired`): on all threads (``pairs`` pairs) and on one thread (the kernel on one
     Numba thread against the serial loop; fewer pairs, the serial loop takes seconds)."""
-    table = BlockTable.from_blocks(w["blocks"])
-    acc = np.ascontiguousarray(w["ensemble"].acc)
-    args = (table, acc, motion_peaks(acc), DT, w["body"], w["motion"], w["scale"])
+    args = kernel_args(w)
     call = plain_calls(w)
     n = w["body"].size
     # ns per step of the plain loop over that of the kernel: the times' ratio scaled by the
