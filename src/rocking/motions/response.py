@@ -250,7 +250,14 @@ def _block_peaks(ab, diff, W, nsub, h, zeta, out):
     # sub-step; without the division for nsub = 1 (x/1 = x exactly)
     db = diff if nsub == 1 else diff / nsub
     for i in range(ab.shape[0] - 1):
-        for k in range(nsub):
+        # sub-step 0 apart, with k a constant: the branch on k == 0 in this inlined copy of the
+        # SIMD loop is compiled out (for nsub = 1 the only sub-step; 4-6 % less time per call
+        # in interleaved runs).  Written out twice rather than through an inlined helper, which
+        # would count references to the arrays at every sub-step (24-29 % more time).
+        bits = _lane_steps(ab, db, i, 0, h, W)
+        if bits:
+            _lane_extrema(W, bits, h)
+        for k in range(1, nsub):
             bits = _lane_steps(ab, db, i, k, h, W)
             if bits:
                 _lane_extrema(W, bits, h)
