@@ -82,14 +82,27 @@ def test_the_digest_sees_every_bit_of_the_inputs():
         digest(np.array([object()]))  # its bytes would be addresses, not contents
 
 
-def test_a_case_searched_before_in_the_run_is_not_searched_again():
+def test_a_case_searched_before_in_the_run_is_not_searched_again(monkeypatch):
     # agx_50's result for one case depends on that case's motions and the settings only (the
     # comparisons with n/2 are exact counts): a second search of the same motions inside
     # reusing() (as the soundness section repeats Section 8's ground search) simulates nothing
-    # and returns what a search from scratch returns, bit for bit.
+    # and returns what a search from scratch returns, bit for bit.  Searches with other
+    # settings are not recalled (they run, on the outcomes the run's engines share: see the
+    # next test, and may then simulate nothing either).
+    import rocking.montecarlo.probability as probability
     from rocking.dynamics.body import Block
     from rocking.montecarlo.probability import agx_50
     from rocking.motions.synthesis import generate
+
+    recalled = []
+    real_recall = probability.recall
+
+    def recall(key):
+        found = real_recall(key)
+        recalled.append(found is not None)
+        return found
+
+    monkeypatch.setattr(probability, "recall", recall)
 
     ground = generate(12, duration=6.0, dt=1 / 200, seed=21)
     floor = generate(12, duration=6.0, dt=1 / 200, seed=22)
@@ -99,18 +112,78 @@ def test_a_case_searched_before_in_the_run_is_not_searched_again():
     assert fresh.attrs["chunks_computed"] > 0 and np.isfinite(fresh["agx50"].values).all()
     with reusing():
         both = agx_50(blocks, {"ground": ground, "floor": floor}, **kw)
+        recalled.clear()
         again = agx_50(blocks, ground, **kw)
-        assert again.attrs["chunks_computed"] == 0
+        assert again.attrs["chunks_computed"] == 0 and recalled == [True]
         for var in ("agx50", "probability", "probability_below"):
             np.testing.assert_array_equal(again[var].values, fresh[var].values)
             np.testing.assert_array_equal(both[var].sel(case="ground").values, fresh[var].values)
-        # other settings, other motions or the outcomes of every motion: searched
-        assert agx_50(blocks, ground, resolution=0.1, agx_max=3.0).attrs["chunks_computed"] > 0
-        assert agx_50(blocks[:1], ground, **kw).attrs["chunks_computed"] > 0
-        assert agx_50(blocks, ground, members=True, **kw).attrs["chunks_computed"] > 0
+        # other settings, other motions or the outcomes of every motion: searched, not
+        # recalled, with the results of searches from scratch (compared below)
+        recalled.clear()
+        coarse = agx_50(blocks, ground, resolution=0.1, agx_max=3.0)
+        one = agx_50(blocks[:1], ground, **kw)
+        members = agx_50(blocks, ground, members=True, **kw)
+        assert not any(recalled)
         mixed = agx_50(
             blocks, {"floor": floor, "other": generate(12, duration=6.0, dt=1 / 200, seed=23)}, **kw
         )
         np.testing.assert_array_equal(
             mixed["agx50"].sel(case="floor").values, both["agx50"].sel(case="floor").values
         )
+    np.testing.assert_array_equal(one["agx50"].values, fresh["agx50"].values[:1])
+    np.testing.assert_array_equal(
+        coarse["agx50"].values, agx_50(blocks, ground, resolution=0.1, agx_max=3.0)["agx50"].values
+    )
+    scratch = agx_50(blocks, ground, members=True, **kw)
+    for var in ("agx50", "overturned"):
+        np.testing.assert_array_equal(members[var].values, scratch[var].values)
+
+
+def test_the_engines_of_a_run_share_their_outcomes(monkeypatch):
+    # Inside reusing(), every Monte Carlo engine takes the outcomes that the run's engines
+    # simulated before, keyed by the motions' contents and scaling, the impact scheme and the
+    # body's constants, and simulates only the others (counted here at the batched kernel's
+    # entry).  Everything that decides an outcome is in the key, so the results are those of
+    # calls that simulate everything (outside reusing(), compared bit for bit below); a
+    # setting that changes the outcomes (restitution, impact scheme, another body, other
+    # motions) is simulated again.
+    import rocking.montecarlo.engine as engine_module
+    from rocking.dynamics.body import Block
+    from rocking.montecarlo.probability import member_outcomes, overturning_probability
+    from rocking.motions.synthesis import generate
+
+    simulated = []
+    real_run_cases = engine_module.run_cases
+
+    def counting(table, acc, amax, dt, body, motion, scale, **kw):
+        simulated.append(body.size)
+        return real_run_cases(table, acc, amax, dt, body, motion, scale, **kw)
+
+    monkeypatch.setattr(engine_module, "run_cases", counting)
+    ground = generate(10, duration=5.0, dt=1 / 200, seed=31)
+    other_motions = generate(10, duration=5.0, dt=1 / 200, seed=32)
+    blocks = [Block(0.5, 3.0), Block(1.0, 4.0)]
+    levels = [0.2, 0.35]
+    calls = [
+        lambda: overturning_probability(blocks, ground, levels, members=True),
+        # the same outcomes asked by another kind of engine, bodies in another order
+        lambda: member_outcomes(blocks[::-1], ground, [0.35, 0.2]),
+        # partly known: only each body's level 0.5 is new (2 bodies x 10 motions)
+        lambda: member_outcomes(blocks, ground, [[0.2, 0.5], [0.35, 0.5]]),
+        lambda: overturning_probability(blocks, ground, levels, members=True, e=0.9),
+        lambda: overturning_probability(blocks, ground, levels, members=True, impacts="step-end"),
+        lambda: overturning_probability([Block(0.5, 3.5)], ground, levels, members=True),
+        lambda: overturning_probability(blocks, other_motions, levels, members=True),
+    ]
+    shared, counts = [], []
+    with reusing():
+        for call in calls:
+            simulated.clear()
+            shared.append(call())
+            counts.append(sum(simulated))
+    assert counts == [40, 0, 20, 40, 40, 20, 40]
+    for call, result in zip(calls, shared):
+        alone = call()
+        for var in ("overturned", "peak"):
+            np.testing.assert_array_equal(result[var].values, alone[var].values)

@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
 from ..core.files import atomic_write
+from ..core.reuse import digest
 from ..defaults import G
 from ..errors import InputError
 from .records import (
@@ -136,6 +137,13 @@ class Ensemble:
     def duration(self) -> float:
         """Time of the last sample [s]."""
         return (self.n_t - 1) * self.dt
+
+    @cached_property
+    def sha256(self) -> str:
+        """SHA-256 of the motions' contents: ``acc``, ``av`` and ``dt``
+        (:func:`rocking.core.reuse.digest`).  Computed once (the arrays cannot change): the Monte
+        Carlo engines of one run share the outcomes of the motions by it."""
+        return digest((self.acc, self.av, self.dt))
 
     @cached_property
     def pga(self) -> np.ndarray:
