@@ -448,7 +448,7 @@ def agx_50(
     t = engine.table
     settings = (t.p2, t.sin_a, t.cos_a, t.tan_a, t.e, t.theta_ov, t.alpha, t.g, K, resolution)
     reuse = [
-        None if members else key_of("agx_50", (ens.acc, ens.av, ens.dt, *settings, coarse, impacts))
+        None if members else key_of("agx_50", (ens.sha256, *settings, coarse, impacts))
         for ens in cases
     ]
     known = {c: found for c, rk in enumerate(reuse) if (found := recall(rk)) is not None}
