@@ -395,6 +395,23 @@ def test_simd_lanes_compute_what_a_lone_oscillator_does(zeta, steps_per_period):
     np.testing.assert_array_equal(shuffled.psa, batch.psa[perm][:, ::-1])
 
 
+def test_lanes_of_long_periods_evaluate_every_extremum_to_the_same_peaks():
+    # Where every lane's period spans _SPARSE_STEPS sub-steps or more, the SIMD loop tests only
+    # the sign of v and evaluates the Hermite extremum at every change of sign (as the lone
+    # oscillator below does) instead of only where the bound says it may raise the peak: the
+    # same peaks, to the bit.  Here 500 sub-steps per period or more (steps_per_period=500):
+    # dozens of changes of sign in 3 s at 5 Hz, a few at 0.45 Hz.
+    rng = np.random.default_rng(5)
+    dt = 0.01
+    acc = rng.standard_normal((20, 300))
+    freqs = np.array([0.2, 0.45, 1.0, 5.0])
+    batch = response_spectrum(acc, dt, freqs, 0.05, steps_per_period=500)
+    one = response_spectrum(acc[7], dt, freqs, 0.05, steps_per_period=500)
+    np.testing.assert_array_equal(one.sd, batch.sd[7])
+    for j in range(freqs.size):
+        assert batch.sd[7, j] == _lone_oscillator_peak(acc[7], dt, freqs[j], 0.05, 500)
+
+
 @pytest.mark.parametrize(
     "args,kw,match",
     [
