@@ -187,3 +187,22 @@ def test_the_engines_of_a_run_share_their_outcomes(monkeypatch):
         alone = call()
         for var in ("overturned", "peak"):
             np.testing.assert_array_equal(result[var].values, alone[var].values)
+
+
+def test_the_shared_outcomes_stop_growing_at_their_budget(monkeypatch):
+    # Past rocking.montecarlo.engine._BOOK_BYTES no outcome is added (a run's memory stays
+    # bounded whatever its size): with a budget below one (body, level) entry, nothing is
+    # shared, and every engine simulates everything, with the same results.
+    import rocking.montecarlo.engine as engine_module
+    from rocking.dynamics.body import Block
+    from rocking.montecarlo.probability import member_outcomes, overturning_probability
+    from rocking.motions.synthesis import generate
+
+    ground = generate(6, duration=4.0, dt=1 / 200, seed=41)
+    blocks = [Block(0.5, 3.0)]
+    monkeypatch.setattr(engine_module, "_BOOK_BYTES", engine_module._ENTRY_BYTES)
+    with reusing():
+        first = overturning_probability(blocks, ground, [0.3], members=True)
+        again = member_outcomes(blocks, ground, [0.3])
+    assert first.attrs["chunks_computed"] > 0 and again.attrs["chunks_computed"] > 0
+    np.testing.assert_array_equal(again["peak"].values[:, 0], first["peak"].values[:, 0])

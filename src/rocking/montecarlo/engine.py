@@ -49,8 +49,15 @@ DECIDE_STEP = 0.125
 #: Bytes kept per (body, A_gx) pair beyond its 9 bytes per motion (dictionary entry, key, arrays).
 _PAIR_OVERHEAD = 400
 #: What the engines of one run share (:func:`rocking.core.reuse.shared`): the outcomes they
-#: simulated, by :meth:`Engine._book_key` and level key.
+#: simulated ("levels": by :meth:`Engine._book_key` and level key) and their size ("bytes").
 _BOOK = "engine outcomes"
+#: Largest size of the shared outcomes [bytes], ~20 M simulations: past it no more are added
+#: (a fixed figure, not the machine's memory, so that a run simulates the same on every
+#: machine).  The paper run keeps 2.8 M outcomes, 43 MB.
+_BOOK_BYTES = 256 * 2**20
+#: Bytes of a shared outcome (motion index, flag, peak) and of a (body, level) entry besides.
+_OUTCOME_BYTES = 13
+_ENTRY_BYTES = 500
 
 
 def level_key(agx: float) -> int:
@@ -196,6 +203,9 @@ class Engine:
         # engine (the soundness checks ask again for outcomes that Section 8's and their own
         # searches simulated: 2.7 % of the paper run's steps)
         self._book = shared(_BOOK)
+        if self._book is not None:
+            self._book.setdefault("levels", {})
+            self._book.setdefault("bytes", 0)
         self._book_keys: dict[tuple[int, int], tuple] = {}
         self.store = None if out is None else ChunkStore(out, self._params())
         self.reporter = resolve_progress(progress)
@@ -288,7 +298,9 @@ class Engine:
     def _look_up(self, c: int, b: int, k: int, missing: np.ndarray) -> np.ndarray:
         """Record the outcomes of the motions ``missing`` of (case c, body b, level key k) that
         the run's book holds; return the others."""
-        entry = self._book.get(self._book_key(c, b), {}).get(k) if self._book is not None else None
+        if self._book is None:
+            return missing
+        entry = self._book["levels"].get(self._book_key(c, b), {}).get(k)
         if entry is None:
             return missing
         motions, overturned, peak = entry
@@ -299,18 +311,23 @@ class Engine:
         return missing[~found]
 
     def _enter(self, c: int, b: int, k: int, motion, overturned, peak) -> None:
-        """Add outcomes of (case c, body b, level key k) to the run's book (if any): kept by
-        motion, in order, once each."""
+        """Add outcomes of (case c, body b, level key k) to the run's book (if any, and while it
+        is below :data:`_BOOK_BYTES`): kept by motion, in order, once each."""
         if self._book is None:
             return
-        levels = self._book.setdefault(self._book_key(c, b), {})
+        size = self._book["bytes"]
+        if size + _ENTRY_BYTES + _OUTCOME_BYTES * len(motion) > _BOOK_BYTES:
+            return
+        levels = self._book["levels"].setdefault(self._book_key(c, b), {})
         if k in levels:
             old = levels[k]
+            size -= _ENTRY_BYTES + _OUTCOME_BYTES * old[0].size
             motion, overturned, peak = (
                 np.concatenate(x) for x in zip(old, (motion, overturned, peak))
             )
         motion, first = np.unique(motion, return_index=True)
         levels[k] = (motion.astype(np.int32), overturned[first], peak[first])
+        self._book["bytes"] = size + _ENTRY_BYTES + _OUTCOME_BYTES * motion.size
 
     def _data(self):
         if self._handle is None:
