@@ -240,8 +240,8 @@ def _lane_input_in_kernels(ab, db, i, j):
 @borrowing_kernel
 def _lane_extrema(W, bits, h):
     """The peaks of the lanes in ``bits`` (v changed sign in their last sub-step, of length h
-    [s], and the bound there is not below their peak: :func:`_lane_steps`) raised to the
-    extremum inside that sub-step (:func:`_hermite_extremum`)."""
+    [s], and, in the bounded loop, the bound there is not below their peak: :func:`_lane_steps`)
+    raised to the extremum inside that sub-step (:func:`_hermite_extremum`)."""
     L = _LANES
     while bits:
         j = highest_bit(bits)
