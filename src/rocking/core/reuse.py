@@ -107,6 +107,16 @@ def digest(value: Any) -> str:
     return h.hexdigest()
 
 
+def array_digest(a: np.ndarray) -> str:
+    """SHA-256 of an array's dtype, shape and bytes: how a chunk store's ``params`` name large
+    inputs (:class:`rocking.montecarlo.store.ChunkStore`; its format is part of the folders' and
+    may not change) and what :attr:`rocking.Ensemble.sha256` is built from."""
+    a = np.ascontiguousarray(a)
+    h = hashlib.sha256(f"{a.dtype.str}{a.shape}".encode())
+    h.update(a.data)
+    return h.hexdigest()
+
+
 def _feed(h, value: Any) -> None:
     if isinstance(value, np.ndarray) and not value.dtype.hasobject:
         a = np.ascontiguousarray(value)

@@ -28,14 +28,14 @@ import numpy as np
 from ..core import portable
 from ..core.checks import require_memory
 from ..core.progress import resolve as resolve_progress
-from ..core.reuse import digest, shared
+from ..core.reuse import array_digest, digest, shared
 from ..defaults import IMPACT_SCHEMES
 from ..dynamics.batch import BlockTable, block_list, motion_peaks, motion_suffixes, run_cases
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from .backends import Backend, LocalBackend
 from .search import motions_to_decide
-from .store import ChunkStore, array_digest
+from .store import ChunkStore
 
 #: Default simulations (pairs × motions) per chunk.
 CHUNK_SIMULATIONS = 4096
@@ -240,8 +240,8 @@ class Engine:
                 {
                     "dt": ens.dt,
                     "shape": list(ens.acc.shape),
-                    "sha256": array_digest(ens.acc),
-                    "vertical_sha256": None if ens.av is None else array_digest(ens.av),
+                    "sha256": ens.digests[0],
+                    "vertical_sha256": ens.digests[1],
                 }
                 for ens in self.cases
             ],

@@ -55,14 +55,6 @@ def fingerprint(params: dict) -> str:
     return hashlib.sha256(json.dumps(params, sort_keys=True).encode()).hexdigest()
 
 
-def array_digest(a: np.ndarray) -> str:
-    """SHA-256 of an array's dtype, shape and bytes (to name large inputs in ``params``)."""
-    a = np.ascontiguousarray(a)
-    h = hashlib.sha256(f"{a.dtype.str}{a.shape}".encode())
-    h.update(a.data)
-    return h.hexdigest()
-
-
 @cache
 def code_version() -> dict:
     """The package version and the SHA-256 of the source of the integration kernels."""

@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
 from ..core.files import atomic_write
-from ..core.reuse import digest
+from ..core.reuse import array_digest, digest
 from ..defaults import G
 from ..errors import InputError
 from .records import (
@@ -139,11 +139,19 @@ class Ensemble:
         return (self.n_t - 1) * self.dt
 
     @cached_property
+    def digests(self) -> tuple[str, str | None]:
+        """SHA-256 of ``acc`` and of ``av`` (None without vertical motions), as
+        :func:`rocking.core.reuse.array_digest` gives them.  Computed once (the arrays cannot
+        change): the Monte Carlo engines name the motions by them in their chunk stores and in
+        :attr:`sha256`."""
+        return array_digest(self.acc), None if self.av is None else array_digest(self.av)
+
+    @cached_property
     def sha256(self) -> str:
-        """SHA-256 of the motions' contents: ``acc``, ``av`` and ``dt``
-        (:func:`rocking.core.reuse.digest`).  Computed once (the arrays cannot change): the Monte
-        Carlo engines of one run share the outcomes of the motions by it."""
-        return digest((self.acc, self.av, self.dt))
+        """SHA-256 of the motions' contents, ``acc``, ``av`` and ``dt`` (:func:`digest` of
+        :attr:`digests` and ``dt``): the Monte Carlo engines of one run share the outcomes of the
+        motions by it."""
+        return digest((*self.digests, self.dt))
 
     @cached_property
     def pga(self) -> np.ndarray:
