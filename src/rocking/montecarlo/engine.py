@@ -283,14 +283,13 @@ class Engine:
     def _book_key(self, c: int, b: int) -> tuple:
         """What determines the outcome of a motion of case ``c`` with body ``b`` at a level (with
         the motion's index and the level key): the motions' contents, their scaling to levels,
-        the impact scheme and the body's constants, by their bits."""
+        the impact scheme and the body's constants as the kernel takes them (every field of
+        :meth:`BlockTable.arrays`, by their bits)."""
         key = self._book_keys.get((c, b))
         if key is None:
-            t = self.table
-            body = np.array(
-                [t.p2[b], t.sin_a[b], t.cos_a[b], t.tan_a[b], t.e[b], t.theta_ov[b], t.alpha[b]]
-            )
-            scaling = digest((self.basis[c], self.exponent, t.g, self.impacts))
+            *per_block, g = self.table.arrays()
+            body = np.array([field[b] for field in per_block])
+            scaling = digest((self.basis[c], self.exponent, g, self.impacts))
             key = (self.cases[c].sha256, scaling, body.tobytes())
             self._book_keys[(c, b)] = key
         return key

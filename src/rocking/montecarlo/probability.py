@@ -445,8 +445,7 @@ def agx_50(
     # at most which motions decide first): inside rocking.core.reuse.reusing (e.g. in
     # reproduce, where the soundness section searches Section 8's ground motions again), a case
     # searched before is not searched again
-    t = engine.table
-    settings = (t.p2, t.sin_a, t.cos_a, t.tan_a, t.e, t.theta_ov, t.alpha, t.g, K, resolution)
+    settings = (*engine.table.arrays(), K, resolution)  # the kernel's constants, the grid
     reuse = [
         None if members else key_of("agx_50", (ens.sha256, *settings, coarse, impacts))
         for ens in cases
