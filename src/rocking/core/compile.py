@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numba
+import numpy as np
 from llvmlite import ir
 from numba.core import types
 from numba.extending import intrinsic, overload
@@ -190,3 +191,25 @@ def fetch_add(typingctx: Any, counter: Any, amount: Any) -> tuple[Any, Any] | No
         return builder.atomic_rmw("add", array.data, args[1], "seq_cst")
 
     return sig, codegen
+
+
+#: Bytes to which :func:`aligned_zeros` aligns its arrays: a cache line, and one 512-bit vector.
+LINE_BYTES = 64
+
+
+@kernel(inline="always")
+def aligned_zeros(n):
+    """In kernels: ``np.zeros(n)`` (float64; n elements) whose first element starts a 64-byte
+    cache line.
+
+    Numba aligns its arrays to 32 bytes only, so a lane table's rows (multiples of 64 bytes)
+    started mid-line in about half the allocations, and then every 512-bit load and store of a
+    SIMD loop touched two cache lines: the batched kernel's table 32 bytes off a line took
+    1.23-1.35x the time per step with 512-bit code (Emerald Rapids, interleaved runs), so the
+    same code ran faster or slower from one process to the next.  (AVX2's 32-byte vectors never
+    straddle a line at 32-byte alignment.)  A view into an array 8 elements longer, from its
+    first line boundary.
+    """
+    buf = np.zeros(n + LINE_BYTES // 8)
+    skip = (LINE_BYTES - buf.ctypes.data % LINE_BYTES) % LINE_BYTES // 8
+    return buf[skip : skip + n]

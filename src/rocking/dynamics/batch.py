@@ -60,6 +60,7 @@ from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
 from ..core.compile import (
+    aligned_zeros,
     borrowing_kernel,
     fetch_add,
     highest_bit,
@@ -732,10 +733,10 @@ def _move_lane(lanes, src, dst):
 
 @kernel
 def _new_lanes(vert):
-    """An empty lane machine."""
+    """An empty lane machine (its table's rows start cache lines: :func:`aligned_zeros`)."""
     L = _LANES
     return Lanes(
-        np.zeros(_ROWS * L),
+        aligned_zeros(_ROWS * L),
         np.zeros(L, np.int64),
         np.full(L, -1, np.int64),
         np.zeros(L, np.int64),

@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 from ..core import portable
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import (
+    aligned_zeros,
     borrowing_kernel,
     highest_bit,
     kernel,
@@ -308,7 +309,7 @@ def _all_block_peaks(at, diff, groups, coef, nsub, h, omega, zeta):
     for p in prange(out.shape[0]):  # every pair is independent
         a = p // n_g
         freqs = groups[p % n_g]
-        W = np.empty(_ROWS * L)
+        W = aligned_zeros(_ROWS * L)  # rows start cache lines (see there)
         for j in range(L):
             W[_OMEGA * L + j] = omega[freqs[j]]
             for r in range(8):
