@@ -8,7 +8,7 @@ overturned and its largest abs(θ)/α.
 How it is fast (issues 6 and 18).  A *lane machine* integrates ``_LANES`` cases side by side, one
 sample interval per round.  Each round first computes the RK4 step of every lane in loops that
 the compiler turns into SIMD code (:func:`rocking.dynamics.equation._plain_step`: branch-free,
-polynomial trigonometry; cut into four loops, so that the processor overlaps the lanes'
+polynomial trigonometry; cut into five loops, so that the processor overlaps the lanes'
 dependency chains); the lanes whose interval holds nothing else (no impact, no possible
 touch of θ = 0, no overturning; about 98.5 % of rocking intervals) keep that step, and the loop
 returns the others as bit masks.  Every quantity the loop changes is stored for every lane (the
@@ -75,8 +75,9 @@ from .body import Block, G, resolve_e, resolve_overturn_angle
 from .equation import (
     _gv_sample,
     _gv_slope,
-    _plain_step_end,
     _plain_terms,
+    _plain_tests,
+    _rk4_end,
     _rk4_middle,
     _rk4_stages,
     _sincos,
@@ -224,7 +225,11 @@ _HL = 39
 _LO = 40
 _HI = 41
 _NI = 42
-_ROWS = 43
+# The step's end from the fourth SIMD loop to the fifth: θ_1 [rad], θ'_1 [rad/s], max abs(δ) [rad].
+_TH1 = 43
+_OM1 = 44
+_DMX = 45
+_ROWS = 46
 
 
 @borrowing_kernel
@@ -233,13 +238,14 @@ def _lane_steps(lanes, n, motions, g, vert):
     (:func:`rocking.dynamics.equation._plain_step`), kept where it is all that happens in the
     interval; every lane's ``nxt`` advances by one.
 
-    The step is computed in four loops over the lanes, through rows of W: (1) the ground
+    The step is computed in five loops over the lanes, through rows of W: (1) the ground
     motion's change and sin θ, cos θ; (2) the stages' brackets and the bound of
     :func:`~rocking.dynamics.equation._no_touch` (:func:`~rocking.dynamics.equation._plain_terms`);
-    (3) stages 2 and 3; (4) stage 4, the step and its tests.  The same operations on the same
-    values as one loop, but the dependency chain of a lane's step, about 110 cycles, is cut into
-    four short ones, which the processor overlaps across lanes: one loop of the whole step is
-    longer than its reorder window (Zen 3: 20 % less time per step than one loop).
+    (3) stages 2 and 3; (4) stage 4 and the step; (5) its tests and the lanes' masks.  The same
+    operations on the same values as one loop, but the dependency chain of a lane's step, about
+    110 cycles, is cut into five short ones, which the processor overlaps across lanes: one loop
+    of the whole step is longer than its reorder window (Zen 3: 20 % less time per step with four
+    loops than with one, 4–6 % less with five than with four; loops 1 and 2 in one: 4 % more).
 
     Returns the lanes that need attention (the step is not plain, or the motion has ended) as bit
     masks: lanes 0 … 63, lanes 64 … 127.
@@ -306,31 +312,43 @@ def _lane_steps(lanes, n, motions, g, vert):
         W[_K2 * L + j] = k2w
         W[_K3 * L + j] = k3w
         W[_D23 * L + j] = d23
-    low = np.uint64(0)
-    high = np.uint64(0)
     for j in range(n):
-        theta = W[_TH * L + j]
-        omega = W[_OM * L + j]
-        th1, om1, valid, plain = _plain_step_end(
-            theta,
-            omega,
-            W[_SG * L + j],
+        th1, om1, dmax = _rk4_end(
+            W[_TH * L + j],
+            W[_OM * L + j],
             W[_K1 * L + j],
             W[_K2 * L + j],
             W[_K3 * L + j],
             W[_D23 * L + j],
             W[_PB * L + j],
             W[_QB * L + j],
-            W[_AM * L + j],
             W[_H * L + j],
             W[_P2 * L + j],
+        )
+        W[_TH1 * L + j] = th1
+        W[_OM1 * L + j] = om1
+        W[_DMX * L + j] = dmax
+    low = np.uint64(0)
+    high = np.uint64(0)
+    for j in range(n):
+        theta = W[_TH * L + j]
+        omega = W[_OM * L + j]
+        th1 = W[_TH1 * L + j]
+        valid, plain = _plain_tests(
+            theta,
+            omega,
+            W[_SG * L + j],
+            th1,
+            W[_DMX * L + j],
+            W[_AM * L + j],
+            W[_H * L + j],
             W[_OV * L + j],
         )
         plain = plain & (W[_RK * L + j] != 0.0)
         W[_THS * L + j] = theta
         W[_OMS * L + j] = omega
         W[_TH * L + j] = th1
-        W[_OM * L + j] = om1
+        W[_OM * L + j] = W[_OM1 * L + j]
         W[_PK * L + j] = maxnum(W[_PK * L + j], abs(th1) if plain else 0.0)
         W[_VAL * L + j] = 1.0 if valid else 0.0
         W[_PL * L + j] = 1.0 if plain else 0.0

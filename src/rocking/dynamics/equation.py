@@ -399,10 +399,21 @@ def _plain_terms(st, ct, s, u0, du, g0, dg, tau, h, p2, sa, ca):
 
 @kernel(inline="always")
 def _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th_ov):
-    """The end of :func:`_plain_step`: stage 4, the step and its tests, given what comes before
-    them (:func:`_plain_terms`, and stages 2 and 3 from :func:`_rk4_middle`).  The batched kernel
-    computes each of these parts in a SIMD loop of its own."""
+    """The end of :func:`_plain_step`: stage 4 and the step (:func:`_rk4_end`), and its tests
+    (:func:`_plain_tests`), given what comes before them (:func:`_plain_terms`, and stages 2 and
+    3 from :func:`_rk4_middle`).  The batched kernel computes each of these parts in a SIMD loop
+    of its own."""
     th1, om1, dmax = _rk4_end(theta, omega, k1w, k2w, k3w, d23, Pb, Qb, h, p2)
+    valid, plain = _plain_tests(theta, omega, s, th1, dmax, amax, h, th_ov)
+    return th1, om1, valid, plain
+
+
+@kernel(inline="always")
+def _plain_tests(theta, omega, s, th1, dmax, amax, h, th_ov):
+    """Whether the step from (θ, θ') on side s to θ_1 with max abs(δ) ``dmax`` (:func:`_rk4_end`)
+    is :func:`_rk4`'s step (fast trigonometry valid) and whether it is plain: valid, θ_1 on the
+    same side, no touch of θ = 0 within it (:func:`_no_touch` with its bound a⁺ = ``amax``), and
+    abs(θ_1) below the overturning angle ``th_ov``."""
     valid = _fast_valid(theta, dmax)
     plain = (
         valid
@@ -410,4 +421,4 @@ def _plain_step_end(theta, omega, s, k1w, k2w, k3w, d23, Pb, Qb, amax, h, p2, th
         & _clear_of_zero(theta, omega, s, h, amax)
         & (abs(th1) < th_ov)
     )
-    return th1, om1, valid, plain
+    return valid, plain
