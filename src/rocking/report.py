@@ -315,8 +315,12 @@ def drawing_pool(workers: int | None = None) -> Iterator[Executor | None]:
 
 def _drawing_worker() -> None:
     """Start of a worker of :func:`drawing_pool`: it leaves Ctrl-C to the process that owns the
-    pool (which stops it), and imports what drawing a figure needs."""
+    pool (which stops it), makes rocking's process settings and imports what drawing a figure
+    needs."""
+    from .core.process import configure_process
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    configure_process()
     import matplotlib.backends.backend_agg
     import matplotlib.figure  # noqa: F401
     import PIL.PngImagePlugin  # noqa: F401

@@ -135,6 +135,9 @@ def _os_error(exc: OSError) -> str:
 @click.version_option(package_name="rocking")
 def main() -> None:
     """Rocking and overturning of free-standing rigid blocks under earthquakes."""
+    from ..core.process import configure_process
+
+    configure_process()  # before any parallel kernel runs
     # SIGTERM (a batch system's stop) unwinds like Ctrl-C, so that long runs record their
     # status as failed in run.json; finished chunks are already on disk.
     signal.signal(signal.SIGTERM, _terminate)
