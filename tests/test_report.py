@@ -97,6 +97,45 @@ def test_figures_drawn_by_worker_processes_are_the_same_files(tmp_path):
         assert pool is None  # one processor: drawn in this process
 
 
+def test_a_part_filled_earlier_reads_as_if_written_in_place(tmp_path):
+    # rocking.studies.reproduce fills each section's part as the section ends (its figures drawn
+    # meanwhile) and appends the parts after the introduction and conclusions: the pages and
+    # files must be those of one report written in that order.
+    def content(rep, k):
+        rep.heading(f"Section {k}")
+        rep.figure(_figure(), f"fig-{k}", f"Figure {k}.")
+        rep.table(pd.DataFrame({"x": [float(k)]}), f"Table {k}.", name=f"tab-{k}")
+
+    def intro(rep):
+        rep.text("Conclusions first.")
+        rep.table(pd.DataFrame({"verdict": ["yes"]}), "Verdicts.", name="conclusions")
+
+    whole = Report("Study", tmp_path / "whole")
+    intro(whole)
+    for k in (4, 5):
+        content(whole, k)
+    whole.write()
+    with drawing_pool(2) as pool:
+        parts = []
+        for k in (4, 5):
+            parts.append(Report(f"part {k}", tmp_path / "parts", pool))
+            content(parts[-1], k)
+        rep = Report("Study", tmp_path / "parts", pool)
+        intro(rep)
+        for part in parts:
+            rep.extend(part)
+        rep.write()
+    assert sorted(rep.files) == sorted(whole.files)
+    for name in whole.files:
+        assert (tmp_path / "parts" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes()
+    with pytest.raises(InputError, match="'tab-4' is used twice"):
+        again = Report("again", tmp_path / "parts")
+        again.table(pd.DataFrame({"x": [1.0]}), "Again.", name="tab-4")
+        rep.extend(again)
+    with pytest.raises(ValueError, match="same folder"):
+        rep.extend(Report("elsewhere", tmp_path / "other"))
+
+
 def test_figures_are_drawn_here_where_worker_processes_fail(tmp_path, monkeypatch):
     # No processes or semaphores (some sandboxes: OSError when the pool is made): no pool. A
     # worker that died (BrokenProcessPool, before or after the figure was submitted): the

@@ -225,6 +225,19 @@ class Report:
         )
         return path
 
+    def extend(self, other: Report) -> None:
+        """Append the content of ``other``, a report into the same folder filled earlier (its
+        figures drawn by the ``drawer`` meanwhile, its tables written), in order; its figure and
+        table names become this report's, which must not use them already."""
+        if other is self or Path(other.out_dir) != self.out_dir:
+            raise ValueError("extend() takes another report into the same folder")
+        for name in sorted(other._names):
+            self._claim(name)
+        self._blocks += other._blocks
+        self.files += other.files
+        self._n_tables += other._n_tables
+        other._blocks, other.files = [], []
+
     def _claim(self, name: str) -> str:
         name = str(name)
         if not _NAME.match(name):

@@ -88,7 +88,7 @@ def reproduce(
     from ..core.reuse import reusing
     from ..core.runs import RunFolder
     from ..montecarlo.backends import get_backend
-    from ..report import drawing_pool, remove_report
+    from ..report import Report, drawing_pool, remove_report
     from .config import PRESETS, RunContext, load_config, validate
 
     echo = echo or (lambda _msg: None)
@@ -125,7 +125,7 @@ def reproduce(
         run.update(**run_info)
         ctx = RunContext(cfg, fidelity, modified, backend, reporter, out / "chunks")
         start = time.perf_counter()
-        results, wall = {}, {}
+        results, parts, wall = {}, {}, {}
         # the same spectra recur across sections (e.g. the mean PSV of Section 8's ground
         # motions in the soundness checks): computed once (rocking.core.reuse)
         with backend, reusing():
@@ -134,12 +134,19 @@ def reproduce(
                 reporter.write(f"section {s}: {STUDY_SECTIONS[s]}")
                 with reporter.stage(f"section {s}", unit="sim"):
                     results[s] = study(s).run(ctx)
+                # its part of the report at once: the drawer draws its figures while the next
+                # sections run (on two cores the processor has room for them beside the
+                # sections, not after them)
+                parts[s] = Report(STUDY_SECTIONS[s], out, drawer)
+                study(s).report(results[s], parts[s], ctx)
+                for name in parts[s].files:
+                    run.file(name)
                 wall[s] = round(time.perf_counter() - t0, 2)
                 run.update(wall_time_s=wall)
                 echo(f"section {s}: {wall[s]:.1f} s")
         t0 = time.perf_counter()
         with reporter.stage("report", unit="sections"):
-            for name in _write_report(out, ctx, results, drawer):
+            for name in _write_report(out, ctx, results, parts, drawer):
                 run.file(name)
         wall["report"] = round(time.perf_counter() - t0, 2)
         wall["total"] = round(time.perf_counter() - start, 2)
@@ -149,11 +156,16 @@ def reproduce(
 
 
 def _write_report(
-    out: Path, ctx: RunContext, results: dict, drawer: Executor | None = None
+    out: Path,
+    ctx: RunContext,
+    results: dict,
+    parts: dict[str, Report],
+    drawer: Executor | None = None,
 ) -> list[str]:
-    """Report of the studies in ``results`` (by section), conclusions first, its figures drawn
-    by ``drawer`` (:class:`rocking.report.Report`); returns the files it wrote (relative to
-    ``out``)."""
+    """Report of the studies in ``results`` (by section): the introduction and the conclusions,
+    then each section's ``parts`` (filled as the section ended), figures drawn by ``drawer``
+    (:class:`rocking.report.Report`); returns the files written (relative to ``out``), the
+    parts' included."""
     from ..report import Report
     from . import conclusions
 
@@ -167,7 +179,7 @@ def _write_report(
     _introduction(rep, ctx, sections, ctx.fidelity, ctx.modified)
     _conclusions(rep, conclusions.evaluate(results), conclusions.robustness(results), ctx.label())
     for s in sections:
-        study(s).report(results[s], rep, ctx)
+        rep.extend(parts[s])
     rep.heading("Known disagreements with the paper and likely reasons")
     rep.text("\n".join(f"- {item}" for item in conclusions.known_disagreements(results)))
     rep.write()
