@@ -3,8 +3,9 @@
 They act on the whole process, so importing the library never makes them: a program that imports
 ``rocking`` keeps its own.  The command-line interface (:mod:`rocking.cli`, also when its ``main``
 is called as a function) and the workers that draw a report's figures
-(:func:`rocking.report.drawing_pool`) call :func:`configure_process` before any other work.  Neither setting changes a result, only how the processor's time is spent
-(measured on a 2-vCPU AMD EPYC Zen 3, 2026-11-27; ``docs/performance.md``):
+(:func:`rocking.report.drawing_pool`) call :func:`configure_process` before any other work.
+None of the settings changes a result, only how the processor's time is spent (measured on a
+2-vCPU AMD EPYC Zen 3, 2026-11-27; ``docs/performance.md``):
 
 * ``OMP_WAIT_POLICY=PASSIVE``, unless the environment sets it: Numba's parallel kernels run on
   OpenMP threads (GNU libgomp), which by default spin for about 300,000 rounds (~6 ms) after every
