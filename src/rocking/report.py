@@ -333,7 +333,7 @@ def _drawing_worker() -> None:
     from .core.process import configure_process
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    configure_process()
+    configure_process(thresholds=False)  # each figure drawn is cyclic garbage: collect it soon
     import matplotlib.backends.backend_agg
     import matplotlib.figure  # noqa: F401
     import PIL.PngImagePlugin  # noqa: F401

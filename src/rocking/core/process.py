@@ -19,8 +19,10 @@ None of the settings changes a result, only how the processor's time is spent (m
   (700, 10, 10)): Matplotlib, xarray and Numba create hundreds of thousands of objects that live
   as long as the process, and every full collection walks all of them (0.1–0.3 s each, six in a
   ``quick`` run: the collector took 0.9 s of its main process, 0.35–0.5 s with these
-  thresholds; drawing the 23 figures of ``quick`` in one process took ~7 % less time).  Reference
-  counting still frees every object outside a reference cycle at once.
+  thresholds).  Reference counting still frees every object outside a reference cycle at once.
+  Not in the drawing workers (``thresholds=False``): each figure they draw becomes a reference
+  cycle of thousands of objects, which then piled up (a worker held 153 MB after the 23 figures
+  of ``quick`` instead of 104 MB, and the ``paper`` run with its two workers peaked at 1037 MB).
 * At exit, every object is moved out of the collector's reach (:func:`gc.freeze`): Python's
   shutdown runs full collections while it tears the modules down, 0.6 s of the 0.75 s that a
   ``quick`` run took to exit after its report was written; the process's memory is returned to
@@ -37,11 +39,13 @@ import os
 GC_THRESHOLDS = (10_000, 50, 10)
 
 
-def configure_process() -> None:
+def configure_process(thresholds: bool = True) -> None:
     """Make the settings above in this process (and, through the environment, in the processes it
-    starts): ``OMP_WAIT_POLICY=PASSIVE`` unless already set, :data:`GC_THRESHOLDS`, and
-    :func:`gc.freeze` at exit (registered once however often this is called)."""
+    starts): ``OMP_WAIT_POLICY=PASSIVE`` unless already set, :data:`GC_THRESHOLDS` (unless
+    ``thresholds`` is False), and :func:`gc.freeze` at exit (registered once however often this
+    is called)."""
     os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-    gc.set_threshold(*GC_THRESHOLDS)
+    if thresholds:
+        gc.set_threshold(*GC_THRESHOLDS)
     atexit.unregister(gc.freeze)
     atexit.register(gc.freeze)
