@@ -70,15 +70,23 @@ class _Block:
     html: str
 
 
-@dataclass(frozen=True)
+@dataclass
 class _Drawing:
     """A figure being drawn by a worker of the report's ``drawer``: its PNG comes from ``png``
-    (``fig`` is kept to draw it here if the pool breaks)."""
+    (``fig`` is kept to draw it here if the pool breaks, and let go once it is drawn: a run's
+    figures would otherwise stay in memory while its later sections compute)."""
 
     name: str
     caption: str
-    fig: Figure
+    fig: Figure | None
     png: Future
+
+    def __post_init__(self) -> None:
+        self.png.add_done_callback(self._let_go)
+
+    def _let_go(self, png: Future) -> None:
+        if not png.cancelled() and png.exception() is None:
+            self.fig = None
 
 
 class Report:
@@ -163,6 +171,7 @@ class Report:
                 try:
                     png = b.png.result()
                 except BrokenExecutor:  # its worker died: drawn here instead
+                    assert b.fig is not None  # kept: the drawing failed
                     png = figure_png(b.fig, DPI)
                 self._blocks[i] = self._figure_block(b.name, b.caption, png)
         return [b for b in self._blocks if isinstance(b, _Block)]  # all of them now
