@@ -94,8 +94,37 @@ def test_figures_drawn_by_worker_processes_are_the_same_files(tmp_path):
     )
     for name in files_here:
         assert (tmp_path / "pool" / name).read_bytes() == (tmp_path / "here" / name).read_bytes()
-    with drawing_pool(1) as pool:
-        assert pool is None  # one processor: drawn in this process
+    with drawing_pool(0) as pool:
+        assert pool is None  # no workers: drawn in this process
+
+
+def test_the_default_pool_leaves_one_processor_to_the_computation(monkeypatch):
+    # one processor: no pool; two: one worker (measured faster than two on a 2-vCPU VM, and
+    # ~100 MB less memory); many: at most four
+    import rocking.report as report_module
+
+    for cpus, expected in ((1, None), (2, 1), (3, 2), (16, 4)):
+        monkeypatch.setattr(
+            report_module.os, "sched_getaffinity", lambda _pid, n=cpus: set(range(n))
+        )
+        made = []
+        monkeypatch.setattr(
+            report_module,
+            "ProcessPoolExecutor",
+            lambda n, made=made, **kw: made.append(n) or _NoPool(),
+        )
+        with drawing_pool() as pool:
+            assert (pool is None) == (expected is None)
+        assert made == ([] if expected is None else [expected])
+
+
+class _NoPool(Executor):
+    """Stands for a ProcessPoolExecutor whose workers are never started."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        future = Future()
+        future.set_result(None)
+        return future
 
 
 def test_a_figure_drawn_by_a_worker_is_let_go_before_the_report_is_written(tmp_path):
