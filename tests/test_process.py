@@ -14,8 +14,8 @@ import pytest
 from rocking.core.process import GC_THRESHOLDS
 
 
-def _python(code: str, **env: str) -> str:
-    """Last line printed by ``code`` in a fresh interpreter, OMP_WAIT_POLICY unset unless given."""
+def _printed(code: str, **env: str) -> str:
+    """What ``code`` prints in a fresh interpreter, OMP_WAIT_POLICY unset unless given."""
     environ = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
     out = subprocess.run(
         [sys.executable, "-c", code],
@@ -24,7 +24,12 @@ def _python(code: str, **env: str) -> str:
         check=True,
         env={**environ, **env},
     )
-    return out.stdout.strip().splitlines()[-1]
+    return out.stdout
+
+
+def _python(code: str, **env: str) -> str:
+    """The last line :func:`_printed` by ``code``."""
+    return _printed(code, **env).strip().splitlines()[-1]
 
 
 _AFTER_A_COMMAND = (
@@ -74,14 +79,7 @@ def test_importing_the_library_changes_nothing():
         "import rocking, rocking.cli, rocking.report, rocking.studies\n"
         "print(os.environ.get('OMP_WAIT_POLICY'), gc.get_threshold() == before)"
     )
-    out = subprocess.run(
-        [sys.executable, "-c", code],
-        capture_output=True,
-        text=True,
-        check=True,
-        env={k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"},
-    )
-    assert out.stdout.split() == ["None", "True", "frozen", "False"]
+    assert _printed(code).split() == ["None", "True", "frozen", "False"]
 
 
 def test_idle_openmp_threads_do_not_spin_after_a_parallel_kernel():

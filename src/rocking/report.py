@@ -238,7 +238,7 @@ class Report:
         """Append the content of ``other``, a report into the same folder filled earlier (its
         figures drawn by the ``drawer`` meanwhile, its tables written), in order; its figure and
         table names become this report's, which must not use them already."""
-        if other is self or Path(other.out_dir) != self.out_dir:
+        if other is self or other.out_dir != self.out_dir:
             raise ValueError("extend() takes another report into the same folder")
         for name in sorted(other._names):
             self._claim(name)
