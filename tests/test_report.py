@@ -5,6 +5,8 @@ import io
 import json
 import os
 import stat
+import subprocess
+import sys
 import time
 from concurrent.futures import Executor, Future
 from concurrent.futures.process import BrokenProcessPool
@@ -12,6 +14,7 @@ from concurrent.futures.process import BrokenProcessPool
 import numpy as np
 import pandas as pd
 import pytest
+import xarray as xr
 from matplotlib.figure import Figure
 from PIL import Image
 
@@ -98,6 +101,76 @@ def test_figures_drawn_by_worker_processes_are_the_same_files(tmp_path):
         assert pool is None  # no workers: drawn in this process
 
 
+def _responses(n):
+    """Data for rocking.plots.studies.plot_responses: n panels of θ/α against t."""
+    t = np.linspace(0.0, 2.0, 201)
+    theta = np.array([np.sin((k + 1) * np.pi * t) * (k + 1) / 2 for k in range(n)])
+    return t, theta, [f"γ = {k + 4}" for k in range(n)]
+
+
+def test_a_plot_built_by_a_worker_is_the_figure_built_here(tmp_path):
+    # Report.plot sends the plotting function and its data to a worker, which builds the
+    # figure and draws it: the same bytes as the figure built and drawn here (Report.figure),
+    # with a pool, without one, and where the pool broke after the plot was submitted.
+    from rocking.plots.fragility import plot_sv_agx
+    from rocking.plots.studies import plot_responses
+
+    t, theta, labels = _responses(2)
+    sv = xr.Dataset(
+        {
+            "agx50": ("body", [0.2, 0.3, 0.5]),
+            "sv_required": ("body", [0.1, 0.2, 0.3]),
+            "sv1": ("body", [0.08, 0.12, 0.2]),
+        }
+    )
+
+    def build(out, drawer, plot):
+        rep = Report("Study", out, drawer)
+        if plot:
+            rep.plot(
+                plot_responses, t, theta, labels, overturned=[np.nan, 1.5], name="a", caption="A."
+            )
+            rep.plot(plot_sv_agx, sv, title="B", name="b", caption="B.")
+        else:
+            rep.figure(plot_responses(t, theta, labels, overturned=[np.nan, 1.5]), "a", "A.")
+            rep.figure(plot_sv_agx(sv, title="B"), "b", "B.")
+        rep.write()
+        return {name: (out / name).read_bytes() for name in rep.files}
+
+    here = build(tmp_path / "here", None, plot=False)
+    assert sorted(here) == ["figures/a.png", "figures/b.png", "report.html", "report.md"]
+    with drawing_pool(1) as pool:
+        assert pool is not None
+        assert build(tmp_path / "pool", pool, plot=True) == here
+    assert build(tmp_path / "no-pool", None, plot=True) == here
+    assert build(tmp_path / "died", _DiedAfterSubmit(), plot=True) == here
+
+
+def test_figures_plotted_by_workers_keep_matplotlib_out_of_this_process():
+    # The point of Report.plot: a command whose figures are built by the drawing workers does
+    # not import Matplotlib (0.6 s) nor build figures; rocking.plots imports it on first use.
+    code = (
+        "import sys, tempfile\n"
+        "import numpy as np\n"
+        "from rocking.plots.studies import plot_responses\n"
+        "from rocking.report import Report, drawing_pool\n"
+        "print('imported', 'matplotlib' in sys.modules)\n"
+        "t = np.linspace(0.0, 1.0, 11)\n"
+        "with tempfile.TemporaryDirectory() as out, drawing_pool(1) as pool:\n"
+        "    rep = Report('Study', out, pool)\n"
+        "    rep.plot(plot_responses, t, np.array([t]), ['γ = 4'], name='f', caption='F.')\n"
+        "    rep.write()\n"
+        "    print('plotted', 'matplotlib' in sys.modules, sorted(rep.files))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout.splitlines()
+    assert out == [
+        "imported False",
+        "plotted False ['figures/f.png', 'report.html', 'report.md']",
+    ]
+
+
 def test_the_default_pool_leaves_one_processor_to_the_computation(monkeypatch):
     # one processor: no pool; two: one worker (measured faster than two on a 2-vCPU VM, and
     # ~100 MB less memory); many: at most four
@@ -119,6 +192,15 @@ def test_the_default_pool_leaves_one_processor_to_the_computation(monkeypatch):
         with drawing_pool() as pool:
             assert (pool is None) == (expected is None)
         assert made == ([] if expected is None else [expected])
+
+
+class _DiedAfterSubmit(Executor):
+    """A pool whose worker died after a drawing was submitted."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        future = Future()
+        future.set_exception(BrokenProcessPool("a worker died"))
+        return future
 
 
 class _NoPool(Executor):
@@ -207,18 +289,12 @@ def test_figures_are_drawn_here_where_worker_processes_fail(tmp_path, monkeypatc
         with drawing_pool(2) as pool:
             assert pool is None
 
-    class DiedAfterSubmit(Executor):
-        def submit(self, fn, /, *args, **kwargs):
-            future = Future()
-            future.set_exception(BrokenProcessPool("a worker died"))
-            return future
-
     class DiedBefore(Executor):
         def submit(self, fn, /, *args, **kwargs):
             raise BrokenProcessPool("a worker died")
 
     pngs = []
-    for name, drawer in (("here", None), ("after", DiedAfterSubmit()), ("before", DiedBefore())):
+    for name, drawer in (("here", None), ("after", _DiedAfterSubmit()), ("before", DiedBefore())):
         rep = Report("Study", tmp_path / name, drawer)
         rep.figure(_figure(), "f", "Figure.")
         rep.write()

@@ -365,14 +365,20 @@ def small_run(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("small") / "out"
     shown = []
-    original = Report.figure
+    figure, plot = Report.figure, Report.plot
 
-    def recording(self, fig, name, caption):
+    def recording_figure(self, fig, name, caption):
         shown.append((name, caption, _titles(fig)))
-        return original(self, fig, name, caption)
+        return figure(self, fig, name, caption)
+
+    def recording_plot(self, func, /, *args, name, caption, **kwargs):
+        # the studies' figures are built by the drawing workers: built here too, to read them
+        shown.append((name, caption, _titles(func(*args, **kwargs))))
+        return plot(self, func, *args, name=name, caption=caption, **kwargs)
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(Report, "figure", recording)
+        mp.setattr(Report, "figure", recording_figure)
+        mp.setattr(Report, "plot", recording_plot)
         reproduce(list("45678"), fidelity="quick", out_dir=out, sets=SMALL_SETS)
     return out, shown
 

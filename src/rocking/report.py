@@ -4,7 +4,9 @@ A :class:`Report` collects headings, Markdown text, figures and tables in order 
 with :meth:`Report.write` as ``report.md`` (figures as PNG files beside it, tables also as CSV) and
 ``report.html`` (one file: figures embedded as base64 PNG, so it can be mailed or archived alone).
 Figures can be drawn by worker processes (``drawer``: a pool in which Matplotlib draws each
-pickled ``Figure``, the same pixels as in this process), while this process builds the next ones.
+pickled ``Figure``, the same pixels as in this process), while this process goes on; with
+:meth:`Report.plot` a worker also builds the figure, from its plotting function and data, so that
+this process needs neither the time nor the import of Matplotlib.
 
 Every file is written atomically by :func:`rocking.core.files.atomic_write` (a temporary file in
 the same folder renamed over the final name; mode 0666 less the umask, as ``open`` gives). Both
@@ -24,12 +26,12 @@ import os
 import re
 import signal
 import unicodedata
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from concurrent.futures import BrokenExecutor, Executor, Future, ProcessPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import markdown as _markdown
 import numpy as np
@@ -70,15 +72,31 @@ class _Block:
     html: str
 
 
+class _Plot(NamedTuple):
+    """A figure still to be built: ``func(*args, **kwargs)`` (pickled to a drawing worker)."""
+
+    func: Callable[..., Figure]
+    args: tuple
+    kwargs: dict[str, Any]
+
+
+def _png(what: Figure | _Plot, dpi: float) -> bytes:
+    """The PNG file of a figure, or of the figure that a :class:`_Plot` builds (in a drawing
+    worker, or here)."""
+    fig = what.func(*what.args, **what.kwargs) if isinstance(what, _Plot) else what
+    return figure_png(fig, dpi)
+
+
 @dataclass
 class _Drawing:
     """A figure being drawn by a worker of the report's ``drawer``: its PNG comes from ``png``
-    (``fig`` is kept to draw it here if the pool breaks, and let go once it is drawn: a run's
-    figures would otherwise stay in memory while its later sections compute)."""
+    (``what``, the figure or the plot that builds it, is kept to draw it here if the pool breaks,
+    and let go once it is drawn: a run's figures would otherwise stay in memory while its later
+    sections compute)."""
 
     name: str
     caption: str
-    fig: Figure | None
+    what: Figure | _Plot | None
     png: Future
 
     def __post_init__(self) -> None:
@@ -86,7 +104,7 @@ class _Drawing:
 
     def _let_go(self, png: Future) -> None:
         if not png.cancelled() and png.exception() is None:
-            self.fig = None
+            self.what = None
 
 
 class Report:
@@ -138,17 +156,32 @@ class Report:
     def figure(self, fig: Figure, name: str, caption: str) -> Path:
         """Add a matplotlib ``Figure``, saved as ``figures/<name>.png``; returns that path (with
         a ``drawer``, the file is written once drawn: by :meth:`write` at the latest)."""
+        return self._add_figure(fig, name, caption)
+
+    def plot(
+        self, func: Callable[..., Figure], /, *args: Any, name: str, caption: str, **kwargs: Any
+    ) -> Path:
+        """Add the figure ``func(*args, **kwargs)`` (a module-level function that returns a
+        matplotlib ``Figure``, e.g. one of :mod:`rocking.plots`), saved as
+        ``figures/<name>.png``; returns that path.
+
+        As :meth:`figure`, but with a ``drawer`` the figure is built where it is drawn: a worker
+        receives the function and its (pickled) arguments, so this process spends nothing on the
+        figure and need not import Matplotlib.  The same PNG as ``figure(func(*args,
+        **kwargs), name, caption)``.
+        """
+        return self._add_figure(_Plot(func, args, kwargs), name, caption)
+
+    def _add_figure(self, what: Figure | _Plot, name: str, caption: str) -> Path:
         name = self._claim(name)
         cap = " ".join(str(caption).split())
         if self.drawer is not None:
             try:
-                self._blocks.append(
-                    _Drawing(name, cap, fig, self.drawer.submit(figure_png, fig, DPI))
-                )
+                self._blocks.append(_Drawing(name, cap, what, self.drawer.submit(_png, what, DPI)))
                 return self.out_dir / "figures" / f"{name}.png"
             except BrokenExecutor:  # a worker died (e.g. out of memory): draw here from now on
                 self.drawer = None
-        self._blocks.append(self._figure_block(name, cap, figure_png(fig, DPI)))
+        self._blocks.append(self._figure_block(name, cap, _png(what, DPI)))
         return self.out_dir / "figures" / f"{name}.png"
 
     def _figure_block(self, name: str, cap: str, png: bytes) -> _Block:
@@ -171,8 +204,8 @@ class Report:
                 try:
                     png = b.png.result()
                 except BrokenExecutor:  # its worker died: drawn here instead
-                    assert b.fig is not None  # kept: the drawing failed
-                    png = figure_png(b.fig, DPI)
+                    assert b.what is not None  # kept: the drawing failed
+                    png = _png(b.what, DPI)
                 self._blocks[i] = self._figure_block(b.name, b.caption, png)
         return [b for b in self._blocks if isinstance(b, _Block)]  # all of them now
 

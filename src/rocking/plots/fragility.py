@@ -7,17 +7,14 @@ from collections.abc import Hashable, Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib import colormaps
-from matplotlib.cm import ScalarMappable
-from matplotlib.colors import ListedColormap, Normalize
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
 from numpy.typing import ArrayLike
 
 from ..defaults import BAND_HZ
+from . import new_figure
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
     from ..montecarlo.statistics import LognormalFit
 
@@ -71,7 +68,7 @@ def plot_fragility(
     if "case" not in ds.dims and ds.sizes["body"] > MAX_LEGEND:
         return _plot_by_size(ds, fits, title, xlabel)
     agx = ds["agx"].values
-    fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+    fig = new_figure(figsize=(6.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
     curves = _curves(ds)
     for k, (key, label, sel) in enumerate(curves):
@@ -92,6 +89,11 @@ def _plot_by_size(
     ds: xr.Dataset, fits: Mapping[Hashable, LognormalFit], title: str, xlabel: str
 ) -> Figure:
     """Small multiples of :func:`plot_fragility`: one panel per R, one curve per γ."""
+    from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import ListedColormap, Normalize
+    from matplotlib.lines import Line2D
+
     agx = ds["agx"].values
     r_mm = np.round(1000.0 * ds["R"].values)  # bodies of one size share a panel
     sizes = np.unique(r_mm)
@@ -101,7 +103,7 @@ def _plot_by_size(
     norm = Normalize(gammas.min(), gammas.max() if gammas.size > 1 else gammas.min() + 1.0)
     ncols = min(PANEL_COLUMNS, sizes.size)
     nrows = -(-sizes.size // ncols)
-    fig = Figure(figsize=(2.6 * ncols + 1.8, 2.2 * nrows + 1.0), layout="constrained")
+    fig = new_figure(figsize=(2.6 * ncols + 1.8, 2.2 * nrows + 1.0), layout="constrained")
     axes = fig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False).ravel()
     for ax, size in zip(axes, sizes):
         index = np.flatnonzero(r_mm == size)
@@ -188,7 +190,7 @@ def plot_sv_agx(energy_ds: xr.Dataset, *, title: str = "") -> Figure:
     x = energy_ds["agx50"].values
     y = 100.0 * energy_ds["sv_required"].values
     ok = np.isfinite(x) & np.isfinite(y)
-    fig = Figure(figsize=(6.0, 4.8), layout="constrained")
+    fig = new_figure(figsize=(6.0, 4.8), layout="constrained")
     ax = fig.add_subplot()
     ax.plot(x[ok], y[ok], "o", ms=4, label=f"{int(ok.sum())} bodies")
     xs = np.array([0.0, (x[ok].max() if ok.any() else 1.0) * 1.05])
@@ -247,7 +249,7 @@ def plot_sv1_spectrum(
     f = np.asarray(freqs_hz, dtype=float)
     v = 100.0 * np.asarray(psv, dtype=float)
     lo, hi = band_hz
-    fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+    fig = new_figure(figsize=(6.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
     ax.loglog(f, v, lw=1.4, label="mean PSV")
     ax.axvspan(lo, hi, color="0.85", zorder=0, label=f"band {lo:g}–{hi:g} Hz")

@@ -6,17 +6,20 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from . import new_figure
+
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from ..structures.frames import ShearFrame
 
 
 def plot_mode_shapes(frame: ShearFrame) -> Figure:
     """Mode shapes of a :class:`rocking.structures.frames.ShearFrame`, each scaled so that its
     largest entry in absolute value is 1, drawn against the floor level (0 = ground)."""
-    fig = Figure(figsize=(5.0, 5.5), layout="constrained")
+    fig = new_figure(figsize=(5.0, 5.5), layout="constrained")
     ax = fig.add_subplot()
     levels = np.arange(frame.n_stories + 1)
     phi = frame.mode_shapes
@@ -48,7 +51,7 @@ def plot_floor_spectra(
     title : str
         Figure title.
     """
-    fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+    fig = new_figure(figsize=(6.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
     for row, label in zip(np.asarray(psv), labels):
         ax.loglog(freqs_hz, 100.0 * row, label=label)

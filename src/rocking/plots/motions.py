@@ -7,13 +7,15 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 from scipy.integrate import cumulative_trapezoid
 
 from ..dynamics.body import G
+from . import new_figure
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from ..motions.envelopes import Envelope
 
 
@@ -28,7 +30,7 @@ def plot_envelopes(envelopes: Sequence[Envelope], *, title: str = "") -> Figure:
     title : str
         Figure title.
     """
-    fig = Figure(figsize=(6.5, 3.6), layout="constrained")
+    fig = new_figure(figsize=(6.5, 3.6), layout="constrained")
     ax = fig.add_subplot()
     for env in envelopes:
         t = np.linspace(0.0, env.duration, 1001)
@@ -73,7 +75,7 @@ def plot_baseline_comparison(
     raw = np.atleast_2d(np.asarray(raw, dtype=float))
     corrected = np.atleast_2d(np.asarray(corrected, dtype=float))
     t = np.arange(raw.shape[1]) * dt
-    fig = Figure(figsize=(7.5, 7.0), layout="constrained")
+    fig = new_figure(figsize=(7.5, 7.0), layout="constrained")
     axes = fig.subplots(3, 1, sharex=True)
     units = ("acceleration [g]", "velocity [m/s]", "displacement [m]")
     for k, (a_raw, a_cor) in enumerate(zip(raw, corrected)):
@@ -118,7 +120,7 @@ def plot_fit_ratios(
         Figure title.
     """
     f = np.asarray(freqs_hz, dtype=float)
-    fig = Figure(figsize=(6.5, 4.2), layout="constrained")
+    fig = new_figure(figsize=(6.5, 4.2), layout="constrained")
     ax = fig.add_subplot()
     ax.set_xscale("log")
     ax.axhspan(

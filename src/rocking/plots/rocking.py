@@ -6,12 +6,14 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from . import new_figure
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from ..dynamics.simulate import RockingResponse
 
 
@@ -37,7 +39,7 @@ def plot_response(
     if ag_g.shape != t.shape:
         raise InputError(f"ag_g has shape {ag_g.shape}, the response's times {t.shape}")
     block = response.block
-    fig = Figure(figsize=(7.5, 5.5), layout="constrained")
+    fig = new_figure(figsize=(7.5, 5.5), layout="constrained")
     ax_th, ax_ag = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
 
     ax_th.plot(t, response.theta_over_alpha, color="C0", lw=0.9, label="θ/α")

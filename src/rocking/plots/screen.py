@@ -5,10 +5,12 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
+
+from . import new_figure
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
 #: Up to this many items every point is named; above it only those at risk.
 MAX_NAMED = 25
@@ -40,7 +42,7 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     beyond = ~np.isfinite(agx50)
     x_end = float(ds.attrs.get("agx_max", np.nanmax(agx50, initial=design)))
     x = np.where(beyond, x_end, agx50)
-    fig = Figure(figsize=(7.0, 5.2), layout="constrained")
+    fig = new_figure(figsize=(7.0, 5.2), layout="constrained")
     ax = fig.add_subplot()
     # the ground first, then each frame's floors upwards
     keys = sorted(

@@ -6,11 +6,14 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.axes import Axes
-from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from . import new_figure
+
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
     from ..motions.targets import TargetSpectrum
 
 
@@ -52,7 +55,7 @@ def plot_spectra(
     psa = np.atleast_2d(np.asarray(psa_g, dtype=float))
     if damping is not None:
         title = f"{title + ', ' if title else ''}{100 * damping:g} % damping"
-    fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+    fig = new_figure(figsize=(6.5, 4.8), layout="constrained")
     ax = _log_axes(fig, title)
     for k, row in enumerate(psa):
         ax.plot(freqs_hz, row, lw=1.2, label=None if labels is None else labels[k])
@@ -81,7 +84,7 @@ def plot_mean_vs_target(
     psa = np.atleast_2d(np.asarray(psa_members, dtype=float))
     mean = psa.mean(axis=0)
     std = psa.std(axis=0)
-    fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+    fig = new_figure(figsize=(6.5, 4.8), layout="constrained")
     ax = _log_axes(fig, title)
     # On log axes a band reaching zero or below cannot be drawn: clip its lower edge.
     ax.fill_between(

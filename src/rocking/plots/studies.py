@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
+
+from . import new_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 #: Margins of :func:`plot_responses` [in], fixed instead of a layout engine (constrained layout
 #: took 40 % of the time to save the figure): left for y tick labels of up to five characters
@@ -44,7 +49,7 @@ def plot_responses(
     width, height = 7.5, 1.7 * n + 0.8
     top = MARGINS["top"] + (MARGINS["title"] if title else 0.0)
     panel = (height - MARGINS["bottom"] - top - MARGINS["gap"] * (n - 1)) / n
-    fig = Figure(figsize=(width, height))
+    fig = new_figure(figsize=(width, height))
     axes = fig.subplots(
         n,
         1,

@@ -98,15 +98,14 @@ def report(result: Sec4Result, rep: Report, ctx: RunContext) -> None:
         caption = (
             f"Fig. {fig_no}: R = {R:.2f} m, motion No. {k} {corr}, PGA {agx:g} g [{result.label}]"
         )
-        rep.figure(
-            plot_responses(
-                r["time"].values,
-                sel["theta_over_alpha"].values,
-                labels,
-                overturned=sel["t_overturn"].values,
-            ),
-            f"fig{fig_no}",
-            caption,
+        rep.plot(
+            plot_responses,
+            r["time"].values,
+            sel["theta_over_alpha"].values,
+            labels,
+            overturned=sel["t_overturn"].values,
+            name=f"fig{fig_no}",
+            caption=caption,
         )
     c = result.check
     n = c.sizes["motion"]

@@ -186,10 +186,14 @@ def report(result: Sec5Result, rep: Report, ctx: RunContext) -> None:
         "differ; the sweeps over the whole ensemble count how often such reversals occur."
     )
     for fig_no, (labels, theta, t_ov, text) in result.figures.items():
-        rep.figure(
-            plot_responses(result.t, theta, labels, overturned=t_ov),
-            f"fig{fig_no}",
-            f"Fig. {fig_no}: {text} [{result.label}]",
+        rep.plot(
+            plot_responses,
+            result.t,
+            theta,
+            labels,
+            overturned=t_ov,
+            name=f"fig{fig_no}",
+            caption=f"Fig. {fig_no}: {text} [{result.label}]",
         )
     rows = []
     for name, ds in result.sweeps.items():

@@ -81,17 +81,21 @@ def report(result: Sec6Result, rep: Report, ctx: RunContext) -> None:
     for i, body in enumerate(ds["body"].values):
         panel = chr(ord("a") + i) if i < 26 else f"-{i + 1}"
         sel = _cases(ds.sel(envelope=env9, body=[body]), "duration", "T = {:g} s")
-        rep.figure(
-            plot_fragility(sel), f"fig9{panel}", f"Fig. 9{panel}: {body}, {env9} [{result.label}]"
+        rep.plot(
+            plot_fragility,
+            sel,
+            name=f"fig9{panel}",
+            caption=f"Fig. 9{panel}: {body}, {env9} [{result.label}]",
         )
     body10 = ds["body"].values[0]
     fig10 = [d for d in ctx.cfg["sec6"]["fig10_durations"] if d in ds["duration"].values]
     for d in fig10:
         sel = _cases(ds.sel(duration=d, body=[body10]), "envelope", "{}")
-        rep.figure(
-            plot_fragility(sel),
-            f"fig10-T{d:g}",
-            f"Fig. 10 (T = {d:g} s): {body10}, three intensity functions [{result.label}]",
+        rep.plot(
+            plot_fragility,
+            sel,
+            name=f"fig10-T{d:g}",
+            caption=f"Fig. 10 (T = {d:g} s): {body10}, three intensity functions [{result.label}]",
         )
     mean = ds["probability"].mean("agx").to_dataframe().reset_index()
     table = mean.pivot_table(index=["body", "envelope"], columns="duration", values="probability")

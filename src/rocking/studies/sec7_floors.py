@@ -108,10 +108,11 @@ def report(result: Sec7Result, rep: Report, ctx: RunContext) -> None:
     for frame in ds["frame"].values:
         t1 = float(ds["T1"].sel(frame=frame))
         sel = ds.sel(frame=frame, body=[body]).rename({"location": "case"})
-        rep.figure(
-            plot_fragility(sel),
-            f"fig11-{slug(frame)}",
-            f"Fig. 11: {body} on {frame} (T1 = {t1:.2f} s) [{result.label}]",
+        rep.plot(
+            plot_fragility,
+            sel,
+            name=f"fig11-{slug(frame)}",
+            caption=f"Fig. 11: {body} on {frame} (T1 = {t1:.2f} s) [{result.label}]",
         )
     for frame in psv["frame"].values:
         caption = (
@@ -119,12 +120,13 @@ def report(result: Sec7Result, rep: Report, ctx: RunContext) -> None:
             f"{float(psv['T1'].sel(frame=frame)):.2f} s) at A_gx = {psv.attrs['agx']:g} g, "
             f"5 % damping [{result.label}]"
         )
-        rep.figure(
-            plot_floor_spectra(
-                psv["freq"].values, psv.sel(frame=frame).values, list(psv["location"].values)
-            ),
-            f"fig12-{slug(frame)}",
-            caption,
+        rep.plot(
+            plot_floor_spectra,
+            psv["freq"].values,
+            psv.sel(frame=frame).values,
+            list(psv["location"].values),
+            name=f"fig12-{slug(frame)}",
+            caption=caption,
         )
     mean = ds["probability"].mean("agx").to_dataframe().reset_index()
     table = mean.pivot_table(index=["frame", "body"], columns="location", values="probability")[

@@ -127,10 +127,11 @@ def report(result: Sec8Result, rep: Report, ctx: RunContext) -> None:
     paper = paper_values()["section8"]
     f13 = result.fig13
     a50 = f13.attrs["agx50"]
-    rep.figure(
-        plot_fragility(f13),
-        "fig13",
-        f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = "
+    rep.plot(
+        plot_fragility,
+        f13,
+        name="fig13",
+        caption=f"Fig. 13: {f13['body'].values[0]} on the ground (paper: A_gx50 = "
         f"{paper['fig13_agx50']} g; ours {a50:.2f} g) [{lab}]",
     )
     freqs, psv = result.fig14
@@ -138,14 +139,20 @@ def report(result: Sec8Result, rep: Report, ctx: RunContext) -> None:
         f"Fig. 14: mean PSV of the ground motions at A_gx50 = {a50:.2f} g of "
         f"{f13['body'].values[0]} (paper: S_v1 = {paper['fig14_sv1_cm_s']} cm/s) [{lab}]"
     )
-    rep.figure(
-        plot_sv1_spectrum(freqs, psv, sv_required=f13.attrs["sv_required"]), "fig14", caption
+    rep.plot(
+        plot_sv1_spectrum,
+        freqs,
+        psv,
+        sv_required=f13.attrs["sv_required"],
+        name="fig14",
+        caption=caption,
     )
     for fig_no, loc in zip((15, 16), locations):
-        rep.figure(
-            plot_sv_agx(b.sel(location=loc)),
-            f"fig{fig_no}",
-            f"Fig. {fig_no}: required S_v against A_gx50, bodies on {_the(loc)} [{lab}]",
+        rep.plot(
+            plot_sv_agx,
+            b.sel(location=loc),
+            name=f"fig{fig_no}",
+            caption=f"Fig. {fig_no}: required S_v against A_gx50, bodies on {_the(loc)} [{lab}]",
         )
     _tables(b, rep, lab)
     _examples(result.examples, rep, lab)

@@ -837,10 +837,11 @@ def report_floor(res: dict, rep: Report, lab: str) -> None:
     floor = res["balance"].isel(location=1)
     s = ratio_stats(floor["ratio"].values)
     slope, intercept, r2 = linear_fit(floor)
-    rep.figure(
-        plot_sv_agx(floor),
-        "soundness-fig16-matched",
-        f"Fig. 16 with the matched frame ({frame.name}, story stiffness "
+    rep.plot(
+        plot_sv_agx,
+        floor,
+        name="soundness-fig16-matched",
+        caption=f"Fig. 16 with the matched frame ({frame.name}, story stiffness "
         f"{frame.stiffnesses[0] / 1e5:.2f} kN/cm): required S_v against A_gx50 [{lab}]",
     )
     v = res["verdict"]
