@@ -47,6 +47,21 @@ def test_help_of_every_command_exits_zero():
     assert nested.exit_code == 0 and "--n INTEGER" in nested.output, nested.output
 
 
+def test_python_m_rocking_is_the_rocking_command():
+    # `python -m rocking` used to fail (no rocking/__main__.py); it must run the command line,
+    # its errors in one line and a non-zero status included
+    for module in ("rocking", "rocking.cli"):
+        ok = subprocess.run(
+            [sys.executable, "-m", module, "--help"], capture_output=True, text=True, check=True
+        )
+        assert "Commands:" in ok.stdout and "  simulate " in ok.stdout
+        bad = subprocess.run(
+            [sys.executable, "-m", module, "no-such-command"], capture_output=True, text=True
+        )
+        assert bad.returncode != 0 and "No such command" in bad.stderr
+        assert "Traceback" not in bad.stderr
+
+
 def test_a_command_does_not_import_the_plotting_stack():
     # start-up time: `rocking simulate --help` must not load Matplotlib (the studies do)
     code = (
