@@ -124,8 +124,8 @@ def test_a_plot_built_by_a_worker_is_the_figure_built_here(tmp_path):
         }
     )
 
-    def build(out, drawer, plot):
-        rep = Report("Study", out, drawer)
+    def build(out, drawer, plot, plot_here=False):
+        rep = Report("Study", out, drawer, plot_here=plot_here)
         if plot:
             rep.plot(
                 plot_responses, t, theta, labels, overturned=[np.nan, 1.5], name="a", caption="A."
@@ -142,13 +142,41 @@ def test_a_plot_built_by_a_worker_is_the_figure_built_here(tmp_path):
     with drawing_pool(1) as pool:
         assert pool is not None
         assert build(tmp_path / "pool", pool, plot=True) == here
+        # plot_here: built here, drawn by the worker (a run's last section)
+        assert build(tmp_path / "plot-here", pool, plot=True, plot_here=True) == here
     assert build(tmp_path / "no-pool", None, plot=True) == here
     assert build(tmp_path / "died", _DiedAfterSubmit(), plot=True) == here
+    # what the worker receives: the plot (function and data), or with plot_here the figure
+    for plot_here in (False, True):
+        pending = _Pending()
+        assert build(tmp_path / f"pending-{plot_here}", pending, True, plot_here) == here
+        assert [isinstance(what, Figure) for what in pending.sent] == [plot_here] * 2
+
+
+def test_figures_no_worker_has_started_are_drawn_here_when_the_report_is_written(tmp_path):
+    # Report.write would only wait for the workers: the drawings they have not started (the
+    # last ones sent, e.g. those of a run's last section) are taken back and drawn here, the
+    # same bytes; those already drawn are the workers'.
+    def build(out, drawer):
+        rep = Report("Study", out, drawer)
+        for i in range(3):
+            rep.figure(_figure(), f"f{i}", f"Figure {i}.")
+        rep.write()
+        return {name: (out / name).read_bytes() for name in rep.files}
+
+    here = build(tmp_path / "here", None)
+    pending = _Pending()
+    assert build(tmp_path / "pending", pending) == here
+    assert len(pending.sent) == 3 and all(f.cancelled() for f in pending.futures)
+    with drawing_pool(1) as pool:
+        assert build(tmp_path / "pool", pool) == here
 
 
 def test_figures_plotted_by_workers_keep_matplotlib_out_of_this_process():
-    # The point of Report.plot: a command whose figures are built by the drawing workers does
-    # not import Matplotlib (0.6 s) nor build figures; rocking.plots imports it on first use.
+    # The point of Report.plot: a process whose figures are built by the drawing workers
+    # neither imports Matplotlib (0.6 s) nor builds figures; rocking.plots imports it on first
+    # use.  (A figure no worker has started when the report is written is drawn here: not this
+    # one, which the worker has drawn by then.)
     code = (
         "import sys, tempfile\n"
         "import numpy as np\n"
@@ -159,15 +187,18 @@ def test_figures_plotted_by_workers_keep_matplotlib_out_of_this_process():
         "with tempfile.TemporaryDirectory() as out, drawing_pool(1) as pool:\n"
         "    rep = Report('Study', out, pool)\n"
         "    rep.plot(plot_responses, t, np.array([t]), ['γ = 4'], name='f', caption='F.')\n"
+        "    print('plotted', 'matplotlib' in sys.modules)\n"
+        "    rep._blocks[-1].png.result()\n"
         "    rep.write()\n"
-        "    print('plotted', 'matplotlib' in sys.modules, sorted(rep.files))\n"
+        "    print('written', 'matplotlib' in sys.modules, sorted(rep.files))\n"
     )
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     ).stdout.splitlines()
     assert out == [
         "imported False",
-        "plotted False ['figures/f.png', 'report.html', 'report.md']",
+        "plotted False",
+        "written False ['figures/f.png', 'report.html', 'report.md']",
     ]
 
 
@@ -201,6 +232,18 @@ class _DiedAfterSubmit(Executor):
         future = Future()
         future.set_exception(BrokenProcessPool("a worker died"))
         return future
+
+
+class _Pending(Executor):
+    """A pool whose workers never start a drawing (every future stays pending)."""
+
+    def __init__(self):
+        self.sent, self.futures = [], []
+
+    def submit(self, fn, /, *args, **kwargs):
+        self.sent.append(args[0])
+        self.futures.append(Future())
+        return self.futures[-1]
 
 
 class _NoPool(Executor):

@@ -2,8 +2,8 @@
 global state, no display); callers save it. One module per topic.
 
 Matplotlib is imported when the first figure is built, not with these modules (about 0.6 s):
-a command whose figures are built by drawing workers (:meth:`rocking.report.Report.plot`) never
-imports it.
+a process whose figures are built by drawing workers (:meth:`rocking.report.Report.plot`) need
+not import it.
 """
 
 from __future__ import annotations
