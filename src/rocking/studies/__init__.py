@@ -139,7 +139,8 @@ def reproduce(
                 # sections, not after them)
                 # a run of one section builds its figures here, the worker drawing them: else
                 # this process would only wait while the worker built and drew every one after
-                # the section (`reproduce 8 --fidelity quick`: 1.09x the time, interleaved pairs)
+                # the section (`reproduce 8 --fidelity quick` took 1.18x the time of figures
+                # built here: median of six interleaved pairs)
                 one = len(sections) == 1
                 parts[s] = Report(STUDY_SECTIONS[s], out, drawer, plot_here=one)
                 study(s).report(results[s], parts[s], ctx)
