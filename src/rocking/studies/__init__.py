@@ -126,6 +126,10 @@ def reproduce(
         ctx = RunContext(cfg, fidelity, modified, backend, reporter, out / "chunks")
         start = time.perf_counter()
         results, parts, wall = {}, {}, {}
+        # a run of one section builds its figures here, the worker only drawing them: else this
+        # process would wait while the worker built and drew every one after the section
+        # (`reproduce 8 --fidelity quick` took 1.18x the time: median of six interleaved pairs)
+        plot_here = len(sections) == 1
         # the same spectra recur across sections (e.g. the mean PSV of Section 8's ground
         # motions in the soundness checks): computed once (rocking.core.reuse)
         with backend, reusing():
@@ -134,15 +138,10 @@ def reproduce(
                 reporter.write(f"section {s}: {STUDY_SECTIONS[s]}")
                 with reporter.stage(f"section {s}", unit="sim"):
                     results[s] = study(s).run(ctx)
-                # its part of the report at once: the drawer draws its figures while the next
-                # sections run (on two cores the processor has room for them beside the
+                # its part of the report at once: the drawer builds and draws its figures while
+                # the next sections run (on two cores the processor has room for them beside the
                 # sections, not after them)
-                # a run of one section builds its figures here, the worker drawing them: else
-                # this process would only wait while the worker built and drew every one after
-                # the section (`reproduce 8 --fidelity quick` took 1.18x the time of figures
-                # built here: median of six interleaved pairs)
-                one = len(sections) == 1
-                parts[s] = Report(STUDY_SECTIONS[s], out, drawer, plot_here=one)
+                parts[s] = Report(STUDY_SECTIONS[s], out, drawer, plot_here=plot_here)
                 study(s).report(results[s], parts[s], ctx)
                 for name in parts[s].files:
                     run.file(name)
