@@ -763,13 +763,14 @@ def _new_lanes(vert):
 
 
 @borrowing_kernel
-def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue):
+def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, width):
     """Integrate cases taken from the shared ``queue`` (see :func:`_fill`) in the empty lane
     machine ``lanes`` (:func:`_new_lanes`; allocated by the caller: this function is compiled
-    without reference counting, :func:`~rocking.core.compile.borrowing_kernel`) until none is
-    left, and write their results (see the module docstring)."""
+    without reference counting, :func:`~rocking.core.compile.borrowing_kernel`), at most
+    ``width`` (≤ ``_LANES``) at a time, until none is left, and write their results (see the
+    module docstring)."""
     live = 0  # lanes 0 … live−1 hold a case
-    while live < _LANES:
+    while live < width:
         _fill(lanes, live, queue, motions, vert, blocks, cases, out)
         if lanes.case[live] < 0:
             break
@@ -869,10 +870,15 @@ def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
 def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
     """Integrate the cases from rest in ``machines`` lane machines (a thread each), which take
     them in the order ``cases.order`` from one shared queue, and write their :class:`Outcome`;
-    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`."""
+    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`.
+
+    A machine holds at most its share of the cases at a time (all its lanes when there are
+    enough for every machine's): the first machine to start would otherwise take every case of
+    a call of up to ``_LANES`` cases, and the other threads none."""
     queue = np.zeros(1, np.int64)
+    width = min(_LANES, -(-cases.order.size // machines))
     for _ in prange(machines):
-        _lane_machine(_new_lanes(vert), motions, vert, blocks, cases, out, located, queue)
+        _lane_machine(_new_lanes(vert), motions, vert, blocks, cases, out, located, queue, width)
 
 
 @dataclass(frozen=True, eq=False)
