@@ -22,8 +22,9 @@ with the partial Runge–Kutta steps of its Newton iteration computed in the lan
 scalar partial step is a chain of ~100 cycles of latency), and that after an impact from which the
 block rocks on the rest of the interval goes back to the SIMD loop.  Cases of the
 same motion sit side by side (they read the same samples).  A lane whose case ends takes the
-next case of the call's queue, which the lane machines of all threads share; when none is left,
-the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
+next case of the call's queue, which the lane machines of all threads share (each holding at
+most its share of the call's cases, so that a small call keeps every thread busy); when none is
+left, the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
 inputs and its lanes' state are records (:class:`Motions`, :class:`Vertical`, :class:`Blocks`,
 :class:`Cases`, :class:`Outcome`, :class:`Lanes`).  Work that cannot change the answer is skipped:
 
