@@ -393,6 +393,12 @@ def test_simd_lanes_compute_what_a_lone_oscillator_does(zeta, steps_per_period):
     )
     np.testing.assert_array_equal(shuffled.sd, batch.sd[perm][:, ::-1])
     np.testing.assert_array_equal(shuffled.psa, batch.psa[perm][:, ::-1])
+    # the blocks of lanes are read from a read-only or a column-major ensemble the same way
+    readonly = acc.copy()
+    readonly.flags.writeable = False
+    for other in (readonly, np.asfortranarray(acc)):
+        again = response_spectrum(other, dt, freqs, zeta, steps_per_period=steps_per_period)
+        np.testing.assert_array_equal(again.sd, batch.sd)
 
 
 def test_lanes_of_long_periods_evaluate_every_extremum_to_the_same_peaks():
