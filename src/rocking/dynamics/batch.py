@@ -874,8 +874,8 @@ def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
     the impact scheme ``located`` (bool) as in :func:`rocking.simulate`.
 
     A machine holds at most its share of the cases at a time (all its lanes when there are
-    enough for every machine's): the first machine to start would otherwise take every case of
-    a call of up to ``_LANES`` cases, and the other threads none."""
+    enough for every machine's): otherwise the first machine to start could take every case of
+    a call of up to ``_LANES`` cases before the other threads start."""
     queue = np.zeros(1, np.int64)
     width = min(_LANES, -(-cases.order.size // machines))
     for _ in prange(machines):
