@@ -94,6 +94,15 @@ def parallel_kernel(*args: Any, **kw: Any) -> Any:
 prange = numba.prange
 
 
+def readonly(a: np.ndarray) -> np.ndarray:
+    """A read-only view of ``a``, for kernels compiled for read-only arrays only: Numba compiles
+    a specialization per writeable flag of each array (~40 s each for the batched kernel), and
+    memory-mapped ensembles are read-only where arrays built in memory are not."""
+    view = a.view()
+    view.flags.writeable = False
+    return view
+
+
 def fma(a: float, b: float, c: float) -> float:
     """a·b + c rounded once, for float64 numbers.
 

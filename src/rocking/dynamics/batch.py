@@ -69,6 +69,7 @@ from ..core.compile import (
     maxnum,
     parallel_kernel,
     prange,
+    readonly,
 )
 from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
@@ -988,8 +989,8 @@ def motion_suffixes(
     vertical accelerations ``av`` (or None) [m/s²], flat (see :func:`_suffix_extremes`), for
     :func:`run_cases` calls on the same motions: computed once for them instead of in every
     call (with a thousand motions, as long as the simulations of a call)."""
-    acc = _readonly(np.ascontiguousarray(acc))
-    av = None if av is None else _readonly(np.ascontiguousarray(av))
+    acc = readonly(np.ascontiguousarray(acc))
+    av = None if av is None else readonly(np.ascontiguousarray(av))
     return _suffixes_of(acc, av, np.ones(acc.shape[0], dtype=np.bool_))
 
 
@@ -1055,8 +1056,8 @@ def run_cases(
     rest throughout (it rocks at the start or at the end of the interval), up to and including
     the one in which it overturns.
     """
-    acc = _readonly(acc)
-    av = None if av is None else _readonly(av)
+    acc = readonly(acc)
+    av = None if av is None else readonly(av)
     if suffixes is None:
         used = np.zeros(acc.shape[0], dtype=np.bool_)
         used[motion] = True  # the suffix extremes of these motions only (a call may use few)
@@ -1102,15 +1103,6 @@ def run_cases(
     if count_steps:
         return out.overturned, out.peak, out.steps
     return out.overturned, out.peak
-
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    """A read-only view of ``a``: the kernels are compiled for read-only motions only (Numba
-    compiles a specialization per writeable flag of each array, ~40 s each for the batched
-    kernel; memory-mapped ensembles are read-only, arrays built in memory are not)."""
-    view = a.view()
-    view.flags.writeable = False
-    return view
 
 
 def _acc2d(acc, name: str = "acc") -> np.ndarray:

@@ -25,6 +25,7 @@ from ..core.compile import (
     maxnum,
     parallel_kernel,
     prange,
+    readonly,
 )
 from ..core.reuse import reused
 from ..errors import InputError
@@ -340,9 +341,8 @@ def _lane_layout(acc, nsub):
     runs = np.split(order, np.flatnonzero(np.diff(nsub[order])) + 1)  # frequencies of one nsub
     n_blocks = -(-n_m // L)
     if n_blocks * nsub.sum() <= n_m * sum(-(-run.size // L) * nsub[run[0]] for run in runs):
-        source = np.ascontiguousarray(acc).view()
-        source.flags.writeable = False  # one compiled variant, and no copy of a read-only ensemble
-        at, diff = _lane_blocks(source, n_blocks)
+        # one compiled variant, without copying a read-only ensemble
+        at, diff = _lane_blocks(readonly(np.ascontiguousarray(acc)))
         lane_motion = np.arange(n_blocks * L).reshape(n_blocks, L)
         groups = np.repeat(np.arange(nsub.size)[:, None], L, axis=1)
         return at, diff, lane_motion, groups
@@ -354,11 +354,11 @@ def _lane_layout(acc, nsub):
 
 
 @parallel_kernel
-def _lane_blocks(acc, n_blocks):
-    """The motions ``acc`` (n_m, n_t) as ``n_blocks`` blocks of ``_LANES`` side by side, shape
-    (n_blocks, n_t, _LANES), lanes after the last motion zero, and their changes over the sample
-    intervals (n_blocks, n_t − 1, _LANES): what ``np.diff`` of the blocks gives, in one pass on
-    all threads.
+def _lane_blocks(acc):
+    """The motions ``acc`` (n_m, n_t) as n_blocks = ⌈n_m/_LANES⌉ blocks of ``_LANES`` side by
+    side, shape (n_blocks, n_t, _LANES), lanes after the last motion zero, and their changes over
+    the sample intervals (n_blocks, n_t − 1, _LANES): what ``np.diff`` of the blocks gives, in
+    one pass on all threads.
 
     Written by hand because NumPy's copy of the transposed view runs on one thread with the
     source read ``_LANES`` rows apart, after a zero-padded copy of the whole ensemble: for 6,000
@@ -368,6 +368,7 @@ def _lane_blocks(acc, n_blocks):
     """
     L = _LANES
     n_m, n_t = acc.shape
+    n_blocks = -(-n_m // L)
     at = np.empty((n_blocks, n_t, L))
     diff = np.empty((n_blocks, max(n_t - 1, 0), L))
     for b in prange(n_blocks):
