@@ -60,6 +60,7 @@ import argparse
 import contextlib
 import datetime
 import hashlib
+import importlib.metadata
 import json
 import math
 import os
@@ -155,10 +156,24 @@ def machine_info() -> dict:
         "numpy": np.__version__,
         "scipy": scipy.__version__,
         "numba": numba.__version__,
+        "xarray": _installed("xarray"),
+        "matplotlib": _installed("matplotlib"),
+        # the optional cluster extra: where it is installed, xarray imports dask.array on a
+        # process's first Dataset and distributed on its first netCDF file (Zen 3, 2026-11-28:
+        # 0.7-1.0 s in a bare script; `agx50` of Table 2 0.3-0.4 s slower in interleaved runs)
+        "dask": _installed("dask"),
         "platform": platform.platform(),
         "date_utc": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "rocking_commit": commit + ("+local changes" if dirty else ""),
     }
+
+
+def _installed(package: str) -> str | None:
+    """The installed version of ``package`` (not imported), None if it is not installed."""
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return None
 
 
 def load() -> list[float]:
