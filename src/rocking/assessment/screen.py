@@ -307,18 +307,14 @@ def _floor_locations(
 ) -> Iterator[_Location]:
     """The locations on the floors of one frame (``floors``: floor -> its items), from one pass
     through the frame (rescaled to the ground's A_gx for ``"paper"``); their source of the
-    available S_v is the response spectrum of the floor motions at ``freqs`` [Hz], computed for
-    all floors in one call."""
+    available S_v is the response spectrum of the floor motions at ``freqs`` [Hz], one floor
+    at a time (the spectra's lane layout holds two more copies of the motions it is given)."""
     ensembles = frame.floor_ensembles(ground)
-    motions = [
-        ensembles[floor].scaled(ground.agx) if floor_motions == "paper" else ensembles[floor]
-        for floor in floors
-    ]
-    rs = response_spectrum(np.concatenate([m.acc for m in motions]), ground.dt, freqs, damping)
-    for i, (items, m) in enumerate(zip(floors.values(), motions)):
-        rows = slice(i * ground.n, (i + 1) * ground.n)
-        source = ResponseSpectrum(freqs, rs.damping, rs.sd[rows], rs.psv[rows], rs.psa[rows])
-        yield _Location(items, source, m, m.agx / ground.agx)
+    for floor, items in floors.items():
+        m = ensembles[floor].scaled(ground.agx) if floor_motions == "paper" else ensembles[floor]
+        yield _Location(
+            items, response_spectrum(m.acc, ground.dt, freqs, damping), m, m.agx / ground.agx
+        )
 
 
 #: A dataset variable before assembly: values, units ("" for none) and long name.
