@@ -92,6 +92,8 @@ import plain_loop
 ROOT = Path(__file__).resolve().parent.parent
 DT = 1 / 400  # [s], the paper's
 DURATION = 20.0  # [s]
+#: Motions of Table 2 (the paper's ensemble size for it).
+TABLE2_MOTIONS = 200
 #: Targets of issue 18 (each on AVX2 and on AVX-512), and issue 6's ratio to SciPy.
 TARGETS = {
     "vs_plain_loop": 10.0,
@@ -486,10 +488,11 @@ def run_command(args: list[str], cwd: Path) -> dict:
 def bench_table2(tmp: Path, runs: int) -> dict:
     """``runs`` times each command (fresh output each time: agx50 would resume from a folder it
     wrote before); the end-to-end time is the sum of the best of each."""
-    # warm-up: every kernel the two commands use, on 200 short motions: as many as the timed
-    # runs, so that the energy balance's response spectra take the same lane layout (with 3 or
-    # 20 motions they took the other one, and the first timed agx50 compiled ~3 s more)
-    run_command(["motions", "generate", "--n", "200", "--duration", "4", "--out", "w.nc"], tmp)
+    # warm-up: every kernel the two commands use, on short motions as many as the timed runs',
+    # so that the energy balance's response spectra take the same lane layout (with 3 or 20
+    # motions they took the other one, and the first timed agx50 compiled ~3 s more)
+    n = str(TABLE2_MOTIONS)
+    run_command(["motions", "generate", "--n", n, "--duration", "4", "--out", "w.nc"], tmp)
     run_command(
         [
             "agx50",
@@ -508,9 +511,7 @@ def bench_table2(tmp: Path, runs: int) -> dict:
         tmp,
     )
     gen = [
-        run_command(
-            ["motions", "generate", "--n", "200", "--seed", "8", "--out", f"m200-{r}.nc"], tmp
-        )
+        run_command(["motions", "generate", "--n", n, "--seed", "8", "--out", f"m200-{r}.nc"], tmp)
         for r in range(runs)
     ]
     agx = [
