@@ -3,10 +3,11 @@ Screening an inventory
 ======================
 
 Screen the shipped example inventory (fourteen pieces of equipment, on the ground and on the
-floors of a five-story shear frame) against an ASCE 7 design spectrum: for every item,
-Housner's Eq. (11) verdict with its margin, the Monte Carlo probability of overturning at the
-design level with its 95 % Wilson interval, and the ground A_gx at which it overturns with
-50 % probability. This is ``rocking screen example`` in Python.
+floors of a five-story shear frame) against an ASCE 7 design spectrum: for every item, the
+Monte Carlo probability of overturning at the design level with its 95 % Wilson interval and
+the verdict it gives (at risk from 50 %), the ground A_gx at which it overturns with 50 %
+probability, and Housner's Eq. (11) with its margin, the conservative quick screen. This is
+``rocking screen example`` in Python.
 """
 
 import warnings
@@ -41,6 +42,7 @@ table = rocking.results_table(ds)
 table
 
 # %%
-# The items on the S_v–A_gx plane: left of the dashed design line they overturn with more
-# than 50 % probability; below the dotted line of their location they fail Eq. (11).
+# The items on the S_v–A_gx plane, numbered as the rows of the table: left of the dashed
+# design line they overturn with more than 50 % probability; below the dotted line of their
+# location they fail Eq. (11).
 fig = plot_screen(ds, title="Example inventory, ASCE 7 (S_DS = 1.0 g), 30 motions")

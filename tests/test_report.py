@@ -383,7 +383,7 @@ def test_text_columns_are_left_aligned_and_numbers_right_aligned(tmp_path):
     md_path, html_path = rep.write()
     md = md_path.read_text()
     assert "| R [m] | body | n | P | at risk | verdict |\n|---:|:---|---:|---:|:---|:---|" in md
-    assert "| 3.05 | b | 40 | 0.250 | False | overturn>50% |" in md
+    assert "| 3.05 | b | 40 | 0.250 | no | overturn>50% |" in md  # booleans as yes/no (issue 48)
     page = html_path.read_text()
     assert (
         '<th>R [m]</th><th class="text">body</th><th>n</th><th>P</th>'
@@ -391,7 +391,7 @@ def test_text_columns_are_left_aligned_and_numbers_right_aligned(tmp_path):
     ) in page
     assert (
         '<td>1.22</td><td class="text">a</td><td>3</td><td>0.500</td>'
-        '<td class="text">True</td><td class="text">safe</td>'
+        '<td class="text">yes</td><td class="text">safe</td>'
     ) in page
     assert "td.text { text-align: left; }" in page
 

@@ -14,7 +14,13 @@ import pytest
 from click.testing import CliRunner
 
 from rocking.assessment.energy import available_sv
-from rocking.assessment.screen import N_BAND_FREQS, eq11_vs_monte_carlo, screen
+from rocking.assessment.screen import (
+    N_BAND_FREQS,
+    eq11_vs_monte_carlo,
+    results_table,
+    screen,
+    verdicts,
+)
 from rocking.cli import main
 from rocking.dynamics.body import FOOT, G
 from rocking.motions.design import ASCE7
@@ -62,7 +68,7 @@ def test_ground_verdicts_match_the_papers_worked_examples(result):
     np.testing.assert_allclose(ds["sv_available"].values, SV_GROUND, rtol=1e-9)
     # margins by hand: 2.0512/1.40471 − 1 = 0.4602 (safe), 1.0057/1.40471 − 1 = −0.2840
     np.testing.assert_allclose(ds["margin"].values, [0.4602, -0.2840], atol=2e-4)
-    assert list(ds["verdict"].values) == ["safe", "overturn>50%"]
+    assert list(ds["eq11_verdict"].values) == ["safe", "overturn>50%"]
 
 
 def test_floor_sv_is_the_floor_spectrum_at_the_design_level(result, motions):
@@ -159,8 +165,33 @@ def test_results_are_labelled_and_sorted_most_at_risk_first(result):
     assert (result["ci_low"] <= result["probability"]).all()
     assert (result["probability"] <= result["ci_high"]).all()
     assert result.attrs["design_agx"] == pytest.approx(0.6)
-    # at risk = P ≥ 0.5 or Eq. (11) margin ≤ 0
-    assert bool(result["at_risk"].sel(item="slender"))
+
+
+
+def test_one_verdict_from_the_monte_carlo_probability_alone(result):
+    # Issue 48: the screening had two verdicts (Eq. 11 and the simulation) that contradicted,
+    # and "at risk" followed Eq. (11) (margin <= 0) even where the simulation gave P = 0.005.
+    # Now the one verdict is the simulated probability's: at risk from 50 %, borderline where
+    # the Wilson interval reaches 50 %, Eq. (11) only beside it.
+    p, high = result["probability"].values, result["ci_high"].values
+    np.testing.assert_array_equal(result["at_risk"].values, p >= 0.5)
+    expected = np.where(p >= 0.5, "at risk", np.where(high >= 0.5, "borderline", "not at risk"))
+    assert list(result["verdict"].values) == list(expected)
+    # Eq. (11) fails "slender" on the ground (margin −0.284, above); that alone no longer makes
+    # it at risk
+    slender = result.sel(item="slender")
+    assert float(slender["margin"]) < 0
+    assert bool(slender["at_risk"]) == (float(slender["probability"]) >= 0.5)
+    # the rule by cases: P = 0.5 at risk; P = 0.47 with interval reaching 0.61 borderline;
+    # P = 0.005 with interval up to 0.1 not at risk
+    assert list(verdicts([0.5, 0.47, 0.005], [0.64, 0.61, 0.1])) == [
+        "at risk",
+        "borderline",
+        "not at risk",
+    ]
+    table = results_table(result)
+    assert list(table["verdict"]) == list(result["verdict"].values)
+    assert "at risk" not in table.columns  # no second verdict in the table
 
 
 def test_plot(result):
@@ -252,17 +283,25 @@ def test_cli_report_says_where_eq11_and_monte_carlo_disagree(tmp_path):
     assert res.exit_code == 0, res.output
     table = pd.read_csv(out / "tables" / "screen.csv")
     said = table["Eq. (11) vs Monte Carlo"]
-    eq11_overturn = table["Eq. (11) verdict"] == "overturn>50%"
+    eq11_overturn = table["Eq. (11) screen"] == "overturn>50%"
     mc_overturn = table["P(overturn) [-]"] >= 0.5
     assert (said.str.startswith("agree") == (eq11_overturn == mc_overturn)).all()
     assert (said[eq11_overturn & ~mc_overturn].str.contains("Eq. (11) overturn", regex=False)).all()
     assert (said[~eq11_overturn & mc_overturn].str.contains("Eq. (11) safe", regex=False)).all()
     md = (out / "report.md").read_text()
     differ = table["item"][~said.str.startswith("agree")]
-    assert f"The two disagree for {len(differ)} item(s)" in md
+    assert f"it differs from the simulation for {len(differ)} item(s)" in md
     assert all(item in md for item in differ)
     assert "Why Eq. (11) and the Monte Carlo probability can disagree" in md
     assert "Wilson interval says how sure" in md and "8 spectrum-compatible motions" in md
+    # Issue 48: the headline (report and terminal) follows the one verdict, the simulated P
+    # (not Eq. 11), and the page shows Eq. (11) as the conservative screen, in its own column
+    n_risk = int((table["P(overturn) [-]"] >= 0.5).sum())
+    assert md.splitlines()[2].startswith(f"**{n_risk} of 5 items at risk")
+    assert f"{n_risk} of 5 items at risk" in res.output
+    page = (out / "report.html").read_text()
+    assert "<th class=\"text\">Eq. (11) screen (conservative)</th>" in page
+    assert ">True<" not in page and ">False<" not in page  # booleans as yes/no
 
 
 def test_cli_bad_rows_give_one_error_and_no_report(tmp_path):

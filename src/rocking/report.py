@@ -53,13 +53,21 @@ _CSS = """
 body { font-family: system-ui, sans-serif; max-width: 70rem; margin: 2rem auto; padding: 0 1rem;
        line-height: 1.45; color: #222; }
 h1, h2, h3 { line-height: 1.2; }
-table { border-collapse: collapse; margin: 0.5rem 0 1.5rem; font-size: 0.85rem; }
+div.table { max-width: 100%; overflow-x: auto; margin: 0.5rem 0 1.5rem; }
+table { border-collapse: collapse; font-size: 0.85rem; }
 th, td { border: 1px solid #bbb; padding: 0.15rem 0.45rem; text-align: right; }
+th { vertical-align: bottom; }
+td { white-space: nowrap; }
 th.text, td.text { text-align: left; }
+td.text { white-space: normal; }
+td.text:first-child { min-width: 9rem; }
+details { margin: 0.5rem 0 1.5rem; }
+summary { cursor: pointer; color: #444; }
+.warning { border-left: 4px solid #c60; background: #fff6ec; padding: 0.3rem 0.8rem; }
 th { background: #f0f0f0; }
 figure { margin: 1rem 0 1.5rem; }
 figure img { max-width: 100%; }
-figcaption, caption { font-size: 0.9rem; color: #444; text-align: left; padding: 0.3rem 0; }
+figcaption, .caption { font-size: 0.9rem; color: #444; text-align: left; padding: 0.3rem 0; }
 code { background: #f4f4f4; padding: 0 0.2rem; }
 """
 
@@ -244,14 +252,21 @@ class Report:
         name: str | None = None,
         *,
         floatfmt: str = ".4g",
+        csv: pd.DataFrame | None = None,
+        collapsed: bool = False,
     ) -> Path:
         """Add a table (a ``pandas.DataFrame``; its index is shown when it is named or not a
         plain range); also written as ``tables/<name>.csv`` (floats to 12 significant digits,
         :data:`CSV_FLOAT_FORMAT`).
 
         ``floatfmt`` is the format of floats on the pages (e.g. ``".2f"``); index values are
-        row labels, shown with ``"g"``. Numeric columns are right-aligned, the others (text,
-        booleans) left-aligned. Returns the CSV path.
+        row labels, shown with ``"g"``; booleans are shown as yes/no. Numeric columns are
+        right-aligned, the others (text, booleans) left-aligned. On the HTML page the table
+        scrolls sideways inside a box as wide as the text, never off the page. ``csv``: a
+        fuller table written as the CSV file instead (e.g. every column, where the page shows
+        a few). ``collapsed``: on the HTML page, the table is folded under its caption (a
+        ``<details>`` element), for tables that a figure above already shows. Returns the CSV
+        path.
         """
         self._n_tables += 1
         name = self._claim(name or f"table-{self._n_tables}")
@@ -266,7 +281,8 @@ class Report:
             df = df.reset_index()
         path = self.out_dir / "tables" / f"{name}.csv"
         path.parent.mkdir(exist_ok=True)
-        atomic_write(path, df.to_csv(index=False, float_format=CSV_FLOAT_FORMAT).encode())
+        full = df if csv is None else csv
+        atomic_write(path, full.to_csv(index=False, float_format=CSV_FLOAT_FORMAT).encode())
         self.files.append(f"tables/{name}.csv")
         header = [str(c) for c in df.columns]
         numeric = [dtype.kind in "iufc" for dtype in df.dtypes]
@@ -286,14 +302,26 @@ class Report:
             for row in rows
         )
         head = "".join(f"<th{k}>{html.escape(h)}</th>" for k, h in zip(cls, header))
+        table = f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+        if collapsed:
+            page = (
+                f'<details><summary class="caption">{_inline(cap)} (click to show)</summary>'
+                f'<div class="table">{table}</div></details>'
+            )
+        else:
+            page = f'<p class="caption">{_inline(cap)}</p><div class="table">{table}</div>'
+        self._blocks.append(_Block("\n".join(md) + f"\n\n(CSV: `tables/{name}.csv`)", page))
+        return path
+
+    def warning(self, markdown: str) -> None:
+        """Add a warning (Markdown text, shown boxed on the HTML page, quoted in Markdown)."""
+        markdown = str(markdown).strip("\n")
         self._blocks.append(
             _Block(
-                "\n".join(md) + f"\n\n(CSV: `tables/{name}.csv`)",
-                f"<table><caption>{_inline(cap)}</caption><thead><tr>{head}</tr></thead>"
-                f"<tbody>{body}</tbody></table>",
+                "\n".join("> " + line for line in f"**Warning.** {markdown}".splitlines()),
+                f'<div class="warning">{markdown_to_html(f"**Warning.** {markdown}")}</div>',
             )
         )
-        return path
 
     def extend(self, other: Report) -> None:
         """Append the content of ``other``, a report into the same folder filled earlier (its
@@ -440,6 +468,8 @@ def remove_report(out_dir: str | os.PathLike[str]) -> None:
 
 
 def _cell(value, floatfmt: str) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
     if isinstance(value, (float, np.floating)):
         return "" if np.isnan(value) else format(float(value), floatfmt)
     return str(value)

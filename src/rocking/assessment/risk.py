@@ -71,6 +71,17 @@ def example_hazard_path() -> Path:
     return Path(str(files("rocking") / "data" / "example_hazard_pgv.csv"))
 
 
+def illustrative_note(source: str | os.PathLike[str]) -> str:
+    """For reports: a sentence saying that the hazard curve read from ``source`` (a path) is the
+    shipped illustrative one, or "" for any other curve."""
+    if Path(source).resolve() != example_hazard_path().resolve():
+        return ""
+    return (
+        "The hazard curve is the shipped `example`: illustrative, made up for a moderately "
+        "active site, not the hazard of any real site; use your site's curve for decisions."
+    )
+
+
 def hazard_path(spec: str | os.PathLike[str]) -> Path:
     """The hazard file ``spec`` names: a path, or the word ``example`` (any case, blanks
     around it ignored; when no file has that name) for :func:`example_hazard_path`."""

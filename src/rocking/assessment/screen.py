@@ -5,9 +5,11 @@ spectrum (its zero-period acceleration, :func:`rocking.motions.design.design_pga
 
 * Housner's energy balance (paper Eq. 11, end of Section 8): required S_v against the available
   S_v at the item's location — on the ground the spectrum's own PSV, on floor N the mean PSV of
-  the floor motions — with its margin and verdict (:func:`rocking.assessment.energy.assess`);
+  the floor motions — with its margin (:func:`rocking.assessment.energy.assess`): a quick,
+  conservative screen;
 * the Monte Carlo overturning probability at the design level with its Wilson interval, and the
-  ground A_gx of 50 % probability (:mod:`rocking.montecarlo.probability`), from the same ensemble.
+  ground A_gx of 50 % probability (:mod:`rocking.montecarlo.probability`), from the same ensemble;
+* one verdict per item, from the Monte Carlo probability alone (:data:`VERDICT_RULE`).
 
 Floor motions are, by default (``floor_motions="building"``), the frame's response to the
 spectrum-compatible ground motions scaled to the design A_gx: what the floor of that (linear)
@@ -65,6 +67,19 @@ N_BAND_FREQS = 100
 FLOOR_MOTIONS = ("building", "paper")
 #: IM levels of the fragility curves of a screening with a hazard curve [-].
 N_RISK_LEVELS = 20
+#: Overturning probability at the design A_gx from which an item is at risk [-]: the level that
+#: Eq. (11) and A_gx50 estimate, so that the verdict and the screen ask the same question.
+RISK_PROBABILITY = 0.5
+#: The verdicts of a screening (:func:`verdicts`), most at risk first.
+AT_RISK, BORDERLINE, NOT_AT_RISK = "at risk", "borderline", "not at risk"
+#: The rule of the verdict, for reports.
+VERDICT_RULE = (
+    f"**at risk**: the simulated probability of overturning at the design A_gx is "
+    f"{100 * RISK_PROBABILITY:g} % or more; **borderline**: below {100 * RISK_PROBABILITY:g} %, "
+    f"but its Wilson interval reaches {100 * RISK_PROBABILITY:g} % (more motions would tell); "
+    f"**not at risk**: the whole interval lies below {100 * RISK_PROBABILITY:g} %. Eq. (11) "
+    "does not enter the verdict: it is a conservative screen, shown beside it"
+)
 
 
 @dataclass(frozen=True)
@@ -175,10 +190,12 @@ def screen(
         probability at the design A_gx, then lowest A_gx50, then lowest margin). Variables:
         ``location``, ``floor``, ``frame``, ``height`` and ``width`` [m], ``R`` [m], ``gamma``
         [-], ``e`` [-], ``mu`` [-] (NaN: not given), ``may_slide`` (μ ≤ B/H), ``sv_required``
-        and ``sv_available`` [m/s], ``margin`` [-] (> 0: safe by Eq. 11), ``verdict``,
-        ``probability``, ``ci_low``, ``ci_high`` [-], ``overturned`` and ``n_motions`` (counts),
-        ``agx50`` [g] (ground A_gx; with ``floor_motions="paper"`` the floor's own), ``at_risk``
-        (probability ≥ 0.5 or margin ≤ 0); with ``hazard``: ``fragility_median`` [the IM's
+        and ``sv_available`` [m/s], ``margin`` [-] (> 0: safe by Eq. 11), ``eq11_verdict``
+        (Eq. 11's "safe" or "overturn>50%"), ``probability``, ``ci_low``, ``ci_high`` [-],
+        ``overturned`` and ``n_motions`` (counts), ``agx50`` [g] (ground A_gx; with
+        ``floor_motions="paper"`` the floor's own), ``verdict`` (the one verdict:
+        :func:`verdicts`, :data:`VERDICT_RULE`) and ``at_risk`` (verdict "at risk"); with
+        ``hazard``: ``fragility_median`` [the IM's
         unit], ``fragility_beta`` [-], ``annual_rate`` [1/yr] (NaN: no overturning up to the
         hazard's largest IM, so below its upper-tail bound) and ``p_years`` [-]. Attributes:
         ``spectrum``, ``design_agx`` [g], the settings and the ensemble's generation
@@ -379,7 +396,7 @@ def _eq11_variables(location: _Location, band_hz: Sequence[float]) -> _Variables
             "max PSV at the location in the band",
         ),
         "margin": (energy["margin"].values, "1", "sv_required / sv_available - 1 (> 0: safe)"),
-        "verdict": (energy["verdict"].values, "", "Eq. (11) verdict"),
+        "eq11_verdict": (energy["verdict"].values, "", "Eq. (11) verdict (conservative screen)"),
     }
 
 
@@ -472,11 +489,15 @@ def _restitution(items: list[Item]) -> float | np.ndarray:
 
 
 def _ranked(ds: xr.Dataset) -> xr.Dataset:
-    """``ds`` with ``at_risk``, sorted most at risk first: highest probability at the design
-    A_gx, then lowest A_gx50, then lowest margin."""
-    at_risk = (ds["probability"] >= 0.5) | (ds["margin"] <= 0.0)
-    ds["at_risk"] = at_risk.assign_attrs(
-        long_name="P(overturn) >= 50 % at the design A_gx, or Eq. (11) margin <= 0"
+    """``ds`` with ``verdict`` and ``at_risk``, sorted most at risk first: highest probability
+    at the design A_gx, then lowest A_gx50, then lowest margin."""
+    ds["verdict"] = (
+        "item",
+        verdicts(ds["probability"].values, ds["ci_high"].values),
+        {"long_name": f"verdict from the Monte Carlo probability ({VERDICT_RULE})"},
+    )
+    ds["at_risk"] = (ds["verdict"] == AT_RISK).assign_attrs(
+        long_name=f"P(overturn) >= {100 * RISK_PROBABILITY:g} % at the design A_gx"
     )
     order = np.lexsort(
         (
@@ -486,6 +507,19 @@ def _ranked(ds: xr.Dataset) -> xr.Dataset:
         )
     )
     return ds.isel(item=order)
+
+
+def verdicts(probability: ArrayLike, ci_high: ArrayLike) -> np.ndarray:
+    """The verdict of each item of a screening, from its simulated overturning probability at
+    the design A_gx and the upper end of its Wilson interval [-] (:data:`VERDICT_RULE`):
+    "at risk", "borderline" or "not at risk"."""
+    p = np.asarray(probability, dtype=float)
+    high = np.asarray(ci_high, dtype=float)
+    return np.where(
+        p >= RISK_PROBABILITY,
+        AT_RISK,
+        np.where(high >= RISK_PROBABILITY, BORDERLINE, NOT_AT_RISK),
+    ).astype(object)
 
 
 #: Entry of :func:`eq11_vs_monte_carlo` when Eq. (11) and the simulation agree.
@@ -552,9 +586,10 @@ def eq11_vs_monte_carlo_note(band_hz: Sequence[float] = BAND_HZ) -> str:
 
 
 def results_table(ds: xr.Dataset) -> pd.DataFrame:
-    """The screening result as a table (pandas DataFrame) in the dataset's order, with S_v in
-    cm/s and whether Eq. (11) and the Monte Carlo agree (:func:`eq11_vs_monte_carlo`), for CSV
-    files and reports."""
+    """The screening result as a table (pandas DataFrame) in the dataset's order: the verdict
+    (:data:`VERDICT_RULE`) and the Monte Carlo results first, then Eq. (11) (S_v in cm/s) and
+    whether it agrees with the Monte Carlo (:func:`eq11_vs_monte_carlo`), for CSV files and
+    reports."""
     import pandas as pd
 
     table = pd.DataFrame(
@@ -569,21 +604,21 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
             "e [-]": ds["e"].values,
             "mu [-]": ds["mu"].values,
             "may slide": ds["may_slide"].values,
-            "at risk": ds["at_risk"].values,
-            "Sv required [cm/s]": 100.0 * ds["sv_required"].values,
-            "Sv available [cm/s]": 100.0 * ds["sv_available"].values,
-            "margin [-]": ds["margin"].values,
-            "Eq. (11) verdict": ds["verdict"].values,
+            "verdict": ds["verdict"].values,
             "P(overturn) [-]": ds["probability"].values,
             "CI low [-]": ds["ci_low"].values,
             "CI high [-]": ds["ci_high"].values,
+            "Agx50 [g]": ds["agx50"].values,
+            "Sv required [cm/s]": 100.0 * ds["sv_required"].values,
+            "Sv available [cm/s]": 100.0 * ds["sv_available"].values,
+            "margin [-]": ds["margin"].values,
+            "Eq. (11) screen": ds["eq11_verdict"].values,
             "Eq. (11) vs Monte Carlo": eq11_vs_monte_carlo(
-                ds["verdict"].values,
+                ds["eq11_verdict"].values,
                 ds["probability"].values,
                 ds["ci_low"].values,
                 ds["ci_high"].values,
             ),
-            "Agx50 [g]": ds["agx50"].values,
         }
     )
     if "annual_rate" in ds:
@@ -595,4 +630,11 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
     return table
 
 
-__all__ = ["eq11_vs_monte_carlo", "eq11_vs_monte_carlo_note", "results_table", "screen"]
+__all__ = [
+    "VERDICT_RULE",
+    "eq11_vs_monte_carlo",
+    "eq11_vs_monte_carlo_note",
+    "results_table",
+    "screen",
+    "verdicts",
+]

@@ -271,23 +271,62 @@ def _read_motions(motions_path: str) -> Ensemble:
 def _write_report(ds: xr.Dataset, out: Path, inv_path: Path, notes: list[str]) -> list[str]:
     """Write the report of the screening ``ds`` (summary, figure, table) to ``out``; the names
     of the files written."""
-    from ..assessment.screen import results_table
+    from ..assessment.screen import eq11_vs_monte_carlo_note, results_table
     from ..plots.screen import plot_screen
     from ..report import Report
 
     table = results_table(ds)
     report = Report(f"Screening of {inv_path.name}", out)
-    report.text(_summary(ds, table, inv_path, notes))
+    report.text(_summary(ds, table, inv_path))
+    for note in notes:
+        report.warning(note)
     report.figure(
         plot_screen(ds),
         "sv-agx",
-        "Items on the S_v–A_gx plane (paper Fig. 15 style): required S_v of "
-        "Eq. (11) against the A_gx of 50 % overturning probability; dashed: design "
-        "A_gx; dotted: available S_v at each location.",
+        "Items on the S_v–A_gx plane (paper Fig. 15 style), numbered as the rows of the table: "
+        "required S_v of Eq. (11) against the A_gx of 50 % overturning probability; dashed: "
+        "design A_gx; dotted: available S_v at each location.",
     )
-    report.table(table, "Items, most at risk first.", name="screen")
+    report.table(
+        page_table(table),
+        "Items, most at risk first (every column, e.g. H, B, R, e, μ and the S_v of Eq. (11): "
+        "`tables/screen.csv`).",
+        name="screen",
+        floatfmt=".3g",
+        csv=table,
+    )
+    report.text(eq11_vs_monte_carlo_note(ds.attrs["band_hz"]))
     report.write()
     return list(report.files)
+
+
+def page_table(table: pd.DataFrame) -> pd.DataFrame:
+    """The columns of a screening's table (:func:`rocking.assessment.screen.results_table`)
+    shown on the report's page: number, item, where, the verdict and its Monte Carlo numbers,
+    then Eq. (11)'s screen and, with a hazard, the annual rate."""
+    import pandas as pd
+
+    page = pd.DataFrame(
+        {
+            "#": range(1, len(table) + 1),
+            "item": table["item"],
+            "location": table["location"],
+            "H × B [m]": [f"{h:.3g}\u202f×\u202f{b:.3g}" for h, b in zip(table["H [m]"], table["B [m]"])],
+            "verdict": table["verdict"],
+            "P(overturn) [-]": table["P(overturn) [-]"],
+            "95 % interval [-]": [
+                f"{lo:.2f}–{hi:.2f}" for lo, hi in zip(table["CI low [-]"], table["CI high [-]"])
+            ],
+            "A_gx50 [g]": table["Agx50 [g]"],
+            "Eq. (11) screen (conservative)": table["Eq. (11) screen"],
+            "Eq. (11) margin [-]": table["margin [-]"],
+            "may slide": table["may slide"],
+        }
+    )
+    for column in table.columns:
+        if column.startswith(("annual rate", "P in ")):
+            page[column] = table[column]
+    return page
 
 
 _FLOORS = {
@@ -298,35 +337,48 @@ _FLOORS = {
 }
 
 
-def _summary(ds: xr.Dataset, table: pd.DataFrame, inv_path: Path, notes: list[str]) -> str:
+def _summary(ds: xr.Dataset, table: pd.DataFrame, inv_path: Path) -> str:
     """Markdown paragraph(s) above the figure (``table``:
-    :func:`rocking.assessment.screen.results_table` of ``ds``)."""
-    from ..assessment.screen import AGREE, eq11_vs_monte_carlo_note
+    :func:`rocking.assessment.screen.results_table` of ``ds``): the verdict first, with its
+    rule, then Eq. (11) as the screen it is, then the inputs."""
+    from ..assessment.risk import illustrative_note
+    from ..assessment.screen import AGREE, AT_RISK, BORDERLINE, VERDICT_RULE
 
     a = ds.attrs
+    n = ds.sizes["item"]
+    verdict = ds["verdict"].values
+    at_risk = [str(i) for i, v in zip(ds["item"].values, verdict) if v == AT_RISK]
+    borderline = [str(i) for i, v in zip(ds["item"].values, verdict) if v == BORDERLINE]
     n_fail_eq11 = int((ds["margin"].values <= 0.0).sum())
-    n_fail_mc = int((ds["probability"].values >= 0.5).sum())
     differ = [
         str(item)
         for item, c in zip(table["item"], table["Eq. (11) vs Monte Carlo"])
         if not c.startswith(AGREE)
     ]
     text = (
-        f"Inventory `{inv_path}`: {ds.sizes['item']} items. Design spectrum: {a['spectrum']}; "
+        f"**{len(at_risk)} of {n} items at risk"
+        f"{': ' + ', '.join(at_risk) if at_risk else ''}.** "
+        f"{len(borderline)} borderline{': ' + ', '.join(borderline) if borderline else ''}.\n\n"
+        f"Verdict (one rule, from {a['n_motions']} simulated motions at the design A_gx = "
+        f"{a['design_agx']:.3g} g): {VERDICT_RULE}.\n\n"
+        f"Housner's Eq. (11), the quick screen, flags {n_fail_eq11} of {n} items (margin ≤ 0); "
+        f"it differs from the simulation for {len(differ)} "
+        f"item(s){': ' + ', '.join(differ) if differ else ''} (why: see below the table).\n\n"
+    )
+    if "annual_rate" in ds:
+        text += (
+            f"With the hazard curve `{Path(a['hazard']).name}`, the table also gives each item's "
+            f"mean annual rate of overturning and its probability in {a['years']:g} years. "
+            f"{illustrative_note(a['hazard'])}\n\n"
+        )
+    text += (
+        f"Inventory `{inv_path}`: {n} items. Design spectrum: {a['spectrum']}; "
         f"design A_gx = {a['design_agx']:.3g} g (its zero-period acceleration). "
         f"{a['n_motions']} spectrum-compatible motions of {a['duration']:g} s (seed {a['seed']}); "
         f"{_FLOORS[a['floor_motions']]} Available S_v: "
         f"largest {100 * a['damping']:g} %-damped PSV in {a['band_hz'][0]:g}–{a['band_hz'][1]:g} "
-        f"Hz.\n\n"
-        f"- Housner's check (Eq. 11) fails for {n_fail_eq11} item(s) (margin ≤ 0).\n"
-        f"- Monte Carlo: {n_fail_mc} item(s) overturn with probability ≥ 50 % at the design "
-        f"A_gx ({100 * a['confidence']:g} % Wilson intervals in the table).\n"
-        f"- The two disagree for {len(differ)} item(s){': ' if differ else ''}"
-        f"{', '.join(differ)} (column 'Eq. (11) vs Monte Carlo' says which way).\n\n"
-        + eq11_vs_monte_carlo_note(a["band_hz"])
+        f"Hz. Intervals: {100 * a['confidence']:g} % Wilson."
     )
-    if notes:
-        text += "\n\n" + "\n".join(f"- **Warning:** {note}" for note in notes)
     return text
 
 

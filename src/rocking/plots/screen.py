@@ -10,10 +10,23 @@ from . import new_figure
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+    from matplotlib.transforms import Bbox
 
-#: Up to this many items every point is named; above it only those at risk.
-MAX_NAMED = 25
+#: Up to this many items every point is numbered; above it only those at risk.
+MAX_NAMED = 40
+#: Points closer than this on the figure share one label [points, 1/72 inch].
+SAME_POINT = 3.0
+#: Least gap between a label and another label or point [points].
+GAP = 1.5
+#: Offsets of a label from its point tried in turn, (dx, dy) [points]; the label's corner
+#: nearest to the point is placed there.
+_OFFSETS = [
+    (dx * r, dy * r)
+    for r in (4.0, 9.0, 15.0, 22.0)
+    for dx, dy in ((1, 1), (1, -1), (-1, 1), (-1, -1), (0, 1.4), (0, -1.4), (1.4, 0), (-1.4, 0))
+]
 
 
 def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
@@ -24,6 +37,11 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     S_v (the largest PSV in the band) is a dotted horizontal line of its colour: items below
     their line fail Housner's check. Items whose A_gx50 lies beyond the search range are drawn
     at its end with a ▸ marker.
+
+    Each point is labelled with its item's number, its row in ``ds`` counted from 1 (the key is
+    the report's table); items at one point share a label ("2, 5"). Labels are placed where
+    they overlap no other label, point or axis edge (the first free place of a few around the
+    point); the legend sits outside the axes.
 
     Parameters
     ----------
@@ -36,13 +54,12 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     """
     agx50 = ds["agx50"].values
     sv = 100.0 * ds["sv_required"].values
-    names = [str(v) for v in ds["item"].values]
     at_risk = ds["at_risk"].values
     design = float(ds.attrs["design_agx"])
     beyond = ~np.isfinite(agx50)
     x_end = float(ds.attrs.get("agx_max", np.nanmax(agx50, initial=design)))
     x = np.where(beyond, x_end, agx50)
-    fig = new_figure(figsize=(7.0, 5.2), layout="constrained")
+    fig = new_figure(figsize=(9.0, 5.2), layout="constrained")
     ax = fig.add_subplot()
     # the ground first, then each frame's floors upwards
     keys = sorted(
@@ -58,17 +75,85 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
         ax.plot(x[sel & beyond], sv[sel & beyond], ">", color=color, ms=6)
         ax.axhline(available, color=color, ls=":", lw=1.0)
     ax.axvline(design, color="k", ls="--", lw=1.0, label=f"design A_gx = {design:.3g} g")
-    for i, name in enumerate(names):
-        if len(names) <= MAX_NAMED or at_risk[i]:
-            ax.annotate(name, (x[i], sv[i]), xytext=(4, 3), textcoords="offset points", fontsize=7)
-    ax.set_xlim(left=0.0)
-    ax.set_ylim(bottom=0.0)
+    ax.set_xlim(left=0.0, right=float(np.max(x, initial=design)) * 1.08)
+    ax.set_ylim(bottom=0.0, top=float(np.max(sv, initial=1.0)) * 1.12)
     ground = ds.attrs.get("floor_motions", "building") == "building"
     ax.set_xlabel(("ground " if ground else "") + "A_gx at 50 % overturning probability [g]")
     ax.set_ylabel("required S_v, Eq. (11) [cm/s]")
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.legend(
-        fontsize="small", title="dotted: available S_v at the location", title_fontsize="small"
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize="small",
+        title="dotted: available S_v at the location\nnumbers: rows of the table",
+        title_fontsize="small",
     )
     ax.set_title(title or f"Screening: {ds.attrs.get('spectrum', '')}", fontsize="medium")
+    named = np.ones(len(x), bool) if len(x) <= MAX_NAMED else at_risk.astype(bool)
+    _label_points(fig, ax, x, sv, named)
     return fig
+
+
+def _label_points(fig: Figure, ax: Axes, x: np.ndarray, y: np.ndarray, named: np.ndarray) -> None:
+    """Number the points (x, y) of ``ax`` that are ``named`` (1 + their index), one label per
+    group of points closer than :data:`SAME_POINT`, each at the first offset of
+    :data:`_OFFSETS` where it overlaps no other label or point and stays inside the axes (the
+    first offset if there is none). The figure's layout is solved first and then fixed, so the
+    labels stay where they were placed."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if not named.any():
+        return
+    canvas = FigureCanvasAgg(fig)
+    fig.draw_without_rendering()
+    fig.set_layout_engine("none")  # keep the solved layout: the labels are placed in it
+    renderer = canvas.get_renderer()
+    to_points = 72.0 / fig.dpi
+    xy = ax.transData.transform(np.column_stack([x, y])) * to_points  # [points]
+    groups: list[list[int]] = []
+    for i in np.flatnonzero(named):
+        for group in groups:
+            if np.hypot(*(xy[group[0]] - xy[i])) < SAME_POINT:
+                group.append(int(i))
+                break
+        else:
+            groups.append([int(i)])
+    marker = 3.5  # half the size of a point's marker [points]
+    points = [_box(p, marker, to_points) for p in xy]  # every point, named or not
+    labels: list[Bbox] = []
+    frame = ax.get_window_extent(renderer)
+    for group in groups:
+        text = ", ".join(str(i + 1) for i in group)
+        others = [b for i, b in enumerate(points) if i not in group] + labels
+        for dx, dy in _OFFSETS:
+            label = _annotate(ax, text, (x[group[0]], y[group[0]]), dx, dy)
+            box = label.get_window_extent(renderer).expanded(1.0, 1.0).padded(GAP / to_points)
+            inside = frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)
+            if inside and not any(box.overlaps(other) for other in others):
+                break
+            label.remove()
+        else:  # nowhere free: the first place
+            label = _annotate(ax, text, (x[group[0]], y[group[0]]), *_OFFSETS[0])
+        labels.append(label.get_window_extent(renderer))
+
+
+def _annotate(ax: Axes, text: str, xy: tuple[float, float], dx: float, dy: float):
+    """A label ``text`` at ``(dx, dy)`` points from the data point ``xy``, by its corner (or
+    the middle of its side) nearest to the point."""
+    return ax.annotate(
+        text,
+        xy,
+        xytext=(dx, dy),
+        textcoords="offset points",
+        ha="left" if dx > 0 else "right" if dx < 0 else "center",
+        va="bottom" if dy > 0 else "top" if dy < 0 else "center",
+        fontsize=7,
+    )
+
+
+def _box(center_points: np.ndarray, half: float, to_points: float) -> Bbox:
+    """A square of half-side ``half`` [points] about ``center_points`` [points], in pixels."""
+    from matplotlib.transforms import Bbox
+
+    (cx, cy), s = center_points / to_points, half / to_points
+    return Bbox([[cx - s, cy - s], [cx + s, cy + s]])
