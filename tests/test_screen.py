@@ -167,7 +167,6 @@ def test_results_are_labelled_and_sorted_most_at_risk_first(result):
     assert result.attrs["design_agx"] == pytest.approx(0.6)
 
 
-
 def test_one_verdict_from_the_monte_carlo_probability_alone(result):
     # Issue 48: the screening had two verdicts (Eq. 11 and the simulation) that contradicted,
     # and "at risk" followed Eq. (11) (margin <= 0) even where the simulation gave P = 0.005.
@@ -300,7 +299,7 @@ def test_cli_report_says_where_eq11_and_monte_carlo_disagree(tmp_path):
     assert md.splitlines()[2].startswith(f"**{n_risk} of 5 items at risk")
     assert f"{n_risk} of 5 items at risk" in res.output
     page = (out / "report.html").read_text()
-    assert "<th class=\"text\">Eq. (11) screen (conservative)</th>" in page
+    assert '<th class="text">Eq. (11) screen (conservative)</th>' in page
     assert ">True<" not in page and ">False<" not in page  # booleans as yes/no
 
 

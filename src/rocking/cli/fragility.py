@@ -36,12 +36,14 @@ from ._options import (
 
 if TYPE_CHECKING:
     import numpy as np
+    import pandas as pd
     import xarray as xr
 
     from ..assessment.bodies import NamedBody
     from ..montecarlo.backends import Backend
     from ..motions.ensemble import Ensemble
     from ..motions.targets import TargetSpectrum
+    from ..report import Report
     from ..structures.frames import ShearFrame
 
 #: Files written by ``rocking agx50`` for the paper's Tables 1–3 (when the bodies form a grid),
@@ -360,6 +362,7 @@ def _im_list(text: str) -> list[str]:
 def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensemble, e) -> None:
     """probabilities.csv/.nc, lognormal.csv, fragility.png, im_efficiency.csv and report.html
     of a fragility run."""
+    import numpy as np
     import pandas as pd
 
     from ..montecarlo.statistics import LognormalFit
@@ -400,22 +403,79 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
         "for the median and β (NaN: none drawn, or nothing to fit)."
     )
     report.figure(figure, "fragility", f"Overturning probability against {measure.label}.")
-    report.table(fit_table.drop(columns=["im"]), f"Fitted median [{measure.unit}] and β.", "fit")
+    top = float(np.max(ds["level"].values))
+    beyond = [f"{b} ({f.median:.3g} {measure.unit})" for b, f in fits.items() if f.median >= top]
+    if beyond:  # issue 48: a median at or above the highest level tested is extrapolated
+        report.warning(
+            f"The fitted median of {', '.join(beyond)} lies at or beyond the highest level "
+            f"tested, {top:g} {measure.unit}: it is an extrapolation of the lognormal fit, "
+            "not a measurement. Run the fragility to higher levels to measure it."
+        )
+    report.table(
+        fit_page_table(fit_table, measure.unit),
+        f"Fitted median and β with their bootstrap 95 % intervals (levels tested up to "
+        f"{top:g} {measure.unit}).",
+        "fit",
+    )
     if efficiency is not None:
         run.write_csv("im_efficiency.csv", efficiency)
-        report.heading("Efficiency of intensity measures")
-        report.text(
-            "Dispersion β of the lognormal fragility fitted to the same IDA runs, each run "
-            "placed at its motion's value of each IM (smaller β: the IM predicts overturning "
-            "better), with bootstrap 95 % intervals over motions."
-        )
-        report.table(efficiency.drop(columns=["label"]), "IMs ranked by β per body.", "im")
+        efficiency_section(report, efficiency)
     report.write()
     for name in report.files:
         run.file(name)
 
 
 _FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta_high")
+
+
+def fit_page_table(fit_table: pd.DataFrame, unit: str) -> pd.DataFrame:
+    """The fitted curves (lognormal.csv's columns) with the headers of a report: names and
+    units (``unit``: the IM's)."""
+    return fit_table[["body", "R", "gamma", *_FIT_COLUMNS]].rename(
+        columns={
+            "R": "R [m]",
+            "gamma": "γ [-]",
+            "median": f"median [{unit}]",
+            "median_low": f"median, 95 % low [{unit}]",
+            "median_high": f"median, 95 % high [{unit}]",
+            "beta": "β [-]",
+            "beta_low": "β, 95 % low [-]",
+            "beta_high": "β, 95 % high [-]",
+        }
+    )
+
+
+def efficiency_section(report: Report, efficiency: pd.DataFrame) -> None:
+    """Add the efficiency of intensity measures (:func:`rocking.im_efficiency`'s table) to a
+    report: β per IM and body as a figure, the table folded below it."""
+    import pandas as pd
+
+    from ..plots.fragility import plot_im_efficiency
+
+    report.heading("Efficiency of intensity measures")
+    report.text(
+        "Dispersion β of the lognormal fragility fitted to the same IDA runs, each run "
+        "placed at its motion's value of each IM (smaller β: the IM predicts overturning "
+        "better), with bootstrap 95 % intervals over motions."
+    )
+    report.figure(
+        plot_im_efficiency(efficiency),
+        "im-efficiency",
+        "β per body and IM, with its bootstrap 95 % interval: the IM furthest left is the "
+        "most efficient for that body.",
+    )
+    label = efficiency["label"] if "label" in efficiency else efficiency["im"]
+    page = pd.DataFrame(
+        {
+            "body": efficiency["body"],
+            "IM [unit]": label,
+            "median [the IM's unit]": efficiency["median"],
+            "β [-]": efficiency["beta"],
+            "β, 95 % low [-]": efficiency["beta_low"],
+            "β, 95 % high [-]": efficiency["beta_high"],
+        }
+    )
+    report.table(page, "IMs ranked by β per body.", "im", csv=efficiency, collapsed=True)
 
 
 @click.command("agx50")

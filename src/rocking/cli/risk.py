@@ -141,7 +141,7 @@ def _plot_disaggregation(results: list, table: pd.DataFrame, hazard: HazardCurve
     """Hazard curve and, per body, the density of the overturning rate over ln IM."""
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(9.5, 4.0), layout="constrained")
+    fig = Figure(figsize=(11.0, 4.0), layout="constrained")
     left, right = fig.subplots(1, 2)
     left.loglog(hazard.values, hazard.rates, "o-", color="k", ms=3)
     left.set_xlabel(hazard.im.label)
@@ -155,53 +155,106 @@ def _plot_disaggregation(results: list, table: pd.DataFrame, hazard: HazardCurve
     right.set_ylabel("x·dλ_f/dx [1/yr per unit of ln x]")
     right.grid(True, which="both", alpha=0.3)
     if names:
-        right.legend(fontsize="x-small")
+        right.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return fig
 
 
 def _report(run, folder: Path, params: dict, table, figure, hazard, years: float) -> None:
-    """report.html: the fragility, the efficiency of IMs (if the run ranked them) and the
-    annual rates."""
+    """report.html: the result per body in words, the fragility, the efficiency of IMs (if the
+    run ranked them) and the annual rates (``table``: risk.csv's rows)."""
     import pandas as pd
     from matplotlib.image import imread
 
+    from ..assessment.risk import illustrative_note
     from ..report import Report
+    from .fragility import efficiency_section
 
     report = Report(f"Annual rate of overturning ({hazard.im.label})", run.path)
+    report.text(
+        f"At this site, with the hazard curve `{Path(hazard.source).name}` and the fragility "
+        f"of `{folder}`:\n\n" + "\n".join(_sentence(row, years) for _, row in table.iterrows())
+    )
+    note = illustrative_note(hazard.source)
+    if note:
+        report.warning(note)
     report.text(
         f"Fragility from `{folder}` ({params.get('method', 'ida').upper()} on "
         f"{params.get('n_motions')} motions from `{params.get('motions')}`), hazard from "
         f"`{hazard.source}`. Rate λ_f = ∫ P_f(x)·|dλ/dx| dx with the hazard interpolated "
         "log-log; above the last tabulated intensity the last segment is extrapolated (its "
-        "share and the model-free bound are in the table); below the first point nothing is "
-        f"added (the estimate left out is in the table). Probability in {years:g} years: "
-        "1 − exp(−λ_f·years) (Poisson)."
+        "share and the model-free bound are in the second table); below the first point "
+        "nothing is added (the estimate left out is in the second table). Probability in "
+        f"{years:g} years: 1 − exp(−λ_f·years) (Poisson)."
     )
     fragility_png = folder / "fragility.png"
     if fragility_png.exists():
         from matplotlib.figure import Figure
 
-        fig = Figure(figsize=(6.5, 4.8), layout="constrained")
+        image = imread(fragility_png)
+        height, width = image.shape[:2]
+        fig = Figure(figsize=(width / 100, height / 100), layout="constrained")
         ax = fig.add_subplot()
-        ax.imshow(imread(fragility_png))
+        ax.imshow(image)
         ax.set_axis_off()
         report.figure(fig, "fragility", "Fragility curves of the fragility run.")
     efficiency = folder / "im_efficiency.csv"
     if efficiency.exists():
-        report.heading("Efficiency of intensity measures")
-        report.table(
-            pd.read_csv(efficiency).drop(columns=["label"], errors="ignore"),
-            "Dispersion β of the fragility against each IM (smaller: more efficient).",
-            "im",
-        )
+        efficiency_section(report, pd.read_csv(efficiency))
     report.heading("Annual rate of overturning")
     report.figure(
         figure, "disaggregation", "Hazard curve (left) and contributions to the rate (right)."
     )
-    report.table(table, "Rate per body.", "risk", floatfmt=".3g")
+    unit = hazard.im.unit
+    rates = pd.DataFrame(
+        {
+            "body": table["body"],
+            f"median [{unit}]": table.get("median"),
+            "β [-]": table.get("beta"),
+            "annual rate [1/yr]": table["annual_rate"],
+            "return period [yr]": table.get("return_period_yr"),
+            f"P in {years:g} years [-]": table.get(f"p_in_{years:g}_yr"),
+        }
+    )
+    report.table(rates, "Rate per body.", "risk", floatfmt=".3g", csv=table)
+    tails = pd.DataFrame(
+        {
+            "body": table["body"],
+            "above the last point, extrapolated [1/yr]": table.get("upper_tail"),
+            "its model-free bound [1/yr]": table.get("upper_tail_bound"),
+            "below the first point, left out [1/yr]": table.get("lower_tail_left_out"),
+            "P_f at the first point [-]": table.get("p_at_first_point"),
+            "P_f at the last point [-]": table.get("p_at_last_point"),
+        }
+    )
+    report.table(
+        tails,
+        "The tails of the integral: what the rate holds above the hazard curve's last point, "
+        "and what it leaves out below its first point (parts of the rate above, in 1/yr; "
+        "values like 1e-100 are zero for any purpose).",
+        "tails",
+        floatfmt=".2g",
+    )
     report.write()
     for name in report.files:
         run.file(name)
+
+
+def _sentence(row, years: float) -> str:
+    """One line of Markdown: a body's result in words (``row``: a row of risk.csv)."""
+    import math
+
+    rate = row["annual_rate"]
+    if not math.isfinite(rate):
+        return f"- **{row['body']}**: no rate (its fragility has no finite median or β)."
+    if rate <= 0.0:
+        return f"- **{row['body']}**: never overturns at this site (annual rate 0)."
+    p = row[f"p_in_{years:g}_yr"]
+    return (
+        f"- **{row['body']}** overturns on average once in {float(f'{1.0 / rate:.2g}'):,.0f} "
+        f"years (annual "
+        f"rate {rate:.2g}/yr): a probability of {100 * p:.2g} % of overturning at least once "
+        f"in {years:g} years."
+    )
 
 
 COMMANDS = [risk_cmd]

@@ -311,7 +311,9 @@ def page_table(table: pd.DataFrame) -> pd.DataFrame:
             "#": range(1, len(table) + 1),
             "item": table["item"],
             "location": table["location"],
-            "H × B [m]": [f"{h:.3g}\u202f×\u202f{b:.3g}" for h, b in zip(table["H [m]"], table["B [m]"])],
+            "H × B [m]": [
+                f"{h:.3g}\u202f×\u202f{b:.3g}" for h, b in zip(table["H [m]"], table["B [m]"])
+            ],
             "verdict": table["verdict"],
             "P(overturn) [-]": table["P(overturn) [-]"],
             "95 % interval [-]": [

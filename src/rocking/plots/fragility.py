@@ -13,6 +13,7 @@ from ..defaults import BAND_HZ
 from . import new_figure
 
 if TYPE_CHECKING:
+    import pandas as pd
     import xarray as xr
     from matplotlib.figure import Figure
 
@@ -37,11 +38,13 @@ def plot_fragility(
 ) -> Figure:
     """Overturning probability against A_gx, one curve per body (paper Figs. 9–11, 13).
 
-    Each curve has a shaded band between ``ci_low`` and ``ci_high`` (the Wilson interval at the
-    level of attribute ``confidence``, default 0.95) and, when ``fits`` has an entry for it, the
+    Each curve has a lightly shaded band between ``ci_low`` and ``ci_high`` (the Wilson
+    interval at the level of attribute ``confidence``, default 0.95; light, so that the bands
+    of several curves stay readable where they overlap) and, when ``fits`` has an entry for it, the
     fitted lognormal curve Φ(ln(A_gx/median)/β) dashed.
 
-    Up to :data:`MAX_LEGEND` curves share one axis, each named in the legend. More bodies
+    Up to :data:`MAX_LEGEND` curves share one axis, each named in the legend (beside the axes,
+    where it covers no curve). More bodies
     (e.g. the paper's 72, without a ``case`` dimension) are drawn as small multiples: one panel
     per size R, one curve per γ coloured from light (small γ, stocky) to dark (slender) the
     same way in every panel, named in one legend (a colour bar when there are more than
@@ -68,18 +71,30 @@ def plot_fragility(
     if "case" not in ds.dims and ds.sizes["body"] > MAX_LEGEND:
         return _plot_by_size(ds, fits, title, xlabel)
     agx = ds["agx"].values
-    fig = new_figure(figsize=(6.5, 4.8), layout="constrained")
+    fig = new_figure(figsize=(9.0, 4.8), layout="constrained")
     ax = fig.add_subplot()
     curves = _curves(ds)
     for k, (key, label, sel) in enumerate(curves):
         _draw_curve(
-            ax, agx, sel, fits.get(key), f"C{k % 10}", label=label if k < MAX_LEGEND else None
+            ax,
+            agx,
+            sel,
+            fits.get(key),
+            f"C{k % 10}",
+            label=label if k < MAX_LEGEND else None,
+            alpha=0.2 if len(curves) == 1 else 0.08,  # a band alone can be darker
         )
     _probability_axes(ax)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("probability of overturning [-]")
     extra = f" ({len(curves) - MAX_LEGEND} more not listed)" if len(curves) > MAX_LEGEND else ""
-    ax.legend(fontsize="small", title=_key_text(ds, fits) + extra, title_fontsize="small")
+    ax.legend(  # outside the axes: it covers no curve
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize="small",
+        title=_key_text(ds, fits).replace("; ", "\n") + extra,
+        title_fontsize="small",
+    )
     if title:
         ax.set_title(title)
     return fig
@@ -150,12 +165,25 @@ def _plot_by_size(
 
 
 def _draw_curve(
-    ax, agx, sel, fit, color, *, label=None, ms: float = 3.0, alpha: float = 0.18
+    ax, agx, sel, fit, color, *, label=None, ms: float = 3.0, alpha: float = 0.08
 ) -> None:
     """One probability curve with its Wilson band (opacity ``alpha``) and, if fitted, its
-    lognormal fit."""
+    lognormal fit. The band is drawn where the curve rises, from the level before its first
+    probability above 0 to the level after its last one below 1: elsewhere every curve of an
+    ensemble has the same band (0 of n or n of n), whose stack would hide the others."""
+    p = sel["probability"].values
+    first = int(np.argmax(p > 0.0)) if (p > 0.0).any() else p.size  # first above 0
+    last = int(p.size - 1 - np.argmax(p[::-1] < 1.0)) if (p < 1.0).any() else -1  # last below 1
+    where = np.zeros(p.shape, bool)
+    where[max(first - 1, 0) : last + 2] = True
     ax.fill_between(
-        agx, sel["ci_low"].values, sel["ci_high"].values, color=color, alpha=alpha, lw=0
+        agx,
+        sel["ci_low"].values,
+        sel["ci_high"].values,
+        where=where,
+        color=color,
+        alpha=alpha,
+        lw=0,
     )
     ax.plot(agx, sel["probability"].values, "o-", color=color, ms=ms, lw=1.2, label=label)
     if fit is not None and np.isfinite(fit.median) and np.isfinite(fit.beta) and fit.beta > 0:
@@ -269,6 +297,68 @@ def plot_sv1_spectrum(
     ax.set_ylabel("pseudo-velocity S_v [cm/s]")
     ax.grid(True, which="both", lw=0.4, alpha=0.5)
     ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def plot_im_efficiency(efficiency: pd.DataFrame, *, title: str = "") -> Figure:
+    """Dispersion β of the fragility against each intensity measure, per body: one row per
+    body, one marker per IM with its bootstrap interval as a bar (smaller β: the IM predicts
+    overturning better).
+
+    Parameters
+    ----------
+    efficiency : pandas.DataFrame
+        :func:`rocking.im_efficiency`'s table: columns ``body``, ``im``, ``beta``, ``beta_low``
+        and ``beta_high`` [-] (NaN: no interval), optionally ``label`` (the IM's name and unit,
+        used in the legend).
+    title : str
+        Figure title.
+    """
+    bodies = list(dict.fromkeys(efficiency["body"].astype(str)))
+    ims = list(dict.fromkeys(efficiency["im"].astype(str)))
+    labels = (
+        dict(zip(efficiency["im"].astype(str), efficiency["label"].astype(str)))
+        if "label" in efficiency
+        else {im: im for im in ims}
+    )
+    fig = new_figure(figsize=(9.0, 1.2 + 0.42 * len(bodies)), layout="constrained")
+    ax = fig.add_subplot()
+    row = {b: i for i, b in enumerate(bodies)}
+    step = 0.7 / max(len(ims), 1)  # the IMs of a body side by side within its row
+    markers = "osD^v<>ph*"
+    for k, im in enumerate(ims):
+        part = efficiency[efficiency["im"].astype(str) == im]
+        y = np.array([row[str(b)] for b in part["body"]]) + (k - (len(ims) - 1) / 2) * step
+        beta = part["beta"].to_numpy(float)
+        low = part["beta_low"].to_numpy(float) if "beta_low" in part else beta
+        high = part["beta_high"].to_numpy(float) if "beta_high" in part else beta
+        ax.errorbar(
+            beta,
+            y,
+            xerr=[np.nan_to_num(beta - low), np.nan_to_num(high - beta)],
+            fmt=markers[k % len(markers)],
+            color=f"C{k % 10}",
+            ms=5,
+            elinewidth=1.0,
+            capsize=0,
+            label=labels.get(im, im),
+        )
+    ax.set_yticks(range(len(bodies)), bodies, fontsize="small")
+    ax.set_ylim(len(bodies) - 0.5, -0.5)
+    ax.set_xlim(left=0.0)
+    ax.set_xlabel("dispersion β of the fragility [-] (smaller: more efficient IM)")
+    ax.grid(True, axis="x", lw=0.4, alpha=0.5)
+    for y in np.arange(len(bodies) - 1) + 0.5:
+        ax.axhline(y, color="0.85", lw=0.6)
+    ax.legend(
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize="small",
+        title="IM (bars: 95 % bootstrap\ninterval)",
+        title_fontsize="small",
+    )
     if title:
         ax.set_title(title)
     return fig

@@ -175,7 +175,7 @@ def _write_report(
 
     sections = list(results)
     rep = Report(
-        f"Reproduction of the rocking paper: sections {', '.join(sections)} "
+        f"Reproduction of the rocking paper: {conclusions.sections_phrase(sections)} "
         f"({ctx.fidelity} fidelity)",
         out,
         drawer,
@@ -193,10 +193,12 @@ def _write_report(
 def _introduction(
     rep: Report, ctx: RunContext, sections: list[str], fidelity: str, modified: bool
 ) -> None:
+    from .conclusions import sections_phrase
+
     c = ctx.cfg["common"]
     rep.text(
         f"Fidelity **{fidelity}**{' (modified by --config/--set)' if modified else ''}; "
-        f"sections {', '.join(sections)}; time step {c['dt']:g} s; e = {c['e']:g}; motions "
+        f"{sections_phrase(sections)}; time step {c['dt']:g} s; e = {c['e']:g}; motions "
         f"simulated from the RG 1.60 spectrum with the {c['envelope']} intensity function, "
         f"{c['duration']:g} s, unless a section says otherwise. Every parameter, seed, version "
         "and wall time is in [run.json](run.json); tables are also in `tables/` as CSV. "
@@ -212,7 +214,8 @@ def _introduction(
 def _conclusions(rep: Report, verdicts: list[Verdict], robust: list[str], label: str) -> None:
     import pandas as pd
 
-    rep.heading("The paper's nine conclusions")
+    from .conclusions import not_run_line
+
     table = pd.DataFrame(
         {
             "no.": [v.number for v in verdicts],
@@ -222,10 +225,22 @@ def _conclusions(rep: Report, verdicts: list[Verdict], robust: list[str], label:
             "robust to integrator and ensemble size?": robust,
         }
     )
-    rep.table(
-        table,
-        f"Verdicts on the paper's conclusions, evidence below [{label}; "
-        "sizes per section in the figure captions]",
-        name="conclusions",
+    # the page lists what this run judged (and what section soundness assessed), the rest in
+    # one line; the CSV keeps all nine
+    shown = [v.ran or not r.startswith("not assessed") for v, r in zip(verdicts, robust)]
+    n_ran = sum(v.ran for v in verdicts)
+    rep.heading(
+        "The paper's nine conclusions"
+        if n_ran == len(verdicts)
+        else f"The paper's conclusions: {n_ran} of {len(verdicts)} evaluated by this run"
     )
-    rep.text("\n".join(f"- **{v.number}. {v.verdict}.** {v.evidence}" for v in verdicts))
+    if any(shown):
+        rep.table(
+            table[shown].reset_index(drop=True),
+            f"Verdicts on the paper's conclusions, evidence below [{label}; "
+            "sizes per section in the figure captions]",
+            name="conclusions",
+            csv=table,
+        )
+    lines = [f"- **{v.number}. {v.verdict}.** {v.evidence}" for v, ok in zip(verdicts, shown) if ok]
+    rep.text("\n".join(lines + ([""] if lines else []) + [not_run_line(verdicts)]))

@@ -11,6 +11,7 @@ they are choices, stated in the report beside every verdict.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,13 +55,15 @@ FLOOR_RANGE = (0.6, 1.67)
 @dataclass(frozen=True)
 class Verdict:
     """One conclusion judged: its number, the paper's statement, the verdict, the evidence
-    (Markdown) and the sections whose results were used."""
+    (Markdown) and the sections whose results were used (``ran``: False when they were not
+    run, so that nothing was judged)."""
 
     number: int
     statement: str
     verdict: str
     evidence: str
     sections: str
+    ran: bool = True
 
 
 def statements() -> list[str]:
@@ -75,7 +78,42 @@ def _verdict(k: int, verdict: str, evidence: str, sections: str) -> Verdict:
 def not_evaluated(k: int, sections: str) -> Verdict:
     """Verdict for a conclusion whose study (``sections``, e.g. "6" or "6, 7 or 8") was not
     run."""
-    return _verdict(k, NOT_EVALUATED, f"needs section {sections}, which was not run", sections)
+    return Verdict(
+        k,
+        statements()[k - 1],
+        NOT_EVALUATED,
+        f"needs section {sections}, which was not run",
+        sections,
+        ran=False,
+    )
+
+
+def sections_phrase(sections: Sequence[str]) -> str:
+    """``sections`` in words: "section 8", "sections 4 and 8", "sections 4, 5 and 8"."""
+    return f"section{'s' if len(sections) > 1 else ''} {_listed(sections)}"
+
+
+def _listed(items: Sequence[object]) -> str:
+    """``items`` listed in words: "4", "4 and 5", "4, 5 and 6"."""
+    names = [str(item) for item in items]
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
+
+
+def not_run_line(verdicts: Sequence[Verdict]) -> str:
+    """One sentence naming the conclusions of ``verdicts`` whose sections were not run, with
+    the section each needs ("" if there is none)."""
+    needs: dict[str, list[int]] = {}
+    for v in verdicts:
+        if not v.ran:
+            needs.setdefault(v.sections, []).append(v.number)
+    if not needs:
+        return ""
+    parts = [f"{_listed(numbers)} (section {sections})" for sections, numbers in needs.items()]
+    n = sum(len(numbers) for numbers in needs.values())
+    return (
+        f"Not evaluated by this run, as their sections were not run: conclusion"
+        f"{'s' if n > 1 else ''} {'; '.join(parts)}."
+    )
 
 
 def _higher(a: xr.Dataset, b: xr.Dataset) -> xr.DataArray:
@@ -166,7 +204,8 @@ def conclusion_3(datasets: dict) -> Verdict:
                 n_up += 1
     varying = n_curves - n_flat
     evidence = (
-        f"{n_curves} curves (sections {', '.join(datasets)}); {n_flat} flat (all 0 or "
+        f"{n_curves} curve{'s' if n_curves != 1 else ''} ({sections_phrase(list(datasets))}); "
+        f"{n_flat} flat (all 0 or "
         f"all 1 on the grid); of the other {varying}: {n_up} rise significantly from the "
         f"lowest to the highest A_gx, {n_down} have a significant drop between any two "
         "levels"
