@@ -416,7 +416,7 @@ def test_worked_examples_say_where_eq11_and_the_simulation_disagree(small_run):
     table = pd.read_csv(out / "tables" / "worked-examples.csv")
     said = table["Eq. (11) vs Monte Carlo"]
     same_side = (table["verdict by Eq. (11), ours"] == "safe") == (
-        table["P(overturn) simulated"] < 0.5
+        table["P(overturn) simulated [-]"] < 0.5
     )
     assert (said.str.startswith("agree") == same_side).all()
     md = (out / "report.md").read_text()

@@ -189,7 +189,9 @@ def _tables(b: xr.Dataset, rep: Report, lab: str) -> None:
     }
     rows["paper, ground"] = ratio_stats(paper_table(3).values)
     rep.table(
-        pd.DataFrame.from_dict(rows, orient="index").rename_axis("ratio S_v1/S_v"),
+        pd.DataFrame.from_dict(rows, orient="index")
+        .rename(columns={"mean": "mean [-]", "min": "min [-]", "max": "max [-]"})
+        .rename_axis("ratio S_v1/S_v"),
         f"Table 3 in brief: number of bodies, mean, smallest and largest ratio [{lab}]",
         name="table3-stats",
         floatfmt=".3f",
@@ -224,8 +226,8 @@ def _examples(ex: xr.Dataset, rep: Report, lab: str) -> None:
             "available S_v, ours [cm/s]": 100 * float(ex["sv_available"][i]),
             "available S_v, paper [cm/s]": paper["example_floor_sv_cm_s"],
             "verdict by Eq. (11), ours": str(ex["verdict"].values[i]),
-            "P(overturn) simulated": float(ex["probability"][i]),
-            "95 % CI": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}",
+            "P(overturn) simulated [-]": float(ex["probability"][i]),
+            "95 % CI [-]": f"{float(ex['ci_low'][i]):.2f}–{float(ex['ci_high'][i]):.2f}",
             "Eq. (11) vs Monte Carlo": compared[i],
         }
         if i < len(paper["example_verdicts"]):
