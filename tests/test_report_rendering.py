@@ -256,6 +256,9 @@ def test_risk_report_says_the_result_in_words_with_units(fragility):
         assert f"**{row['body']}** overturns on average once in {period} years" in md
         assert f"{100 * row['p_in_50_yr']:.2g} % of overturning at least once in 50 years" in md
     assert "illustrative" in md and "not the hazard of any real site" in md
+    # squat's median is extrapolated beyond the fragility's levels (above): the risk resting
+    # on it says so too
+    assert "> **Warning.** The fitted median of squat" in md
 
 
 # --------------------------------------------------------------------------- reproduction

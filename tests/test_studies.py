@@ -512,3 +512,19 @@ def test_sigterm_marks_the_run_failed(tmp_path):
             os.kill(proc.pid, signal.SIGKILL)
     assert json.loads((out / "run.json").read_text())["status"] == "failed"
     assert not (out / "report.html").exists()
+
+
+def test_sections_and_conclusions_not_run_read_as_english():
+    # Issue 48: a run of Section 8 was titled "sections 8" and listed 8 conclusions as "not
+    # evaluated"; now one section is "section 8", several "sections 4, 5 and 8", and the
+    # conclusions whose sections were not run share one line.
+    assert C.sections_phrase(["8"]) == "section 8"
+    assert C.sections_phrase(["4", "8"]) == "sections 4 and 8"
+    assert C.sections_phrase(["4", "5", "8"]) == "sections 4, 5 and 8"
+    verdicts = [C.not_evaluated(1, "4"), C.not_evaluated(4, "6"), C.not_evaluated(5, "6")]
+    assert C.not_run_line(verdicts) == (
+        "Not evaluated by this run, as their sections were not run: conclusions 1 (section 4); "
+        "4 and 5 (section 6)."
+    )
+    assert C.not_run_line([C.not_evaluated(9, "8")]).endswith("conclusion 9 (section 8).")
+    assert C.not_run_line([]) == ""

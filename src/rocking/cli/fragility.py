@@ -404,13 +404,9 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
     )
     report.figure(figure, "fragility", f"Overturning probability against {measure.label}.")
     top = float(np.max(ds["level"].values))
-    beyond = [f"{b} ({f.median:.3g} {measure.unit})" for b, f in fits.items() if f.median >= top]
-    if beyond:  # issue 48: a median at or above the highest level tested is extrapolated
-        report.warning(
-            f"The fitted median of {', '.join(beyond)} lies at or beyond the highest level "
-            f"tested, {top:g} {measure.unit}: it is an extrapolation of the lognormal fit, "
-            "not a measurement. Run the fragility to higher levels to measure it."
-        )
+    warning = extrapolation_warning({str(b): f.median for b, f in fits.items()}, top, measure.unit)
+    if warning:
+        report.warning(warning)
     report.table(
         fit_page_table(fit_table, measure.unit),
         f"Fitted median and β with their bootstrap 95 % intervals (levels tested up to "
@@ -426,6 +422,20 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
 
 
 _FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta_high")
+
+
+def extrapolation_warning(medians: dict[str, float], top: float, unit: str) -> str:
+    """The warning of a report for the bodies whose fitted median (``medians``: by body, in
+    ``unit``) is at or beyond ``top``, the highest level tested: an extrapolation of the fit
+    (issue 48); "" if there is none."""
+    beyond = [f"{b} ({m:.3g} {unit})" for b, m in medians.items() if m >= top]
+    if not beyond:
+        return ""
+    return (
+        f"The fitted median of {', '.join(beyond)} lies at or beyond the highest level tested, "
+        f"{top:g} {unit}: it is an extrapolation of the lognormal fit, not a measurement. Run "
+        "the fragility to higher levels to measure it."
+    )
 
 
 def fit_page_table(fit_table: pd.DataFrame, unit: str) -> pd.DataFrame:

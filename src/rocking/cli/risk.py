@@ -167,7 +167,7 @@ def _report(run, folder: Path, params: dict, table, figure, hazard, years: float
 
     from ..assessment.risk import illustrative_note
     from ..report import Report
-    from .fragility import efficiency_section
+    from .fragility import efficiency_section, extrapolation_warning
 
     report = Report(f"Annual rate of overturning ({hazard.im.label})", run.path)
     report.text(
@@ -177,6 +177,12 @@ def _report(run, folder: Path, params: dict, table, figure, hazard, years: float
     note = illustrative_note(hazard.source)
     if note:
         report.warning(note)
+    tested = params.get("levels")  # the IDA's levels (msa, cloud: its report warns)
+    if isinstance(tested, list) and tested:
+        medians = dict(zip(table["body"].astype(str), table.get("median", [])))
+        warning = extrapolation_warning(medians, max(tested), hazard.im.unit)
+        if warning:
+            report.warning(warning)
     report.text(
         f"Fragility from `{folder}` ({params.get('method', 'ida').upper()} on "
         f"{params.get('n_motions')} motions from `{params.get('motions')}`), hazard from "

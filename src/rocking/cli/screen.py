@@ -317,7 +317,7 @@ def page_table(table: pd.DataFrame) -> pd.DataFrame:
             "verdict": table["verdict"],
             "P(overturn) [-]": table["P(overturn) [-]"],
             "95 % interval [-]": [
-                f"{lo:.2f}–{hi:.2f}" for lo, hi in zip(table["CI low [-]"], table["CI high [-]"])
+                f"{lo:.3f}–{hi:.3f}" for lo, hi in zip(table["CI low [-]"], table["CI high [-]"])
             ],
             "A_gx50 [g]": table["Agx50 [g]"],
             "Eq. (11) screen (conservative)": table["Eq. (11) screen"],
