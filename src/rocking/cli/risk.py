@@ -141,6 +141,8 @@ def _plot_disaggregation(results: list, table: pd.DataFrame, hazard: HazardCurve
     """Hazard curve and, per body, the density of the overturning rate over ln IM."""
     from matplotlib.figure import Figure
 
+    from ..plots import legend_beside
+
     fig = Figure(figsize=(11.0, 4.0), layout="constrained")
     left, right = fig.subplots(1, 2)
     left.loglog(hazard.values, hazard.rates, "o-", color="k", ms=3)
@@ -155,7 +157,7 @@ def _plot_disaggregation(results: list, table: pd.DataFrame, hazard: HazardCurve
     right.set_ylabel("x·dλ_f/dx [1/yr per unit of ln x]")
     right.grid(True, which="both", alpha=0.3)
     if names:
-        right.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        legend_beside(right, fontsize="x-small")
     return fig
 
 

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..defaults import BAND_HZ
-from . import new_figure
+from . import legend_beside, new_figure
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -88,13 +88,7 @@ def plot_fragility(
     ax.set_xlabel(xlabel)
     ax.set_ylabel("probability of overturning [-]")
     extra = f" ({len(curves) - MAX_LEGEND} more not listed)" if len(curves) > MAX_LEGEND else ""
-    ax.legend(  # outside the axes: it covers no curve
-        loc="upper left",
-        bbox_to_anchor=(1.01, 1.0),
-        fontsize="small",
-        title=_key_text(ds, fits).replace("; ", "\n") + extra,
-        title_fontsize="small",
-    )
+    legend_beside(ax, _key_text(ds, fits).replace("; ", "\n") + extra)
     if title:
         ax.set_title(title)
     return fig
@@ -352,13 +346,7 @@ def plot_im_efficiency(efficiency: pd.DataFrame, *, title: str = "") -> Figure:
     ax.grid(True, axis="x", lw=0.4, alpha=0.5)
     for y in np.arange(len(bodies) - 1) + 0.5:
         ax.axhline(y, color="0.85", lw=0.6)
-    ax.legend(
-        loc="upper left",
-        bbox_to_anchor=(1.01, 1.0),
-        fontsize="small",
-        title="IM (bars: 95 % bootstrap\ninterval)",
-        title_fontsize="small",
-    )
+    legend_beside(ax, "IM (bars: 95 % bootstrap\ninterval)")
     if title:
         ax.set_title(title)
     return fig

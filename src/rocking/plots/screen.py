@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import new_figure
+from . import legend_beside, new_figure
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -81,13 +81,7 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     ax.set_xlabel(("ground " if ground else "") + "A_gx at 50 % overturning probability [g]")
     ax.set_ylabel("required S_v, Eq. (11) [cm/s]")
     ax.grid(True, lw=0.4, alpha=0.5)
-    ax.legend(
-        loc="upper left",
-        bbox_to_anchor=(1.01, 1.0),
-        fontsize="small",
-        title="dotted: available S_v at the location\nnumbers: rows of the table",
-        title_fontsize="small",
-    )
+    legend_beside(ax, "dotted: available S_v at the location\nnumbers: rows of the table")
     ax.set_title(title or f"Screening: {ds.attrs.get('spectrum', '')}", fontsize="medium")
     named = np.ones(len(x), bool) if len(x) <= MAX_NAMED else at_risk.astype(bool)
     _label_points(fig, ax, x, sv, named)
