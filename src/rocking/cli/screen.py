@@ -317,7 +317,8 @@ def page_table(table: pd.DataFrame) -> pd.DataFrame:
             "verdict": table["verdict"],
             "P(overturn) [-]": table["P(overturn) [-]"],
             "95 % interval [-]": [
-                f"{lo:.3f}–{hi:.3f}" for lo, hi in zip(table["CI low [-]"], table["CI high [-]"])
+                f"{lo:.3f}–\u2060{hi:.3f}"  # a word joiner: no line break after the dash
+                for lo, hi in zip(table["CI low [-]"], table["CI high [-]"])
             ],
             "A_gx50 [g]": table["Agx50 [g]"],
             "Eq. (11) screen (conservative)": table["Eq. (11) screen"],
