@@ -10,13 +10,14 @@ file written atomically; the Monte Carlo chunks in ``chunks/`` let the same comm
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Hashable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
 
-from ..defaults import AGX
+from ..defaults import AGX, N_BOOT
 from ._options import (
     BAND_TEXT,
     band_option,
@@ -194,9 +195,9 @@ _run_options = options(
 @click.option(
     "--n-boot",
     type=click.IntRange(0),
-    default=None,
-    help="Bootstrap resamples of the motions for the intervals of median and beta "
-    "[default: 200; 0 for A_gx levels, as the paper reads its curves].",
+    default=N_BOOT,
+    show_default=True,
+    help="Bootstrap resamples of the motions for the intervals of median and beta (0: none).",
 )
 @click.option(
     "--seed", type=click.IntRange(0), default=0, show_default=True, help="Bootstrap seed."
@@ -223,7 +224,7 @@ def fragility_cmd(
     method: str,
     levels_text: str | None,
     stripes_path: str | None,
-    n_boot: int | None,
+    n_boot: int,
     seed: int,
     compare_text: str | None,
 ) -> None:
@@ -244,13 +245,12 @@ def fragility_cmd(
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
-    if n_boot is None:
-        n_boot = 0 if measure.name == AGX else 200
     bodies, ensemble, e, backend = _prepare(
         bodies_spec, motions_path, floor, frame_name, e_text, scheduler
     )
     from ..core.runs import RunFolder
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
+    from ..montecarlo.statistics import ExtrapolationWarning
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
@@ -279,7 +279,9 @@ def fragility_cmd(
             f"{n_levels if method != 'cloud' else 'as recorded'} x {ensemble.n} motions "
             f"({ensemble.meta.get('location', 'ground')})"
         )
-        with backend:
+        with backend, warnings.catch_warnings():
+            # an extrapolated median is said in one line below the table (_print_fits)
+            warnings.simplefilter("ignore", ExtrapolationWarning)
             ds = fragility_analysis(
                 blocks,
                 ensemble,
@@ -314,8 +316,41 @@ def fragility_cmd(
         ds = _names(ds, bodies)
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
         _write_fragility(run, ds, measure, efficiency, ensemble, e)
+    _print_fits(ds, measure)
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
+
+
+def _print_fits(ds: xr.Dataset, measure) -> None:
+    """Per body: the fitted median with its bootstrap interval and β, aligned, units in the
+    header; then one warning line per body whose median is an extrapolation."""
+    import numpy as np
+
+    from ._options import print_table
+
+    pct = f"{100 * ds.attrs['confidence']:g} %"
+    rows = []
+    for body in ds["body"].values:
+        b = ds.sel(body=body)
+        median, beta = float(b["median"]), float(b["beta"])
+        if not np.isfinite(median):
+            why = "never overturned" if int(b["count"].sum()) == 0 else "overturned in every run"
+            rows.append((str(body), "-", "-", "-", f"({why}: nothing to fit)"))
+            continue
+        low, high = float(b["median_low"]), float(b["median_high"])
+        interval = f"{low:.3g} to {high:.3g}" if np.isfinite(low) else "-"
+        rows.append((str(body), f"{median:.3g}", interval, f"{beta:.3g}", ""))
+    head = ("body", f"median [{measure.unit}]", f"{pct} interval", "beta [-]", "")
+    print_table(head, rows)
+    tested = ds["im_value"] if "im_value" in ds else ds["level"]  # cloud: each motion's IM
+    lo, hi = float(tested.min()), float(tested.max())
+    for body in ds["body"].values[ds["median_extrapolated"].values]:
+        click.echo(
+            f"warning: {body}: median {float(ds['median'].sel(body=body)):.3g} {measure.unit} "
+            f"lies at or outside the intensities tested ({lo:.3g} to {hi:.3g} {measure.unit}), "
+            "an extrapolation; extend the levels",
+            err=True,
+        )
 
 
 def _levels(
@@ -360,6 +395,7 @@ def _im_list(text: str) -> list[str]:
 def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensemble, e) -> None:
     """probabilities.csv/.nc, lognormal.csv, fragility.png, im_efficiency.csv and report.html
     of a fragility run."""
+    import numpy as np
     import pandas as pd
 
     from ..montecarlo.statistics import LognormalFit
@@ -374,16 +410,19 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
     run.write_csv("probabilities.csv", tidy.rename(columns={"agx": column}))
     run.write_netcdf("probabilities.nc", ds.rename(level="agx") if agx else ds)
     fits: dict[Hashable, LognormalFit] = {
-        str(body): LognormalFit(float(m), float(b))
+        str(body): LognormalFit(float(m), float(b), im=measure.name, unit=measure.unit)
         for body, m, b in zip(ds["body"].values, ds["median"].values, ds["beta"].values)
+        if np.isfinite(m)
     }
     fit_table = pd.DataFrame(
         {
             "body": ds["body"].values,
             "R": ds["R"].values,
             "gamma": ds["gamma"].values,
-            "im": f"{measure.name} [{measure.unit}]",
+            "im": measure.name,
+            "unit": measure.unit,
             **{name: ds[name].values for name in _FIT_COLUMNS},
+            "median_extrapolated": ds["median_extrapolated"].values,
         }
     )
     run.write_csv("lognormal.csv", fit_table)
@@ -400,7 +439,9 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
         "for the median and β (NaN: none drawn, or nothing to fit)."
     )
     report.figure(figure, "fragility", f"Overturning probability against {measure.label}.")
-    report.table(fit_table.drop(columns=["im"]), f"Fitted median [{measure.unit}] and β.", "fit")
+    report.table(
+        fit_table.drop(columns=["im", "unit"]), f"Fitted median [{measure.unit}] and β.", "fit"
+    )
     if efficiency is not None:
         run.write_csv("im_efficiency.csv", efficiency)
         report.heading("Efficiency of intensity measures")
