@@ -235,7 +235,8 @@ def fragility_cmd(
     Writes to --out: probabilities.csv (one row per body and level, with the count of
     overturned motions and the Wilson 95 % interval), probabilities.nc (the same, netCDF, with
     every motion's outcome), lognormal.csv (maximum-likelihood median and dispersion beta per
-    body, with bootstrap 95 % intervals), fragility.png, im_efficiency.csv with
+    body, with bootstrap 95 % intervals, the IM and its unit, and median_extrapolated: the
+    median lies at or outside the levels tested), fragility.png, im_efficiency.csv with
     --im-efficiency, report.html and run.json (parameters and status).
     """
     from ..montecarlo.fragility import AnalysisIM
