@@ -17,6 +17,7 @@ import rocking
 from rocking.defaults import G
 from rocking.errors import InputError
 from rocking.montecarlo.engine import scale_factors
+from rocking.montecarlo.statistics import ExtrapolationWarning
 
 BLOCKS = [rocking.Block(1.0, 4.0), rocking.Block(2.0, 3.0)]
 
@@ -288,4 +289,52 @@ def test_im_efficiency_in_blocks_of_resamples_is_the_same(ens, monkeypatch):
     monkeypatch.setattr(fragility, "_FIT_BLOCK_ELEMENTS", 4 * levels.size * ens.n)
     pd.testing.assert_frame_equal(
         rocking.im_efficiency(*args, levels=levels, n_boot=30, seed=3), whole, check_exact=True
+    )
+
+
+def test_a_median_beyond_the_levels_tested_is_flagged_and_warned(ens):
+    # issue 48: a median at or beyond the highest level tested (the transformer's 1.52 m/s
+    # against 1.5 m/s) was reported without a word. Up to 0.9 g the stocky block overturns
+    # in at most 2 of the 8 motions (4 of 8 is first reached at 1.0 g, in the IDA to 1.5 g of
+    # test_im_efficiency_of_the_scaling_im_is_the_ida_fit's levels), so its fitted median lies
+    # beyond 0.9 g; the slender one reaches 4 of 8 at 0.6 g, inside the levels.
+    levels = np.round(np.arange(0.1, 0.95, 0.1), 12)
+    with pytest.warns(ExtrapolationWarning) as caught:
+        ds = rocking.fragility_analysis(BLOCKS, ens, im="pga", levels=levels, progress=False)
+    assert ds["count"].values[1].max() <= 2 and ds["count"].values[0].max() >= 4
+    assert ds["median_extrapolated"].values.tolist() == [False, True]
+    assert float(ds["median"][1]) > 0.9
+    assert len(caught) == 1 and BLOCKS[1].label in str(caught[0].message)
+    assert "0.9 g" in str(caught[0].message)
+
+
+def test_one_block_is_taken_as_a_list_of_one(ens):
+    # issue 48: overturning_probability(block, ...) raised "'Block' object is not iterable";
+    # every function that takes bodies takes one Block as the list of that Block
+    block = BLOCKS[0]
+    calls = {
+        "overturning_probability": lambda b: rocking.overturning_probability(
+            b, ens, [0.4, 0.8], progress=False
+        ),
+        "member_outcomes": lambda b: rocking.member_outcomes(b, ens, [0.6], progress=False),
+        "agx_50": lambda b: rocking.agx_50(
+            b, ens, resolution=0.1, agx_max=1.5, coarse=3, progress=False
+        ),
+        "fragility_analysis": lambda b: rocking.fragility_analysis(
+            b, ens, im="pgv", levels=[0.3, 0.9], n_boot=5, progress=False
+        ),
+        "energy_balance": lambda b: rocking.energy_balance(b, ens, [0.6]),
+        "assess": lambda b: rocking.assess(b, ens),
+    }
+    for name, call in calls.items():
+        one, listed = call(block), call([block])
+        assert one.identical(listed), name
+        assert one.sizes["body"] == 1, name
+
+
+def test_an_ensemble_prints_a_summary_not_its_arrays(ens):
+    # issue 48: repr(Ensemble) dumped the accelerations and the metadata's lists (~10 kB)
+    text = repr(ens)
+    assert text == (
+        f"Ensemble(8 motions, dt = 0.005 s, 10 s, ground, A_gx = {ens.agx:.4g} g, simulated)"
     )

@@ -7,6 +7,7 @@ import io
 import time
 
 import numba
+import numpy as np
 from click.testing import CliRunner
 
 from rocking.cli import main
@@ -66,6 +67,53 @@ def test_the_first_compilation_is_announced_once():
         twice(1.0)
         thrice(1.0)
     assert out.getvalue().splitlines() == [COMPILING]
+
+
+def test_the_stage_line_says_what_is_compiling_then_counts():
+    # issue 48: on the first run the line read "section 8: 0 sim (00:02 elapsed)" for 27 s
+    # while the kernels compiled (the notice, printed once above it, scrolled away): the
+    # stage's line names what is compiling until the compilation ends, then counts again
+    progress._said_compiling.clear()
+
+    @numba.njit  # not cached: it compiles in this process whatever ran before
+    def busy(x):
+        total = 0.0
+        for i in range(x.size):
+            if x[i] > 0.5:
+                total += np.sin(x[i]) * np.exp(-x[i])
+            else:
+                total -= np.cos(x[i]) ** 2
+        return total
+
+    out = io.StringIO()
+    # heartbeat every 10 ms: the compilation (~0.3 s or more) spans many lines
+    with Reporter(out, tty=False, interval=0.01, delay=0.0).stage("work", unit="sim") as stage:
+        busy(np.linspace(0.0, 1.0, 5))
+        stage.expect(10)
+        stage.update(10)
+    lines = out.getvalue().splitlines()
+    assert lines.count(COMPILING) == 1  # the notice, once, naming what compiles
+    assert any(line.startswith("work [compiling the numerical kernels]: 0 sim") for line in lines)
+    assert lines[-1].startswith("work: 100% (10/10 sim")  # counting again, named as before
+
+
+def test_the_package_kernels_are_named_by_their_module():
+    from types import SimpleNamespace
+
+    from rocking.dynamics import batch
+    from rocking.motions import response
+
+    def named(func):
+        return progress._kernel_of(SimpleNamespace(data={"dispatcher": func}))[0]
+
+    kernels = [getattr(m, n) for m in (batch, response) for n in dir(m)]
+    kernels = [k for k in kernels if isinstance(k, numba.core.dispatcher.Dispatcher)]
+    assert {named(k) for k in kernels if k.py_func.__module__ == batch.__name__} == {
+        "the rocking kernel"
+    }
+    assert {named(k) for k in kernels if k.py_func.__module__ == response.__name__} == {
+        "the response-spectrum kernel"
+    }
 
 
 def test_reproduce_off_a_terminal_writes_lines_per_section_not_a_bar_per_call(tmp_path):

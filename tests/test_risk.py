@@ -23,7 +23,7 @@ from rocking.errors import InputError
 from rocking.montecarlo.statistics import LognormalFit
 
 K0, K = 1e-4, 2.5  # power-law hazard λ(x) = K0·x^(−K), x = PGV [m/s]
-FRAG = LognormalFit(median=0.5, beta=0.4)
+FRAG = LognormalFit(median=0.5, beta=0.4, im="pgv")
 
 
 def _power_law(lo, hi, n):
@@ -148,6 +148,34 @@ def test_bad_hazard_files_name_file_and_row(tmp_path, text, match):
     path.write_text(text)
     with pytest.raises(InputError, match=rf"hazard\.csv.*{match}"):
         HazardCurve.from_csv(path)
+
+
+def test_a_fragility_of_another_or_an_unknown_im_is_refused():
+    # issue 48: annual_rate(LognormalFit(0.5, 0.3), "example") mixed IMs silently (a fit
+    # carried no IM): the fit's IM must be the hazard's, named in the message
+    with pytest.raises(InputError, match=r"not known.*pgv \[m/s\]"):
+        rocking.annual_rate(LognormalFit(0.5, 0.3), "example")
+    with pytest.raises(InputError, match=r"pgv \[m/s\].*sa\(1\) \[g\].*same intensity"):
+        rocking.annual_rate(LognormalFit(0.5, 0.3, im="sa(1.0)"), "example")
+    with pytest.raises(InputError, match="A_gx.*no site hazard curve"):
+        rocking.annual_rate(LognormalFit(0.5, 0.3, im="agx"), "example")
+    with pytest.raises(InputError, match="fragility is of pgv but im='pga'"):
+        rocking.annual_rate(FRAG, "example", im="pga")
+    # the IM given either way, or carried by a bootstrap fit, gives the same rate
+    by_fit = rocking.annual_rate(FRAG, "example").annual_rate
+    by_argument = annual_rate(LognormalFit(0.5, 0.4), "example", im="PGV").annual_rate
+    assert by_fit == by_argument > 0.0
+    x = np.geomspace(0.1, 1.5, 8)
+    boot = rocking.bootstrap_fragility(x, [0, 0, 1, 0, 1, 1, 1, 1], n_boot=5, measure="pgv")
+    assert annual_rate(boot, "example").fragility.im == "pgv"
+
+
+def test_risk_result_and_hazard_curve_print_a_summary():
+    # issue 48: the reprs dumped whole arrays; a summary holds the numbers a reader needs
+    res = annual_rate(FRAG, "example")
+    text = repr(res)
+    assert len(text) < 400 and "\n" not in text and "array" not in text
+    assert f"{res.annual_rate:.4g} /yr" in text and "pgv [m/s], 20 points" in text
 
 
 def test_example_file_and_bad_arguments():

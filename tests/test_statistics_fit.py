@@ -271,3 +271,54 @@ def test_fits_in_blocks_are_the_fits_of_all_rows_at_once(monkeypatch):
     whole = bootstrap_fragility(im, y, n_boot=50, seed=2)
     monkeypatch.setattr(statistics, "_FIT_BLOCK_ELEMENTS", 7 * 80)
     assert bootstrap_fragility(im, y, n_boot=50, seed=2) == whole
+
+
+@pytest.mark.parametrize(
+    "args,match",
+    [
+        ((-1.0, 0.5), "median must be a finite number > 0, got -1"),
+        ((0.5, 0.0), "beta must be a finite number > 0, got 0"),
+        ((math.nan, 0.5), "median must be a finite number > 0, got nan"),
+        ((0.5, math.inf), "beta must be a finite number > 0"),
+        ((0.5, 0.3, "pgv", "cm/s"), r"unit 'cm/s' is not the unit of pgv, \[m/s\]"),
+        ((0.5, 0.3, "pgx"), "unknown intensity measure 'pgx'"),
+    ],
+)
+def test_a_lognormal_fit_refuses_parameters_that_are_no_curve(args, match):
+    # issue 49: LognormalFit(-1, 0.5), (0.5, 0) and (nan, 0.5) were accepted, and annual_rate
+    # then returned NaN with integration warnings
+    with pytest.raises(InputError, match=match):
+        LognormalFit(*args)
+
+
+def test_a_lognormal_fit_carries_its_im_and_unit():
+    # issue 48: a fit carried no IM, and its probability's argument was named agx whatever
+    # the IM; the IM is stored by its canonical name, the unit is the IM's own
+    fit = LognormalFit(0.5, 0.3, im="Sa(1.0, 0.05)")
+    assert (fit.im, fit.unit) == ("sa(1)", "g")
+    assert LognormalFit(0.5, 0.3, im="agx").unit == "g"
+    assert LognormalFit(0.5, 0.3).im is None  # not known: annual_rate asks for it
+    # Φ(ln(x/median)/β) at x = median·e^β is Φ(1) (scipy.stats.norm.cdf, to rounding)
+    x = 0.5 * math.exp(0.3)
+    assert LognormalFit(0.5, 0.3, im="pgv").probability(x=x) == pytest.approx(
+        stats.norm.cdf(1.0), rel=1e-14
+    )
+    im, y = _cloud(200, seed=3)
+    fit = bootstrap_fragility(im, y, n_boot=10, measure="pgv", unit="m/s")
+    assert (fit.im, fit.unit, fit.fit.im_range) == ("pgv", "m/s", (im.min(), im.max()))
+    k = fit_lognormal(im, y.astype(int), 1, measure="pgv")
+    assert (k.im, k.unit) == ("pgv", "m/s")
+
+
+def test_a_median_beyond_the_intensities_fitted_is_flagged_as_an_extrapolation():
+    # issue 48: the transformer's median 1.52 m/s against a top level of 1.5 m/s was reported
+    # without a word. Levels 0.1-1.5 with at most 2 of 10 overturning: the fitted median lies
+    # above 1.5 (below 50 % everywhere, the ML curve reaches 50 % beyond the data).
+    levels = np.array([0.5, 1.0, 1.5])
+    low = fit_lognormal(levels, [0, 1, 2], 10)
+    assert low.median > 1.5 and low.extrapolated
+    # a median inside the levels tested is not; one at the top level is ("at or beyond")
+    assert not fit_lognormal(levels, [0, 5, 10], 10).extrapolated
+    assert LognormalFit(1.5, 0.3, im_range=(0.5, 1.5)).extrapolated
+    assert not LognormalFit(1.5, 0.3).extrapolated  # range not known
+    assert bootstrap_fragility(levels, np.arange(10)[None, :] < [[0], [1], [2]]).extrapolated

@@ -43,6 +43,7 @@ _EXPORTS = {
     "InputError": "errors",
     "RockingError": "errors",
     "LognormalFit": "montecarlo.statistics",
+    "ExtrapolationWarning": "montecarlo.statistics",
     "FragilityFit": "montecarlo.statistics",
     "bootstrap_fragility": "montecarlo.statistics",
     "agx_50": "montecarlo.probability",
@@ -123,6 +124,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .montecarlo.fragility import fragility_analysis, im_efficiency
     from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
     from .montecarlo.statistics import (
+        ExtrapolationWarning,
         FragilityFit,
         LognormalFit,
         bootstrap_fragility,

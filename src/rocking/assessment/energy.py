@@ -163,8 +163,8 @@ def energy_balance(
 
     Parameters
     ----------
-    blocks : sequence of Block
-        The bodies.
+    blocks : Block or sequence of Block
+        The bodies (one Block: a list of one).
     ensemble : Ensemble
         The motions the A_gx50 were found with (ground or floor), at any scale [m/s²].
     agx50 : array_like, xarray.DataArray or xarray.Dataset
@@ -232,8 +232,8 @@ def assess(
 
     Parameters
     ----------
-    blocks : sequence of Block
-        The bodies.
+    blocks : Block or sequence of Block
+        The bodies (one Block: a list of one).
     source : Ensemble, ResponseSpectrum or TargetSpectrum
         The spectrum at the body's location (see :func:`available_sv`).
     band_hz : (float, float)

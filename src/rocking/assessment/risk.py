@@ -54,6 +54,7 @@ from numpy.typing import ArrayLike
 from ..core import portable
 from ..core.checks import finite_array
 from ..core.files import csv_rows
+from ..defaults import AGX
 from ..errors import InputError
 from ..motions.intensity import IntensityMeasure, parse_im
 
@@ -136,6 +137,14 @@ class HazardCurve:
         for name, a in (("values", x), ("rates", lam)):
             a.setflags(write=False)
             object.__setattr__(self, name, a)
+
+    def __repr__(self) -> str:
+        src = f", {Path(self.source).name}" if self.source else ""
+        return (
+            f"HazardCurve({self.im.column}, {self.values.size} points from {self.values[0]:.4g} "
+            f"to {self.values[-1]:.4g} {self.im.unit}, rates {self.rates[0]:.3g} to "
+            f"{self.rates[-1]:.3g} /yr{src})"
+        )
 
     @property
     def exponents(self) -> np.ndarray:
@@ -257,6 +266,39 @@ def check_hazard_im(hazard: HazardCurve, im: str | IntensityMeasure) -> Intensit
     return im
 
 
+def _check_fragility_im(fragility: Any, hazard: HazardCurve, im: Any) -> None:
+    """Refuse a fragility whose IM (its ``im``, else the argument ``im``) is not the hazard's
+    or is not known."""
+    own = getattr(fragility, "im", None)
+    if own is not None and im is not None and _im_key(own) != _im_key(im):
+        raise InputError(
+            f"the fragility is of {_im_key(own)} but im={_im_key(im)!r} was given: they must "
+            "be the same intensity measure"
+        )
+    im = own if own is not None else im
+    if im is None:
+        raise InputError(
+            f"the fragility's intensity measure is not known and the hazard curve is of "
+            f"{hazard.im.column}: give it, e.g. LognormalFit(median, beta, im="
+            f"{hazard.im.name!r}) with the median in {hazard.im.unit}, or annual_rate(..., "
+            f"im={hazard.im.name!r})"
+        )
+    if _im_key(im) == AGX:
+        raise InputError(
+            f"the fragility is of A_gx (the mean PGA of an ensemble [g]), which no site hazard "
+            f"curve gives; the hazard curve is of {hazard.im.column}: fit the fragility against "
+            f"{hazard.im.name} (fragility_analysis(..., im={hazard.im.name!r}))"
+        )
+    check_hazard_im(hazard, im)
+
+
+def _im_key(im: Any) -> str:
+    """``"agx"`` for the paper's A_gx, else the canonical name of :func:`rocking.parse_im`."""
+    if isinstance(im, str) and im.strip().lower() == AGX:
+        return AGX
+    return parse_im(im).name
+
+
 @dataclass(frozen=True, eq=False)
 class RiskResult:
     """The mean annual rate of overturning and how it was obtained (:func:`annual_rate`).
@@ -293,6 +335,14 @@ class RiskResult:
     error: float
     fragility: Any
     hazard: HazardCurve
+
+    def __repr__(self) -> str:
+        return (
+            f"RiskResult(annual_rate={self.annual_rate:.4g} /yr, return period "
+            f"{self.return_period:.4g} yr, upper tail {self.upper_tail:.3g} /yr included, "
+            f"lower tail {self.lower_tail:.3g} /yr left out; fragility {self.fragility!r}; "
+            f"hazard {self.hazard!r})"
+        )
 
     @property
     def return_period(self) -> float:
@@ -341,11 +391,20 @@ def annual_rate(
     ----------
     fragility : LognormalFit, FragilityFit or any object with ``probability(x)``
         P_f(x) [-] for intensities x in the hazard's IM and unit (a median in m/s for a PGV
-        hazard), not decreasing.
+        hazard), not decreasing. Its ``im`` (a :class:`~rocking.LognormalFit`'s) must be the
+        hazard's IM.
     hazard : HazardCurve, str or Path
         The hazard curve, or a CSV file of one (or ``"example"``; :meth:`HazardCurve.from_csv`).
     im : str or IntensityMeasure, optional
-        The fragility's IM; when given, it must be the hazard's (:func:`check_hazard_im`).
+        The fragility's IM, for a fragility that does not carry one (``im`` None or absent);
+        one that does must agree with it.
+
+    Raises
+    ------
+    InputError
+        When the fragility's IM is not the hazard's (the message names both), or is not known
+        (neither the fragility nor ``im`` gives it): a curve against A_gx, the mean PGA of an
+        ensemble, is refused, as no site hazard curve gives A_gx.
 
     Returns
     -------
@@ -365,8 +424,7 @@ def annual_rate(
             "fragility must have a probability(x) method (e.g. a rocking.LognormalFit), got "
             f"{type(fragility).__name__}"
         )
-    if im is not None:
-        check_hazard_im(hazard, im)
+    _check_fragility_im(fragility, hazard, im)
     u = portable.log(hazard.values)
     lam, k = hazard.rates, hazard.exponents
 

@@ -469,7 +469,8 @@ def _annual_rates(
     for b in range(len(blocks)):
         median, beta = float(curves["median"][b]), float(curves["beta"][b])
         if math.isfinite(median) and math.isfinite(beta):
-            rate[b] = annual_rate(LognormalFit(median, beta), hazard).annual_rate
+            fit = LognormalFit(median, beta, im=hazard.im.name, unit=hazard.im.unit)
+            rate[b] = annual_rate(fit, hazard).annual_rate
     return {
         "fragility_median": (curves["median"].values, hazard.im.unit, f"median {hazard.im.label}"),
         "fragility_beta": (curves["beta"].values, "1", "lognormal dispersion"),

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
@@ -141,6 +141,15 @@ def reporter(quiet: bool = False) -> Reporter:
     from ..core.progress import Reporter
 
     return Reporter(enabled=not quiet)
+
+
+def print_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> None:
+    """Print a table of text cells, columns aligned (the first to the left, the others to the
+    right: numbers), ``header`` (with the units) first."""
+    widths = [max(len(r[j]) for r in (header, *rows)) for j in range(len(header))]
+    for r in (header, *rows):
+        cells = [r[0].ljust(widths[0]), *(c.rjust(w) for c, w in zip(r[1:], widths[1:]))]
+        click.echo("  ".join(cells).rstrip())
 
 
 # --------------------------------------------------------------------------- options

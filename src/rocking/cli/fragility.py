@@ -10,13 +10,14 @@ file written atomically; the Monte Carlo chunks in ``chunks/`` let the same comm
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Hashable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
 
-from ..defaults import AGX
+from ..defaults import AGX, N_BOOT
 from ._options import (
     BAND_TEXT,
     band_option,
@@ -196,9 +197,9 @@ _run_options = options(
 @click.option(
     "--n-boot",
     type=click.IntRange(0),
-    default=None,
-    help="Bootstrap resamples of the motions for the intervals of median and beta "
-    "[default: 200; 0 for A_gx levels, as the paper reads its curves].",
+    default=N_BOOT,
+    show_default=True,
+    help="Bootstrap resamples of the motions for the intervals of median and beta (0: none).",
 )
 @click.option(
     "--seed", type=click.IntRange(0), default=0, show_default=True, help="Bootstrap seed."
@@ -225,7 +226,7 @@ def fragility_cmd(
     method: str,
     levels_text: str | None,
     stripes_path: str | None,
-    n_boot: int | None,
+    n_boot: int,
     seed: int,
     compare_text: str | None,
 ) -> None:
@@ -236,7 +237,8 @@ def fragility_cmd(
     Writes to --out: probabilities.csv (one row per body and level, with the count of
     overturned motions and the Wilson 95 % interval), probabilities.nc (the same, netCDF, with
     every motion's outcome), lognormal.csv (maximum-likelihood median and dispersion beta per
-    body, with bootstrap 95 % intervals), fragility.png, im_efficiency.csv with
+    body, with bootstrap 95 % intervals, the IM and its unit, and median_extrapolated: the
+    median lies at or outside the levels tested), fragility.png, im_efficiency.csv with
     --im-efficiency, report.html and run.json (parameters and status).
     """
     from ..montecarlo.fragility import AnalysisIM
@@ -246,13 +248,12 @@ def fragility_cmd(
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
-    if n_boot is None:
-        n_boot = 0 if measure.name == AGX else 200
     bodies, ensemble, e, backend = _prepare(
         bodies_spec, motions_path, floor, frame_name, e_text, scheduler
     )
     from ..core.runs import RunFolder
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
+    from ..montecarlo.statistics import ExtrapolationWarning
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
@@ -281,7 +282,9 @@ def fragility_cmd(
             f"{n_levels if method != 'cloud' else 'as recorded'} x {ensemble.n} motions "
             f"({ensemble.meta.get('location', 'ground')})"
         )
-        with backend:
+        with backend, warnings.catch_warnings():
+            # an extrapolated median is said in one line below the table (_print_fits)
+            warnings.simplefilter("ignore", ExtrapolationWarning)
             ds = fragility_analysis(
                 blocks,
                 ensemble,
@@ -316,8 +319,47 @@ def fragility_cmd(
         ds = _names(ds, bodies)
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
         _write_fragility(run, ds, measure, efficiency, ensemble, e)
+    _print_fits(ds, measure)
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
+
+
+def _print_fits(ds: xr.Dataset, measure) -> None:
+    """Per body: the fitted median with its bootstrap interval and β, aligned, units in the
+    header; then one warning line per body whose median is an extrapolation."""
+    import numpy as np
+
+    from ._options import print_table
+
+    pct = f"{100 * ds.attrs['confidence']:g} %"
+    rows = []
+    for body in ds["body"].values:
+        b = ds.sel(body=body)
+        median, beta = float(b["median"]), float(b["beta"])
+        if not np.isfinite(median):
+            why = "never overturned" if int(b["count"].sum()) == 0 else "overturned in every run"
+            rows.append((str(body), "-", "-", "-", f"({why}: nothing to fit)"))
+            continue
+        low, high = float(b["median_low"]), float(b["median_high"])
+        interval = f"{low:.3g} to {high:.3g}" if np.isfinite(low) else "-"
+        rows.append((str(body), f"{median:.3g}", interval, f"{beta:.3g}", ""))
+    head = ("body", f"median [{measure.unit}]", f"{pct} interval", "beta [-]", "")
+    print_table(head, rows)
+    for body, median in _extrapolated(ds).items():
+        warning = extrapolation_warning({body: median}, _tested(ds), measure.unit)
+        click.echo(f"warning: {warning}", err=True)
+
+
+def _tested(ds: xr.Dataset) -> tuple[float, float]:
+    """Lowest and highest intensity tested [the IM's unit] (cloud: the motions' own IMs)."""
+    tested = ds["im_value"] if "im_value" in ds else ds["level"]
+    return float(tested.min()), float(tested.max())
+
+
+def _extrapolated(ds: xr.Dataset) -> dict[str, float]:
+    """The bodies whose fitted median is an extrapolation (``median_extrapolated``), with it."""
+    flagged = ds["median_extrapolated"].values
+    return {str(b): float(ds["median"].sel(body=b)) for b in ds["body"].values[flagged]}
 
 
 def _levels(
@@ -377,16 +419,19 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
     run.write_csv("probabilities.csv", tidy.rename(columns={"agx": column}))
     run.write_netcdf("probabilities.nc", ds.rename(level="agx") if agx else ds)
     fits: dict[Hashable, LognormalFit] = {
-        str(body): LognormalFit(float(m), float(b))
+        str(body): LognormalFit(float(m), float(b), im=measure.name, unit=measure.unit)
         for body, m, b in zip(ds["body"].values, ds["median"].values, ds["beta"].values)
+        if np.isfinite(m)
     }
     fit_table = pd.DataFrame(
         {
             "body": ds["body"].values,
             "R": ds["R"].values,
             "gamma": ds["gamma"].values,
-            "im": f"{measure.name} [{measure.unit}]",
+            "im": measure.name,
+            "unit": measure.unit,
             **{name: ds[name].values for name in _FIT_COLUMNS},
+            "median_extrapolated": ds["median_extrapolated"].values,
         }
     )
     run.write_csv("lognormal.csv", fit_table)
@@ -403,14 +448,14 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
         "for the median and β (NaN: none drawn, or nothing to fit)."
     )
     report.figure(figure, "fragility", f"Overturning probability against {measure.label}.")
-    top = float(np.max(ds["level"].values))
-    warning = extrapolation_warning({str(b): f.median for b, f in fits.items()}, top, measure.unit)
+    lo, hi = _tested(ds)
+    warning = extrapolation_warning(_extrapolated(ds), (lo, hi), measure.unit)
     if warning:
         report.warning(warning)
     report.table(
         fit_page_table(fit_table, measure.unit),
-        f"Fitted median and β with their bootstrap 95 % intervals (levels tested up to "
-        f"{top:g} {measure.unit}).",
+        f"Fitted median and β with their bootstrap 95 % intervals (intensities tested "
+        f"{lo:g} to {hi:g} {measure.unit}).",
         "fit",
     )
     if efficiency is not None:
@@ -424,17 +469,18 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
 _FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta_high")
 
 
-def extrapolation_warning(medians: dict[str, float], top: float, unit: str) -> str:
-    """The warning of a report for the bodies whose fitted median (``medians``: by body, in
-    ``unit``) is at or beyond ``top``, the highest level tested: an extrapolation of the fit
-    (issue 48); "" if there is none."""
-    beyond = [f"{b} ({m:.3g} {unit})" for b, m in medians.items() if m >= top]
-    if not beyond:
+def extrapolation_warning(medians: dict[str, float], tested: tuple[float, float], unit: str) -> str:
+    """The warning for the bodies whose fitted median (``medians``: by body, in ``unit``) lies
+    at or outside the intensities tested (``tested``: lowest and highest, in ``unit``): an
+    extrapolation of the fit, not a measurement (issue 48); "" if there is none."""
+    if not medians:
         return ""
+    listed = ", ".join(f"{b} ({m:.3g} {unit})" for b, m in medians.items())
+    lo, hi = tested
     return (
-        f"The fitted median of {', '.join(beyond)} lies at or beyond the highest level tested, "
-        f"{top:g} {unit}: it is an extrapolation of the lognormal fit, not a measurement. Run "
-        "the fragility to higher levels to measure it."
+        f"The fitted median of {listed} lies at or outside the intensities tested, {lo:.3g} "
+        f"to {hi:.3g} {unit}: it is an extrapolation of the lognormal fit, not a measurement; "
+        "run the fragility over a wider range of levels to measure it."
     )
 
 

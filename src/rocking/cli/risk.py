@@ -5,6 +5,7 @@ the efficiency of intensity measures and the rates together."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -12,19 +13,19 @@ import click
 
 from ..defaults import AGX
 from ..errors import InputError
-from ._options import quiet_option, reporter
+from ._options import print_table, quiet_option, reporter
 
 if TYPE_CHECKING:
     import pandas as pd
 
     from ..assessment.risk import HazardCurve
+    from ..montecarlo.statistics import LognormalFit
 
 
-def _fragility_run(folder: Path) -> tuple[dict, pd.DataFrame]:
-    """The record (run.json: parameters and status) and the fitted curves (lognormal.csv) of a
-    completed ``rocking fragility`` run."""
-    import pandas as pd
-
+def _fragility_run(folder: Path) -> tuple[dict, list[tuple[str, LognormalFit | None]]]:
+    """The record (run.json: parameters and status) and the fitted curves (lognormal.csv: each
+    body's name and curve, None where nothing was fitted) of a completed ``rocking fragility``
+    run."""
     run_json = folder / "run.json"
     try:
         run = json.loads(run_json.read_text())
@@ -47,7 +48,66 @@ def _fragility_run(folder: Path) -> tuple[dict, pd.DataFrame]:
             "which no site hazard curve gives; run fragility with --im pga (or the IM of your "
             "hazard curve)"
         )
-    return run, pd.read_csv(folder / "lognormal.csv")
+    return run, _read_fits(folder / "lognormal.csv", run["im"])
+
+
+#: Columns of lognormal.csv that ``risk`` needs.
+_FIT_NEEDS = ("body", "median", "beta")
+
+
+def _read_fits(path: Path, im: str) -> list[tuple[str, LognormalFit | None]]:
+    """Each body's name and fitted curve (None where nothing was fitted: median and β empty)
+    from the lognormal.csv of a fragility run against ``im`` (its run.json's), checked: every
+    error names the file and the row."""
+    import pandas as pd
+
+    from ..errors import InputError
+    from ..montecarlo.statistics import LognormalFit
+    from ..motions.intensity import parse_im
+
+    try:
+        table = pd.read_csv(path, dtype=str, keep_default_na=False)
+    except FileNotFoundError:
+        raise InputError(f"--fragility: {path} is missing (the fitted curves of the run)") from None
+    except (OSError, ValueError, pd.errors.ParserError) as exc:  # binary, empty, ragged
+        text = " ".join(str(exc).split())
+        raise InputError(f"--fragility: cannot read {path} ({text})") from None
+    table.columns = [str(c).strip() for c in table.columns]
+    missing = [c for c in _FIT_NEEDS if c not in table.columns]
+    if missing:
+        raise InputError(
+            f"--fragility: {path} has no column {', '.join(missing)} (a fragility run's "
+            f"lognormal.csv has {', '.join(_FIT_NEEDS)} and more), got "
+            f"{', '.join(map(repr, table.columns[:6]))}"
+        )
+    if table.empty:
+        raise InputError(f"--fragility: {path} lists no bodies")
+    fits: list[tuple[str, LognormalFit | None]] = []
+    for row, cells in enumerate(table.to_dict("records"), start=1):
+        where = f"--fragility: {path}: row {row} (body {cells['body']!r})"
+        values = {}
+        for name in ("median", "beta"):
+            try:
+                values[name] = float(cells[name] or "nan")
+            except ValueError:
+                raise InputError(f"{where}: {name} {cells[name]!r} is not a number") from None
+        if all(math.isnan(v) for v in values.values()):  # nothing to fit for this body
+            fits.append((cells["body"], None))
+            continue
+        try:
+            # runs before the unit column: im holds the IM with its unit, e.g. 'pgv [m/s]'
+            fit = LognormalFit(
+                values["median"],
+                values["beta"],
+                im=cells.get("im") or im,
+                unit=cells.get("unit") or None,
+            )
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+        if fit.im != parse_im(im).name:
+            raise InputError(f"{where}: the curve is of {fit.im}, the run (run.json) of {im}")
+        fits.append((cells["body"], fit))
+    return fits
 
 
 @click.command("risk")
@@ -95,7 +155,6 @@ def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet
 
     from ..assessment.risk import HazardCurve, annual_rate, check_hazard_im, hazard_path
     from ..core.runs import RunFolder
-    from ..montecarlo.statistics import LognormalFit
 
     folder = Path(fragility_dir)
     params, fits = _fragility_run(folder)
@@ -106,16 +165,16 @@ def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet
     run_params = {"fragility": str(folder), "hazard": str(path), "years": years, "im": im.name}
     with RunFolder(out, command="risk", params=run_params) as run, progress:
         rows = []
-        for _, fit in fits.iterrows():
-            if not (np.isfinite(fit["median"]) and np.isfinite(fit["beta"])):
-                rows.append({"body": fit["body"], "annual_rate": np.nan})
+        for body, fit in fits:
+            if fit is None:
+                rows.append({"body": body, "annual_rate": np.nan})
                 continue
-            result = annual_rate(LognormalFit(fit["median"], fit["beta"]), hazard, im=im)
+            result = annual_rate(fit, hazard)
             rows.append(
                 {
-                    "body": fit["body"],
-                    "median": fit["median"],
-                    "beta": fit["beta"],
+                    "body": body,
+                    "median": fit.median,
+                    "beta": fit.beta,
                     "annual_rate": result.annual_rate,
                     "return_period_yr": result.return_period,
                     f"p_in_{years:g}_yr": float(result.probability_in(years)),
@@ -133,8 +192,38 @@ def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet
         figure = _plot_disaggregation(results.dropna().tolist(), table, hazard)
         run.write_figure("disaggregation.png", figure)
         _report(run, folder, params, table, figure, hazard, years)
+    _print_rates(table, im.unit, years)
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
+
+
+def _print_rates(table: pd.DataFrame, unit: str, years: float) -> None:
+    """Per body: median, β, annual rate, return period and probability in ``years``, aligned,
+    units in the header (a body without a fitted curve: '-')."""
+    head = (
+        f"median [{unit}]",
+        "beta [-]",
+        "annual rate [1/yr]",
+        "return period [yr]",
+        f"P in {years:g} yr [-]",
+    )
+    rows = []
+    for cells in table.to_dict("records"):
+        rate = cells["annual_rate"]
+        if not math.isfinite(rate):
+            rows.append((str(cells["body"]), *(["-"] * len(head))))
+            continue
+        rows.append(
+            (
+                str(cells["body"]),
+                f"{cells['median']:.3g}",
+                f"{cells['beta']:.3g}",
+                f"{rate:.3g}",
+                f"{cells['return_period_yr']:.3g}",
+                f"{cells[f'p_in_{years:g}_yr']:.3g}",
+            )
+        )
+    print_table(("body", *head), rows)
 
 
 def _plot_disaggregation(results: list, table: pd.DataFrame, hazard: HazardCurve):
@@ -181,8 +270,10 @@ def _report(run, folder: Path, params: dict, table, figure, hazard, years: float
         report.warning(note)
     tested = params.get("levels")  # the IDA's levels (msa, cloud: its report warns)
     if isinstance(tested, list) and tested:
+        lo, hi = min(tested), max(tested)
         medians = dict(zip(table["body"].astype(str), table.get("median", [])))
-        warning = extrapolation_warning(medians, max(tested), hazard.im.unit)
+        outside = {b: m for b, m in medians.items() if not lo < m < hi}
+        warning = extrapolation_warning(outside, (lo, hi), hazard.im.unit)
         if warning:
             report.warning(warning)
     report.text(

@@ -14,9 +14,12 @@ Stages nest: a stage opened while another is open on the same reporter reports i
 work adds to the outer count), so a section of ``rocking reproduce`` shows one line for all its
 Monte Carlo calls instead of one bar per call.
 
-While a reporter is active (``with reporter:``, or any open stage) it also says, once per process,
-when Numba starts compiling the kernels (the first run after installation; later runs load them
-from the cache): the one long silence a new user would otherwise meet.
+While a reporter is active (``with reporter:``, or any open stage) it also says when Numba starts
+compiling a kernel (the first run after installation; later runs load them from the cache): the
+one long silence a new user would otherwise meet. It says which kernel (once per process and
+kernel), and the open stage's line names it until the compilation ends, e.g.
+``section 8 [compiling the rocking kernel]: 0 sim (00:12 elapsed)``, then counts again: a
+notice printed once above a line that reads "0 sim" for half a minute looked like a stuck run.
 
 tqdm draws the bars and formats the lines (rates, times); off a terminal its output is cut into
 plain lines by :class:`_Lines`, because tqdm itself only knows how to redraw a line in place.
@@ -37,7 +40,25 @@ from typing import Any, TextIO
 LINE_INTERVAL = 5.0
 #: Stages shorter than this [s] show nothing.
 DELAY = 2.0
-COMPILING = "compiling the numerical kernels (first run only; later runs load them from the cache)"
+#: What the kernels of the package's modules are (the longest prefix of a kernel's module
+#: names it) and how long their first compilation takes, measured on 2 cores (27 s for the
+#: rocking kernel, issue 48; the others take seconds); any other: "the numerical kernels".
+_KERNELS = {
+    "rocking.dynamics": ("the rocking kernel", ", ~30 s"),
+    "rocking.motions.response": ("the response-spectrum kernel", ""),
+    "rocking.motions": ("the ground-motion kernels", ""),
+    "rocking.structures": ("the shear-frame kernels", ""),
+}
+_OTHER_KERNELS = ("the numerical kernels", "")
+
+
+def compile_notice(what: str, took: str = "") -> str:
+    """The line that says that ``what`` (e.g. "the rocking kernel") is being compiled."""
+    return f"compiling {what} (first run only{took}; later runs reuse the compiled code)"
+
+
+#: The notice of kernels that are not the package's own.
+COMPILING = compile_notice(*_OTHER_KERNELS)
 
 _FORMAT_KNOWN = (
     "{desc}: {percentage:3.0f}% ({n_fmt}/{total_fmt} {unit}, {elapsed} elapsed, {remaining} left)"
@@ -62,26 +83,40 @@ class _Lines(io.TextIOBase):
         self._stream.flush()
 
 
-_said_compiling = threading.Event()  # once per process, whichever reporter says it
+_said_compiling: set[str] = set()  # kernels announced in this process, by any reporter
+
+
+def _kernel_of(ev) -> tuple[str, str]:
+    """(what, how long) of the kernel whose compilation the Numba event ``ev`` starts."""
+    func = getattr(ev.data.get("dispatcher"), "py_func", None)
+    module = getattr(func, "__module__", "") or ""
+    for prefix in sorted(_KERNELS, key=len, reverse=True):
+        if module == prefix or module.startswith(prefix + "."):
+            return _KERNELS[prefix]
+    return _OTHER_KERNELS
 
 
 @functools.cache
 def _listener_class():
-    """Numba event listener printing :data:`COMPILING` when the first compilation starts (defined
-    on first use: Numba is imported only by what runs the kernels)."""
+    """Numba event listener that tells its reporter when a kernel's compilation starts and
+    ends (defined on first use: Numba is imported only by what runs the kernels). A kernel's
+    compilation compiles the functions it calls inside it: the outermost one names it."""
     from numba.core import event
 
     class Compiling(event.Listener):
-        def __init__(self, write):
-            self._write = write
+        def __init__(self, reporter):
+            self._reporter = reporter
+            self._depth = 0
 
         def on_start(self, ev) -> None:
-            if not _said_compiling.is_set():
-                _said_compiling.set()
-                self._write(COMPILING)
+            self._depth += 1
+            if self._depth == 1:
+                self._reporter._compiling(*_kernel_of(ev))
 
         def on_end(self, ev) -> None:
-            pass
+            self._depth -= 1
+            if self._depth == 0:
+                self._reporter._compiling(None)
 
     return Compiling
 
@@ -93,6 +128,7 @@ class Stage:
         self._bar = bar
         self._parent = parent
         self._lines = lines  # bar drawn as lines (off a terminal)
+        self._desc: str | None = None  # the description, while a compilation changes it
 
     def update(self, n: int = 1) -> None:
         """Count ``n`` more units of work done."""
@@ -113,6 +149,17 @@ class Stage:
             if bar.total is None and self._lines:
                 bar.bar_format = _FORMAT_KNOWN
             bar.total = target  # shown at the next update (a refresh now would break the delay)
+
+    def compiling(self, what: str | None) -> None:
+        """Name the kernel being compiled in the stage's line (None: the compilation ended)."""
+        bar = self._bar
+        if bar is None:
+            return
+        if self._desc is None:
+            self._desc = bar.desc
+        bar.set_description_str(
+            self._desc if what is None else f"{self._desc} [compiling {what}]", refresh=False
+        )
 
     def note(self, text: str) -> None:
         """Print one line of text without breaking the bar."""
@@ -178,13 +225,22 @@ class Reporter:
             self.stream.write(text + "\n")
             self.stream.flush()
 
+    def _compiling(self, what: str | None, took: str = "") -> None:
+        """A kernel's compilation starts (``what`` it is) or ends (None): say it once per
+        process and kernel, and name it in the open stage's line until it ends."""
+        if what is not None and what not in _said_compiling:
+            _said_compiling.add(what)
+            self.write(compile_notice(what, took))
+        if self._open and self._open[0]._bar is not None:
+            self._open[0].compiling(what)
+
     def __enter__(self) -> Reporter:
         """Activate: from now until :meth:`__exit__`, say once when Numba starts compiling."""
         if self.enabled:
             if not self._listeners:
                 from numba.core import event  # whatever compiles has loaded Numba anyway
 
-                listener = _listener_class()(self.write)
+                listener = _listener_class()(self)
                 event.register("numba:compile", listener)
                 self._listeners.append(listener)
             self._active += 1

@@ -1141,7 +1141,7 @@ def overturn_cases(
 
     Parameters
     ----------
-    blocks : sequence of Block
+    blocks : Block or sequence of Block
         The blocks that ``body_index`` refers to.
     acc : array_like, shape (n_motions, n_t) or (n_t,)
         Ground accelerations [m/s²] sampled at ``dt``.
@@ -1212,7 +1212,7 @@ def overturn_batch(
 
     Parameters
     ----------
-    blocks : sequence of Block
+    blocks : Block or sequence of Block
         n_blocks blocks.
     acc : array_like, shape (n_motions, n_t) or (n_t,)
         Ground accelerations [m/s²] sampled at ``dt``.

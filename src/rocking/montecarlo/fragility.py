@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -29,7 +30,7 @@ from numpy.typing import ArrayLike
 
 from ..core import portable
 from ..core.checks import finite_array, in_range
-from ..defaults import AGX, DEFAULT_E, G
+from ..defaults import AGX, DEFAULT_E, N_BOOT, N_BOOT_EFFICIENCY, G
 from ..dynamics.batch import block_list
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
@@ -37,6 +38,7 @@ from ..motions.intensity import IntensityMeasure, intensity_measures, parse_im
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
 from .statistics import (
     _FIT_BLOCK_ELEMENTS,
+    ExtrapolationWarning,
     FragilityFit,
     Interval,
     LognormalFit,
@@ -175,7 +177,7 @@ def fragility_analysis(
     progress: Reporter | bool | None = None,
     confidence: float = 0.95,
     chunk_size: int | None = None,
-    n_boot: int = 1000,
+    n_boot: int = N_BOOT,
     seed: int = 0,
     im_values: ArrayLike | None = None,
 ) -> xr.Dataset:
@@ -183,8 +185,8 @@ def fragility_analysis(
 
     Parameters
     ----------
-    blocks : sequence of Block
-        The bodies.
+    blocks : Block or sequence of Block
+        The bodies (one Block: a list of one).
     ensemble : Ensemble
         The motions [m/s²]: generated (:func:`rocking.generate`) or imported records
         (:meth:`rocking.Ensemble.from_records`, ``rocking motions import``).
@@ -222,9 +224,12 @@ def fragility_analysis(
         cloud, ``overturned`` and ``im_value`` per (body, member) / member.  Per body: the
         lognormal fit ``median`` [the IM's unit] and ``beta`` [-] with their bootstrap intervals
         ``median_low``, ``median_high``, ``beta_low``, ``beta_high`` (NaN where no motion or
-        every motion overturned: nothing to fit).  Attributes ``im``, ``im_label``, ``im_unit``,
-        ``method``, ``confidence``, ``n_boot``, ``seed``.
+        every motion overturned: nothing to fit), ``median_extrapolated`` (bool: the median
+        lies at or outside the intensities tested, an extrapolation; each such body also gets
+        an :class:`~rocking.montecarlo.statistics.ExtrapolationWarning`).  Attributes ``im``,
+        ``im_label``, ``im_unit``, ``method``, ``confidence``, ``n_boot``, ``seed``.
     """
+    blocks = block_list(blocks)  # one Block is a list of one
     if not isinstance(ensemble, Ensemble):
         raise InputError(f"ensemble must be a rocking Ensemble, got {type(ensemble).__name__}")
     measure = AnalysisIM.parse(im)
@@ -265,7 +270,7 @@ def fragility_analysis(
         ds["probability"] = ds["count"] / ds["n"]
         ds["ci_low"] = (("body", "level"), low, {"units": "1"})
         ds["ci_high"] = (("body", "level"), high, {"units": "1"})
-    _add_fits(ds, method, n_boot, confidence, seed)
+    _add_fits(ds, method, measure, n_boot, confidence, seed)
     ds["level"].attrs.update(units=measure.unit, long_name=measure.label)
     ds.attrs.update(
         im=measure.name,
@@ -327,7 +332,6 @@ def _refuse_lifting(ensemble: Ensemble, factors: np.ndarray, what: str) -> None:
 def _ida(
     blocks, ensemble, measure: AnalysisIM, levels: np.ndarray, own, options: dict
 ) -> xr.Dataset:
-    blocks = block_list(blocks)
     nb = len(blocks)
     if measure.exponent == 0:
         raise InputError(
@@ -353,7 +357,6 @@ def _ida(
 
 
 def _msa(blocks, ensemble, measure: AnalysisIM, stripes: pd.DataFrame, options: dict) -> xr.Dataset:
-    blocks = block_list(blocks)
     nb = len(blocks)
     groups = list(stripes.groupby("level", sort=True))
     largest = np.zeros(ensemble.n)
@@ -386,7 +389,6 @@ def _outcome_dataset(blocks, engine, levels, flags, members) -> xr.Dataset:
 
 
 def _cloud(blocks, ensemble, measure: AnalysisIM, own, options: dict) -> xr.Dataset:
-    blocks = block_list(blocks)
     nb = len(blocks)
     values = ensemble.pga if own is None else own
     engine = Engine(
@@ -420,22 +422,42 @@ def _cloud(blocks, ensemble, measure: AnalysisIM, own, options: dict) -> xr.Data
     )
 
 
-def _add_fits(ds: xr.Dataset, method: str, n_boot: int, confidence: float, seed: int) -> None:
+def _add_fits(
+    ds: xr.Dataset, method: str, measure: AnalysisIM, n_boot: int, confidence: float, seed: int
+) -> None:
     names = ("median", "beta", "median_low", "median_high", "beta_low", "beta_high")
     table = np.full((ds.sizes["body"], len(names)), np.nan)
     unfitted = np.zeros(ds.sizes["body"], dtype=np.int64)
+    extrapolated = np.zeros(ds.sizes["body"], dtype=bool)
     for b in range(ds.sizes["body"]):
-        fit = _fit_one(ds, b, method, n_boot, confidence, seed)
+        fit = _fit_one(ds, b, method, measure, n_boot, confidence, seed)
         if fit is not None:
             table[b] = (fit.median, fit.beta, *fit.median_ci, *fit.beta_ci)
             unfitted[b] = fit.n_unfitted
+            extrapolated[b] = fit.extrapolated
+        if fit is not None and fit.extrapolated and fit.fit.im_range is not None:
+            lo, hi = fit.fit.im_range
+            warnings.warn(
+                f"body {ds['body'].values[b]}: the fitted median {fit.median:.3g} "
+                f"{measure.unit} lies at or outside the intensities tested ({lo:.3g} to "
+                f"{hi:.3g} {measure.unit}), an extrapolation: extend the levels",
+                ExtrapolationWarning,
+                stacklevel=3,
+            )
     for j, name in enumerate(names):
-        unit = "1" if name.startswith("beta") else ds.attrs.get("im_unit", "")
+        unit = "1" if name.startswith("beta") else measure.unit
         ds[name] = ("body", table[:, j], {"units": unit})
     ds["n_unfitted"] = ("body", unfitted, {"long_name": "bootstrap resamples with nothing to fit"})
+    ds["median_extrapolated"] = (
+        "body",
+        extrapolated,
+        {"long_name": "median at or outside the intensities tested (an extrapolation)"},
+    )
 
 
-def _fit_one(ds, b: int, method: str, n_boot, confidence, seed) -> FragilityFit | None:
+def _fit_one(
+    ds, b: int, method: str, measure: AnalysisIM, n_boot, confidence, seed
+) -> FragilityFit | None:
     """The bootstrap fit of body ``b``, or None when the outcomes hold no information on the
     median (no motion or every motion overturned)."""
     if method == "cloud":
@@ -448,10 +470,24 @@ def _fit_one(ds, b: int, method: str, n_boot, confidence, seed) -> FragilityFit 
         return None
     if n_boot == 0:  # the point fit only
         counts = y.sum(axis=-1) if y.ndim == 2 else y
-        fit = fit_lognormal(x, counts.astype(np.int64), y.shape[-1] if y.ndim == 2 else 1)
+        fit = fit_lognormal(
+            x,
+            counts.astype(np.int64),
+            y.shape[-1] if y.ndim == 2 else 1,
+            measure=measure.name,
+            unit=measure.unit,
+        )
         nan = Interval(math.nan, math.nan)
         return FragilityFit(fit, nan, nan, confidence, 0, seed, 0, 0)
-    return bootstrap_fragility(x, y, n_boot=n_boot, confidence=confidence, seed=seed)
+    return bootstrap_fragility(
+        x,
+        y,
+        n_boot=n_boot,
+        confidence=confidence,
+        seed=seed,
+        measure=measure.name,
+        unit=measure.unit,
+    )
 
 
 def im_efficiency(
@@ -462,7 +498,7 @@ def im_efficiency(
     levels: ArrayLike | None,
     scale_im: str | IntensityMeasure = "pga",
     names: Iterable[str] | None = None,
-    n_boot: int = 200,
+    n_boot: int = N_BOOT_EFFICIENCY,
     seed: int = 0,
     confidence: float = 0.95,
     **options: Any,
@@ -479,7 +515,7 @@ def im_efficiency(
 
     Parameters
     ----------
-    blocks : sequence of Block
+    blocks : Block or sequence of Block
     ensemble : Ensemble
     ims : sequence of str
         The IMs compared (forms of :func:`rocking.parse_im`).

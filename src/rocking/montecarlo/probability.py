@@ -101,8 +101,8 @@ def overturning_probability(
 
     Parameters
     ----------
-    blocks : sequence of Block
-        The bodies.
+    blocks : Block or sequence of Block
+        The bodies (one Block: a list of one).
     ensemble : Ensemble or dict of str -> Ensemble
         The motions [m/s²] (ground or floor); a dict gives a leading ``case`` dimension
         (e.g. floors, durations, intensity functions).
@@ -151,7 +151,8 @@ def overturning_probability(
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     if members:
         _same_size(cases, "members=True")
-    nb = len(block_list(blocks))
+    blocks = block_list(blocks)  # one Block is a list of one
+    nb = len(blocks)
     engine, keys = _run_levels(
         blocks,
         cases,
@@ -207,8 +208,8 @@ def member_outcomes(
 
     Parameters
     ----------
-    blocks : sequence of Block
-        The bodies.
+    blocks : Block or sequence of Block
+        The bodies (one Block: a list of one).
     ensemble : Ensemble or dict of str -> Ensemble
         The motions [m/s²]; a dict gives a leading ``case`` dimension (ensembles with the same
         number of motions).
@@ -227,7 +228,8 @@ def member_outcomes(
     """
     labels, cases = _cases(ensemble)
     _same_size(cases, "member_outcomes")
-    nb = len(block_list(blocks))
+    blocks = block_list(blocks)  # one Block is a list of one
+    nb = len(blocks)
     values = np.asarray(agx, dtype=float)
     if values.ndim == 1:
         values = values[:, None]
@@ -383,8 +385,8 @@ def agx_50(
 
     Parameters
     ----------
-    blocks : sequence of Block
-        The bodies.
+    blocks : Block or sequence of Block
+        The bodies (one Block: a list of one).
     ensemble : Ensemble or dict of str -> Ensemble
         The motions [m/s²]; a dict gives a leading ``case`` dimension.
     resolution : float
@@ -426,7 +428,8 @@ def agx_50(
         raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
     if members:
         _same_size(cases, "agx_50(members=True)")
-    nb = len(block_list(blocks))
+    blocks = block_list(blocks)  # one Block is a list of one
+    nb = len(blocks)
     engine = Engine(
         blocks,
         cases,

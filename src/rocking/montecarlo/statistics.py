@@ -14,14 +14,15 @@ each) alike.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..core import portable
-from ..core.checks import finite_array, in_range
+from ..core.checks import finite_array, in_range, positive
+from ..defaults import AGX, N_BOOT
 from ..errors import InputError
 
 
@@ -70,31 +71,107 @@ def _counts(count: ArrayLike, n: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     return count, n
 
 
+class ExtrapolationWarning(UserWarning):
+    """A fitted median lies at or outside the intensities tested
+    (:attr:`LognormalFit.extrapolated`): the data do not bracket it, so it is an extrapolation
+    of the lognormal model."""
+
+
 @dataclass(frozen=True)
 class LognormalFit:
-    """Lognormal fragility curve P(IM) = Φ(ln(IM/median)/beta).
+    """Lognormal fragility curve P(IM) = Φ(ln(IM/median)/beta) of one intensity measure.
 
     Attributes
     ----------
     median : float
-        Intensity of 50 % probability, in the IM's unit (A_gx [g] for the paper's curves).
+        Intensity of 50 % probability, > 0, in the IM's unit (A_gx [g] for the paper's curves).
     beta : float
-        Logarithmic standard deviation (dispersion) [-].
+        Logarithmic standard deviation (dispersion) [-], > 0.
+    im : str or None
+        The intensity measure: ``"agx"`` (the paper's A_gx, the mean PGA of an ensemble) or any
+        form of :func:`rocking.parse_im` (stored by its canonical name, e.g. ``"pgv"``,
+        ``"sa(1)"``); None (the default) when it is not known, which
+        :func:`rocking.annual_rate` then asks for.
+    unit : str or None
+        Unit of the median: the IM's own (``"g"``, ``"m/s"``, …; derived from ``im`` when not
+        given, and refused when it differs: convert the median instead); None when neither is
+        known.
+    im_range : (float, float) or None
+        Lowest and highest intensity of the data the curve was fitted to [the IM's unit]
+        (:func:`fit_lognormal`, :func:`bootstrap_fragility`); None when not known.
+
+    Raises
+    ------
+    InputError
+        When ``median`` or ``beta`` is not a finite number > 0, or ``im`` or ``unit`` is not
+        one the package knows.
     """
 
     median: float
     beta: float
+    im: str | None = None
+    unit: str | None = None
+    im_range: tuple[float, float] | None = None
 
-    def probability(self, agx: ArrayLike) -> np.ndarray:
-        """Probability of overturning at intensities ``agx`` (array_like, > 0, in the unit of
-        the median; the name is the paper's A_gx) [-]."""
+    def __post_init__(self) -> None:
+        unit = "" if self.unit is None or self.im is None else f" {self.unit}"
+        object.__setattr__(self, "median", positive("median", self.median, unit.strip()))
+        object.__setattr__(self, "beta", positive("beta", self.beta))
+        if self.im is not None:
+            name, own = _im_name_unit(self.im)
+            if self.unit is not None and str(self.unit).strip() != own:
+                raise InputError(
+                    f"unit {self.unit!r} is not the unit of {name}, [{own}]: give the median "
+                    f"in {own}"
+                )
+            object.__setattr__(self, "im", name)
+            object.__setattr__(self, "unit", own)
+        elif self.unit is not None:
+            object.__setattr__(self, "unit", str(self.unit).strip())
+        if self.im_range is not None:
+            lo, hi = (positive("im_range", v) for v in self.im_range)
+            if lo > hi:
+                raise InputError(f"im_range must be (lowest, highest), got {self.im_range!r}")
+            object.__setattr__(self, "im_range", (lo, hi))
+
+    @property
+    def extrapolated(self) -> bool:
+        """True when the median lies at or beyond the highest intensity of :attr:`im_range`
+        (or at or below the lowest): the data do not bracket it. False when the range is not
+        known."""
+        if self.im_range is None:
+            return False
+        lo, hi = self.im_range
+        return not lo < self.median < hi
+
+    def probability(self, x: ArrayLike) -> np.ndarray:
+        """Probability of overturning at intensities ``x`` (array_like, > 0, in the unit of the
+        median, e.g. A_gx [g] or PGV [m/s]) [-]."""
         import scipy.special  # on first use (see wilson_interval)
 
-        z = portable.log(np.asarray(agx, dtype=float) / self.median) / self.beta
+        z = portable.log(np.asarray(x, dtype=float) / self.median) / self.beta
         return scipy.special.ndtr(z)  # Φ(z), as scipy.stats.norm.cdf (1.3 s lighter to import)
 
 
-def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFit:
+def _im_name_unit(im) -> tuple[str, str]:
+    """Canonical name and unit of an intensity measure: ``"agx"`` (the paper's A_gx [g]) or
+    any form of :func:`rocking.parse_im`."""
+    if isinstance(im, str) and im.strip().lower() == AGX:
+        return AGX, "g"
+    from ..motions.intensity import parse_im  # on first use: pandas and SciPy
+
+    measure = parse_im(im)
+    return measure.name, measure.unit
+
+
+def fit_lognormal(
+    agx: ArrayLike,
+    count: ArrayLike,
+    n: ArrayLike,
+    *,
+    measure: str | None = None,
+    unit: str | None = None,
+) -> LognormalFit:
     """Maximum-likelihood lognormal fragility curve from overturning counts (Baker 2015).
 
     Maximises the binomial log-likelihood Σ [k·ln P(x) + (n − k)·ln(1 − P(x))] with
@@ -117,10 +194,14 @@ def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFi
         Motions that overturned the body at each intensity.
     n : int or array_like of int
         Motions at each intensity (≥ 1, ≥ count).
+    measure, unit : str, optional
+        The intensity measure of ``agx`` and its unit (:class:`LognormalFit` ``im`` and
+        ``unit``; default: not known).
 
     Returns
     -------
     LognormalFit
+        With ``im_range`` the lowest and highest of ``agx``.
 
     Raises
     ------
@@ -138,7 +219,8 @@ def fit_lognormal(agx: ArrayLike, count: ArrayLike, n: ArrayLike) -> LognormalFi
     count, n = _counts(count, n)
     if np.all(count == 0) or np.all(count == n):
         raise InputError("fit_lognormal needs counts that are not all 0 and not all n")
-    return _mle(portable.log(agx), count.astype(float), n.astype(float))
+    fit = _mle(portable.log(agx), count.astype(float), n.astype(float))
+    return replace(fit, im=measure, unit=unit, im_range=(float(agx.min()), float(agx.max())))
 
 
 #: Bounds of the dispersion β of a fit [-].
@@ -335,7 +417,8 @@ class FragilityFit:
     Attributes
     ----------
     fit : LognormalFit
-        The maximum-likelihood fit to all motions.
+        The maximum-likelihood fit to all motions (with its IM, unit and range of
+        intensities).
     median_ci : Interval
         Percentile bootstrap interval of the median, in the IM's unit.
     beta_ci : Interval
@@ -374,6 +457,22 @@ class FragilityFit:
         """Dispersion β of the point fit [-]."""
         return self.fit.beta
 
+    @property
+    def im(self) -> str | None:
+        """The intensity measure of the curve (None: not known)."""
+        return self.fit.im
+
+    @property
+    def unit(self) -> str | None:
+        """Unit of the median (None: not known)."""
+        return self.fit.unit
+
+    @property
+    def extrapolated(self) -> bool:
+        """Whether the median of the point fit lies at or outside the intensities of the data
+        (:attr:`LognormalFit.extrapolated`)."""
+        return self.fit.extrapolated
+
     def probability(self, im: ArrayLike) -> np.ndarray:
         """Probability of overturning of the point fit at intensities ``im`` (> 0) [-]."""
         return self.fit.probability(im)
@@ -383,9 +482,11 @@ def bootstrap_fragility(
     im: ArrayLike,
     outcomes: ArrayLike,
     *,
-    n_boot: int = 1000,
+    n_boot: int = N_BOOT,
     confidence: float = 0.95,
     seed: int = 0,
+    measure: str | None = None,
+    unit: str | None = None,
 ) -> FragilityFit:
     """Lognormal fragility curve by maximum likelihood with bootstrap confidence intervals.
 
@@ -414,6 +515,9 @@ def bootstrap_fragility(
         Confidence level of the intervals, in (0, 1) [-].
     seed : int
         Seed of NumPy's default generator, ≥ 0.
+    measure, unit : str, optional
+        The intensity measure of ``im`` and its unit (:class:`LognormalFit` ``im`` and
+        ``unit``; default: not known).
 
     Returns
     -------
@@ -445,6 +549,7 @@ def bootstrap_fragility(
         point = _mle(log_x, y.sum(axis=1).astype(float), np.full(x.size, float(n_motions)))
     else:
         point = _mle(log_x, y.astype(float), np.ones(x.size))
+    point = replace(point, im=measure, unit=unit, im_range=(float(x.min()), float(x.max())))
     resamples = _bootstrap_resamples(seed, n_boot, n_motions)
     median_parts, beta_parts, separated = [np.empty(0)], [np.empty(0)], 0
     step = max(1, _FIT_BLOCK_ELEMENTS // max(x.size, n_motions))  # resamples at a time

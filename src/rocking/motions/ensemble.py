@@ -118,6 +118,17 @@ class Ensemble:
         object.__setattr__(self, "labels", labels)
         object.__setattr__(self, "meta", {"location": "ground", "scale": 1.0, **self.meta})
 
+    def __repr__(self) -> str:
+        """A summary, not the arrays: e.g. ``Ensemble(20 motions, dt = 0.0025 s, 20 s,
+        ground, A_gx = 1.203 g, simulated)``."""
+        kind = self.meta.get("kind")
+        more = (f", {kind}" if kind else "") + (", with verticals" if self.av is not None else "")
+        agx = f"{self.agx:.4g} g" if self.n else "-"
+        return (
+            f"Ensemble({self.n} motions, dt = {self.dt:g} s, {self.duration:g} s, "
+            f"{self.meta.get('location', 'ground')}, A_gx = {agx}{more})"
+        )
+
     @property
     def n(self) -> int:
         """Number of members."""
