@@ -63,6 +63,7 @@ _EXPORTS = {
     "Ensemble": "motions.ensemble",
     "baseline_correct": "motions.baseline",
     "generate": "motions.synthesis",
+    "pulse": "motions.pulses",
     "limit_peaks": "motions.synthesis",
     "spectral_fit": "motions.synthesis",
     "Record": "motions.records",
@@ -138,6 +139,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
         intensity_measures,
         parse_im,
     )
+    from .motions.pulses import pulse
     from .motions.records import Record, read_record, read_records
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit
