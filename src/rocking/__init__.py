@@ -50,6 +50,7 @@ _EXPORTS = {
     "im_efficiency": "montecarlo.fragility",
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
+    "overturning_spectrum": "montecarlo.pulse_spectrum",
     "member_outcomes": "montecarlo.probability",
     "wilson_interval": "montecarlo.statistics",
     "PRESETS": "structures.frames",
@@ -123,6 +124,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
     from .montecarlo.fragility import fragility_analysis, im_efficiency
     from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
+    from .montecarlo.pulse_spectrum import overturning_spectrum
     from .montecarlo.statistics import (
         FragilityFit,
         LognormalFit,
