@@ -10,8 +10,9 @@ import pytest
 from scipy.integrate import cumulative_trapezoid
 
 import rocking
+from rocking.defaults import PULSE_SHAPES
 from rocking.errors import InputError
-from rocking.motions.pulses import PULSE_SHAPES, pulse, pulse_duration
+from rocking.motions.pulses import pulse, pulse_duration
 
 
 def test_sines_and_cosine_follow_their_formulas_and_end_with_the_tail():

@@ -18,17 +18,13 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES
+from ..defaults import DEFAULT_E, IMPACT_SCHEMES, PULSE_KAPPA_MAX, PULSE_N_SCAN
 from ..dynamics.batch import BlockTable, motion_peaks, motion_suffixes, run_cases
 from ..dynamics.body import Block, G
 from ..dynamics.simulate import simulate
 from ..errors import InputError
 from ..motions.pulses import MP_GAMMA, MP_NU, parse_pulse, pulse
 
-#: Default upper limit of the amplitude search, κ = a_p/(g·tan α) [-].
-KAPPA_MAX = 20.0
-#: Default number of amplitudes of the scan (lanes of the batched kernel) per period.
-N_SCAN = 256
 #: Default relative width to which each switch of the outcome is bisected [-].
 RTOL = 1e-4
 #: Default samples per pulse period T_p (the time step is T_p/N; see ``samples_per_period``).
@@ -90,8 +86,8 @@ def overturning_spectrum(
     periods: ArrayLike,
     *,
     e: float | str = DEFAULT_E,
-    kappa_max: float = KAPPA_MAX,
-    n_scan: int = N_SCAN,
+    kappa_max: float = PULSE_KAPPA_MAX,
+    n_scan: int = PULSE_N_SCAN,
     rtol: float = RTOL,
     samples_per_period: int = SAMPLES_PER_PERIOD,
     tail: float | None = None,

@@ -44,18 +44,9 @@ import re
 import numpy as np
 
 from ..core.checks import in_range, positive
+from ..defaults import PULSE_SHAPES
 from ..errors import InputError
 
-#: Pulse shapes of :func:`pulse`.
-PULSE_SHAPES = (
-    "half-sine",
-    "one-sine",
-    "one-cosine",
-    "rectangular",
-    "ricker",
-    "ricker-antisymmetric",
-    "mavroeidis-papageorgiou",
-)
 #: Default oscillatory parameter γ [-] of the Mavroeidis & Papageorgiou (2003) pulse.
 MP_GAMMA = 2.0
 #: Default phase ν [rad] of the Mavroeidis & Papageorgiou (2003) pulse.
@@ -66,9 +57,9 @@ _SPEC = re.compile(r"^\s*([a-z-]+)\s*(?::(.*))?$")
 
 
 def parse_pulse(text: str) -> tuple[str, dict[str, float]]:
-    """The shape and parameters of a pulse specification: a name of :data:`PULSE_SHAPES`, for
-    ``mavroeidis-papageorgiou`` optionally followed by ``:gamma=G,nu=N`` (ν in rad), e.g.
-    ``"mavroeidis-papageorgiou:gamma=2.5,nu=1.57"``."""
+    """The shape and parameters of a pulse specification: a name of
+    :data:`rocking.defaults.PULSE_SHAPES`, for ``mavroeidis-papageorgiou`` optionally followed
+    by ``:gamma=G,nu=N`` (ν in rad), e.g. ``"mavroeidis-papageorgiou:gamma=2.5,nu=1.57"``."""
     m = _SPEC.match(str(text).lower())
     name = m.group(1) if m else ""
     if name not in PULSE_SHAPES:
@@ -153,8 +144,8 @@ def pulse(
     Parameters
     ----------
     shape : str
-        One of :data:`PULSE_SHAPES`; ``mavroeidis-papageorgiou`` may carry its parameters,
-        ``"mavroeidis-papageorgiou:gamma=2.5,nu=1.57"`` (see :func:`parse_pulse`).
+        One of :data:`rocking.defaults.PULSE_SHAPES`; ``mavroeidis-papageorgiou`` may carry its
+        parameters, ``"mavroeidis-papageorgiou:gamma=2.5,nu=1.57"`` (see :func:`parse_pulse`).
     amplitude : float
         a_p [m/s²], the largest abs(acceleration) of the pulse (may be negative: the pulse
         mirrored).
