@@ -65,6 +65,8 @@ _EXPORTS = {
     "baseline_correct": "motions.baseline",
     "generate": "motions.synthesis",
     "pulse": "motions.pulses",
+    "pulse_period": "motions.wavelets",
+    "VelocityPulse": "motions.wavelets",
     "limit_peaks": "motions.synthesis",
     "spectral_fit": "motions.synthesis",
     "Record": "motions.records",
@@ -146,6 +148,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit
     from .motions.targets import RG160, TabulatedSpectrum, TargetSpectrum, rg160
+    from .motions.wavelets import VelocityPulse, pulse_period
     from .report import Report
     from .structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
     from .studies import reproduce
