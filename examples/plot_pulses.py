@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from scipy.integrate import cumulative_trapezoid
 
 import rocking
-from rocking.motions.pulses import PULSE_SHAPES
+from rocking.defaults import PULSE_SHAPES
 
 # %%
 # Every shape sampled at 1/200 s, with 0.5 s of tail; the Mavroeidis & Papageorgiou (2003)
