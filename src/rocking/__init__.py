@@ -51,6 +51,8 @@ _EXPORTS = {
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
     "overturning_spectrum": "montecarlo.pulse_spectrum",
+    "dimensionless_intensities": "montecarlo.dimensionless",
+    "dimensionless_efficiency": "montecarlo.dimensionless",
     "member_outcomes": "montecarlo.probability",
     "wilson_interval": "montecarlo.statistics",
     "PRESETS": "structures.frames",
@@ -124,6 +126,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
+    from .montecarlo.dimensionless import dimensionless_efficiency, dimensionless_intensities
     from .montecarlo.fragility import fragility_analysis, im_efficiency
     from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
     from .montecarlo.pulse_spectrum import overturning_spectrum
