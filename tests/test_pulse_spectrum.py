@@ -36,15 +36,17 @@ def _makris_roussos_eq27(omega: float) -> float:
 
 
 def test_half_sine_slender_limit_is_makris_roussos_eq27():
-    omegas = np.array([1.0, 2.0, 4.0])
+    omegas = np.array([1.0, 2.0, 4.0, 0.2])
     # the values printed in the issue (3 decimals) check our solution of Eq. (27)
     printed = [1.322, 1.801, 2.791]
     closed = [_makris_roussos_eq27(o) for o in omegas]
-    np.testing.assert_allclose(closed, printed, atol=5e-4)
+    np.testing.assert_allclose(closed[:3], printed, atol=5e-4)
     periods = 2 * np.pi / (omegas * SLENDER.p)
     ds = overturning_spectrum(SLENDER, "half-sine", periods, e=0.9, kappa_max=5.0)
     np.testing.assert_allclose(ds["omega_ratio"], omegas, rtol=1e-12)
     np.testing.assert_allclose(ds["kappa"], closed, rtol=KAPPA_RTOL)
+    # the long pulse (Ω = 0.2, p·T_p = 31) is sampled finer than T_p/200: p·dt ≤ 0.05
+    assert float(ds["dt"][3]) * SLENDER.p <= 0.05 < float(ds["period"][3]) / 200 * SLENDER.p
     # first mode: overturning without impact, and a half-sine has no other switch
     assert (ds["impacts_before_overturning"].sel(switch=0) == 0).all()
     assert ds.sizes["switch"] == 1
@@ -90,7 +92,8 @@ def test_the_reference_solver_brackets_the_reported_minimum():
     period = 2 * math.pi / 15.7
     ds = overturning_spectrum(block, "one-sine", [period], e=0.9, kappa_max=15.0)
     a_min = float(ds["overturning_amplitude"][0])
-    dt = period / 200
+    dt = float(ds["dt"][0])
+    assert dt == period / 200  # p·dt = 0.0043
     unit = pulse("one-sine", 1.0, period, dt, tail=ds.attrs["tail"])
     below = simulate_reference(block, a_min * (1 - 5e-4) * unit, dt, e=0.9)
     above = simulate_reference(block, a_min * (1 + 5e-4) * unit, dt, e=0.9)
