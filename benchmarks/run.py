@@ -40,7 +40,8 @@ run:
   --bodies paper``: 72 bodies on the ground, A_gx50 to 0.01 g; best of the runs of each),
   generating 500 motions of 30 s at 400 Hz with their baseline correction, response spectra of
   500 motions (100 frequencies), the floor motions of 500 motions on the 5-story frame
-  ``paper-2.0``, and ``rocking reproduce all`` at ``--fidelity quick`` (and ``paper`` with
+  ``paper-2.0``, an overturning spectrum of 100 pulse periods (:func:`rocking.overturning_spectrum`,
+  issue 46; target ≤ 2 s), and ``rocking reproduce all`` at ``--fidelity quick`` (and ``paper`` with
   ``--with-paper``), each with its wall time and, for the commands, peak resident memory (the
   command's process and, sampled, with its worker processes: :func:`run_command`).
 
@@ -78,9 +79,10 @@ import numpy as np
 import scipy
 
 from rocking.dynamics.batch import BlockTable, motion_peaks, overturn_batch, run_cases
-from rocking.dynamics.body import G, paper_bodies
+from rocking.dynamics.body import Block, G, paper_bodies
 from rocking.dynamics.reference import simulate_reference
 from rocking.dynamics.simulate import simulate
+from rocking.montecarlo.pulse_spectrum import overturning_spectrum
 from rocking.motions.response import response_spectrum
 from rocking.motions.synthesis import generate
 from rocking.structures.frames import ShearFrame
@@ -103,6 +105,7 @@ TARGETS = {
     "reproduce_paper_peak_gb": 1.0,
     "reproduce_quick_s": 5.0,
     "generate_500_s": 0.3,
+    "pulse_spectrum_100_s": 2.0,
 }
 #: Instruction sets the suite runs on: each in a child process with these environment variables
 #: (Numba compiles for the named CPU; a separate cache so that no code of another run is reused).
@@ -572,6 +575,22 @@ def bench_generate(n: int, repeats: int) -> dict:
     return {"motions": n, "duration_s": 30.0, "dt_s": DT, **t}
 
 
+def bench_pulse_spectrum(repeats: int) -> dict:
+    """An overturning spectrum of 100 periods with all its switches (issue 46): R = 1 m, γ = 4,
+    one-sine pulses of 0.2–5 s, the default scan and refinement."""
+    block = Block(1.0, 4.0)
+    periods = np.linspace(0.2, 5.0, 100)
+    overturning_spectrum(block, "one-sine", periods[:2])  # compile / load
+    t = timed(lambda: overturning_spectrum(block, "one-sine", periods), repeats)
+    ds = overturning_spectrum(block, "one-sine", periods)
+    return {
+        "periods": periods.size,
+        "switches": int(ds["switch_kappa"].notnull().sum()),
+        "kappa_digest": digest(ds["switch_kappa"].values),
+        **t,
+    }
+
+
 def count_steps(tmp: Path, fidelity: str, exhaustive: bool) -> dict:
     """Integrated steps and simulations of every Monte Carlo simulation of ``rocking reproduce
     all`` at ``fidelity``, run in this process with the engine's ``run_cases`` counting steps
@@ -711,6 +730,15 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
                 f"generate {g['motions']} motions of 30 s at 400 Hz [s]",
                 f"{g['best_s']:.2f}",
                 f"Eq. (9) and baseline correction; target ≤ {TARGETS['generate_500_s']:g} s",
+            )
+        )
+    if "pulse_spectrum" in e:
+        ps = e["pulse_spectrum"]
+        rows.append(
+            (
+                f"overturning spectrum, {ps['periods']} periods [s]",
+                f"{ps['best_s']:.2f}",
+                f"{ps['switches']} switches; target ≤ {TARGETS['pulse_spectrum_100_s']:g} s",
             )
         )
     if "spectra_floors" in e:
@@ -861,6 +889,8 @@ def run_isa(a) -> dict:
             e["table2"] = bench_table2(tmp, 2 if a.quick else 3)
             print("generating 500 motions of 30 s ...", flush=True)
             e["generate_500"] = bench_generate(500, repeats)
+            print("overturning spectrum of 100 pulse periods ...", flush=True)
+            e["pulse_spectrum"] = bench_pulse_spectrum(repeats)
             print("response spectra and floor motions of 500 motions ...", flush=True)
             e["spectra_floors"] = bench_spectra_floors(500)
             print("rocking reproduce all --fidelity quick ...", flush=True)

@@ -20,7 +20,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 #: Commands that write a report say so in the README ("writes screen-out/report.html").
-_REPORTS = {"screen", "reproduce"}
+_REPORTS = {"screen", "reproduce", "pulse-spectrum"}
 
 
 def readme_commands() -> list[str]:

@@ -51,6 +51,9 @@ _EXPORTS = {
     "im_efficiency": "montecarlo.fragility",
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
+    "overturning_spectrum": "montecarlo.pulse_spectrum",
+    "dimensionless_intensities": "montecarlo.dimensionless",
+    "dimensionless_efficiency": "montecarlo.dimensionless",
     "member_outcomes": "montecarlo.probability",
     "wilson_interval": "montecarlo.statistics",
     "PRESETS": "structures.frames",
@@ -64,6 +67,9 @@ _EXPORTS = {
     "Ensemble": "motions.ensemble",
     "baseline_correct": "motions.baseline",
     "generate": "motions.synthesis",
+    "pulse": "motions.pulses",
+    "pulse_period": "motions.wavelets",
+    "VelocityPulse": "motions.wavelets",
     "limit_peaks": "motions.synthesis",
     "spectral_fit": "motions.synthesis",
     "Record": "motions.records",
@@ -121,8 +127,10 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
+    from .montecarlo.dimensionless import dimensionless_efficiency, dimensionless_intensities
     from .montecarlo.fragility import fragility_analysis, im_efficiency
     from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
+    from .montecarlo.pulse_spectrum import overturning_spectrum
     from .montecarlo.statistics import (
         ExtrapolationWarning,
         FragilityFit,
@@ -140,10 +148,12 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
         intensity_measures,
         parse_im,
     )
+    from .motions.pulses import pulse
     from .motions.records import Record, read_record, read_records
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit
     from .motions.targets import RG160, TabulatedSpectrum, TargetSpectrum, rg160
+    from .motions.wavelets import VelocityPulse, pulse_period
     from .report import Report
     from .structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
     from .studies import reproduce

@@ -26,6 +26,20 @@ IMPACT_SCHEMES = ("located", "step-end")
 BAND_HZ = (0.04, 0.6)
 #: Band over which the fit of simulated motions to their target is summarised [Hz].
 FIT_BAND = (0.2, 33.0)
+#: Shapes of the idealised near-fault pulses (:func:`rocking.pulse`; issue 46).
+PULSE_SHAPES = (
+    "half-sine",
+    "one-sine",
+    "one-cosine",
+    "rectangular",
+    "ricker",
+    "ricker-antisymmetric",
+    "mavroeidis-papageorgiou",
+)
+#: Default upper limit κ = a_p/(g·tan α) [-] and number of scanned amplitudes of the
+#: overturning spectra (:func:`rocking.overturning_spectrum`).
+PULSE_KAPPA_MAX = 20.0
+PULSE_N_SCAN = 256
 #: Names of the intensity functions (paper Fig. 2; :mod:`rocking.motions.envelopes`).
 ENVELOPE_NAMES = ("boxcar", "compound", "trapezoidal")
 #: Names of the shear-frame presets (paper Section 7; :data:`rocking.structures.frames.PRESETS`).

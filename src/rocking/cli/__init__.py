@@ -40,6 +40,7 @@ COMMAND_MODULES = {
     "fragility": "fragility",
     "frame": "frame",
     "motions": "motions",
+    "pulse-spectrum": "pulse_spectrum",
     "reproduce": "reproduce",
     "risk": "risk",
     "screen": "screen",

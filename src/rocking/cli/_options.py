@@ -165,6 +165,10 @@ bodies_option = click.option(
     "equipment).",
 )
 quiet_option = click.option("--quiet", is_flag=True, help="No progress bars or messages.")
+R_option = click.option(
+    "--R", "R", type=float, required=True, help="Size R = half the diagonal [m]."
+)
+gamma_option = click.option("--gamma", type=float, required=True, help="Slenderness H/B [-].")
 scheduler_option = click.option(
     "--scheduler",
     default=None,

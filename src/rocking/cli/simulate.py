@@ -12,7 +12,7 @@ import click
 
 from ..defaults import G
 from ..errors import InputError
-from ._options import e_option, parse_e, reporter, writable_file
+from ._options import R_option, e_option, gamma_option, parse_e, reporter, writable_file
 
 if TYPE_CHECKING:
     import numpy as np
@@ -117,8 +117,8 @@ def _text(s: dict) -> list[str]:
 
 
 @click.command("simulate")
-@click.option("--R", "R", type=float, required=True, help="Size R = half the diagonal [m].")
-@click.option("--gamma", type=float, required=True, help="Slenderness H/B [-].")
+@R_option
+@gamma_option
 @click.option(
     "--motion",
     required=True,

@@ -9,5 +9,12 @@
 * :mod:`~rocking.motions.baseline` — quadratic baseline correction (Section 4);
 * :mod:`~rocking.motions.records` — reading recorded accelerations (PEER .AT2, text);
 * :mod:`~rocking.motions.ensemble` — :class:`Ensemble`, motions with labels and metadata;
-* :mod:`~rocking.motions.intensity` — intensity measures of motions (PGA, PGV, Sa, …).
+* :mod:`~rocking.motions.intensity` — intensity measures of motions (PGA, PGV, Sa, …);
+* :mod:`~rocking.motions.pulses` — idealised near-fault pulses (:func:`pulse`);
+* :mod:`~rocking.motions.wavelets` — pulse-like records and their pulse period
+  (:func:`~rocking.motions.wavelets.pulse_period`, Shahi & Baker 2014).
 """
+
+from .pulses import pulse
+
+__all__ = ["pulse"]
