@@ -417,3 +417,30 @@ def test_compiled_kernels_are_cached_in_the_user_cache_folder(tmp_path):
     ).stdout.split()
     assert len(out) >= 10  # the kernels of dynamics, batch, spectra, frames, motions
     assert all(path.startswith(str(tmp_path / "numba")) for path in out), out
+
+
+def test_a_full_disk_names_the_file_it_could_not_write(tmp_path, monkeypatch):
+    # The defect (issue 49): a full disk ended a run with "No space left on device", naming no
+    # file. The atomic writer names the file it was writing, and leaves no temporary file.
+    import errno
+
+    import rocking.core.files
+    from rocking.cli import main
+
+    def full(fh):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    target = tmp_path / "a.npz"
+    with pytest.raises(OSError) as caught:
+        atomic_write(target, full)
+    assert caught.value.errno == errno.ENOSPC and caught.value.filename == str(target)
+    assert list(tmp_path.iterdir()) == []
+
+    def fsync(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(rocking.core.files.os, "fsync", fsync)
+    csv = tmp_path / "table1.csv"
+    result = CliRunner().invoke(main, ["table1", "--csv", str(csv)])
+    assert result.exit_code == 1
+    assert result.output.splitlines()[-1] == f"Error: {csv}: No space left on device"
