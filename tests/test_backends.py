@@ -166,3 +166,34 @@ def test_dask_worker_killed_mid_run_loses_nothing(ensemble, dask_backend, tmp_pa
     assert remote.attrs["chunks_computed"] == n_chunks  # every chunk received exactly once
     assert len(list(tmp_path.glob("chunk-*.npz"))) == n_chunks
     _identical(remote, overturning_probability(BLOCKS, ensemble, agx, members=True))
+
+
+def test_an_absent_scheduler_is_reported_within_seconds(ensemble, tmp_path):
+    # The defect (issue 48): `--scheduler tcp://127.0.0.1:1` waited 30 s before saying it could
+    # not connect. Nothing listens on port 1 of this machine: a loopback address waits 5 s by
+    # default (the refusal itself is immediate; distributed retries until the timeout), another
+    # address 30 s, and --connect-timeout chooses.
+    from click.testing import CliRunner
+
+    from rocking.cli import main
+    from rocking.montecarlo.backends import default_connect_timeout
+
+    assert default_connect_timeout("tcp://127.0.0.1:8786") == 5.0
+    assert default_connect_timeout("tcp://localhost:8786") == 5.0
+    assert default_connect_timeout("tcp://10.0.0.5:8786") == 5.0
+    assert default_connect_timeout("tcp://scheduler.example.org:8786") == 30.0
+    assert default_connect_timeout("tcp://8.8.8.8:8786") == 30.0
+    with pytest.raises(InputError, match="connect_timeout must be > 0"):
+        DaskBackend("tcp://127.0.0.1:1", connect_timeout=0.0)
+    motions = tmp_path / "m.nc"
+    ensemble.save(motions)
+    for extra, limit in (([], 12.0), (["--connect-timeout", "1"], 6.0)):
+        args = ["agx50", "--bodies", "example", "--motions", str(motions), "--quiet"]
+        args += ["--scheduler", "tcp://127.0.0.1:1", "--out", str(tmp_path / f"o{len(extra)}")]
+        start = time.perf_counter()
+        result = CliRunner().invoke(main, [*args, *extra])
+        wall = time.perf_counter() - start
+        assert result.exit_code == 1, result.output
+        assert "cannot connect to tcp://127.0.0.1:1" in result.output
+        assert len(result.output.strip().splitlines()) == 1
+        assert wall < limit, wall

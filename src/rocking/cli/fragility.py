@@ -21,6 +21,7 @@ from ._options import (
     BAND_TEXT,
     band_option,
     bodies_option,
+    connect_timeout_option,
     e_option,
     frame_and_floor,
     frame_option,
@@ -67,6 +68,7 @@ def _prepare(
     frame_name: str | None,
     e_text: str,
     scheduler: str | None,
+    connect_timeout: float | None = None,
 ) -> tuple[list[NamedBody], Ensemble, float | str, Backend]:
     """Check every input, then load the motions (at the bodies' location).
 
@@ -78,7 +80,7 @@ def _prepare(
     bodies = load_bodies(bodies_spec)
     frame, level = frame_and_floor(frame_name, floor)
     e = parse_e(e_text)
-    backend = get_backend(scheduler)
+    backend = get_backend(scheduler, connect_timeout)
     ensemble = _location(Ensemble.load(motions_path), frame, level)
     return bodies, ensemble, e, backend
 
@@ -141,6 +143,7 @@ _run_options = options(
     frame_option,
     _out_option,
     scheduler_option,
+    connect_timeout_option,
     e_option,
     quiet_option,
 )
@@ -216,6 +219,7 @@ def fragility_cmd(
     frame_name: str | None,
     out: str,
     scheduler: str | None,
+    connect_timeout: float | None,
     e_text: str,
     quiet: bool,
     agx_text: str | None,
@@ -247,7 +251,7 @@ def fragility_cmd(
     if n_boot is None:
         n_boot = 0 if measure.name == AGX else 200
     bodies, ensemble, e, backend = _prepare(
-        bodies_spec, motions_path, floor, frame_name, e_text, scheduler
+        bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
     from ..core.runs import RunFolder
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
@@ -442,6 +446,7 @@ def agx50_cmd(
     frame_name: str | None,
     out: str,
     scheduler: str | None,
+    connect_timeout: float | None,
     e_text: str,
     quiet: bool,
     resolution: float,
@@ -457,7 +462,7 @@ def agx50_cmd(
     """
     band = parse_band(band_text)
     bodies, ensemble, e, backend = _prepare(
-        bodies_spec, motions_path, floor, frame_name, e_text, scheduler
+        bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
     import numpy as np
     import pandas as pd

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from ..defaults import STUDY_SECTIONS
-from ._options import quiet_option, reporter
+from ._options import connect_timeout_option, quiet_option, reporter
 
 
 @click.command("reproduce")
@@ -31,6 +31,7 @@ from ._options import quiet_option, reporter
     metavar="ADDRESS",
     help="'local' (default), 'dask-local' or a Dask scheduler address (tcp://host:8786).",
 )
+@connect_timeout_option
 @click.option(
     "--config",
     "config_path",
@@ -58,6 +59,7 @@ def reproduce_command(
     fidelity: str,
     out_dir: str | None,
     scheduler: str | None,
+    connect_timeout: float | None,
     config_path: str | None,
     sets: tuple[str, ...],
     show_config: bool,
@@ -98,6 +100,7 @@ def reproduce_command(
         fidelity=fidelity,
         out_dir=out_dir,
         scheduler=scheduler,
+        connect_timeout=connect_timeout,
         config=config_path,
         sets=sets,
         progress=progress,

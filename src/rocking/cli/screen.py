@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 import click
 
 from ..defaults import SPECTRUM_SYNTAX
-from ._options import quiet_option, reporter
+from ._options import connect_timeout_option, quiet_option, reporter
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -99,6 +99,7 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
     help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
     "address tcp://HOST:PORT.",
 )
+@connect_timeout_option
 @click.option(
     "--motions",
     "motions_path",
@@ -137,6 +138,7 @@ def screen_command(
     agx_max: float,
     floor_motions: str,
     scheduler: str | None,
+    connect_timeout: float | None,
     motions_path: str | None,
     hazard_text: str | None,
     years: float,
@@ -172,7 +174,7 @@ def screen_command(
     inv_path, spectrum, inv, notes = _read_inputs(inventory, spectrum_text, frame)
     hazard = None if hazard_text is None else _read_hazard(hazard_text)
     ensemble = None if motions_path is None else _read_motions(motions_path)
-    backend = get_backend(scheduler)
+    backend = get_backend(scheduler, connect_timeout)
     params = {
         "inventory": str(inv_path),
         "spectrum": spectrum.name,

@@ -50,6 +50,7 @@ def reproduce(
     fidelity: str = "quick",
     out_dir: str | os.PathLike[str],
     scheduler: str | None = None,
+    connect_timeout: float | None = None,
     config: str | os.PathLike[str] | None = None,
     sets: Sequence[str] = (),
     progress: bool | Reporter | None = False,
@@ -70,6 +71,8 @@ def reproduce(
     scheduler : str, optional
         Backend (:func:`rocking.montecarlo.backends.get_backend`): None/"local", "dask-local" or a
         Dask scheduler address.
+    connect_timeout : float, optional
+        Seconds to wait for a scheduler address (:func:`rocking.montecarlo.backends.get_backend`).
     config : str or Path, optional
         TOML file of parameter overrides (:func:`rocking.studies.config.load_config`).
     sets : sequence of str
@@ -101,7 +104,7 @@ def reproduce(
         )
     cfg = load_config(fidelity, config, sets)
     validate(cfg)
-    backend = get_backend(scheduler)  # checks the address before anything is written
+    backend = get_backend(scheduler, connect_timeout)  # checks the address before any writing
     reporter = resolve(progress)
     out = Path(out_dir)
     modified = cfg != PRESETS[fidelity]
