@@ -197,3 +197,30 @@ def test_an_absent_scheduler_is_reported_within_seconds(ensemble, tmp_path):
         assert "cannot connect to tcp://127.0.0.1:1" in result.output
         assert len(result.output.strip().splitlines()) == 1
         assert wall < limit, wall
+
+
+def test_result_files_are_the_same_bytes_locally_on_dask_and_resumed(ensemble, tmp_path):
+    # The defect (issue 49): agx50.nc recorded how many chunks were computed (129 locally, 653
+    # or 617 on Dask) and loaded (a resumed run), so its bytes differed between backends and
+    # runs. That bookkeeping is in run.json now; the results are the same bytes.
+    import json
+
+    from click.testing import CliRunner
+
+    from rocking.cli import main
+
+    motions = tmp_path / "m.nc"
+    ensemble.save(motions)
+    files = {}
+    for name, scheduler in (("local", "local"), ("dask", "dask-local"), ("local", "local")):
+        out = tmp_path / name
+        args = ["agx50", "--bodies", "example", "--motions", str(motions), "--resolution", "0.1"]
+        result = CliRunner().invoke(main, [*args, "--scheduler", scheduler, "--out", str(out)])
+        assert result.exit_code == 0, result.output
+        files.setdefault(name, []).append(
+            {f: (out / f).read_bytes() for f in ("agx50.nc", "agx50.csv")}
+        )
+        counts = json.loads((out / "run.json").read_text())["bookkeeping"]["agx50.nc"]
+        assert set(counts) == set(RUN_STATS)
+    assert counts["chunks_computed"] == 0 and counts["chunks_loaded"] > 0  # resumed
+    assert files["local"][0] == files["dask"][0] == files["local"][1]

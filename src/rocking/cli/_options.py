@@ -171,6 +171,12 @@ connect_timeout_option = click.option(
     help="With --scheduler tcp://HOST:PORT: seconds to wait for the scheduler before giving up "
     "[default: 5 for a loopback or private address, 30 for others].",
 )
+overwrite_option = click.option(
+    "--overwrite",
+    is_flag=True,
+    help="Replace the results of another run in --out (deleted once this run's inputs are "
+    "checked); without it such a folder is refused. The same run resumes without it.",
+)
 e_option = click.option(
     "--e",
     "e_text",

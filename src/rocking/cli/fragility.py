@@ -27,6 +27,7 @@ from ._options import (
     frame_option,
     load_bodies,
     options,
+    overwrite_option,
     parse_band,
     parse_e,
     parse_range,
@@ -107,6 +108,7 @@ def _run_params(
     return {
         "bodies": [[b.name, b.block.R, b.block.gamma] for b in bodies],
         "motions": str(motions_path),
+        "motions_sha256": ensemble.sha256,
         "location": ensemble.meta.get("location", "ground"),
         "n_motions": ensemble.n,
         "dt_s": ensemble.dt,
@@ -134,7 +136,7 @@ _out_option = click.option(
     required=True,
     type=click.Path(file_okay=False),
     help="Output folder (created); finished chunks are kept in it, so the same command resumes "
-    "an interrupted run.",
+    "an interrupted run. A folder of another run is refused (see --overwrite).",
 )
 _run_options = options(
     bodies_option,
@@ -142,6 +144,7 @@ _run_options = options(
     _floor_option,
     frame_option,
     _out_option,
+    overwrite_option,
     scheduler_option,
     connect_timeout_option,
     e_option,
@@ -218,6 +221,7 @@ def fragility_cmd(
     floor: int | None,
     frame_name: str | None,
     out: str,
+    overwrite: bool,
     scheduler: str | None,
     connect_timeout: float | None,
     e_text: str,
@@ -274,7 +278,11 @@ def fragility_cmd(
     )
     if measure.name == AGX:
         params["agx_g"] = params["levels"]
-    with RunFolder(out, command="fragility", params=params) as run, progress:
+    reads = {"--motions": motions_path, "--stripes": stripes_path}
+    with (
+        RunFolder(out, command="fragility", params=params, overwrite=overwrite, reads=reads) as run,
+        progress,
+    ):
         n_levels = (
             "stripes" if method == "msa" else f"{0 if levels is None else levels.size} levels"
         )
@@ -293,7 +301,7 @@ def fragility_cmd(
                 stripes=stripes_path,
                 e=e,
                 backend=backend,
-                out=run.path / "chunks" / "fragility",
+                out=run.chunks / "fragility",
                 progress=progress,
                 n_boot=n_boot,
                 seed=seed,
@@ -310,7 +318,7 @@ def fragility_cmd(
                     names=[b.name for b in bodies],
                     e=e,
                     backend=backend,
-                    out=run.path / "chunks" / "im-efficiency",
+                    out=run.chunks / "im-efficiency",
                     progress=progress,
                     seed=seed,
                 )
@@ -445,6 +453,7 @@ def agx50_cmd(
     floor: int | None,
     frame_name: str | None,
     out: str,
+    overwrite: bool,
     scheduler: str | None,
     connect_timeout: float | None,
     e_text: str,
@@ -483,7 +492,11 @@ def agx50_cmd(
         agx_max_g=agx_max,
         band_hz=list(band),
     )
-    with RunFolder(out, command="agx50", params=params) as run, progress:
+    reads = {"--motions": motions_path}
+    with (
+        RunFolder(out, command="agx50", params=params, overwrite=overwrite, reads=reads) as run,
+        progress,
+    ):
         progress.write(
             f"agx50: {len(blocks)} bodies x {ensemble.n} motions "
             f"({ensemble.meta.get('location', 'ground')}), A_gx to {resolution:g} g"
@@ -496,7 +509,7 @@ def agx50_cmd(
                 agx_max=agx_max,
                 e=e,
                 backend=backend,
-                out=run.path / "chunks" / "agx50",
+                out=run.chunks / "agx50",
                 progress=progress,
             )
         energy = _names(energy_balance(blocks, ensemble, a50, band_hz=band), bodies)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from ..defaults import STUDY_SECTIONS
-from ._options import connect_timeout_option, quiet_option, reporter
+from ._options import connect_timeout_option, overwrite_option, quiet_option, reporter
 
 
 @click.command("reproduce")
@@ -23,8 +23,10 @@ from ._options import connect_timeout_option, quiet_option, reporter
     "out_dir",
     type=click.Path(file_okay=False, writable=True),
     help="Output folder for report.md, report.html, run.json, figures/, tables/ and "
-    "chunks/ (finished work: a rerun with the same parameters resumes).",
+    "chunks/ (finished work: a rerun with the same parameters resumes). A folder of another "
+    "run (other sections or parameters) is refused (see --overwrite).",
 )
+@overwrite_option
 @click.option(
     "--scheduler",
     default=None,
@@ -58,6 +60,7 @@ def reproduce_command(
     section: str,
     fidelity: str,
     out_dir: str | None,
+    overwrite: bool,
     scheduler: str | None,
     connect_timeout: float | None,
     config_path: str | None,
@@ -99,6 +102,7 @@ def reproduce_command(
         sections,
         fidelity=fidelity,
         out_dir=out_dir,
+        overwrite=overwrite,
         scheduler=scheduler,
         connect_timeout=connect_timeout,
         config=config_path,

@@ -12,7 +12,7 @@ import click
 
 from ..defaults import AGX
 from ..errors import InputError
-from ._options import quiet_option, reporter
+from ._options import overwrite_option, quiet_option, reporter
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -78,10 +78,14 @@ def _fragility_run(folder: Path) -> tuple[dict, pd.DataFrame]:
     "--out",
     required=True,
     type=click.Path(file_okay=False),
-    help="Output folder: risk.csv, disaggregation.png, report.html, run.json.",
+    help="Output folder: risk.csv, disaggregation.png, report.html, run.json; not the "
+    "--fragility folder.",
 )
+@overwrite_option
 @quiet_option
-def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet: bool) -> None:
+def risk_cmd(
+    fragility_dir: str, hazard_text: str, years: float, out: str, overwrite: bool, quiet: bool
+) -> None:
     """Mean annual rate of overturning of each body of a fragility run, and the probability
     of at least one overturning in --years, from a site hazard curve.
 
@@ -104,7 +108,11 @@ def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet
     im = check_hazard_im(hazard, params["im"])
     progress = reporter(quiet)
     run_params = {"fragility": str(folder), "hazard": str(path), "years": years, "im": im.name}
-    with RunFolder(out, command="risk", params=run_params) as run, progress:
+    reads = {"--fragility": folder, "--hazard": path}
+    with (
+        RunFolder(out, command="risk", params=run_params, overwrite=overwrite, reads=reads) as run,
+        progress,
+    ):
         rows = []
         for _, fit in fits.iterrows():
             if not (np.isfinite(fit["median"]) and np.isfinite(fit["beta"])):

@@ -49,6 +49,7 @@ def reproduce(
     *,
     fidelity: str = "quick",
     out_dir: str | os.PathLike[str],
+    overwrite: bool = False,
     scheduler: str | None = None,
     connect_timeout: float | None = None,
     config: str | os.PathLike[str] | None = None,
@@ -67,7 +68,10 @@ def reproduce(
     out_dir : str or Path
         Output folder (a :class:`rocking.core.runs.RunFolder`): report.md, report.html, run.json,
         figures/, tables/, and chunks/ (finished Monte Carlo chunks: a rerun with the same
-        parameters resumes from them).
+        parameters resumes from them). A folder of another run (other sections or parameters)
+        is refused, unless ``overwrite``.
+    overwrite : bool
+        Replace the results of another run in ``out_dir`` (:class:`rocking.core.runs.RunFolder`).
     scheduler : str, optional
         Backend (:func:`rocking.montecarlo.backends.get_backend`): None/"local", "dask-local" or a
         Dask scheduler address.
@@ -119,14 +123,20 @@ def reproduce(
         "backend": repr(backend),
     }
     with (
-        RunFolder(out, command="reproduce", params={"parameters": cfg}) as run,
+        RunFolder(
+            out,
+            command="reproduce",
+            params={"parameters": cfg, "sections": sections},
+            overwrite=overwrite,
+            reads={"--config": config},
+        ) as run,
         reporter,
         drawing_pool() as drawer,  # started now: ready when the figures are
     ):
         # the pages of an earlier run must not look like this run's result if it fails
         remove_report(out)
         run.update(**run_info)
-        ctx = RunContext(cfg, fidelity, modified, backend, reporter, out / "chunks")
+        ctx = RunContext(cfg, fidelity, modified, backend, reporter, run.chunks)
         start = time.perf_counter()
         results, parts, wall = {}, {}, {}
         # a run of one section builds its figures here, the worker only drawing them: else this
