@@ -569,3 +569,40 @@ def test_every_command_that_writes_a_folder_can_overwrite(tmp_path):
     status, lines = _cli(*args[:-1], "--seed", "1", "--quiet")
     assert status == 1 and "other seed" in lines[-1] and "--overwrite" in lines[-1], lines
     assert _files(tmp_path) == before
+
+
+def test_a_chunk_rewritten_with_other_values_is_computed_again(motions, tmp_path):
+    # The defect (issue 48): a chunk file rewritten with a valid structure, its fingerprint and
+    # other values (a disk error, a stray script) was loaded as it was: the rerun reported other
+    # probabilities. Its SHA-256 no longer matches the one recorded in chunks.json.
+    a, _ = motions
+    ref = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    chunks = sorted(tmp_path.glob("chunk-*.npz"))
+    sums = json.loads((tmp_path / store.MANIFEST).read_text())["chunks"]
+    assert len(sums) == len(chunks) > 1 and not (tmp_path / store.JOURNAL).exists()
+    with np.load(chunks[0]) as data:
+        arrays = {name: data[name] for name in data.files}
+    arrays["overturned"] = ~arrays["overturned"]  # every outcome the other way
+    np.savez(chunks[0], **arrays)
+    resumed = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert resumed.attrs["chunks_loaded"] == len(chunks) - 1
+    assert resumed.attrs["chunks_computed"] == 1
+    xr.testing.assert_identical(_science(resumed), _science(ref))
+
+
+def test_a_damaged_chunk_manifest_is_rebuilt_from_the_chunks(motions, tmp_path):
+    # The defect (issue 48): a damaged chunks.json stopped every rerun ("cannot read
+    # .../chunks.json (Expecting value ...)") with no way out. It is rebuilt from the chunk files
+    # of this run (their fingerprints), with a warning, and the run resumes.
+    a, b = motions
+    ref = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    n = len(list(tmp_path.glob("chunk-*.npz")))
+    (tmp_path / store.MANIFEST).write_text("")
+    with pytest.warns(UserWarning, match="chunks.json is damaged .*rebuilt from the chunk"):
+        resumed = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert resumed.attrs["chunks_loaded"] == n and resumed.attrs["chunks_computed"] == 0
+    xr.testing.assert_identical(_science(resumed), _science(ref))
+    assert len(json.loads((tmp_path / store.MANIFEST).read_text())["chunks"]) == n
+    # the rebuilt manifest still tells another run
+    with pytest.raises(InputError, match="different run"):
+        overturning_probability(BLOCKS, b, AGX, out=tmp_path, chunk_size=8)
