@@ -199,7 +199,7 @@ class RunFolder:
         doomed = self._doomed(previous)
         for option, read in self.reads.items():
             source = read.resolve()
-            if read.is_dir() and (source == out or source in out.parents or out in source.parents):
+            if read.is_dir() and (source == out or source in out.parents):
                 raise InputError(
                     f"out {self.path}: the run reads the folder {option} {read} and never "
                     "writes into it; choose another --out folder"
