@@ -439,7 +439,13 @@ def test_a_full_disk_names_the_file_it_could_not_write(tmp_path, monkeypatch):
     def fsync(fd):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(rocking.core.files.os, "fsync", fsync)
+    with (
+        pytest.raises(OSError) as caught,
+        RunFolder(tmp_path / "run", command="t", params={}) as run,
+    ):
+        monkeypatch.setattr(rocking.core.files.os, "fsync", fsync)  # the disk is full from now
+        run.write("table.csv", "a\n1\n")
+    assert caught.value.filename == str(tmp_path / "run" / "table.csv")  # not run.json's failure
     csv = tmp_path / "table1.csv"
     result = CliRunner().invoke(main, ["table1", "--csv", str(csv)])
     assert result.exit_code == 1

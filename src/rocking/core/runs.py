@@ -27,6 +27,7 @@ Every command that writes a folder (``rocking fragility``, ``agx50``, ``risk``, 
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import json
 import os
@@ -155,7 +156,9 @@ class RunFolder:
                     if issubclass(exc_type, (KeyboardInterrupt, SystemExit))
                     else f"{exc_type.__name__}: {exc}"
                 )
-                self._write_status(FAILED, error=what)
+                # the run's own error says more than a failure to record it (a full disk)
+                with contextlib.suppress(OSError):
+                    self._write_status(FAILED, error=what)
         finally:
             self._lock.release()
 
