@@ -166,3 +166,61 @@ def test_dask_worker_killed_mid_run_loses_nothing(ensemble, dask_backend, tmp_pa
     assert remote.attrs["chunks_computed"] == n_chunks  # every chunk received exactly once
     assert len(list(tmp_path.glob("chunk-*.npz"))) == n_chunks
     _identical(remote, overturning_probability(BLOCKS, ensemble, agx, members=True))
+
+
+def test_an_absent_scheduler_is_reported_within_seconds(ensemble, tmp_path):
+    # The defect (issue 48): `--scheduler tcp://127.0.0.1:1` waited 30 s before saying it could
+    # not connect. Nothing listens on port 1 of this machine: a loopback address waits 5 s by
+    # default (the refusal itself is immediate; distributed retries until the timeout), another
+    # address 30 s, and --connect-timeout chooses.
+    from click.testing import CliRunner
+
+    from rocking.cli import main
+    from rocking.montecarlo.backends import default_connect_timeout
+
+    assert default_connect_timeout("tcp://127.0.0.1:8786") == 5.0
+    assert default_connect_timeout("tcp://localhost:8786") == 5.0
+    assert default_connect_timeout("tcp://10.0.0.5:8786") == 5.0
+    assert default_connect_timeout("tcp://scheduler.example.org:8786") == 30.0
+    assert default_connect_timeout("tcp://8.8.8.8:8786") == 30.0
+    with pytest.raises(InputError, match="connect_timeout must be > 0"):
+        DaskBackend("tcp://127.0.0.1:1", connect_timeout=0.0)
+    motions = tmp_path / "m.nc"
+    ensemble.save(motions)
+    for extra, limit in (([], 12.0), (["--connect-timeout", "1"], 6.0)):
+        args = ["agx50", "--bodies", "example", "--motions", str(motions), "--quiet"]
+        args += ["--scheduler", "tcp://127.0.0.1:1", "--out", str(tmp_path / f"o{len(extra)}")]
+        start = time.perf_counter()
+        result = CliRunner().invoke(main, [*args, *extra])
+        wall = time.perf_counter() - start
+        assert result.exit_code == 1, result.output
+        assert "cannot connect to tcp://127.0.0.1:1" in result.output
+        assert len(result.output.strip().splitlines()) == 1
+        assert wall < limit, wall
+
+
+def test_result_files_are_the_same_bytes_locally_on_dask_and_resumed(ensemble, tmp_path):
+    # The defect (issue 49): agx50.nc recorded how many chunks were computed (129 locally, 653
+    # or 617 on Dask) and loaded (a resumed run), so its bytes differed between backends and
+    # runs. That bookkeeping is in run.json now; the results are the same bytes.
+    import json
+
+    from click.testing import CliRunner
+
+    from rocking.cli import main
+
+    motions = tmp_path / "m.nc"
+    ensemble.save(motions)
+    files = {}
+    for name, scheduler in (("local", "local"), ("dask", "dask-local"), ("local", "local")):
+        out = tmp_path / name
+        args = ["agx50", "--bodies", "example", "--motions", str(motions), "--resolution", "0.1"]
+        result = CliRunner().invoke(main, [*args, "--scheduler", scheduler, "--out", str(out)])
+        assert result.exit_code == 0, result.output
+        files.setdefault(name, []).append(
+            {f: (out / f).read_bytes() for f in ("agx50.nc", "agx50.csv")}
+        )
+        counts = json.loads((out / "run.json").read_text())["bookkeeping"]["agx50.nc"]
+        assert set(counts) == set(RUN_STATS)
+    assert counts["chunks_computed"] == 0 and counts["chunks_loaded"] > 0  # resumed
+    assert files["local"][0] == files["dask"][0] == files["local"][1]

@@ -130,3 +130,42 @@ def test_borrowing_kernel_refuses_to_allocate():
 
     with pytest.raises(numba.core.errors.TypingError, match="zeros"):
         allocates(3)
+
+
+CACHE_SCRIPT = """
+import numpy as np
+from rocking.core import portable
+portable.matmul(np.eye(2), np.ones((2, 2)))
+kernel = portable._matmul_kernel
+print(kernel._cache._cache_path)
+print(sum(kernel.stats.cache_hits.values()))
+"""
+
+
+@pytest.mark.parametrize("variable", ["ROCKING_CACHE_DIR", "NUMBA_CACHE_DIR"])
+def test_a_cache_folder_that_cannot_be_written_falls_back_with_one_warning(tmp_path, variable):
+    # The defect (issue 49): with ROCKING_CACHE_DIR or NUMBA_CACHE_DIR on a folder where nothing
+    # can be written, the kernels were compiled again in every run (27 s instead of 2 s), with no
+    # word. Here the folder lies under a regular file (not writable even by root); the kernels
+    # go to the user's cache folder (XDG_CACHE_HOME on Linux), with one warning, and the second
+    # process loads them from there.
+    import os
+    import subprocess
+
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    env = {k: v for k, v in os.environ.items() if k not in ("ROCKING_CACHE_DIR", "NUMBA_CACHE_DIR")}
+    env.update({variable: str(blocker / "cache"), "XDG_CACHE_HOME": str(tmp_path / "xdg")})
+    fallback = tmp_path / "xdg" / "rocking" / "numba"
+    hits = []
+    for _ in range(2):
+        proc = subprocess.run(
+            [sys.executable, "-c", CACHE_SCRIPT], env=env, capture_output=True, text=True
+        )
+        assert proc.returncode == 0, proc.stderr
+        path, hit = proc.stdout.split()
+        assert path.startswith(str(fallback)), path
+        assert proc.stderr.count("cannot hold the compiled kernels") == 1, proc.stderr
+        assert f"{variable} {blocker / 'cache'}" in proc.stderr
+        hits.append(int(hit))
+    assert hits == [0, 1]  # compiled once, then loaded

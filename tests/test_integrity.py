@@ -227,7 +227,7 @@ def test_run_folder_records_status_and_removes_the_previous_runs_outputs(tmp_pat
     assert info["status"] == "completed" and info["outputs"] == ["tables/a.csv"]
     (tmp_path / "notes.txt").write_text("the user's own file")
     # the defect: an interrupted rerun left the previous run's tables looking complete
-    with pytest.raises(KeyboardInterrupt), RunFolder(tmp_path, command="test", params={"x": 2}):
+    with pytest.raises(KeyboardInterrupt), RunFolder(tmp_path, command="test", params={"x": 1}):
         assert not (tmp_path / "tables" / "a.csv").exists()
         raise KeyboardInterrupt
     info = json.loads((tmp_path / "run.json").read_text())
@@ -417,3 +417,198 @@ def test_compiled_kernels_are_cached_in_the_user_cache_folder(tmp_path):
     ).stdout.split()
     assert len(out) >= 10  # the kernels of dynamics, batch, spectra, frames, motions
     assert all(path.startswith(str(tmp_path / "numba")) for path in out), out
+
+
+def test_a_full_disk_names_the_file_it_could_not_write(tmp_path, monkeypatch):
+    # The defect (issue 49): a full disk ended a run with "No space left on device", naming no
+    # file. The atomic writer names the file it was writing, and leaves no temporary file.
+    import errno
+
+    import rocking.core.files
+    from rocking.cli import main
+
+    def full(fh):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    target = tmp_path / "a.npz"
+    with pytest.raises(OSError) as caught:
+        atomic_write(target, full)
+    assert caught.value.errno == errno.ENOSPC and caught.value.filename == str(target)
+    assert list(tmp_path.iterdir()) == []
+
+    def fsync(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    with (
+        pytest.raises(OSError) as caught,
+        RunFolder(tmp_path / "run", command="t", params={}) as run,
+    ):
+        monkeypatch.setattr(rocking.core.files.os, "fsync", fsync)  # the disk is full from now
+        run.write("table.csv", "a\n1\n")
+    assert caught.value.filename == str(tmp_path / "run" / "table.csv")  # not run.json's failure
+    csv = tmp_path / "table1.csv"
+    result = CliRunner().invoke(main, ["table1", "--csv", str(csv)])
+    assert result.exit_code == 1
+    assert result.output.splitlines()[-1] == f"Error: {csv}: No space left on device"
+
+
+def _cli(*args: str):
+    """``rocking ARGS`` in this process: (exit status, output lines)."""
+    from rocking.cli import main
+
+    result = CliRunner().invoke(main, [str(a) for a in args])
+    return result.exit_code, result.output.strip().splitlines()
+
+
+def _files(folder: Path) -> dict[str, bytes]:
+    """Every file of ``folder`` but run.json (which records times) and the lock, by path."""
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and p.name not in ("run.json", ".rocking.lock")
+    }
+
+
+def test_another_run_is_refused_at_once_and_overwrite_replaces_it(motions, tmp_path):
+    # The defect (issue 48): `fragility --out F` with other motions than F's run deleted F's
+    # results, then refused ("holds results of a different run"), and the advice printed led
+    # nowhere. Now the folder is refused before anything in it is touched, the advice
+    # (--overwrite) works, and the same run still resumes.
+    a, b = motions
+    paths = {}
+    for name, ens in (("a", a), ("b", b)):
+        paths[name] = tmp_path / f"{name}.nc"
+        ens.save(paths[name])
+    out = tmp_path / "frag"
+    common = ["--bodies", "example", "--agx", "0.3:0.9:0.3", "--out", out, "--quiet"]
+    assert _cli("fragility", "--motions", paths["a"], *common)[0] == 0
+    before = _files(out)
+    assert "probabilities.csv" in before and any(n.startswith("chunks/") for n in before)
+    status, lines = _cli("fragility", "--motions", paths["b"], *common)
+    assert status == 1 and len(lines) == 1, lines
+    assert "holds the results of another run" in lines[0] and "motions" in lines[0]
+    assert "--overwrite" in lines[0]
+    assert _files(out) == before  # nothing deleted, nothing added
+    info = json.loads((out / "run.json").read_text())
+    assert info["status"] == "completed" and info["motions"] == str(paths["a"])
+    # into a folder of another command: refused the same way
+    status, lines = _cli("agx50", "--bodies", "example", "--motions", paths["a"], "--out", out)
+    assert status == 1 and "a run of 'rocking fragility'" in lines[0], lines
+    assert _files(out) == before
+    # the advice works: the other run replaces the first, whose chunks go too
+    assert _cli("fragility", "--motions", paths["b"], *common, "--overwrite")[0] == 0
+    info = json.loads((out / "run.json").read_text())
+    assert info["status"] == "completed" and info["motions"] == str(paths["b"])
+    replaced = _files(out)
+    assert replaced["probabilities.csv"] != before["probabilities.csv"]
+    # the same run again resumes from its chunks, to the same bytes
+    assert _cli("fragility", "--motions", paths["b"], *common)[0] == 0
+    assert _files(out) == replaced
+    info = json.loads((out / "run.json").read_text())
+    assert info["bookkeeping"]["probabilities.nc"]["chunks_computed"] == 0
+
+
+def test_a_command_never_writes_into_the_folder_it_reads(motions, tmp_path):
+    # The defect (issue 49): `risk --fragility F --out F` deleted the fragility's results and
+    # left only the risk files. Refused, naming both, with or without --overwrite.
+    a, _ = motions
+    path = tmp_path / "a.nc"
+    a.save(path)
+    frag = tmp_path / "frag"
+    args = ["--bodies", "example", "--motions", path, "--im", "pgv", "--levels", "0.2:0.6:0.2"]
+    assert _cli("fragility", *args, "--n-boot", "0", "--out", frag, "--quiet")[0] == 0
+    before = _files(frag)
+    for out in (frag, frag / "risk"):
+        for extra in ([], ["--overwrite"]):
+            status, lines = _cli(
+                "risk", "--fragility", frag, "--hazard", "example", "--out", out, *extra
+            )
+            assert status == 1 and len(lines) == 1, lines
+            assert f"out {out}: the run reads the folder --fragility {frag}" in lines[0]
+    assert _files(frag) == before and not (frag / "risk").exists()
+    # a file the run reads, written by the folder's previous run, is not deleted by --overwrite
+    folder = tmp_path / "gen"
+    with RunFolder(folder, command="first", params={}) as run:
+        made = run.write("m.nc", b"motions")
+    again = RunFolder(
+        folder, command="second", params={}, overwrite=True, reads={"--motions": made}
+    )
+    with pytest.raises(InputError, match=f"the run reads --motions {made}, a file of the"), again:
+        pass
+    assert made.read_bytes() == b"motions"
+
+
+def test_every_command_that_writes_a_folder_can_overwrite(tmp_path):
+    # The rule is the same for every command with an output folder (`screen` silently replaced
+    # another run's results): --overwrite exists on each.
+    import click
+
+    from rocking.cli import COMMAND_MODULES, main
+
+    ctx = click.Context(main)
+    folders = []
+    stack = [(name, main.get_command(ctx, name)) for name in COMMAND_MODULES]
+    while stack:
+        name, command = stack.pop()
+        if isinstance(command, click.Group):
+            stack += [(f"{name} {n}", c) for n, c in command.commands.items()]
+            continue
+        for param in command.params:
+            if "--out" in getattr(param, "opts", ()) and not param.type.file_okay:
+                folders.append(name)
+                assert any("--overwrite" in p.opts for p in command.params), name
+    assert sorted(folders) == [
+        "agx50",
+        "fragility",
+        "motions fit",
+        "motions show",
+        "reproduce",
+        "risk",
+        "screen",
+    ]
+    # screen: the same run again is accepted, another refused before it starts
+    args = ["screen", "example", "--spectrum", "asce7:SDS=1.0,SD1=0.6,TL=8", "--n", "4"]
+    args += ["--frame", "paper-2.0"]
+    args += ["--duration", "4", "--resolution", "0.2", "--out", tmp_path, "--quiet"]
+    assert _cli(*args)[0] == 0
+    before = _files(tmp_path)
+    status, lines = _cli(*args[:-1], "--seed", "1", "--quiet")
+    assert status == 1 and "other seed" in lines[-1] and "--overwrite" in lines[-1], lines
+    assert _files(tmp_path) == before
+
+
+def test_a_chunk_rewritten_with_other_values_is_computed_again(motions, tmp_path):
+    # The defect (issue 48): a chunk file rewritten with a valid structure, its fingerprint and
+    # other values (a disk error, a stray script) was loaded as it was: the rerun reported other
+    # probabilities. Its SHA-256 no longer matches the one recorded in chunks.json.
+    a, _ = motions
+    ref = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    chunks = sorted(tmp_path.glob("chunk-*.npz"))
+    sums = json.loads((tmp_path / store.MANIFEST).read_text())["chunks"]
+    assert len(sums) == len(chunks) > 1 and not (tmp_path / store.JOURNAL).exists()
+    with np.load(chunks[0]) as data:
+        arrays = {name: data[name] for name in data.files}
+    arrays["overturned"] = ~arrays["overturned"]  # every outcome the other way
+    np.savez(chunks[0], **arrays)
+    resumed = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert resumed.attrs["chunks_loaded"] == len(chunks) - 1
+    assert resumed.attrs["chunks_computed"] == 1
+    xr.testing.assert_identical(_science(resumed), _science(ref))
+
+
+def test_a_damaged_chunk_manifest_is_rebuilt_from_the_chunks(motions, tmp_path):
+    # The defect (issue 48): a damaged chunks.json stopped every rerun ("cannot read
+    # .../chunks.json (Expecting value ...)") with no way out. It is rebuilt from the chunk files
+    # of this run (their fingerprints), with a warning, and the run resumes.
+    a, b = motions
+    ref = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    n = len(list(tmp_path.glob("chunk-*.npz")))
+    (tmp_path / store.MANIFEST).write_text("")
+    with pytest.warns(UserWarning, match="chunks.json is damaged .*rebuilt from the chunk"):
+        resumed = overturning_probability(BLOCKS, a, AGX, out=tmp_path, chunk_size=8)
+    assert resumed.attrs["chunks_loaded"] == n and resumed.attrs["chunks_computed"] == 0
+    xr.testing.assert_identical(_science(resumed), _science(ref))
+    assert len(json.loads((tmp_path / store.MANIFEST).read_text())["chunks"]) == n
+    # the rebuilt manifest still tells another run
+    with pytest.raises(InputError, match="different run"):
+        overturning_probability(BLOCKS, b, AGX, out=tmp_path, chunk_size=8)

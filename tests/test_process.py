@@ -111,3 +111,52 @@ def test_idle_openmp_threads_do_not_spin_after_a_parallel_kernel():
     if layer != "omp" or int(threads) < 2:
         pytest.skip(f"Numba's threading layer is {layer} with {threads} thread(s), not OpenMP's")
     assert float(spent) < 2e-3, f"{float(spent) * 1e3:.2f} ms of CPU while idle for 0.1 s"
+
+
+def test_workers_die_with_a_command_killed_outright(tmp_path):
+    # The defect (issue 49): after `kill -9` of `rocking reproduce`, its drawing worker and
+    # Python's resource_tracker stayed alive (13 minutes) and held the caller's standard output
+    # open, so that a pipe from the command never closed. The workers now die with it, and the
+    # tracker ends when they have.
+    import contextlib
+    import shutil
+    import signal
+    import threading
+    import time
+
+    import psutil
+
+    if len(os.sched_getaffinity(0)) < 2:
+        pytest.skip("one processor: reproduce draws its figures without a worker")
+    exe = shutil.which("rocking", path=os.path.dirname(sys.executable))
+    command = [exe] if exe else [sys.executable, "-m", "rocking.cli"]
+    proc = subprocess.Popen(
+        [*command, "reproduce", "4", "--fidelity", "quick", "--out", str(tmp_path / "r")],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        stdin=subprocess.DEVNULL,
+    )
+    children: list[psutil.Process] = []
+    try:
+        parent = psutil.Process(proc.pid)
+        deadline = time.monotonic() + 60
+        # the drawing worker (a spawned interpreter) once it has started
+        while not any("spawn_main" in " ".join(c.cmdline()) for c in children):
+            assert proc.poll() is None and time.monotonic() < deadline, "no worker started"
+            time.sleep(0.05)
+            children = parent.children(recursive=True)
+        time.sleep(1.0)  # the worker runs its initializer
+        children = parent.children(recursive=True)
+        os.kill(proc.pid, signal.SIGKILL)
+        closed = threading.Event()
+        threading.Thread(target=lambda: (proc.stdout.read(), closed.set()), daemon=True).start()
+        assert closed.wait(10), "the command's standard output stayed open after kill -9"
+        _, alive = psutil.wait_procs(children, timeout=10)
+        alive = [p for p in alive if p.status() != psutil.STATUS_ZOMBIE]
+        assert not alive, [p.cmdline() for p in alive]
+    finally:
+        proc.kill()
+        proc.wait()
+        for child in children:  # only the processes this test started
+            with contextlib.suppress(psutil.NoSuchProcess):
+                child.kill()

@@ -306,7 +306,7 @@ def test_cli_report_says_where_eq11_and_monte_carlo_disagree(tmp_path):
 def test_cli_bad_rows_give_one_error_and_no_report(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
-    (out / "report.html").write_text("an older run")  # must not survive as this run's result
+    (out / "report.html").write_text("an older run")  # not this run's: refused before any work
     bad = write_inventory(
         tmp_path, "name,height,width,location\na,2,0.5,ground\nb,two,0.5,ground\nc,2,0.5,floor 9\n"
     )
@@ -314,7 +314,10 @@ def test_cli_bad_rows_give_one_error_and_no_report(tmp_path):
     assert res.exit_code != 0
     assert "Traceback" not in res.output
     assert "row 3" in res.output and "row 4" in res.output and "unknown floor 9" in res.output
-    assert not (out / "report.html").exists() and not (out / "report.md").exists()
+    # a run refused for its input touches nothing in the folder (issue 48): no report of its
+    # own, no run.json, and the older file as it was
+    assert sorted(p.name for p in out.iterdir()) == ["report.html"]
+    assert (out / "report.html").read_text() == "an older run"
 
 
 def test_cli_bad_spectrum(tmp_path):

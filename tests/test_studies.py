@@ -478,7 +478,7 @@ class WaitAfterFirstChunk(LocalBackend):
         yield next(results)
         threading.Event().wait(600)  # bounded: never an orphan
 
-rocking.montecarlo.backends.get_backend = lambda scheduler=None: WaitAfterFirstChunk()
+rocking.montecarlo.backends.get_backend = lambda scheduler=None, timeout=None: WaitAfterFirstChunk()
 main(sys.argv[1:], prog_name="rocking")
 """
 

@@ -408,7 +408,10 @@ def drawing_pool(workers: int | None = None) -> Iterator[Executor | None]:
     pool = None
     try:
         pool = ProcessPoolExecutor(
-            workers, mp_context=multiprocessing.get_context("spawn"), initializer=_drawing_worker
+            workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=_drawing_worker,
+            initargs=(os.getpid(),),
         )
         for _ in range(workers):  # each task starts a worker while none is idle
             pool.submit(os.getpid)
@@ -427,12 +430,13 @@ def drawing_pool(workers: int | None = None) -> Iterator[Executor | None]:
     pool.shutdown(wait=True)
 
 
-def _drawing_worker() -> None:
-    """Start of a worker of :func:`drawing_pool`: it leaves Ctrl-C to the process that owns the
-    pool (which stops it), makes rocking's process settings and imports what drawing a figure
-    needs."""
-    from .core.process import configure_process
+def _drawing_worker(parent: int) -> None:
+    """Start of a worker of :func:`drawing_pool`: it dies with the process ``parent`` that owns
+    the pool (also when that one is killed outright) and leaves Ctrl-C to it (it stops the
+    worker), makes rocking's process settings and imports what drawing a figure needs."""
+    from .core.process import configure_process, die_with_parent
 
+    die_with_parent(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     configure_process(thresholds=False)  # each figure drawn is cyclic garbage: collect it soon
     import matplotlib.backends.backend_agg

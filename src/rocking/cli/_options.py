@@ -176,6 +176,20 @@ scheduler_option = click.option(
     help="'local' (default: all cores here), 'dask-local' (a local Dask cluster) or a Dask "
     "scheduler address tcp://HOST:PORT.",
 )
+connect_timeout_option = click.option(
+    "--connect-timeout",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    metavar="SECONDS",
+    help="With --scheduler tcp://HOST:PORT: seconds to wait for the scheduler before giving up "
+    "[default: 5 for a loopback or private address, 30 for others].",
+)
+overwrite_option = click.option(
+    "--overwrite",
+    is_flag=True,
+    help="Replace the results of another run in --out (deleted once this run's inputs are "
+    "checked); without it such a folder is refused. The same run resumes without it.",
+)
 e_option = click.option(
     "--e",
     "e_text",

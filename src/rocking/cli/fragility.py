@@ -22,11 +22,13 @@ from ._options import (
     BAND_TEXT,
     band_option,
     bodies_option,
+    connect_timeout_option,
     e_option,
     frame_and_floor,
     frame_option,
     load_bodies,
     options,
+    overwrite_option,
     parse_band,
     parse_e,
     parse_range,
@@ -70,6 +72,7 @@ def _prepare(
     frame_name: str | None,
     e_text: str,
     scheduler: str | None,
+    connect_timeout: float | None = None,
 ) -> tuple[list[NamedBody], Ensemble, float | str, Backend]:
     """Check every input, then load the motions (at the bodies' location).
 
@@ -81,7 +84,7 @@ def _prepare(
     bodies = load_bodies(bodies_spec)
     frame, level = frame_and_floor(frame_name, floor)
     e = parse_e(e_text)
-    backend = get_backend(scheduler)
+    backend = get_backend(scheduler, connect_timeout)
     ensemble = _location(Ensemble.load(motions_path), frame, level)
     return bodies, ensemble, e, backend
 
@@ -108,6 +111,7 @@ def _run_params(
     return {
         "bodies": [[b.name, b.block.R, b.block.gamma] for b in bodies],
         "motions": str(motions_path),
+        "motions_sha256": ensemble.sha256,
         "location": ensemble.meta.get("location", "ground"),
         "n_motions": ensemble.n,
         "dt_s": ensemble.dt,
@@ -135,7 +139,7 @@ _out_option = click.option(
     required=True,
     type=click.Path(file_okay=False),
     help="Output folder (created); finished chunks are kept in it, so the same command resumes "
-    "an interrupted run.",
+    "an interrupted run. A folder of another run is refused (see --overwrite).",
 )
 _run_options = options(
     bodies_option,
@@ -143,7 +147,9 @@ _run_options = options(
     _floor_option,
     frame_option,
     _out_option,
+    overwrite_option,
     scheduler_option,
+    connect_timeout_option,
     e_option,
     quiet_option,
 )
@@ -218,7 +224,9 @@ def fragility_cmd(
     floor: int | None,
     frame_name: str | None,
     out: str,
+    overwrite: bool,
     scheduler: str | None,
+    connect_timeout: float | None,
     e_text: str,
     quiet: bool,
     agx_text: str | None,
@@ -249,7 +257,7 @@ def fragility_cmd(
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
     bodies, ensemble, e, backend = _prepare(
-        bodies_spec, motions_path, floor, frame_name, e_text, scheduler
+        bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
     from ..core.runs import RunFolder
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
@@ -273,7 +281,11 @@ def fragility_cmd(
     )
     if measure.name == AGX:
         params["agx_g"] = params["levels"]
-    with RunFolder(out, command="fragility", params=params) as run, progress:
+    reads = {"--motions": motions_path, "--stripes": stripes_path}
+    with (
+        RunFolder(out, command="fragility", params=params, overwrite=overwrite, reads=reads) as run,
+        progress,
+    ):
         n_levels = (
             "stripes" if method == "msa" else f"{0 if levels is None else levels.size} levels"
         )
@@ -294,7 +306,7 @@ def fragility_cmd(
                 stripes=stripes_path,
                 e=e,
                 backend=backend,
-                out=run.path / "chunks" / "fragility",
+                out=run.chunks / "fragility",
                 progress=progress,
                 n_boot=n_boot,
                 seed=seed,
@@ -311,7 +323,7 @@ def fragility_cmd(
                     names=[b.name for b in bodies],
                     e=e,
                     backend=backend,
-                    out=run.path / "chunks" / "im-efficiency",
+                    out=run.chunks / "im-efficiency",
                     progress=progress,
                     seed=seed,
                 )
@@ -557,7 +569,9 @@ def agx50_cmd(
     floor: int | None,
     frame_name: str | None,
     out: str,
+    overwrite: bool,
     scheduler: str | None,
+    connect_timeout: float | None,
     e_text: str,
     quiet: bool,
     resolution: float,
@@ -573,7 +587,7 @@ def agx50_cmd(
     """
     band = parse_band(band_text)
     bodies, ensemble, e, backend = _prepare(
-        bodies_spec, motions_path, floor, frame_name, e_text, scheduler
+        bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
     import numpy as np
     import pandas as pd
@@ -594,7 +608,11 @@ def agx50_cmd(
         agx_max_g=agx_max,
         band_hz=list(band),
     )
-    with RunFolder(out, command="agx50", params=params) as run, progress:
+    reads = {"--motions": motions_path}
+    with (
+        RunFolder(out, command="agx50", params=params, overwrite=overwrite, reads=reads) as run,
+        progress,
+    ):
         progress.write(
             f"agx50: {len(blocks)} bodies x {ensemble.n} motions "
             f"({ensemble.meta.get('location', 'ground')}), A_gx to {resolution:g} g"
@@ -607,7 +625,7 @@ def agx50_cmd(
                 agx_max=agx_max,
                 e=e,
                 backend=backend,
-                out=run.path / "chunks" / "agx50",
+                out=run.chunks / "agx50",
                 progress=progress,
             )
         energy = _names(energy_balance(blocks, ensemble, a50, band_hz=band), bodies)

@@ -9,7 +9,7 @@ import click
 
 from ..defaults import DT, ENVELOPE_NAMES, FIT_BAND
 from ..errors import InputError
-from ._options import options, quiet_option, reporter, writable_file
+from ._options import options, overwrite_option, quiet_option, reporter, writable_file
 from .spectrum import UNIT_NAMES
 
 if TYPE_CHECKING:
@@ -187,6 +187,7 @@ def _with_and_without_baseline(ens: Ensemble) -> tuple[np.ndarray, np.ndarray]:
     required=True,
     help="Output folder for the figures.",
 )
+@overwrite_option
 def show(
     ensemble: str,
     agx: float | None,
@@ -194,6 +195,7 @@ def show(
     target_path: str | None,
     damping: float,
     out: str,
+    overwrite: bool,
 ) -> None:
     """Plot an ensemble and print how its mean PSA fits the target.
 
@@ -228,7 +230,13 @@ def show(
     }
     progress = reporter()
     with (
-        RunFolder(out, command="motions show", params=params) as run,
+        RunFolder(
+            out,
+            command="motions show",
+            params=params,
+            overwrite=overwrite,
+            reads={"ENSEMBLE": ensemble, "--target": target_path},
+        ) as run,
         progress,
         progress.stage("response spectra and figures", unit="figures") as stage,
     ):
@@ -294,6 +302,7 @@ def show(
     required=True,
     help="Output folder for fit.png and fit.csv.",
 )
+@overwrite_option
 @quiet_option
 def fit_cmd(
     n: int,
@@ -306,6 +315,7 @@ def fit_cmd(
     target_path: str | None,
     damping: float,
     out: str,
+    overwrite: bool,
     quiet: bool,
 ) -> None:
     """Mean PSA against the target: the paper's method alone and with the iterative correction.
@@ -342,7 +352,14 @@ def fit_cmd(
     }
     progress = reporter(quiet)
     methods, fits = {}, {}
-    with RunFolder(out, command="motions fit", params=params) as run, progress:
+    folder = RunFolder(
+        out,
+        command="motions fit",
+        params=params,
+        overwrite=overwrite,
+        reads={"--target": target_path},
+    )
+    with folder as run, progress:
         with progress.stage(
             f"motions fit: {n} motions, two ways", total=2 * n, unit="motions"
         ) as stage:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from ..defaults import STUDY_SECTIONS
-from ._options import quiet_option, reporter
+from ._options import connect_timeout_option, overwrite_option, quiet_option, reporter
 
 
 @click.command("reproduce")
@@ -23,14 +23,17 @@ from ._options import quiet_option, reporter
     "out_dir",
     type=click.Path(file_okay=False, writable=True),
     help="Output folder for report.md, report.html, run.json, figures/, tables/ and "
-    "chunks/ (finished work: a rerun with the same parameters resumes).",
+    "chunks/ (finished work: a rerun with the same parameters resumes). A folder of another "
+    "run (other sections or parameters) is refused (see --overwrite).",
 )
+@overwrite_option
 @click.option(
     "--scheduler",
     default=None,
     metavar="ADDRESS",
     help="'local' (default), 'dask-local' or a Dask scheduler address (tcp://host:8786).",
 )
+@connect_timeout_option
 @click.option(
     "--config",
     "config_path",
@@ -57,7 +60,9 @@ def reproduce_command(
     section: str,
     fidelity: str,
     out_dir: str | None,
+    overwrite: bool,
     scheduler: str | None,
+    connect_timeout: float | None,
     config_path: str | None,
     sets: tuple[str, ...],
     show_config: bool,
@@ -97,7 +102,9 @@ def reproduce_command(
         sections,
         fidelity=fidelity,
         out_dir=out_dir,
+        overwrite=overwrite,
         scheduler=scheduler,
+        connect_timeout=connect_timeout,
         config=config_path,
         sets=sets,
         progress=progress,

@@ -13,7 +13,7 @@ import click
 
 from ..defaults import AGX
 from ..errors import InputError
-from ._options import print_table, quiet_option, reporter
+from ._options import overwrite_option, print_table, quiet_option, reporter
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -138,10 +138,14 @@ def _read_fits(path: Path, im: str) -> list[tuple[str, LognormalFit | None]]:
     "--out",
     required=True,
     type=click.Path(file_okay=False),
-    help="Output folder: risk.csv, disaggregation.png, report.html, run.json.",
+    help="Output folder: risk.csv, disaggregation.png, report.html, run.json; not the "
+    "--fragility folder.",
 )
+@overwrite_option
 @quiet_option
-def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet: bool) -> None:
+def risk_cmd(
+    fragility_dir: str, hazard_text: str, years: float, out: str, overwrite: bool, quiet: bool
+) -> None:
     """Mean annual rate of overturning of each body of a fragility run, and the probability
     of at least one overturning in --years, from a site hazard curve.
 
@@ -163,7 +167,11 @@ def risk_cmd(fragility_dir: str, hazard_text: str, years: float, out: str, quiet
     im = check_hazard_im(hazard, params["im"])
     progress = reporter(quiet)
     run_params = {"fragility": str(folder), "hazard": str(path), "years": years, "im": im.name}
-    with RunFolder(out, command="risk", params=run_params) as run, progress:
+    reads = {"--fragility": folder, "--hazard": path}
+    with (
+        RunFolder(out, command="risk", params=run_params, overwrite=overwrite, reads=reads) as run,
+        progress,
+    ):
         rows = []
         for body, fit in fits:
             if fit is None:

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 import click
 
 from ..defaults import SPECTRUM_SYNTAX
-from ._options import quiet_option, reporter
+from ._options import connect_timeout_option, overwrite_option, quiet_option, reporter
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -49,8 +49,9 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
     "out_dir",
     required=True,
     type=click.Path(file_okay=False, writable=True),
-    help="Output folder.",
+    help="Output folder. A folder of another run is refused (see --overwrite).",
 )
+@overwrite_option
 @click.option(
     "--n",
     "n_motions",
@@ -99,6 +100,7 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
     help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
     "address tcp://HOST:PORT.",
 )
+@connect_timeout_option
 @click.option(
     "--motions",
     "motions_path",
@@ -130,6 +132,7 @@ def screen_command(
     spectrum_text: str,
     frame: str | None,
     out_dir: str,
+    overwrite: bool,
     n_motions: int,
     seed: int,
     duration: float,
@@ -137,6 +140,7 @@ def screen_command(
     agx_max: float,
     floor_motions: str,
     scheduler: str | None,
+    connect_timeout: float | None,
     motions_path: str | None,
     hazard_text: str | None,
     years: float,
@@ -168,11 +172,10 @@ def screen_command(
 
     started = time.perf_counter()
     out = Path(out_dir)
-    remove_report(out)  # a failed run must not leave an older report looking like its result
     inv_path, spectrum, inv, notes = _read_inputs(inventory, spectrum_text, frame)
     hazard = None if hazard_text is None else _read_hazard(hazard_text)
     ensemble = None if motions_path is None else _read_motions(motions_path)
-    backend = get_backend(scheduler)
+    backend = get_backend(scheduler, connect_timeout)
     params = {
         "inventory": str(inv_path),
         "spectrum": spectrum.name,
@@ -185,13 +188,21 @@ def screen_command(
         "resolution": resolution,
         "agx_max": agx_max,
         "floor_motions": floor_motions,
-        "scheduler": scheduler or "local",
         "motions": motions_path,
         "hazard": None if hazard is None else hazard.source,
         "years": years,
     }
     progress = reporter(quiet)
-    with RunFolder(out, command="screen", params=params) as run, progress:
+    folder = RunFolder(
+        out,
+        command="screen",
+        params=params,
+        settings={"scheduler": scheduler or "local"},
+        overwrite=overwrite,
+        reads={"INVENTORY": inv_path, "--motions": motions_path, "--frame": frame},
+    )
+    with folder as run, progress:
+        remove_report(out)  # a failed run must not leave an older report looking like its result
         progress.write(
             f"screening {len(inv)} items against {spectrum.name} at the design "
             f"A_gx = {design_pga(spectrum):.3g} g with {n_motions} motions"

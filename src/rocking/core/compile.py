@@ -9,6 +9,9 @@ The compiled code goes to the user's cache folder (:func:`cache_dir`), not next 
 an installation may be read-only (a system or container install), and one cache per user serves
 every virtual environment and checkout (Numba keys each entry by the source file's path and time
 stamp, so different sources never share one).  ``NUMBA_CACHE_DIR``, when the user sets it, wins.
+A folder where no file can be written (read-only, or under a file) would have the kernels compiled
+again in every process (20-40 s): the kernels then go to the first writable one of the user's
+cache folder and a folder in the temporary folder, with one warning (:func:`writable_cache`).
 
 No kernel uses ``fastmath``: without it LLVM neither reassociates nor contracts floating-point
 operations, so the same expression gives the same bits in a scalar loop and in a SIMD loop (the
@@ -17,8 +20,10 @@ batched kernel relies on this).  Fused multiply–adds are written explicitly wi
 
 from __future__ import annotations
 
+import functools
 import math
 import os
+import warnings
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -45,19 +50,69 @@ def cache_dir() -> Path:
     return Path(root) / "numba"
 
 
+def _can_write(folder: Path) -> str | None:
+    """None if files can be created in ``folder`` (created if missing), else the reason."""
+    import tempfile
+
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        tempfile.TemporaryFile(dir=folder).close()
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return None
+
+
+@functools.cache
+def writable_cache(folder: str, name: str) -> str:
+    """``folder`` (the cache folder that ``name`` chose) if files can be written there, else the
+    first writable one of the user's cache folder and ``rocking-<user id>/numba`` in the
+    temporary folder, with a warning (once per folder and process); ``folder`` itself if none is
+    (the kernels are then compiled in every process)."""
+    import tempfile
+
+    reason = _can_write(Path(folder))
+    if reason is None:
+        return folder
+    import platformdirs
+
+    uid = os.getuid() if hasattr(os, "getuid") else "user"
+    for other in (
+        Path(platformdirs.user_cache_dir("rocking")) / "numba",
+        Path(tempfile.gettempdir()) / f"rocking-{uid}" / "numba",
+    ):
+        if str(other) != folder and _can_write(other) is None:
+            warnings.warn(
+                f"{name} {folder} cannot hold the compiled kernels ({reason}); they are kept "
+                f"in {other} instead (else they would be compiled again in every run)",
+                stacklevel=2,
+            )
+            return str(other)
+    warnings.warn(
+        f"{name} {folder} cannot hold the compiled kernels ({reason}), nor can any other "
+        "cache folder: they are compiled again in every run (20-40 s)",
+        stacklevel=2,
+    )
+    return folder
+
+
 def _compile(options: dict, func):
-    """``numba.njit(**options)(func)`` with the cache in :func:`cache_dir`.
+    """``numba.njit(**options)(func)`` with the cache in :func:`cache_dir`, or the user's
+    ``NUMBA_CACHE_DIR``, where writable (:func:`writable_cache`).
 
     Numba picks the cache folder of a function when it is decorated (from ``config.CACHE_DIR``),
     so the setting is applied for that moment only and other Numba users are not affected.
     """
-    if numba.config.CACHE_DIR:  # the user's NUMBA_CACHE_DIR
-        return numba.njit(**options)(func)
-    numba.config.CACHE_DIR = str(cache_dir())
+    user = numba.config.CACHE_DIR  # the user's NUMBA_CACHE_DIR
+    if user:
+        folder = writable_cache(user, "NUMBA_CACHE_DIR")
+    else:
+        name = "ROCKING_CACHE_DIR" if os.environ.get("ROCKING_CACHE_DIR") else "the cache folder"
+        folder = writable_cache(str(cache_dir()), name)
+    numba.config.CACHE_DIR = folder
     try:
         return numba.njit(**options)(func)
     finally:
-        numba.config.CACHE_DIR = ""
+        numba.config.CACHE_DIR = user
 
 
 def _decorator(options: dict, args):

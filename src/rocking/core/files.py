@@ -5,6 +5,8 @@ once, :func:`figure_png`); reading the rows of the small CSV tables users give (
 (unless told the file need not survive a system crash) and renames it over the final name
 (:func:`os.replace`, atomic on POSIX and Windows): a process killed at any instant leaves either
 the old file or the new one, never a truncated one (at worst a stray hidden temporary file).
+An error of the system (a full disk, a read-only folder) is raised as an ``OSError`` that names
+the file being written.
 The file gets the permissions an ordinary ``open(path, "w")`` would give (0666 minus the umask
 in force); :func:`tempfile.mkstemp` would leave it private (0600).
 """
@@ -49,9 +51,13 @@ def atomic_write(
     """
     path = Path(path)
     tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
-    # Created as open(path, "w") creates a file: mode 0666 less the umask in force, applied by
-    # the system (so a umask changed during the run is followed); O_EXCL: never an existing file.
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+    try:
+        # Created as open(path, "w") creates a file: mode 0666 less the umask in force, applied
+        # by the system (so a umask changed during the run is followed); O_EXCL: never an
+        # existing file.
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+    except OSError as exc:
+        raise _naming(exc, path) from exc
     try:
         with os.fdopen(fd, "wb") as fh:
             if callable(data):
@@ -62,10 +68,20 @@ def atomic_write(
             if durable:
                 os.fsync(fh.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         tmp.unlink(missing_ok=True)
+        if isinstance(exc, OSError):
+            raise _naming(exc, path) from exc
         raise
     return path
+
+
+def _naming(exc: OSError, path: Path) -> OSError:
+    """``exc`` naming the file ``path`` it failed to write (a full disk's ENOSPC names none; a
+    failed creation names the temporary file): the same class and error number."""
+    if exc.errno is None:
+        return exc
+    return type(exc)(exc.errno, exc.strerror or os.strerror(exc.errno), str(path))
 
 
 def figure_png(fig: Figure, dpi: float) -> bytes:

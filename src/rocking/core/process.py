@@ -27,6 +27,11 @@ None of the settings changes a result, only how the processor's time is spent (m
   shutdown runs full collections while it tears the modules down, 0.6 s of the 0.75 s that a
   ``quick`` run took to exit after its report was written; the process's memory is returned to
   the system whole anyway.
+
+Worker processes that this process starts die with it (:func:`die_with_parent`), also when it is
+killed outright (``kill -9``): a drawing worker left alive held the caller's standard output open
+(and Python's ``resource_tracker`` with it), so that a pipe from ``rocking reproduce`` never
+closed.
 """
 
 from __future__ import annotations
@@ -34,6 +39,9 @@ from __future__ import annotations
 import atexit
 import gc
 import os
+import signal
+import sys
+import threading
 
 #: Thresholds of :func:`gc.set_threshold` for rocking's processes (Python's default: 700, 10, 10).
 GC_THRESHOLDS = (10_000, 50, 10)
@@ -49,3 +57,33 @@ def configure_process(thresholds: bool = True) -> None:
         gc.set_threshold(*GC_THRESHOLDS)
     atexit.unregister(gc.freeze)
     atexit.register(gc.freeze)
+
+
+#: prctl(2) option that asks the kernel for a signal when the parent ends (linux/prctl.h).
+PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent(parent: int) -> None:
+    """End this process (SIGKILL) when its parent, the process ``parent``, ends, however it ends;
+    at once if it has already ended.  For worker processes, called first thing in them.
+
+    On Linux the kernel sends the signal (``prctl(PR_SET_PDEATHSIG, SIGKILL)``: when the thread
+    that started this process ends, which for rocking's pools is the thread that opened them);
+    elsewhere a daemon thread checks every second whether the parent is still this process's
+    parent.
+    """
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    else:
+        threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
+    if os.getppid() != parent:  # it ended before the request was made
+        os._exit(1)
+
+
+def _watch_parent(parent: int) -> None:
+    while os.getppid() == parent:
+        threading.Event().wait(1.0)
+    os._exit(1)

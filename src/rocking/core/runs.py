@@ -1,31 +1,40 @@
 """Output folders of runs: claimed by one run at a time, with a status, written file by file.
 
-Every command that writes a folder (``rocking fragility``, ``agx50``, ``screen``, ``reproduce``,
-``motions show`` and ``motions fit``) writes it through a :class:`RunFolder`:
+Every command that writes a folder (``rocking fragility``, ``agx50``, ``risk``, ``screen``,
+``reproduce``, ``motions show`` and ``motions fit``) writes it through a :class:`RunFolder`:
 
 * **claim**: the run holds an operating-system lock on ``.rocking.lock`` in the folder from start
   to end (``filelock``; released by the system if the process dies, so a crash never leaves the
   folder locked).  A second run into the same folder while the first one works stops at once with
   an error instead of mixing its files with the first's;
+* **one run per folder**: a folder whose ``run.json`` records another run (another command, or
+  other parameters) is refused at once, before anything in it is touched, naming what differs;
+  ``overwrite=True`` (``--overwrite``) replaces that run: its files are deleted once the new run
+  is accepted (its inputs checked and the folder claimed), never before.  The same run again
+  resumes: it keeps the resumable work (:attr:`RunFolder.chunks`) and first deletes the files the
+  previous attempt listed in its ``run.json``, so that an interrupted rerun never leaves the
+  previous tables beside its own ``"failed"`` status looking like results.  Only files a run
+  recorded, its run.json and its chunks are deleted, never others;
+* **inputs are never outputs**: a run never writes into, or clears, a folder it reads (``risk
+  --fragility F --out F``), nor deletes an input file the previous run had written;
 * **status**: ``run.json`` says ``"running"`` from the start, then ``"completed"`` or
-  ``"failed"`` (an exception, Ctrl-C, SIGTERM), with the parameters, seeds, versions, wall time
-  and the list of files the run wrote (``outputs``);
-* **no stale results**: the files that the previous run of the folder listed in its ``run.json``
-  are deleted before anything else, so an interrupted rerun never leaves the previous run's tables
-  beside its own ``"failed"`` status looking like results.  Only files a run recorded are deleted,
-  never others, and resumable work (Monte Carlo chunks) is kept;
+  ``"failed"`` (an exception, Ctrl-C, SIGTERM), with the parameters, seeds, versions, wall time,
+  the list of files the run wrote (``outputs``) and its bookkeeping (e.g. Monte Carlo chunks
+  computed and loaded), which stays out of the result files so that they are the same bytes
+  however the run was computed or resumed;
 * **atomic files**: every file goes through :func:`rocking.core.files.atomic_write`.
 """
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import json
 import os
 import platform
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import TracebackType
 from typing import IO, TYPE_CHECKING, Any
@@ -41,6 +50,11 @@ if TYPE_CHECKING:
 
 LOCK = ".rocking.lock"
 RUN_JSON = "run.json"
+#: Subfolder of a run's resumable work (Monte Carlo chunks).
+CHUNKS = "chunks"
+#: Attributes of result datasets that describe how they were computed, not what they are: moved
+#: from netCDF files to run.json (``bookkeeping``).
+BOOKKEEPING = ("chunks_computed", "chunks_loaded")
 #: Status words of run.json.
 RUNNING, COMPLETED, FAILED = "running", "completed", "failed"
 
@@ -55,13 +69,33 @@ class RunFolder:
     command : str
         What runs, e.g. ``"fragility"`` (recorded in run.json).
     params : dict
-        JSON-serialisable parameters and seeds of the run (entries of run.json).
+        JSON-serialisable parameters and seeds of the run (entries of run.json): what makes it
+        the same run as the folder's previous one, or another.
+    settings : dict, optional
+        Entries of run.json that do not change the results (e.g. the scheduler).
+    overwrite : bool
+        Replace the results of another run in the folder instead of refusing to.
+    reads : dict of str to str or Path
+        Files and folders the run reads, by the name of their option (None values ignored):
+        refused when the run would write into such a folder or delete such a file.
     """
 
-    def __init__(self, path: str | os.PathLike[str], *, command: str, params: dict):
+    def __init__(
+        self,
+        path: str | os.PathLike[str],
+        *,
+        command: str,
+        params: dict,
+        settings: dict | None = None,
+        overwrite: bool = False,
+        reads: Mapping[str, str | os.PathLike[str] | None] | None = None,
+    ):
         self.path = Path(path)
         self.command = command
-        self.params = dict(params)
+        self.params = _as_json(params)
+        self.settings = dict(settings or {})
+        self.overwrite = overwrite
+        self.reads = {k: Path(p) for k, p in (reads or {}).items() if p is not None}
         self.outputs: list[str] = []
         self.info: dict = {}
         self._lock: Any = None  # a filelock lock while the folder is claimed
@@ -73,6 +107,7 @@ class RunFolder:
 
         if self.path.exists() and not self.path.is_dir():
             raise InputError(f"out: {self.path} exists and is not a folder")
+        self._check_reads(None)
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -89,7 +124,16 @@ class RunFolder:
             raise InputError(f"out: cannot write in {self.path} ({exc.strerror})") from None
         self._lock = lock
         try:
-            self._remove_previous_outputs()
+            previous = self._previous()
+            differs = None if previous is None else self._differs(previous)
+            if differs is not None and not self.overwrite:
+                raise InputError(
+                    f"out: {self.path} holds the results of another run ({differs}); rerun "
+                    "with --overwrite to replace them, or choose another --out folder"
+                )
+            self._check_reads(previous)
+            if previous is not None:
+                self._remove_previous(previous)
             self._start = time.perf_counter()
             self._write_status(RUNNING)
         except BaseException:
@@ -112,23 +156,78 @@ class RunFolder:
                     if issubclass(exc_type, (KeyboardInterrupt, SystemExit))
                     else f"{exc_type.__name__}: {exc}"
                 )
-                self._write_status(FAILED, error=what)
+                # the run's own error says more than a failure to record it (a full disk)
+                with contextlib.suppress(OSError):
+                    self._write_status(FAILED, error=what)
         finally:
             self._lock.release()
 
-    def _remove_previous_outputs(self) -> None:
+    def _previous(self) -> dict | None:
+        """The previous run's run.json (``{}`` when it cannot be read), or None if there is
+        none."""
         previous = self.path / RUN_JSON
         if not previous.is_file():
-            return
+            return None
         try:
-            outputs = json.loads(previous.read_text()).get("outputs", [])
-        except (OSError, ValueError, AttributeError):
-            return  # not ours to interpret: leave the files alone
+            record = json.loads(previous.read_text())
+        except (OSError, ValueError):
+            return {}
+        return record if isinstance(record, dict) else {}
+
+    def _differs(self, previous: dict) -> str | None:
+        """What makes the previous run (its run.json) another run than this one, or None."""
+        if not previous:
+            return f"its {RUN_JSON} cannot be read"
+        if previous.get("command") != self.command:
+            return f"a run of 'rocking {previous.get('command')}'"
+        differ = [k for k, v in self.params.items() if _same_form(previous.get(k)) != _same_form(v)]
+        return f"'rocking {self.command}' with other {', '.join(differ)}" if differ else None
+
+    def _doomed(self, previous: dict | None) -> list[Path]:
+        """What entering the folder deletes: the previous run's outputs, and with
+        :attr:`overwrite` its run.json and chunks too."""
+        if previous is None:
+            return []
+        outputs = previous.get("outputs", [])
+        doomed = [self.path / str(name) for name in outputs if isinstance(outputs, list)]
+        if self.overwrite:
+            doomed += [self.path / RUN_JSON, self.chunks]
         root = self.path.resolve()
-        for name in outputs if isinstance(outputs, list) else []:
-            target = (self.path / str(name)).resolve()
-            if target.parent == root or root in target.parents:  # never outside the folder
+        return [p for p in (d.resolve() for d in doomed) if root in p.parents]  # never outside
+
+    def _check_reads(self, previous: dict | None) -> None:
+        """Refuse to write into a folder the run reads, or to delete a file it reads (before
+        the folder is created: ``previous`` None; then once its run.json is read)."""
+        out = self.path.resolve()
+        doomed = self._doomed(previous)
+        for option, read in self.reads.items():
+            source = read.resolve()
+            if read.is_dir() and (source == out or source in out.parents):
+                raise InputError(
+                    f"out {self.path}: the run reads the folder {option} {read} and never "
+                    "writes into it; choose another --out folder"
+                )
+            if any(source == d or d in source.parents for d in doomed):
+                raise InputError(
+                    f"out {self.path}: the run reads {option} {read}, a file of the folder's "
+                    "previous run, which it would delete; choose another --out folder"
+                )
+
+    def _remove_previous(self, previous: dict) -> None:
+        """Delete what :meth:`_doomed` lists."""
+        import shutil
+
+        for target in self._doomed(previous):
+            if target.is_dir():
+                shutil.rmtree(target)
+            else:
                 target.unlink(missing_ok=True)
+
+    @property
+    def chunks(self) -> Path:
+        """Folder of the run's resumable work (Monte Carlo chunks): kept when the same run is
+        started again, deleted with ``overwrite``."""
+        return self.path / CHUNKS
 
     def _write_status(self, status: str, **extra) -> None:
         wall = round(time.perf_counter() - self._start, 3) if self._start else 0.0
@@ -136,6 +235,7 @@ class RunFolder:
             "status": status,
             "command": self.command,
             **self.params,
+            **self.settings,
             "outputs": self.outputs,
             "wall_time_s": wall,
             **self.info,
@@ -177,8 +277,15 @@ class RunFolder:
         return save_figure(fig, self.file(name), dpi)
 
     def write_netcdf(self, name: str, dataset: xr.Dataset) -> Path:
-        """Write an xarray Dataset as netCDF-3 (SciPy engine; see :func:`to_netcdf3_bytes`)."""
-        return self.write(name, to_netcdf3_bytes(dataset))
+        """Write an xarray Dataset as netCDF-3 (SciPy engine; see :func:`to_netcdf3_bytes`),
+        its :data:`BOOKKEEPING` attributes moved to run.json (``bookkeeping``, by file)."""
+        kept = {k: v for k, v in dataset.attrs.items() if k not in BOOKKEEPING}
+        moved = {k: v for k, v in dataset.attrs.items() if k in BOOKKEEPING}
+        if moved:
+            self.info.setdefault("bookkeeping", {})[name] = moved
+        results = dataset.copy(deep=False)
+        results.attrs = kept
+        return self.write(name, to_netcdf3_bytes(results))
 
 
 def to_netcdf3_bytes(dataset: xr.Dataset) -> bytes:
@@ -229,6 +336,16 @@ def provenance(out_dir: str | os.PathLike[str], **params: Any) -> Path:
     path = out_dir / "run.json"
     atomic_write(path, json.dumps(record, indent=2, default=_json_default) + "\n")
     return path
+
+
+def _as_json(params: dict) -> dict:
+    """``params`` as run.json stores and reads them back (NumPy values and paths as JSON)."""
+    return json.loads(json.dumps(params, default=_json_default))
+
+
+def _same_form(value: Any) -> str:
+    """A JSON value as text with sorted keys, for comparing (NaN equals NaN)."""
+    return json.dumps(value, sort_keys=True)
 
 
 def _json_default(obj):

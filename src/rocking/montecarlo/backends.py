@@ -24,6 +24,7 @@ worker processes started on demand.
 from __future__ import annotations
 
 import importlib.util
+import math
 import os
 import weakref
 from abc import ABC, abstractmethod
@@ -132,6 +133,9 @@ class DaskBackend(Backend):
         not oversubscribe the cores (reference.md §10).
     n_workers : int
         Worker processes of the local cluster (ignored with ``address``).
+    connect_timeout : float, optional
+        Seconds to wait for the scheduler at ``address`` before giving up (default
+        :func:`connect_timeout`: 5 s for a loopback or private address, 30 s for others).
 
     Notes
     -----
@@ -147,7 +151,9 @@ class DaskBackend(Backend):
     command stops with one line (BackendError) and resumes from its chunks when run again.
     """
 
-    def __init__(self, address: str | None = None, n_workers: int = 2):
+    def __init__(
+        self, address: str | None = None, n_workers: int = 2, connect_timeout: float | None = None
+    ):
         if importlib.util.find_spec("distributed") is None:
             raise InputError(
                 "scheduler: Dask distributed is not installed; install the cluster extra "
@@ -157,8 +163,16 @@ class DaskBackend(Backend):
             raise InputError(f"address must be a scheduler address string, got {address!r}")
         if not (isinstance(n_workers, int) and n_workers >= 1):
             raise InputError(f"n_workers must be an integer >= 1, got {n_workers!r}")
+        if connect_timeout is not None and not (
+            isinstance(connect_timeout, (int, float)) and 0 < connect_timeout < math.inf
+        ):
+            raise InputError(f"connect_timeout must be > 0 [s], got {connect_timeout!r}")
         self.address = address
         self.n_workers = n_workers
+        #: Seconds to wait for the scheduler at ``address``.
+        self.connect_timeout = (
+            connect_timeout if connect_timeout is not None else default_connect_timeout(address)
+        )
         #: Numba threads per task: the worker's share of this machine's cores (local cluster).
         self.threads = None if address else max(1, (os.cpu_count() or 1) // n_workers)
         self._client = None
@@ -178,9 +192,13 @@ class DaskBackend(Backend):
 
         if self.address is not None:
             try:
-                return Client(self.address, timeout="30s"), None
+                return Client(self.address, timeout=f"{self.connect_timeout}s"), None
             except (OSError, TimeoutError) as exc:
-                raise InputError(f"scheduler: cannot connect to {self.address} ({exc})") from None
+                raise InputError(
+                    f"scheduler: cannot connect to {self.address} within "
+                    f"{self.connect_timeout:g} s ({exc}); is it running? (--connect-timeout "
+                    "waits longer)"
+                ) from None
         # The thread budget is applied by each task (numba.set_num_threads) rather than through
         # NUMBA_NUM_THREADS in distributed.nanny.pre-spawn-environ: Dask also writes those
         # variables into this process's environment, and Numba re-reads it at every compilation,
@@ -253,19 +271,42 @@ class DaskBackend(Backend):
         return f"DaskBackend({where})"
 
 
-def get_backend(scheduler: str | None = None) -> Backend:
+#: Seconds to wait for a scheduler on this machine or a private network (a refused or
+#: unanswered connection there is not slow, it is absent), and for one elsewhere.
+NEAR_TIMEOUT_S, FAR_TIMEOUT_S = 5.0, 30.0
+
+
+def default_connect_timeout(address: str | None) -> float:
+    """Seconds to wait for the scheduler at ``address``: :data:`NEAR_TIMEOUT_S` for a loopback,
+    private or link-local IP address or ``localhost``, else :data:`FAR_TIMEOUT_S` (host names may
+    take a while to resolve, remote clusters to answer)."""
+    import ipaddress
+    from urllib.parse import urlsplit
+
+    host = urlsplit(address or "").hostname or ""
+    if host == "localhost":
+        return NEAR_TIMEOUT_S
+    try:
+        ip = ipaddress.ip_address(host)
+    except ValueError:
+        return FAR_TIMEOUT_S
+    return NEAR_TIMEOUT_S if ip.is_loopback or ip.is_private or ip.is_link_local else FAR_TIMEOUT_S
+
+
+def get_backend(scheduler: str | None = None, connect_timeout: float | None = None) -> Backend:
     """Backend named by ``scheduler``.
 
     ``None`` or ``"local"``: :class:`LocalBackend`; ``"dask-local"``: :class:`DaskBackend` with
     a local cluster of worker processes; a scheduler address (``"tcp://host:port"``, or another
-    Dask protocol such as ``"tls://"``): :class:`DaskBackend` connected to it.
+    Dask protocol such as ``"tls://"``): :class:`DaskBackend` connected to it, waiting at most
+    ``connect_timeout`` seconds for it (default :func:`default_connect_timeout`).
     """
     if scheduler is None or scheduler == "local":
         return LocalBackend()
     if scheduler == "dask-local":
         return DaskBackend()
     if isinstance(scheduler, str) and "://" in scheduler:
-        return DaskBackend(scheduler)
+        return DaskBackend(scheduler, connect_timeout=connect_timeout)
     raise InputError(
         f"scheduler must be 'local', 'dask-local' or a scheduler address like "
         f"'tcp://host:8786', got {scheduler!r}"

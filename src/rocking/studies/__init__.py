@@ -49,7 +49,9 @@ def reproduce(
     *,
     fidelity: str = "quick",
     out_dir: str | os.PathLike[str],
+    overwrite: bool = False,
     scheduler: str | None = None,
+    connect_timeout: float | None = None,
     config: str | os.PathLike[str] | None = None,
     sets: Sequence[str] = (),
     progress: bool | Reporter | None = False,
@@ -66,10 +68,15 @@ def reproduce(
     out_dir : str or Path
         Output folder (a :class:`rocking.core.runs.RunFolder`): report.md, report.html, run.json,
         figures/, tables/, and chunks/ (finished Monte Carlo chunks: a rerun with the same
-        parameters resumes from them).
+        parameters resumes from them). A folder of another run (other sections or parameters)
+        is refused, unless ``overwrite``.
+    overwrite : bool
+        Replace the results of another run in ``out_dir`` (:class:`rocking.core.runs.RunFolder`).
     scheduler : str, optional
         Backend (:func:`rocking.montecarlo.backends.get_backend`): None/"local", "dask-local" or a
         Dask scheduler address.
+    connect_timeout : float, optional
+        Seconds to wait for a scheduler address (:func:`rocking.montecarlo.backends.get_backend`).
     config : str or Path, optional
         TOML file of parameter overrides (:func:`rocking.studies.config.load_config`).
     sets : sequence of str
@@ -101,7 +108,7 @@ def reproduce(
         )
     cfg = load_config(fidelity, config, sets)
     validate(cfg)
-    backend = get_backend(scheduler)  # checks the address before anything is written
+    backend = get_backend(scheduler, connect_timeout)  # checks the address before any writing
     reporter = resolve(progress)
     out = Path(out_dir)
     modified = cfg != PRESETS[fidelity]
@@ -116,14 +123,20 @@ def reproduce(
         "backend": repr(backend),
     }
     with (
-        RunFolder(out, command="reproduce", params={"parameters": cfg}) as run,
+        RunFolder(
+            out,
+            command="reproduce",
+            params={"parameters": cfg, "sections": sections},
+            overwrite=overwrite,
+            reads={"--config": config},
+        ) as run,
         reporter,
         drawing_pool() as drawer,  # started now: ready when the figures are
     ):
         # the pages of an earlier run must not look like this run's result if it fails
         remove_report(out)
         run.update(**run_info)
-        ctx = RunContext(cfg, fidelity, modified, backend, reporter, out / "chunks")
+        ctx = RunContext(cfg, fidelity, modified, backend, reporter, run.chunks)
         start = time.perf_counter()
         results, parts, wall = {}, {}, {}
         # a run of one section builds its figures here, the worker only drawing them: else this
