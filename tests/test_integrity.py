@@ -562,6 +562,7 @@ def test_every_command_that_writes_a_folder_can_overwrite(tmp_path):
         "fragility",
         "motions fit",
         "motions show",
+        "pulse-spectrum",
         "reproduce",
         "risk",
         "screen",

@@ -13,6 +13,7 @@ from ._options import (
     R_option,
     e_option,
     gamma_option,
+    overwrite_option,
     parse_e,
     parse_range,
     quiet_option,
@@ -62,6 +63,7 @@ if TYPE_CHECKING:
     type=click.Path(file_okay=False),
     help="Output folder: spectrum.csv, switches.csv, report.html, run.json.",
 )
+@overwrite_option
 @quiet_option
 def pulse_spectrum_cmd(
     R: float,
@@ -72,6 +74,7 @@ def pulse_spectrum_cmd(
     kappa_max: float,
     n_scan: int,
     out: str,
+    overwrite: bool,
     quiet: bool,
 ) -> None:
     """Overturning spectrum of one block (R, gamma) under a pulse: the smallest amplitude that
@@ -99,7 +102,10 @@ def pulse_spectrum_cmd(
         "kappa_max": kappa_max,
         "n_scan": n_scan,
     }
-    with RunFolder(out, command="pulse-spectrum", params=params) as run, reporter(quiet):
+    with (
+        RunFolder(out, command="pulse-spectrum", params=params, overwrite=overwrite) as run,
+        reporter(quiet),
+    ):
         ds = overturning_spectrum(block, shape, values, e=e, kappa_max=kappa_max, n_scan=n_scan)
         spectrum, switches = tables(ds)
         run.write_csv("spectrum.csv", spectrum)
