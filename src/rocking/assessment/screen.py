@@ -51,7 +51,7 @@ from ..motions.response import ResponseSpectrum, response_spectrum
 from ..motions.synthesis import generate
 from ..motions.targets import TargetSpectrum
 from ..structures.frames import ShearFrame
-from .energy import BAND_HZ, SAFE, assess, band_frequencies
+from .energy import BAND_HZ, SAFE, assess, available_sv, band_frequencies
 from .inventory import Inventory, Item, read_inventory
 from .risk import HazardCurve, annual_rate
 
@@ -191,6 +191,7 @@ def screen(
     inventory = _inventory(inventory, frame)
     if not isinstance(spectrum, TargetSpectrum):
         spectrum = parse_spectrum(spectrum)
+    available_sv(spectrum, band_hz=band_hz, damping=spectrum.damping)  # it covers the band
     if hazard is not None:
         hazard = _hazard_curve(hazard, floor_motions)
         years = positive("years", years, "yr")

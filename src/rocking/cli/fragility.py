@@ -19,8 +19,11 @@ import click
 from ..defaults import AGX
 from ._options import (
     BAND_TEXT,
+    G_LEVEL,
+    SEED,
     band_option,
     bodies_option,
+    count,
     e_option,
     frame_and_floor,
     frame_option,
@@ -193,14 +196,12 @@ _run_options = options(
 )
 @click.option(
     "--n-boot",
-    type=click.IntRange(0),
+    type=count("bootstrap resamples", 0),
     default=None,
     help="Bootstrap resamples of the motions for the intervals of median and beta "
     "[default: 200; 0 for A_gx levels, as the paper reads its curves].",
 )
-@click.option(
-    "--seed", type=click.IntRange(0), default=0, show_default=True, help="Bootstrap seed."
-)
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Bootstrap seed.")
 @click.option(
     "--im-efficiency",
     "compare_text",
@@ -237,10 +238,14 @@ def fragility_cmd(
     body, with bootstrap 95 % intervals), fragility.png, im_efficiency.csv with
     --im-efficiency, report.html and run.json (parameters and status).
     """
+    # a range too long or too strong is refused at once: the IMs' module takes a second to load
+    for option, text in (("--agx", agx_text), ("--levels", levels_text)):
+        if text is not None:
+            parse_range(text, option, unit="g" if option == "--agx" else "of the IM's unit")
     from ..montecarlo.fragility import AnalysisIM
 
     measure = AnalysisIM.parse(im_text)
-    levels = _levels(measure.name, method, agx_text, levels_text, stripes_path)
+    levels = _levels(measure.name, method, agx_text, levels_text, stripes_path, measure.unit)
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
@@ -319,7 +324,12 @@ def fragility_cmd(
 
 
 def _levels(
-    im: str, method: str, agx_text: str | None, levels_text: str | None, stripes: str | None
+    im: str,
+    method: str,
+    agx_text: str | None,
+    levels_text: str | None,
+    stripes: str | None,
+    unit: str,
 ) -> np.ndarray | None:
     """The IDA levels of the options (None for MSA and cloud), checked before any work."""
     if agx_text is not None and im != AGX:
@@ -338,7 +348,7 @@ def _levels(
         return parse_range(agx_text or levels_text or "0.1:1.5:0.05")
     if levels_text is None:
         raise click.UsageError(f"--method ida needs --levels of {im}")
-    return parse_range(levels_text, "--levels", unit="of the IM's unit")
+    return parse_range(levels_text, "--levels", unit=unit)
 
 
 def _im_list(text: str) -> list[str]:
@@ -429,10 +439,10 @@ _FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta
 )
 @click.option(
     "--agx-max",
-    type=click.FloatRange(0.0, min_open=True),
+    type=G_LEVEL,
     default=5.0,
     show_default=True,
-    help="Largest A_gx searched [g]; beyond it A_gx50 is NaN.",
+    help="Largest A_gx searched [g], at most 10; beyond it A_gx50 is NaN.",
 )
 @band_option
 def agx50_cmd(
@@ -465,7 +475,10 @@ def agx50_cmd(
     from ..assessment.energy import energy_balance, forms_grid, grid_table
     from ..core.runs import RunFolder
     from ..montecarlo.probability import agx_50
+    from ..motions.response import check_nyquist
     from ..plots.fragility import plot_sv_agx
+
+    check_nyquist(band[1], ensemble.dt, f"--band {band_text}")  # before the search, not after
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
@@ -567,7 +580,7 @@ def agx50_cmd(
 )
 @click.option(
     "--agx",
-    type=click.FloatRange(0.0, min_open=True),
+    type=G_LEVEL,
     default=None,
     help="Scale an ensemble (.nc) to this A_gx [g] (mean PGA) first.",
 )
