@@ -55,6 +55,7 @@ import pandas as pd
 from scipy.integrate import cumulative_trapezoid
 
 from ..core import portable
+from ..core.checks import count
 from ..defaults import IM_DAMPING, IM_SYNTAX, SAAVG_PERIODS, G
 from ..errors import InputError
 from .ensemble import Ensemble
@@ -233,9 +234,9 @@ def _damping(text: str, im: str) -> float:
 
 
 def _count(text: str, im: str) -> int:
-    if not text.isdigit() or int(text) < 2:
+    if not text.isdigit():
         raise InputError(f"im {im!r}: the number of periods must be an integer >= 2, got {text}")
-    return int(text)
+    return count(f"im {im!r}: the number of periods", int(text), "frequencies", 2)
 
 
 def im_scaling_exponent(im: str | IntensityMeasure) -> int:
