@@ -189,6 +189,10 @@ def test_response_spectrum_refuses_frequencies_above_nyquist():
     with pytest.raises(InputError, match=r"1000 Hz is above the Nyquist frequency .* = 25 Hz"):
         response_spectrum(acc, 0.02, [1.0, 1000.0])
     assert response_spectrum(acc, 0.02, [1.0, 25.0]).psv.shape == (2,)  # up to it: fine
+    # an IM that reads the spectrum there names the period the user gave
+    ens = generate(2, duration=2.0, dt=0.01)
+    with pytest.raises(InputError, match=r"spectral period 0\.01 s \(1/T\): 100 Hz is above"):
+        rocking.intensity_measures(ens, ["sa(0.01)"])
 
 
 def test_a_spectrum_that_does_not_cover_the_band_gets_no_verdict(tmp_path):

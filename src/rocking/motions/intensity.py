@@ -59,7 +59,7 @@ from ..core.checks import count
 from ..defaults import IM_DAMPING, IM_SYNTAX, SAAVG_PERIODS, G
 from ..errors import InputError
 from .ensemble import Ensemble
-from .response import response_spectrum
+from .response import check_nyquist, response_spectrum
 
 #: kind → (unit, label without parameters, scaling exponent k in IM(λ·a) = λ^k·IM(a)).
 _KINDS = {
@@ -345,6 +345,7 @@ def _spectral_accelerations(a: np.ndarray, dt: float, ims: list[IntensityMeasure
     out = {}
     for zeta, periods in wanted.items():
         ts = sorted(periods)
+        check_nyquist(1.0 / ts[0], dt, f"the spectral period {ts[0]:g} s (1/T)")
         psa = response_spectrum(a, dt, 1.0 / np.asarray(ts), zeta).psa / G
         out.update({(t, zeta): psa[:, j] for j, t in enumerate(ts)})
     return out
