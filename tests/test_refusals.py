@@ -113,6 +113,15 @@ def test_other_sizes_are_bounded_before_any_work(tmp_path, args, words):
     assert not out.exists()
 
 
+def test_screen_resolution_is_bounded_as_agx50s(tmp_path):
+    # screen --resolution 1e-300 was refused by the search only after the motions were made
+    out = tmp_path / "out"
+    args = ["screen", "example", "--spectrum", "rg160:0.3", "--resolution", "1e-300", "--out", out]
+    line = _refused(args, within=REFUSAL_S)
+    assert "--resolution" in line and "1e-06" in line, line
+    assert not out.exists()
+
+
 def test_every_limit_names_its_reason_and_the_api_keeps_them():
     for kind, (limit, why) in LIMITS.items():
         assert limit >= 20 and len(why) > 20, kind

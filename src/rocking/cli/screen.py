@@ -69,10 +69,10 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
 )
 @click.option(
     "--resolution",
-    type=click.FloatRange(0.0, min_open=True),
+    type=click.FloatRange(1e-6),
     default=0.01,
     show_default=True,
-    help="Resolution of the A_gx50 search [g].",
+    help="Resolution of the A_gx50 search [g], >= 1e-6 (as agx50's).",
 )
 @click.option(
     "--agx-max",
