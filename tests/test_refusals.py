@@ -190,6 +190,13 @@ def test_a_band_above_the_nyquist_frequency_of_the_motions_is_refused_first(tmp_
     )
     assert "--band 0.04:1000: 1000 Hz is above the Nyquist frequency" in line and "100 Hz" in line
     assert not out.exists()  # before the A_gx50 search, not after it
+    # screen with the user's motions: before the Monte Carlo of the ground items, not at the floors
+    ens = generate(2, duration=2.0, dt=0.01)
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"band_hz: 80 Hz is above the Nyquist frequency"):
+        rocking.screen(EXAMPLE_INVENTORY, "rg160:0.3", frame="paper-2.0", ensemble=ens,
+                       band_hz=(0.04, 80.0))  # fmt: skip
+    assert time.perf_counter() - start < LOADED_S
 
 
 def test_response_spectrum_refuses_frequencies_above_nyquist():

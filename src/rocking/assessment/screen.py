@@ -47,7 +47,7 @@ from ..montecarlo.statistics import LognormalFit
 from ..motions.design import design_pga, parse_spectrum
 from ..motions.ensemble import Ensemble
 from ..motions.intensity import intensity_measures
-from ..motions.response import ResponseSpectrum, response_spectrum
+from ..motions.response import ResponseSpectrum, check_nyquist, response_spectrum
 from ..motions.synthesis import generate
 from ..motions.targets import TargetSpectrum
 from ..structures.frames import ShearFrame
@@ -199,6 +199,7 @@ def screen(
         ensemble = generate(n, duration=duration, dt=dt, target=spectrum, seed=seed)
     elif ensemble.meta.get("location") != "ground":
         raise InputError(f"ensemble must be ground motions, got {ensemble.meta.get('location')}")
+    check_nyquist(max(band_hz), ensemble.dt, "band_hz")  # the floors' spectra, before any work
     agx = design_pga(spectrum)
     ground = ensemble.scaled(agx)
     settings = _MonteCarlo(resolution, agx_max, confidence, backend, progress)
