@@ -7,7 +7,7 @@ import pytest
 
 import rocking
 from rocking.assessment.bodies import NamedBody, read_bodies, read_bodies_table
-from rocking.dynamics.body import Block, G
+from rocking.dynamics.body import Block, BodyWarning, G
 from rocking.errors import InputError
 
 
@@ -27,9 +27,11 @@ def test_r_gamma_columns_with_names_comments_and_units(tmp_path):
 
 
 def test_h_b_columns_give_r_and_gamma(tmp_path):
-    # H = 3, B = 4: R = ½·sqrt(9 + 16) = 2.5 m, γ = 0.75 (a squat body is legal).
+    # H = 3, B = 4: R = ½·sqrt(9 + 16) = 2.5 m, γ = 0.75 (a squat body is legal, with a warning
+    # that H and B may have been swapped).
     path = _write(tmp_path, "H,B\n3,4\n")
-    (body,) = read_bodies_table(path)
+    with pytest.warns(BodyWarning, match="swapped"):
+        (body,) = read_bodies_table(path)
     assert pytest.approx(2.5, rel=1e-15) == body.block.R
     assert body.block.gamma == pytest.approx(0.75, rel=1e-15)
     assert body.name == body.block.label  # no name column: the Block label

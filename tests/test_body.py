@@ -1,4 +1,7 @@
-"""Eq. (11) against the paper's Table 1, cell by cell, and the ``rocking table1`` command."""
+"""Eq. (11) against the paper's Table 1, cell by cell, and the ``rocking table1`` command; what
+a Block refuses and what it warns about."""
+
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -7,7 +10,8 @@ from click.testing import CliRunner
 
 from rocking.cli import main
 from rocking.cli.body import TOLERANCE_CM_S
-from rocking.dynamics.body import FOOT, PAPER_GAMMAS, PAPER_R_FT, Block, housner_sv
+from rocking.dynamics.body import FOOT, PAPER_GAMMAS, PAPER_R_FT, Block, BodyWarning, housner_sv
+from rocking.errors import InputError
 from rocking.studies.paper import paper_values
 
 #: Table 1 cells that disagree with Eq. (11), (row = index of R in 4…11 ft, column = index of γ in
@@ -118,3 +122,36 @@ def test_label_writes_gamma_as_gamma():
     # which reads as gravity or grams.
     assert Block(4 * FOOT, 4.0).label == "R=1.22 m, γ=4"
     assert Block(10 * FOOT, 2.5).label == "R=3.05 m, γ=2.5"
+
+
+def test_only_what_is_not_physical_is_refused_and_the_unusual_warns():
+    # Issue 48: Block(R, 200) was refused ("gamma outside 0.01 to 100"), which barred the
+    # slender-limit studies; refuse only R or gamma <= 0 or non-finite, warn outside the usual
+    # range (rocking.defaults.GAMMA_RANGE, R_RANGE_M)
+    with pytest.warns(BodyWarning, match=r"gamma = 200 is outside the usual range"):
+        slender = Block(1.0, 200.0)
+    # a needle: alpha = atan(1/200), S_v of Eq. (11) is small but finite and positive
+    assert slender.alpha == pytest.approx(np.arctan(1 / 200), rel=1e-15)
+    assert 0.0 < housner_sv(slender) < housner_sv(Block(1.0, 4.0))
+    with pytest.warns(BodyWarning, match=r"R = 5000 m"):
+        Block(5000.0, 4.0)
+    for R, gamma, word in ((0.0, 4.0, "R"), (1.0, -1.0, "gamma"), (float("inf"), 4.0, "R")):
+        with pytest.raises(InputError, match=rf"^{word} must be a finite number > 0"):
+            Block(R, gamma)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the paper's bodies: no warning
+        Block(1.22, 4.0)
+        Block.from_dimensions(2.0, 0.6)
+
+
+def test_height_below_width_warns_that_h_and_b_may_be_swapped():
+    # Issue 48: Block.from_dimensions(0.6, 2.0) gave gamma = 0.3 without a word
+    with pytest.warns(BodyWarning, match=r"H = 0.6 m is less than B = 2 m.*swapped"):
+        squat = Block.from_dimensions(0.6, 2.0)
+    assert squat.gamma == pytest.approx(0.3, rel=1e-15)  # still the block asked for
+
+
+def test_housner_sv_of_something_else_than_a_block_is_an_input_error():
+    # Issue 49: housner_sv('x') raised AttributeError
+    with pytest.raises(InputError, match=r"block must be a rocking\.Block, got str 'x'"):
+        housner_sv("x")  # type: ignore[arg-type]

@@ -62,13 +62,37 @@ def test_tabulated_maximum_at_a_knot_inside_the_band_is_found_exactly():
 
 
 def test_maximum_at_the_band_edge():
-    # Below its first knot a table has constant SD, i.e. PSV ∝ f, rising up to the band's upper
-    # edge 0.6 Hz: S_v = PSA(0.6)·g/(2π·0.6), PSA(0.6) = PSA(1)·0.6².
-    spec = TabulatedSpectrum([1.0, 5.0], [0.5, 0.5])
+    # From 0.5 to 1 Hz the table rises as PSA ∝ f² (0.125 → 0.5 g), i.e. PSV ∝ f, up to the
+    # band's upper edge 0.6 Hz, which the table covers: S_v = PSA(0.6)·g/(2π·0.6) with
+    # PSA(0.6) = 0.5·0.6² (exact: straight lines on log-log axes).
+    spec = TabulatedSpectrum([0.5, 1.0, 5.0], [0.125, 0.5, 0.5])
     expected = 0.5 * 0.6**2 * G / (2.0 * math.pi * 0.6)
     assert available_sv(spec) == pytest.approx(expected, rel=1e-12)
-    # A narrower band ending at 0.3 Hz halves it (PSV ∝ f).
-    assert available_sv(spec, band_hz=(0.04, 0.3)) == pytest.approx(expected / 2, rel=1e-12)
+    # A narrower band ending at 0.55 Hz: PSV ∝ f.
+    assert available_sv(spec, band_hz=(0.04, 0.55)) == pytest.approx(
+        expected * 0.55 / 0.6, rel=1e-12
+    )
+
+
+def test_a_spectrum_that_does_not_cover_where_the_check_reads_it_cannot_judge():
+    # Issue 49: a 5-20 Hz table said "safe, margin +546" for 0.04-0.6 Hz, read entirely from the
+    # extrapolation below its first row; the available S_v is read at the band's largest PSV, so
+    # the table must hold that frequency (and the band beyond it when it is one of its ends)
+    blocks = [Block(1.22, 4.0)]
+    high = TabulatedSpectrum([5.0, 10.0, 20.0], [0.5, 0.8, 0.4], name="high")
+    with pytest.raises(InputError, match=r"'high' covers 5–20 Hz, none of the band 0\.04–0\.6"):
+        assess(blocks, high)
+    # a table from 0.1 Hz whose PSV rises towards 0.1 Hz (constant PSA: PSV ∝ 1/f) may have its
+    # band maximum below 0.1 Hz, where it says nothing
+    low = TabulatedSpectrum([0.1, 1.0], [0.5, 0.5], name="low")
+    with pytest.raises(InputError, match=r"rises towards 0\.1 Hz.*may lie below"):
+        assess(blocks, low)
+    # ... but it can judge a band inside it
+    assert available_sv(low, band_hz=(0.1, 0.6)) == pytest.approx(0.5 * G / (2 * math.pi * 0.1))
+    # a response spectrum of the same kind: none of its frequencies in the band
+    acc = np.sin(np.linspace(0.0, 60.0, 3001))
+    with pytest.raises(InputError, match=r"no frequency in the band 0\.04–0\.6 Hz.*5 to 20 Hz"):
+        available_sv(response_spectrum(acc, 0.01, [5.0, 20.0]))
 
 
 def test_rg160_band_maximum_is_the_constant_displacement_branch():

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from scipy import optimize, signal
 
-from rocking import Block, G, InputError, housner_sv, simulate
+from rocking import Block, BodyWarning, G, InputError, housner_sv, simulate
 from rocking.dynamics.body import resolve_e
 from rocking.dynamics.reference import simulate_reference
 from rocking.motions.response import response_spectrum
@@ -148,10 +148,12 @@ def test_labels_and_validation():
         (dict(h_cg=-1.0, b=0.2, radius_of_gyration=0.3), "h_cg"),
         (dict(h_cg=1.0, b=0.0, radius_of_gyration=0.3), "b"),
         (dict(h_cg=1.0, b=0.2, radius_of_gyration=float("nan")), "radius_of_gyration"),
-        (dict(h_cg=1.0, b=0.2, radius_of_gyration=1e4), "r_g"),
     ):
         with pytest.raises(InputError, match=rf"\b{word}\b"):
             Block.from_mass_properties(**kwargs)
+    # unusual but physical: a warning naming r_g, not a refusal (issue 48)
+    with pytest.warns(BodyWarning, match=r"\br_g = 10000 m\b"):
+        Block.from_mass_properties(1.0, 0.2, radius_of_gyration=1e4)
 
 
 # ---------------------------------------------------------------- against solve_ivp

@@ -29,6 +29,7 @@ _EXPORTS = {
     "FOOT": "dynamics.body",
     "G": "dynamics.body",
     "Block": "dynamics.body",
+    "BodyWarning": "dynamics.body",
     "housner_sv": "dynamics.body",
     "paper_bodies": "dynamics.body",
     "ASCE7": "motions.design",
@@ -123,7 +124,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .assessment.screen import results_table, screen
     from .core.runs import provenance
     from .dynamics.batch import overturn_batch, overturn_cases
-    from .dynamics.body import FOOT, Block, G, housner_sv, paper_bodies
+    from .dynamics.body import FOOT, Block, BodyWarning, G, housner_sv, paper_bodies
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend

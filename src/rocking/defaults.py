@@ -11,9 +11,10 @@ from __future__ import annotations
 G = 9.80665
 #: Coefficient of restitution of the paper (Aslam et al. 1980; paper Section 2) [-].
 DEFAULT_E = 0.925
-#: Sizes R [m] and slenderness ratios γ [-] a Block may have: a rigid body from a millimetre to a
-#: kilometre, from a slab 100 times wider than high to a needle 100 times higher than wide.
-#: Outside, the input is almost surely a mistake of units (and R = 1e308 m overflows Eq. 11).
+#: The usual sizes R [m] and slenderness ratios γ [-] of a Block: a rigid body from a millimetre
+#: to a kilometre, from a slab 100 times wider than high to a needle 100 times higher than wide.
+#: Outside, a Block warns (rocking.dynamics.body.BodyWarning): the input is more often a mistake
+#: of units than meant, but any finite R > 0 and γ > 0 is a body.
 R_RANGE_M = (1e-3, 1e3)
 GAMMA_RANGE = (1e-2, 1e2)
 #: The paper's time step of the motions and of the Runge–Kutta integration [s].
@@ -40,6 +41,13 @@ PULSE_SHAPES = (
 #: overturning spectra (:func:`rocking.overturning_spectrum`).
 PULSE_KAPPA_MAX = 20.0
 PULSE_N_SCAN = 256
+#: Extensions of the figure files Matplotlib writes (its ``savefig`` formats; tests/test_cli.py
+#: checks this list against the installed Matplotlib), so that a figure's name is checked before
+#: the work that draws it.
+FIGURE_FORMATS = (
+    *("eps", "jpeg", "jpg", "pdf", "pgf", "png", "ps", "raw", "rgba", "svg", "svgz", "tif"),
+    *("tiff", "webp"),
+)
 #: Names of the intensity functions (paper Fig. 2; :mod:`rocking.motions.envelopes`).
 ENVELOPE_NAMES = ("boxcar", "compound", "trapezoidal")
 #: Names of the shear-frame presets (paper Section 7; :data:`rocking.structures.frames.PRESETS`).

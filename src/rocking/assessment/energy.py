@@ -32,7 +32,7 @@ from ..dynamics.batch import block_list
 from ..dynamics.body import Block, G, housner_sv
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
-from ..motions.response import ResponseSpectrum, response_spectrum
+from ..motions.response import ResponseSpectrum, check_nyquist, response_spectrum
 from ..motions.targets import RG160, TabulatedSpectrum, TargetSpectrum
 
 #: Default number of log-spaced oscillator frequencies in the band [-].
@@ -97,6 +97,14 @@ def available_sv(
           log-spaced grid plus its table frequencies inside the band (PSV is monotonic between
           the knots of a log-log-linear table, so the maximum of a tabulated or RG 1.60
           spectrum is exact).
+
+        A table (tabulated target, response spectrum) must hold the frequency where the band's
+        largest PSV lies, and hold the band beyond it when that is one of its ends: a table of
+        5–20 Hz says nothing of 0.04–0.6 Hz (a tabulated target would be extrapolated there), and
+        one that rises towards its lowest frequency 0.1 Hz may have its band maximum below it.
+        Such a spectrum is refused (:class:`InputError`), as is a band above the Nyquist
+        frequency of an ensemble.  The check reads the spectrum at that one frequency for every
+        body: the available S_v does not depend on the body.
     band_hz : (float, float)
         Band [Hz], 0 < lower < upper; default the paper's 0.04–0.6 Hz.
     damping : float
@@ -118,6 +126,7 @@ def available_sv(
             f"agx scales an ensemble; it cannot be given with a {type(source).__name__}"
         )
     if isinstance(source, Ensemble):
+        check_nyquist(hi, source.dt, "band_hz")
         freqs = band_frequencies((lo, hi), n_freqs)
         sv = float(mean_psv(source, freqs, damping).max())
         return sv if agx is None else sv * positive("agx", agx, "g") / _agx_of(source)
@@ -129,8 +138,15 @@ def available_sv(
             )
         inside = (source.freqs_hz >= lo) & (source.freqs_hz <= hi)
         if not inside.any():
-            raise InputError(f"the response spectrum has no frequency in the band {lo:g}–{hi:g} Hz")
-        return float(source.mean().psv[inside].max())
+            raise InputError(
+                f"the response spectrum has no frequency in the band {lo:g}–{hi:g} Hz of the "
+                f"available S_v (it has {source.freqs_hz.size} from "
+                f"{source.freqs_hz.min():g} to {source.freqs_hz.max():g} Hz): it cannot judge "
+                "the bodies"
+            )
+        return _band_maximum(
+            source.freqs_hz[inside], source.mean().psv[inside], source.freqs_hz, (lo, hi)
+        )
     if isinstance(source, TargetSpectrum):
         if not math.isclose(source.damping, damping, rel_tol=1e-9):
             raise InputError(
@@ -139,7 +155,9 @@ def available_sv(
             )
         knots = _knots(source)
         freqs = np.union1d(band_frequencies((lo, hi), n_freqs), knots[(knots > lo) & (knots < hi)])
-        return float(source.psv(freqs).max())
+        table = source.freqs_hz if isinstance(source, TabulatedSpectrum) else None
+        name = f"the spectrum {source.name!r}"
+        return _band_maximum(freqs, source.psv(freqs), table, (lo, hi), name)
     raise InputError(
         "source must be an Ensemble, a ResponseSpectrum or a TargetSpectrum, got "
         f"{type(source).__name__}"
@@ -338,6 +356,42 @@ def _band(band_hz) -> tuple[float, float]:
     if not lo < hi:
         raise InputError(f"band_hz lower edge ({lo:g} Hz) must be below the upper ({hi:g} Hz)")
     return lo, hi
+
+
+def _band_maximum(
+    freqs: np.ndarray,
+    psv: np.ndarray,
+    table: np.ndarray | None,
+    band: tuple[float, float],
+    name: str = "the response spectrum",
+) -> float:
+    """The largest ``psv`` [m/s] at ``freqs`` [Hz] in ``band``, when the spectrum's ``table``
+    frequencies (None: a formula, defined everywhere) cover where it lies; else InputError."""
+    k = int(np.argmax(psv))
+    if table is None:
+        return float(psv[k])
+    lo, hi = band
+    f, first, last = float(freqs[k]), float(table.min()), float(table.max())
+    tol = 1e-9
+    covers = f"{name} covers {first:g}–{last:g} Hz"
+    if not first * (1 - tol) <= f <= last * (1 + tol):
+        problem = f"{covers}, none of the band {lo:g}–{hi:g} Hz of the available S_v"
+    elif f <= first * (1 + tol) and first > lo * (1 + tol):
+        problem = (
+            f"{covers}, and its PSV rises towards {first:g} Hz, so the largest PSV of the band "
+            f"{lo:g}–{hi:g} Hz of the available S_v may lie below, where it gives none"
+        )
+    elif f >= last * (1 - tol) and last < hi * (1 - tol):
+        problem = (
+            f"{covers}, and its PSV rises towards {last:g} Hz, so the largest PSV of the band "
+            f"{lo:g}–{hi:g} Hz of the available S_v may lie above, where it gives none"
+        )
+    else:
+        return float(psv[k])
+    raise InputError(
+        f"{problem}: it cannot judge the bodies; give a spectrum that covers the band (e.g. "
+        f"'rocking spectrum --fmin {lo:g}') or a band inside {first:g}–{last:g} Hz"
+    )
 
 
 def _knots(spectrum: TargetSpectrum) -> np.ndarray:

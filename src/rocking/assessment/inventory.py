@@ -6,7 +6,7 @@ friction coefficient μ [-].
 
 CSV (header row, then one item per row; header names are case-insensitive and may carry a unit in
 brackets, e.g. ``height [m]``; blank lines and lines starting with ``#`` are skipped; other
-columns, e.g. notes, are ignored)::
+columns, e.g. notes, are ignored; a column given twice, e.g. ``h`` and ``height``, is an error)::
 
     name,height,width,location,frame,mu
     battery rack,2.2,0.6,floor 3,paper-2.0,0.35
@@ -16,7 +16,8 @@ Columns: ``name``; ``height`` and ``width`` [m], or ``R`` [m] and ``gamma`` [-],
 whose mass is not uniform, ``h_cg`` (height of the centre of mass), ``b`` (horizontal distance
 from the centre of mass to each pivot edge) and ``r_g`` (radius of gyration about the centre of
 mass), all [m] (:meth:`rocking.Block.from_mass_properties`); ``location``:
-``ground`` or ``floor N`` (N = 1 … number of stories; ``floor 0`` is the ground); ``frame``
+``ground`` or ``floor N`` (N = 1 … number of stories; ``floor 0`` is read as the ground, with a
+warning); ``frame``
 (optional): a preset (``paper-2.0`` …), a frame defined in a TOML inventory, or a frame TOML file
 (relative to the inventory; see :meth:`rocking.structures.frames.ShearFrame.from_toml`); empty: the
 default
@@ -184,6 +185,8 @@ def read_inventory(
         When items have μ ≤ B/H.
     """
     path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such inventory file")
     if path.suffix.lower() == ".toml":
         rows, defined, default = _toml_rows(path)
     else:
@@ -260,6 +263,13 @@ def _keys(headers) -> list[str]:
     return ["b" if general and p == "b" else _key(h) for p, h in zip(plain, headers)]
 
 
+def _repeated(keys: list[str]) -> str | None:
+    """The first field of :data:`_FIELDS` that ``keys`` name twice (e.g. ``h`` and ``height``),
+    or None."""
+    fields = [k for k in keys if k in _FIELDS]
+    return next((k for i, k in enumerate(fields) if k in fields[:i]), None)
+
+
 def _csv_rows(path: Path) -> list[tuple[str, dict]]:
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
@@ -272,6 +282,12 @@ def _csv_rows(path: Path) -> list[tuple[str, dict]]:
         raise InputError(f"{path}: empty inventory file")
     head_row, head = lines[0]
     keys = _keys(head)
+    twice = _repeated(keys)
+    if twice:
+        raise InputError(
+            f"{path}: row {head_row}: two columns are {twice!r} ({','.join(head)!r}): which "
+            "one holds the values is not clear"
+        )
     if "name" not in keys or "location" not in keys:
         raise InputError(
             f"{path}: row {head_row}: the header must name the columns name, "
@@ -308,10 +324,13 @@ def _toml_rows(path: Path) -> tuple[list[tuple[str, dict]], dict, str | None]:
     if default is not None and not isinstance(default, str):
         raise InputError(f"{path}: frame must be the name of a frame, got {default!r}")
     rows = [(f"item {i}", dict(zip(_keys(it), it.values()))) for i, it in enumerate(items, start=1)]
-    for _where, fields in rows:
+    for (_where, fields), item in zip(rows, items):
         extra = set(fields) - set(_FIELDS)
+        twice = _repeated(_keys(item))
         if extra:
             fields["_error"] = f"unknown key(s) {', '.join(sorted(extra))}"
+        elif twice:
+            fields["_error"] = f"two keys are {twice!r} (e.g. h and height): give it once"
     return rows, defined, default
 
 
@@ -332,7 +351,7 @@ def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None)
             return None
 
     block = check(_block, fields)
-    floor, frame = check(_location, fields, frames, default) or (None, None)
+    floor, frame = check(_location, fields, frames, default, where) or (None, None)
     e = check(_restitution, fields.get("e"), block) if block is not None else None
     mu = check(_optional_positive, "mu", fields.get("mu"))
     if problems or block is None or floor is None or e is None:
@@ -369,7 +388,7 @@ def _block(fields: dict) -> Block:
     raise InputError(f"missing {' and '.join(missing)}")
 
 
-def _location(fields: dict, frames: _Frames, default: ShearFrame | None):
+def _location(fields: dict, frames: _Frames, default: ShearFrame | None, where: str):
     text = str(fields.get("location", "")).strip()
     if not text:
         raise InputError("missing location ('ground' or 'floor N')")
@@ -379,6 +398,12 @@ def _location(fields: dict, frames: _Frames, default: ShearFrame | None):
     frame_name = str(fields.get("frame", "")).strip()
     frame = frames.get(frame_name) if frame_name else default
     floor = 0 if match.group(1) else int(match.group(2))
+    if floor == 0 and not match.group(1):
+        warnings.warn(
+            f"{where}: location {text!r} is read as the ground, the base of the frame (its "
+            "floors count from 1); write 'ground' if that is meant",
+            stacklevel=2,
+        )
     if floor == 0:
         return 0, None
     if frame is None:

@@ -49,11 +49,11 @@ from ..montecarlo.statistics import LognormalFit
 from ..motions.design import design_pga, parse_spectrum
 from ..motions.ensemble import Ensemble
 from ..motions.intensity import intensity_measures
-from ..motions.response import ResponseSpectrum, response_spectrum
+from ..motions.response import ResponseSpectrum, check_nyquist, response_spectrum
 from ..motions.synthesis import generate
 from ..motions.targets import TargetSpectrum
 from ..structures.frames import ShearFrame
-from .energy import BAND_HZ, SAFE, assess, band_frequencies
+from .energy import BAND_HZ, SAFE, assess, available_sv, band_frequencies
 from .inventory import Inventory, Item, read_inventory
 from .risk import HazardCurve, annual_rate
 
@@ -208,6 +208,7 @@ def screen(
     inventory = _inventory(inventory, frame)
     if not isinstance(spectrum, TargetSpectrum):
         spectrum = parse_spectrum(spectrum)
+    available_sv(spectrum, band_hz=band_hz, damping=spectrum.damping)  # it covers the band
     if hazard is not None:
         hazard = _hazard_curve(hazard, floor_motions)
         years = positive("years", years, "yr")
@@ -215,6 +216,7 @@ def screen(
         ensemble = generate(n, duration=duration, dt=dt, target=spectrum, seed=seed)
     elif ensemble.meta.get("location") != "ground":
         raise InputError(f"ensemble must be ground motions, got {ensemble.meta.get('location')}")
+    check_nyquist(max(band_hz), ensemble.dt, "band_hz")  # the floors' spectra, before any work
     agx = design_pga(spectrum)
     ground = ensemble.scaled(agx)
     settings = _MonteCarlo(resolution, agx_max, confidence, backend, progress)

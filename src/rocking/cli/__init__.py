@@ -5,11 +5,15 @@ Each module of this package defines a list ``COMMANDS`` of click commands or gro
 (start-up time: the studies import Matplotlib, which most commands do not need).
 Errors are printed in one line, never as a traceback:
 
-* the user's input (:class:`rocking.errors.InputError`), the machine (a file that cannot be read or
+* the user's input (:class:`rocking.errors.InputError`, and click's own errors of the command
+  line: an unknown option, a missing or malformed value), the machine (a file that cannot be read or
   written: ``OSError``) or the computing backend (:class:`rocking.errors.BackendError`):
   ``Error: ...``, exit status 1;
 * anything else is a bug in ``rocking``: the message says so, the traceback is saved to a file
   whose path is printed (for a bug report), exit status 70 (``EX_SOFTWARE``).
+
+Warnings (e.g. a body outside the usual range of sizes) are one line each on standard error,
+``warning: ...``.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ import os
 import signal
 import sys
 import traceback
+import warnings
 from pathlib import Path
 
 import click
@@ -64,9 +69,21 @@ class _Main(click.Group):
         mod = importlib.import_module(f"{__name__}.{module}")
         return next(cmd for cmd in mod.COMMANDS if cmd.name == cmd_name)
 
+    def make_context(self, info_name, args, parent=None, **extra):
+        try:
+            return super().make_context(info_name, args, parent=parent, **extra)
+        except click.exceptions.NoArgsIsHelpError:
+            raise  # `rocking` alone prints its help
+        except click.UsageError as exc:  # an option of the main group itself
+            raise _usage_error(exc) from None
+
     def invoke(self, ctx):
         try:
             return super().invoke(ctx)
+        except click.exceptions.NoArgsIsHelpError:
+            raise  # a group alone (`rocking motions`) prints its help
+        except click.UsageError as exc:
+            raise _usage_error(exc) from None
         except BrokenPipeError:
             # the reader of our output went away (e.g. `| head`): stop quietly
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
@@ -79,6 +96,18 @@ class _Main(click.Group):
             raise  # click's own messages and control flow (--help and --version end with Exit)
         except Exception as exc:
             raise _Bug(exc) from None
+
+
+def _usage_error(exc: click.UsageError) -> click.ClickException:
+    """click's error of the command line (unknown option, bad value) in one line with exit status
+    1, as every input error, instead of click's usage, hint and error lines (exit status 2)."""
+    where = f" (see '{exc.ctx.command_path} --help')" if exc.ctx is not None else ""
+    return click.ClickException(" ".join(exc.format_message().split()) + where)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings in one line on standard error, without the source line."""
+    click.echo(f"warning: {_one_line(Warning(message))}", err=True)
 
 
 class _Bug(click.ClickException):
@@ -139,6 +168,7 @@ def main() -> None:
     from ..core.process import configure_process
 
     configure_process()  # before any parallel kernel runs
+    warnings.showwarning = _show_warning
     # SIGTERM (a batch system's stop) unwinds like Ctrl-C, so that long runs record their
     # status as failed in run.json; finished chunks are already on disk.
     signal.signal(signal.SIGTERM, _terminate)

@@ -1,8 +1,13 @@
 """Options and input parsers shared by the commands, each parsed in one place.
 
-This module imports nothing heavy (only click and the standard library; NumPy and the numerical
-modules inside the functions that need them), so that the command line answers ``--help`` and a
-mistyped option at once.
+This module imports nothing heavy (only click, the standard library and the light checks of
+:mod:`rocking.core.checks`; NumPy and the numerical modules inside the functions that need them),
+so that the command line answers ``--help`` and a mistyped option at once.
+
+Every size a user can type (numbers of motions, levels, frequencies, iterations, resamples) is a
+:func:`count` option, bounded by :data:`rocking.core.checks.LIMITS`; every acceleration in g a
+:data:`G_LEVEL` option (at most :data:`rocking.core.checks.MAX_G`); every seed a :data:`SEED`
+option; every figure file is checked by :func:`figure_file`; all of it before any work.
 """
 
 from __future__ import annotations
@@ -15,7 +20,8 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
-from ..defaults import BAND_HZ, DEFAULT_E, FRAME_PRESETS
+from ..core import checks
+from ..defaults import BAND_HZ, DEFAULT_E, FIGURE_FORMATS, FRAME_PRESETS
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -37,7 +43,9 @@ BAND_TEXT = f"{BAND_HZ[0]:g}:{BAND_HZ[1]:g}"
 
 def parse_range(text: str, option: str = "--agx", unit: str = "g") -> np.ndarray:
     """Values of ``start:stop:step`` [``unit``] (stop included when within 1e-9·step) or of one
-    number, as a NumPy array; all must be > 0.
+    number, as a NumPy array; all must be > 0, at most :data:`rocking.core.checks.MAX_G` when
+    ``unit`` is g, and their number at most the limit of levels (counted before the values are
+    made).
 
     Values are rounded to 12 significant digits, so 0.1:0.3:0.1 gives 0.1, 0.2, 0.3 exactly as
     written rather than 0.30000000000000004.
@@ -63,9 +71,18 @@ def parse_range(text: str, option: str = "--agx", unit: str = "g") -> np.ndarray
             f"{option} {text} is an empty range: stop ({stop:g} {unit}) is below "
             f"start ({start:g} {unit})"
         )
-    n = math.floor((stop - start) / step + 1e-9) + 1
+    if unit == "g" and stop > checks.MAX_G:
+        raise InputError(f"{option} {text}: " + checks.too_strong("the highest level", stop))
+    n = checks.count(
+        f"{option} {text}: the number of levels", _levels_in(start, stop, step), "levels"
+    )
     values = start + step * np.arange(n, dtype=np.float64)
     return np.array([float(f"{v:.12g}") for v in values.tolist()])
+
+
+def _levels_in(start: float, stop: float, step: float) -> int:
+    """Number of values of start:stop:step (stop included when within 1e-9·step)."""
+    return math.floor((stop - start) / step + 1e-9) + 1
 
 
 def parse_band(text: str) -> tuple[float, float]:
@@ -150,6 +167,72 @@ def print_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> None:
     for r in (header, *rows):
         cells = [r[0].ljust(widths[0]), *(c.rjust(w) for c, w in zip(r[1:], widths[1:]))]
         click.echo("  ".join(cells).rstrip())
+
+
+def figure_file(path: str | None, option: str) -> Path | None:
+    """Check, before any work, that ``path`` of ``option`` names a figure Matplotlib can write
+    (its extension one of :data:`rocking.defaults.FIGURE_FORMATS`, or none: PNG) in a writable
+    folder."""
+    if path is None:
+        return None
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix and suffix not in FIGURE_FORMATS:
+        raise InputError(
+            f"{option} {path}: Matplotlib cannot write a figure as .{suffix}; use one of "
+            f"{', '.join('.' + f for f in FIGURE_FORMATS)}"
+        )
+    return writable_file(path, option)
+
+
+# --------------------------------------------------------------------------- option types
+
+
+class _Count(click.ParamType):
+    """An integer size of the kind ``kind`` of :data:`rocking.core.checks.LIMITS`, from
+    ``minimum`` to its limit."""
+
+    name = "integer"
+
+    def __init__(self, kind: str, minimum: int = 1):
+        self.kind, self.minimum = kind, minimum
+
+    def convert(self, value, param, ctx):
+        number = click.INT.convert(value, param, ctx)
+        return checks.count(_name(param), number, self.kind, self.minimum)
+
+
+class _Seed(click.ParamType):
+    """A seed from 0 to :data:`rocking.core.checks.MAX_SEED`."""
+
+    name = "integer"
+
+    def convert(self, value, param, ctx):
+        return checks.seed(_name(param), click.INT.convert(value, param, ctx))
+
+
+class _Intensity(click.ParamType):
+    """An acceleration [g] > 0 and at most :data:`rocking.core.checks.MAX_G`."""
+
+    name = "float"
+
+    def convert(self, value, param, ctx):
+        return checks.intensity_g(_name(param), click.FLOAT.convert(value, param, ctx))
+
+
+def _name(param: click.Parameter | None) -> str:
+    return "value" if param is None else max(param.opts, key=len)
+
+
+def count(kind: str, minimum: int = 1) -> click.ParamType:
+    """The click type of an option that is a size of ``kind`` (a key of
+    :data:`rocking.core.checks.LIMITS`: "motions", "levels", "frequencies", ...)."""
+    return _Count(kind, minimum)
+
+
+#: The click type of every seed option.
+SEED = _Seed()
+#: The click type of every option that is an acceleration in g (PGA, A_gx).
+G_LEVEL = _Intensity()
 
 
 # --------------------------------------------------------------------------- options

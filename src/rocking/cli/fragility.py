@@ -20,9 +20,12 @@ import click
 from ..defaults import AGX, N_BOOT
 from ._options import (
     BAND_TEXT,
+    G_LEVEL,
+    SEED,
     band_option,
     bodies_option,
     connect_timeout_option,
+    count,
     e_option,
     frame_and_floor,
     frame_option,
@@ -202,14 +205,12 @@ _run_options = options(
 )
 @click.option(
     "--n-boot",
-    type=click.IntRange(0),
+    type=count("bootstrap resamples", 0),
     default=N_BOOT,
     show_default=True,
     help="Bootstrap resamples of the motions for the intervals of median and beta (0: none).",
 )
-@click.option(
-    "--seed", type=click.IntRange(0), default=0, show_default=True, help="Bootstrap seed."
-)
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Bootstrap seed.")
 @click.option(
     "--im-efficiency",
     "compare_text",
@@ -249,10 +250,14 @@ def fragility_cmd(
     median lies at or outside the levels tested), fragility.png, im_efficiency.csv with
     --im-efficiency, report.html and run.json (parameters and status).
     """
+    # a range too long or too strong is refused at once: the IMs' module takes a second to load
+    for option, text in (("--agx", agx_text), ("--levels", levels_text)):
+        if text is not None:
+            parse_range(text, option, unit="g" if option == "--agx" else "of the IM's unit")
     from ..montecarlo.fragility import AnalysisIM
 
     measure = AnalysisIM.parse(im_text)
-    levels = _levels(measure.name, method, agx_text, levels_text, stripes_path)
+    levels = _levels(measure.name, method, agx_text, levels_text, stripes_path, measure.unit)
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
@@ -375,7 +380,12 @@ def _extrapolated(ds: xr.Dataset) -> dict[str, float]:
 
 
 def _levels(
-    im: str, method: str, agx_text: str | None, levels_text: str | None, stripes: str | None
+    im: str,
+    method: str,
+    agx_text: str | None,
+    levels_text: str | None,
+    stripes: str | None,
+    unit: str,
 ) -> np.ndarray | None:
     """The IDA levels of the options (None for MSA and cloud), checked before any work."""
     if agx_text is not None and im != AGX:
@@ -394,7 +404,7 @@ def _levels(
         return parse_range(agx_text or levels_text or "0.1:1.5:0.05")
     if levels_text is None:
         raise click.UsageError(f"--method ida needs --levels of {im}")
-    return parse_range(levels_text, "--levels", unit="of the IM's unit")
+    return parse_range(levels_text, "--levels", unit=unit)
 
 
 def _im_list(text: str) -> list[str]:
@@ -557,10 +567,10 @@ def efficiency_section(report: Report, efficiency: pd.DataFrame) -> None:
 )
 @click.option(
     "--agx-max",
-    type=click.FloatRange(0.0, min_open=True),
+    type=G_LEVEL,
     default=5.0,
     show_default=True,
-    help="Largest A_gx searched [g]; beyond it A_gx50 is NaN.",
+    help="Largest A_gx searched [g], at most 10; beyond it A_gx50 is NaN.",
 )
 @band_option
 def agx50_cmd(
@@ -595,7 +605,10 @@ def agx50_cmd(
     from ..assessment.energy import energy_balance, forms_grid, grid_table
     from ..core.runs import RunFolder
     from ..montecarlo.probability import agx_50
+    from ..motions.response import check_nyquist
     from ..plots.fragility import plot_sv_agx
+
+    check_nyquist(band[1], ensemble.dt, f"--band {band_text}")  # before the search, not after
 
     blocks = [b.block for b in bodies]
     progress = reporter(quiet)
@@ -701,7 +714,7 @@ def agx50_cmd(
 )
 @click.option(
     "--agx",
-    type=click.FloatRange(0.0, min_open=True),
+    type=G_LEVEL,
     default=None,
     help="Scale an ensemble (.nc) to this A_gx [g] (mean PGA) first.",
 )

@@ -10,12 +10,13 @@ import click
 from ..core.files import save_figure
 from ..defaults import BAND_HZ, FRAME_PRESETS, G
 from ..errors import InputError
-from ._options import quiet_option, reporter, writable_file
+from ._options import G_LEVEL, SEED, count, figure_file, quiet_option, reporter, writable_file
 
 if TYPE_CHECKING:
     from ..structures.frames import ShearFrame
 
-#: Frequencies of the floor spectra [Hz]: 0.04–30 Hz as paper Fig. 12, 100 per decade (289).
+#: Frequencies of the floor spectra [Hz]: 0.04–30 Hz as paper Fig. 12, 100 per decade (289),
+#: those above the Nyquist frequency of the motions left out.
 _FREQS = (0.04, 30.0, 289)
 
 _frame_arg = click.argument("preset", required=False, metavar="[PRESET]")
@@ -60,7 +61,7 @@ def show(preset: str | None, frame_file: str | None, plot_path: str | None) -> N
     """Print a frame's floors, periods, participation factors and mode shapes."""
     from ..structures.frames import PRESETS
 
-    writable_file(plot_path, "--plot")
+    figure_file(plot_path, "--plot")
     frame = _frame(preset, frame_file)
     stories = "story" if frame.n_stories == 1 else "stories"
     click.echo(
@@ -92,7 +93,7 @@ def show(preset: str | None, frame_file: str | None, plot_path: str | None) -> N
 @_frame_file_opt
 @click.option(
     "--agx",
-    type=click.FloatRange(0.0, min_open=True),
+    type=G_LEVEL,
     default=0.6,
     show_default=True,
     help="A_gx [g] to which the ground and every floor ensemble are scaled.",
@@ -100,12 +101,10 @@ def show(preset: str | None, frame_file: str | None, plot_path: str | None) -> N
 @click.option(
     "--n",
     "n_motions",
-    type=click.IntRange(min=1),
+    type=count("motions"),
     help="Number of motions to generate (RG 1.60, compound, 20 s)  [default: 200]",
 )
-@click.option(
-    "--seed", type=click.IntRange(min=0), help="Seed of the generated motions  [default: 0]"
-)
+@click.option("--seed", type=SEED, help="Seed of the generated motions  [default: 0]")
 @click.option(
     "--motions",
     "motions_path",
@@ -147,7 +146,7 @@ def spectra(
     """Mean pseudo-velocity spectra of the ground and every floor, all scaled to the same A_gx
     (paper Fig. 12)."""
     frame = _frame(preset, frame_file)
-    writable_file(plot_path, "--out")
+    figure_file(plot_path, "--out")
     writable_file(csv_path, "--csv")
     if motions_path and (n_motions is not None or seed is not None):
         raise InputError("--n and --seed describe generated motions; leave them out with --motions")
@@ -171,6 +170,7 @@ def spectra(
                     n, duration=20.0, envelope="compound", seed=0 if seed is None else seed
                 )
                 stage.update(n)
+        freqs_hz = freqs_hz[freqs_hz <= 0.5 / ground.dt]  # a record's Nyquist frequency
         locations = frame.floor_ensembles(ground)
         labels = ["ground"] + [f"floor {i}" for i in range(1, frame.n_stories + 1)]
         rows = []

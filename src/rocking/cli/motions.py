@@ -9,7 +9,16 @@ import click
 
 from ..defaults import DT, ENVELOPE_NAMES, FIT_BAND
 from ..errors import InputError
-from ._options import options, overwrite_option, quiet_option, reporter, writable_file
+from ._options import (
+    G_LEVEL,
+    SEED,
+    count,
+    options,
+    overwrite_option,
+    quiet_option,
+    reporter,
+    writable_file,
+)
 from .spectrum import UNIT_NAMES
 
 if TYPE_CHECKING:
@@ -36,7 +45,7 @@ _ensemble_options = options(
     click.option(
         "--n",
         "n",
-        type=click.IntRange(1),
+        type=count("motions"),
         default=200,
         show_default=True,
         help="Number of motions.",
@@ -74,7 +83,7 @@ def motions() -> None:
 @_ensemble_options
 @click.option(
     "--seed",
-    type=click.IntRange(0),
+    type=SEED,
     default=0,
     show_default=True,
     help="Root seed; member k is the same motion for any --n.",
@@ -87,7 +96,7 @@ def motions() -> None:
 )
 @click.option(
     "--iterations",
-    type=click.IntRange(0),
+    type=count("iterations", 0),
     default=0,
     show_default=True,
     help="PSD iterations of the iterative correction (0: the paper's method alone).",
@@ -162,13 +171,13 @@ def _with_and_without_baseline(ens: Ensemble) -> tuple[np.ndarray, np.ndarray]:
 @click.argument("ensemble", type=click.Path(exists=True, dir_okay=False))
 @click.option(
     "--agx",
-    type=click.FloatRange(0.0, min_open=True),
+    type=G_LEVEL,
     default=None,
     help="Scale the ensemble to this mean PGA A_gx [g] first.",
 )
 @click.option(
     "--samples",
-    type=click.IntRange(1),
+    type=count("sample motions"),
     default=3,
     show_default=True,
     help="Members drawn with and without baseline correction.",
@@ -269,7 +278,7 @@ def show(
         f"A_gx = {ens.agx:.4g} g"
     )
     click.echo(
-        f"mean PSA against {target.name} over {FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz "
+        f"mean PSA against {target.name} over {fit.freqs_hz[0]:.3g}–{fit.freqs_hz[-1]:.3g} Hz "
         f"({fit.freqs_hz.size} frequencies): max deviation {100 * fit.max_deviation:.1f} % "
         f"(at {fit.freqs_hz[worst]:.3g} Hz), mean deviation "
         f"{100 * fit.mean_deviation:.1f} %"
@@ -279,17 +288,17 @@ def show(
 
 @motions.command("fit")
 @_ensemble_options
-@click.option("--seed", type=click.IntRange(0), default=0, show_default=True, help="Root seed.")
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Root seed.")
 @click.option(
     "--iterations",
-    type=click.IntRange(1),
+    type=count("iterations"),
     default=2,
     show_default=True,
     help="PSD iterations of the iterative correction.",
 )
 @click.option(
     "--per-decade",
-    type=click.IntRange(1),
+    type=count("frequencies per decade"),
     default=100,
     show_default=True,
     help="Frequencies per decade at which the fit is checked.",
@@ -390,7 +399,7 @@ def fit_cmd(
         worst = int(np.argmax(np.abs(fit.ratio - 1.0)))
         click.echo(
             f"{label}: mean PSA / target {fit.ratio.min():.3f}–{fit.ratio.max():.3f} over "
-            f"{FIT_BAND[0]:g}–{FIT_BAND[1]:g} Hz ({freqs.size} frequencies), max "
+            f"{freqs[0]:.3g}–{freqs[-1]:.3g} Hz ({freqs.size} frequencies), max "
             f"deviation {100 * fit.max_deviation:.1f} % at {freqs[worst]:.3g} Hz; "
             f"A_gx = {ens.agx:.3f} g (std {ens.pga.std():.3f} g)"
         )

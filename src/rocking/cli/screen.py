@@ -11,7 +11,15 @@ from typing import TYPE_CHECKING
 import click
 
 from ..defaults import SPECTRUM_SYNTAX
-from ._options import connect_timeout_option, overwrite_option, quiet_option, reporter
+from ._options import (
+    G_LEVEL,
+    SEED,
+    connect_timeout_option,
+    count,
+    overwrite_option,
+    quiet_option,
+    reporter,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -55,14 +63,12 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
 @click.option(
     "--n",
     "n_motions",
-    type=click.IntRange(min=1),
+    type=count("motions"),
     default=200,
     show_default=True,
     help="Number of spectrum-compatible motions.",
 )
-@click.option(
-    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the motions."
-)
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the motions.")
 @click.option(
     "--duration",
     type=click.FloatRange(0.0, min_open=True),
@@ -72,14 +78,14 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
 )
 @click.option(
     "--resolution",
-    type=click.FloatRange(0.0, min_open=True),
+    type=click.FloatRange(1e-6),
     default=0.01,
     show_default=True,
-    help="Resolution of the A_gx50 search [g].",
+    help="Resolution of the A_gx50 search [g], >= 1e-6 (as agx50's).",
 )
 @click.option(
     "--agx-max",
-    type=click.FloatRange(0.0, min_open=True),
+    type=G_LEVEL,
     default=5.0,
     show_default=True,
     help="Upper end of the A_gx50 search [g].",
@@ -239,6 +245,7 @@ def _read_inputs(
     """The inventory file (``example``: the shipped one), the design spectrum, the inventory
     read with the default ``frame`` (a preset or a frame TOML file) and the warnings of reading
     it (each echoed to standard error)."""
+    from ..assessment.energy import available_sv
     from ..assessment.inventory import read_inventory
     from ..motions.design import parse_spectrum
     from ..structures.frames import ShearFrame
@@ -255,6 +262,7 @@ def _read_inputs(
         if spectrum_text == "example" and not Path(spectrum_text).exists()
         else spectrum_text
     )
+    available_sv(spectrum, damping=spectrum.damping)  # refuses one that does not cover the band
     default_frame = ShearFrame.from_toml(frame) if frame and Path(frame).is_file() else frame
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -12,7 +12,7 @@ import click
 
 from ..defaults import G
 from ..errors import InputError
-from ._options import R_option, e_option, gamma_option, parse_e, reporter, writable_file
+from ._options import G_LEVEL, R_option, e_option, figure_file, gamma_option, parse_e, reporter
 
 if TYPE_CHECKING:
     import numpy as np
@@ -131,10 +131,10 @@ def _text(s: dict) -> list[str]:
 @click.option(
     "--scale-g",
     "scale_g",
-    type=float,
+    type=G_LEVEL,
     default=None,
-    help="Scale the motion by one factor so that its peak acceleration (PGA) is this many g "
-    "(default: the motion as it is).",
+    help="Scale the motion by one factor so that its peak acceleration (PGA) is this many g, "
+    "at most 10 (default: the motion as it is).",
 )
 @e_option
 @click.option(
@@ -183,12 +183,11 @@ def simulate_cmd(
 
     block = Block(R, gamma)
     e = parse_e(e_text)
-    peak_g = None if scale_g is None else positive("--scale-g", scale_g, "g")
     dt = None if dt is None else positive("--dt", dt, "s")
-    writable_file(plot_path, "--plot")
+    figure_file(plot_path, "--plot")
     with reporter():
         ag, step, name = load_motion(motion, dt)
-        ag, factor = (ag, 1.0) if peak_g is None else scale_to_peak(ag, peak_g)
+        ag, factor = (ag, 1.0) if scale_g is None else scale_to_peak(ag, scale_g)
         response = simulate(block, ag, step, e=e, overturn_angle=_OVERTURN[overturn])
     summary = run_summary(block, response, ag, step, name, factor)
     if as_json:

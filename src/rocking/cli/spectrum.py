@@ -8,7 +8,7 @@ import click
 
 from ..defaults import G
 from ..errors import InputError
-from ._options import reporter, writable_file
+from ._options import count, figure_file, reporter, writable_file
 
 if TYPE_CHECKING:
     import numpy as np
@@ -62,7 +62,7 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
 @click.option(
     "--n",
     "n_freq",
-    type=click.IntRange(2),
+    type=count("frequencies", 2),
     default=100,
     show_default=True,
     help="Number of frequencies, log-spaced from fmin to fmax.",
@@ -111,7 +111,7 @@ def spectrum(
     if fmax is not None and not fmin < fmax:
         raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
     writable_file(csv_path, "--csv")
-    writable_file(plot_path, "--plot")
+    figure_file(plot_path, "--plot")
 
     from ..core import portable
     from ..motions.records import read_records

@@ -1,17 +1,68 @@
-"""Small input checks shared by the public functions (errors name the parameter)."""
+"""Small input checks shared by the public functions (errors name the parameter), and the
+bounds of every size and intensity a user can type (:data:`LIMITS`, :data:`MAX_G`,
+:data:`MAX_SEED`), checked before any work.
+
+NumPy is imported by the functions that need it, so that the command line can check its
+options with this module before anything heavy is loaded.
+"""
 
 from __future__ import annotations
 
 import math
+import numbers
 import os
 import tomllib
 from pathlib import Path
-from typing import Any
-
-import numpy as np
-from numpy.typing import ArrayLike
+from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import ArrayLike
+
+#: Largest value of each kind of size a user can give (command-line options, ``--set`` keys,
+#: API arguments), with the reason: above it the work would take hours or more memory than a
+#: workstation has, for no gain in accuracy.  A size is checked against its limit before
+#: anything is built from it (:func:`count`).
+LIMITS: dict[str, tuple[int, str]] = {
+    "motions": (
+        100_000,
+        "the paper's studies use 200-500 motions, and 100,000 motions of 20 s at 1/400 s "
+        "already take 6.4 GB",
+    ),
+    "levels": (
+        10_000,
+        "a fragility curve is drawn from tens of levels, and each level simulates every body "
+        "under every motion",
+    ),
+    "frequencies": (
+        10_000,
+        "a response spectrum is smooth at 100 frequencies per decade, and each frequency is "
+        "an oscillator run through every sample of every motion",
+    ),
+    "frequencies per decade": (
+        1_000,
+        "US SRP 3.7.1 checks the fit at 100 per decade, and each frequency is an oscillator "
+        "run through every sample of every motion",
+    ),
+    "iterations": (
+        20,
+        "the correction brings the mean spectrum to the target in a few iterations, and each "
+        "one simulates the pilot motions again",
+    ),
+    "bootstrap resamples": (
+        2_000,
+        "1000-2000 resamples are enough for percentile intervals (Efron & Tibshirani 1993, "
+        "Sec. 19.3), and each one refits every body",
+    ),
+    "sample motions": (100, "each one is drawn in the figure"),
+}
+#: Largest acceleration intensity (PGA, A_gx, PSA, a design spectrum's ZPA) accepted [g]: the
+#: largest peaks ever recorded are about 3-4 g, so a larger value is a mistake of units.
+MAX_G = 10.0
+#: Largest seed [-]: seeds are stored in netCDF (classic format) attributes, 32-bit integers.
+MAX_SEED = 2**31 - 1
 
 
 def positive(name: str, value: float | str, unit: str = "") -> float:
@@ -52,6 +103,8 @@ def finite_array(
     name: str, values: ArrayLike, *, ndim: tuple[int, ...] = (1,), min_len: int = 1
 ) -> np.ndarray:
     """Return ``values`` as a C-contiguous float64 array, or raise on NaN/inf/empty/wrong shape."""
+    import numpy as np
+
     try:
         a = np.ascontiguousarray(values, dtype=np.float64)
     except (TypeError, ValueError):
@@ -68,6 +121,50 @@ def finite_array(
         where = ", ".join(str(int(i)) for i in idx)
         raise InputError(f"{name} contains a non-finite value ({a[tuple(idx)]}) at index {where}")
     return a
+
+
+def count(name: str, value: object, kind: str, minimum: int = 1) -> int:
+    """``value`` as an int from ``minimum`` to the limit of ``kind`` in :data:`LIMITS`, or an
+    :class:`InputError` naming ``name``, the limit and why (checked before anything is built
+    from the size)."""
+    limit, why = LIMITS[kind]
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise InputError(f"{name} must be an integer, got {value!r}")
+    value = int(value)
+    if value < minimum:
+        raise InputError(f"{name} must be an integer >= {minimum}, got {value}")
+    if value > limit:
+        raise InputError(f"{name} {value:,} is above the limit of {limit:,} {kind}: {why}")
+    return int(value)
+
+
+def seed(name: str, value: object) -> int:
+    """A seed: an int from 0 to :data:`MAX_SEED`, or an :class:`InputError` naming ``name``."""
+    ok = isinstance(value, numbers.Integral) and not isinstance(value, bool)
+    if not ok or not 0 <= int(value) <= MAX_SEED:  # type: ignore[call-overload]
+        raise InputError(
+            f"{name} must be an integer from 0 to {MAX_SEED} (2**31 - 1: seeds are stored "
+            f"in netCDF files as 32-bit integers), got {value!r}"
+        )
+    return int(value)  # type: ignore[call-overload]
+
+
+def intensity_g(name: str, value: float | str) -> float:
+    """An acceleration intensity [g] (PGA, A_gx, PSA, ZPA): a finite number > 0 and at most
+    :data:`MAX_G`, or an :class:`InputError` saying that more is a mistake of units."""
+    x = positive(name, value, "g")
+    if x > MAX_G:
+        raise InputError(too_strong(name, x))
+    return x
+
+
+def too_strong(what: str, value_g: float) -> str:
+    """The message for an acceleration ``value_g`` [g] above :data:`MAX_G`."""
+    return (
+        f"{what} = {value_g:g} g is above {MAX_G:g} g, more than any earthquake (the largest "
+        "recorded peaks are about 3-4 g): certainly a mistake of units (m/s² or cm/s² read "
+        "as g?)"
+    )
 
 
 HOUSNER = "housner"

@@ -15,6 +15,7 @@ r_g² = R²/3.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 from ..core.checks import HOUSNER, in_range, positive, restitution
@@ -29,6 +30,10 @@ PAPER_R_FT = tuple(range(4, 12))
 PAPER_GAMMAS = tuple(2.0 + 0.5 * i for i in range(9))
 
 
+class BodyWarning(UserWarning):
+    """A body that is legal but unusual (sizes outside the usual range, height below width)."""
+
+
 @dataclass(frozen=True)
 class Block:
     """A rigid body that can rock on either of two bottom edges: a homogeneous rectangular block,
@@ -37,17 +42,23 @@ class Block:
     Parameters
     ----------
     R : float
-        Size parameter [m], in :data:`rocking.defaults.R_RANGE_M` (1 mm to 1 km): half the
-        diagonal ½·sqrt(H² + B²) of a block; in general the distance from a pivot edge to the
-        centre of mass, sqrt(h_cg² + b²).
+        Size parameter [m], finite, > 0: half the diagonal ½·sqrt(H² + B²) of a block; in
+        general the distance from a pivot edge to the centre of mass, sqrt(h_cg² + b²).
     gamma : float
-        Slenderness ratio [-], in :data:`rocking.defaults.GAMMA_RANGE` (0.01 to 100; γ < 1 is a
-        squat block: legal, just stable): H/B of a block, h_cg/b in general.
+        Slenderness ratio [-], finite, > 0 (γ < 1 is a squat block: legal, just stable): H/B of
+        a block, h_cg/b in general.
     r_g : float or None
-        Radius of gyration about the centre of mass [m] (same range as R); ``None`` (default)
+        Radius of gyration about the centre of mass [m], finite, > 0; ``None`` (default)
         for a homogeneous rectangular block, whose r_g² = R²/3 (computed by the block's own
         formulas, so that ``Block(R, gamma)`` gives the paper's numbers exactly).  See
         :meth:`from_mass_properties`.
+
+    Warns
+    -----
+    BodyWarning
+        When R, γ or r_g lies outside the usual range of bodies (:data:`rocking.defaults.R_RANGE_M`,
+        1 mm to 1 km, and :data:`rocking.defaults.GAMMA_RANGE`, 0.01 to 100): legal (a slender
+        limit study may want γ = 200), but more often a mistake of units.
     """
 
     R: float
@@ -64,18 +75,30 @@ class Block:
             object.__setattr__(self, "r_g", r_g)
         for name, value, (lo, hi), unit in checks:
             if not lo <= value <= hi:
-                raise InputError(
-                    f"{name} = {value:g}{unit} is outside the range of bodies the "
-                    f"model is meant for ({lo:g} to {hi:g}{unit}); check the units"
+                warnings.warn(
+                    f"{name} = {value:g}{unit} is outside the usual range of bodies ({lo:g} to "
+                    f"{hi:g}{unit}); check the units if that is not meant",
+                    BodyWarning,
+                    stacklevel=3,
                 )
         object.__setattr__(self, "R", R)
         object.__setattr__(self, "gamma", gamma)
 
     @classmethod
     def from_dimensions(cls, H: float, B: float) -> Block:
-        """Block of height ``H`` [m] and width ``B`` [m] (both finite, > 0)."""
+        """Block of height ``H`` [m] and width ``B`` [m] (both finite, > 0).
+
+        Warns (:class:`BodyWarning`) when H < B (γ < 1): a squat block is legal, but the two
+        may have been swapped."""
         H = positive("H", H, "m")
         B = positive("B", B, "m")
+        if H < B:
+            warnings.warn(
+                f"H = {H:g} m is less than B = {B:g} m (gamma = {H / B:.3g}, a squat block): "
+                "check that the height and the width are not swapped",
+                BodyWarning,
+                stacklevel=2,
+            )
         return cls(R=0.5 * math.hypot(H, B), gamma=H / B)
 
     @classmethod
@@ -251,6 +274,8 @@ def housner_sv(block: Block, g: float = G) -> float:
     With r_g² = R²/3 (uniform block, I_O = (4/3)·M·R²) 2·(r_g² + R²)/R = (8/3)·R: Eq. (11)
     exactly; a uniform block is computed by Eq. (11) as printed.
     """
+    if not isinstance(block, Block):
+        raise InputError(f"block must be a rocking.Block, got {type(block).__name__} {block!r}")
     g = positive("g", g, "m/s²")
     ca = math.cos(block.alpha)
     if block.r_g is None:

@@ -29,7 +29,7 @@ from typing import ClassVar, Self
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..core.checks import finite_array, in_range, positive
+from ..core.checks import MAX_G, finite_array, in_range, positive, too_strong
 from ..defaults import SPECTRUM_SYNTAX
 from ..errors import InputError
 from .targets import RG160, TabulatedSpectrum, TargetSpectrum, _freqs
@@ -310,9 +310,11 @@ def parse_spectrum(
     """A target spectrum from a short specification (:data:`rocking.defaults.SPECTRUM_SYNTAX`).
 
     ``KIND:key=value,key=value`` with KIND one of rg160, asce7, ec8 (keys are case-insensitive;
-    ``rg160:0.3`` is short for ``rg160:pga=0.3``); anything else is read as a CSV file
-    (:meth:`rocking.motions.targets.TabulatedSpectrum.from_csv`; relative paths are taken from
-    ``base_dir`` when given, else the working directory). ``FILE:NAME`` reads the spectrum
+    ``rg160:0.3`` is short for ``rg160:pga=0.3``; a zero-period acceleration above
+    :data:`rocking.core.checks.MAX_G` is refused as a mistake of units); anything else is read
+    as a CSV file (:meth:`rocking.motions.targets.TabulatedSpectrum.from_csv`; relative paths
+    are taken from ``base_dir`` when given, else the working directory). ``FILE:NAME`` reads the
+    spectrum
     NAME of a file that holds several (a record of ``rocking spectrum --csv``, a location such
     as ``floor_1`` of ``rocking frame spectra --csv``).
 
@@ -346,7 +348,7 @@ def parse_spectrum(
                 raise InputError(f"spectrum {text!r}: {name} is given twice")
             kwargs[name] = value.strip() if name in _TEXT_KEYS else _number(text, name, value)
         try:
-            return cls(**kwargs)
+            spectrum = cls(**kwargs)
         except TypeError:
             missing = [k for k in keys.values() if k not in kwargs]
             raise InputError(
@@ -354,6 +356,12 @@ def parse_spectrum(
             ) from None
         except InputError as exc:
             raise InputError(f"spectrum {text!r}: {exc}") from None
+        zpa = design_pga(spectrum)
+        if zpa > MAX_G:
+            raise InputError(
+                f"spectrum {text!r}: " + too_strong("its zero-period acceleration", zpa)
+            )
+        return spectrum
 
     def located(name: str) -> Path:
         path = Path(name)

@@ -55,10 +55,11 @@ import pandas as pd
 from scipy.integrate import cumulative_trapezoid
 
 from ..core import portable
+from ..core.checks import count
 from ..defaults import IM_DAMPING, IM_SYNTAX, SAAVG_PERIODS, G
 from ..errors import InputError
 from .ensemble import Ensemble
-from .response import response_spectrum
+from .response import check_nyquist, response_spectrum
 
 #: kind → (unit, label without parameters, scaling exponent k in IM(λ·a) = λ^k·IM(a)).
 _KINDS = {
@@ -233,9 +234,9 @@ def _damping(text: str, im: str) -> float:
 
 
 def _count(text: str, im: str) -> int:
-    if not text.isdigit() or int(text) < 2:
+    if not text.isdigit():
         raise InputError(f"im {im!r}: the number of periods must be an integer >= 2, got {text}")
-    return int(text)
+    return count(f"im {im!r}: the number of periods", int(text), "frequencies", 2)
 
 
 def im_scaling_exponent(im: str | IntensityMeasure) -> int:
@@ -344,6 +345,7 @@ def _spectral_accelerations(a: np.ndarray, dt: float, ims: list[IntensityMeasure
     out = {}
     for zeta, periods in wanted.items():
         ts = sorted(periods)
+        check_nyquist(1.0 / ts[0], dt, f"the spectral period {ts[0]:g} s (1/T)")
         psa = response_spectrum(a, dt, 1.0 / np.asarray(ts), zeta).psa / G
         out.update({(t, zeta): psa[:, j] for j, t in enumerate(ts)})
     return out

@@ -32,6 +32,18 @@ from ..errors import InputError
 from .targets import _freqs
 
 
+def check_nyquist(f_max_hz: float, dt: float, name: str = "freqs_hz") -> None:
+    """Refuse a frequency ``f_max_hz`` [Hz] above the Nyquist frequency 1/(2·dt) of motions
+    sampled at ``dt`` [s]: their samples hold no information there (the spectrum would only show
+    the interpolation between them); ``name`` names the parameter in the message."""
+    nyquist = 0.5 / dt
+    if f_max_hz > nyquist * (1.0 + 1e-9):
+        raise InputError(
+            f"{name}: {f_max_hz:g} Hz is above the Nyquist frequency 1/(2 dt) = {nyquist:g} Hz "
+            f"of motions sampled at dt = {dt:g} s, which hold no information there"
+        )
+
+
 @dataclass(frozen=True, eq=False)
 class ResponseSpectrum:
     """Response spectra of one motion or of an ensemble.
@@ -422,7 +434,7 @@ def response_spectrum(
     dt : float
         Time step [s], > 0.
     freqs_hz : array_like, shape (n_freq,)
-        Oscillator frequencies [Hz], finite, > 0.
+        Oscillator frequencies [Hz], finite, > 0, at most the Nyquist frequency 1/(2·dt).
     damping : float
         Damping ratio ζ [-], in [0, 1).
     steps_per_period : int
@@ -440,6 +452,7 @@ def response_spectrum(
     f, shape = _freqs(freqs_hz)
     if len(shape) > 1:
         raise InputError(f"freqs_hz must have 1 dimension, got shape {shape}")
+    check_nyquist(float(f.max()), dt)
     omega = 2.0 * math.pi * f
     spp = steps_per_period
     if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)) or spp < 1:

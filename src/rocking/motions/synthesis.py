@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..core import portable
+from ..core import checks, portable
 from ..core.checks import finite_array, positive, require_memory
 from ..core.compile import parallel_kernel, prange
 from ..defaults import FIT_BAND, G
@@ -63,7 +63,7 @@ def member_phases(seed: int, members: Iterable[int], n_freq: int) -> np.ndarray:
 
     Returns shape (len(members), n_freq); row k depends only on ``seed`` and the member index.
     """
-    seed = _count("seed", seed, 0)
+    seed = checks.seed("seed", seed)
     rows = [
         np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(int(m),))).uniform(
             0.0, 2.0 * math.pi, n_freq
@@ -417,7 +417,8 @@ def spectral_fit(
 
     The frequencies are those the ensemble was fitted at (``meta["freqs_hz"]``) or else
     :func:`rocking.motions.psd.log_frequencies` defaults, restricted to ``band`` (default 0.2–33
-    Hz);
+    Hz) and to the Nyquist frequency 1/(2·dt) of the motions (recorded motions sampled at 50 Hz
+    hold nothing above 25 Hz);
     or, with ``per_decade``, that many log-spaced frequencies per decade from one end of the
     band to the other, both included (US SRP 3.7.1 asks for 100), which also checks the fit
     between and beyond the fitted frequencies (e.g. at 33 Hz itself, where the paper's grid has
@@ -426,6 +427,7 @@ def spectral_fit(
     itself with ``per_decade``); otherwise as in :func:`generate` (PSA [g]).
     """
     lo, hi = (positive("band", b, "Hz") for b in band)
+    hi = min(hi, 0.5 / ensemble.dt)
     target = ensemble.target_spectrum() if target is None else target
     if per_decade is None:
         freqs = np.asarray(ensemble.meta.get("freqs_hz", log_frequencies()))
@@ -433,7 +435,7 @@ def spectral_fit(
         if freqs.size == 0:
             raise InputError(f"no fitted frequency lies in the band {lo:g}–{hi:g} Hz")
     else:
-        per_decade = _count("per_decade", per_decade, 1)
+        per_decade = checks.count("per_decade", per_decade, "frequencies per decade")
         freqs = log_frequencies(max(2, math.ceil(per_decade * math.log10(hi / lo)) + 1), lo, hi)
     psa_target, h = target_psa(target, freqs)
     psa = response_spectrum(ensemble.acc, ensemble.dt, freqs, h).psa / G
@@ -558,7 +560,7 @@ def generate(
         final amplitudes [m/s²] and the member indices.
     """
     return _generate(
-        range(_count("n", n, 1)),
+        range(checks.count("n", n, "motions")),
         duration=duration,
         dt=dt,
         envelope=envelope,
@@ -601,8 +603,8 @@ def _generate(
     """:func:`generate` for the given member indices."""
     dt = positive("dt", dt, "s")
     _check_nyquist(dt, positive("fmax", fmax, "Hz"))
-    seed = _count("seed", seed, 0)
-    n_iter = _count("iterations", iterations, 0)
+    seed = checks.seed("seed", seed)
+    n_iter = checks.count("iterations", iterations, "iterations", 0)
     n_pilot = _count("pilot", pilot, 1)
     env = make_envelope(envelope, duration, **(envelope_params or {}))
     n_t = _n_samples(env.duration, dt)

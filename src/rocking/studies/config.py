@@ -8,7 +8,10 @@ times). A TOML file given with ``--config`` replaces any of the keys below (a ke
 name keeps the preset's value); ``--set section.key=VALUE`` (VALUE in
 TOML syntax) does the same from the command line and wins over the file;
 ``rocking reproduce all --show-config`` prints the result as TOML. :func:`validate` checks the
-values (bodies, frames, envelopes, motion numbers) before a run starts.
+values (bodies, frames, envelopes, motion numbers, and every number against its range: sizes
+within :data:`rocking.core.checks.LIMITS`, seeds, accelerations in g up to
+:data:`rocking.core.checks.MAX_G`, restitution in (0, 1], every other number finite and > 0)
+before a run starts.
 
 Keys (units in brackets; "No. k" motion numbers count from 1 as in the paper; body lists are
 ``[[R, gamma], ...]`` [m, -], the string ``"paper"`` for the 72 bodies of Tables 1–3, or the path
@@ -65,7 +68,8 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..core.checks import read_toml
+from ..core import checks
+from ..core.checks import in_range, read_toml, restitution
 from ..defaults import DEFAULT_E
 from ..dynamics.body import FOOT, Block, paper_bodies
 from ..errors import InputError
@@ -376,11 +380,64 @@ def resolve_frame(name: str) -> ShearFrame:
     return ShearFrame.from_toml(name)
 
 
+#: Keys whose values are sizes: the kind of :data:`rocking.core.checks.LIMITS` and the least value.
+_COUNTS = {
+    "n": ("motions", 1),
+    "convergence_n": ("motions", 1),
+    "n_check": ("motions", 1),
+    "bootstrap": ("bootstrap resamples", 1),
+    "grid_levels": ("levels", 3),
+    "n_freq": ("frequencies", 2),
+    "iterations": ("iterations", 0),
+}
+#: Keys whose values are accelerations [g] (A_gx, PGA, resolutions of A_gx).
+_G_KEYS = {
+    *("agx", "scales", "size_agx", "spectra_agx", "fig13_agx", "example_agx", "agx_max"),
+    *("floor_agx", "resolution", "convergence_resolution", "target_g"),
+}
+#: Keys whose values are motion numbers (from 1) or floors (from 0: the ground).
+_NUMBERS = {"motion": 1, "motions": 1, "scale_motion": 1, "size_motion": 1, "floor": 0}
+
+
+def _check_number(key: str, where: str, x: object) -> None:
+    """Check one number ``x`` of the key ``key`` (``where``: section.key) against its range."""
+    if key in _COUNTS:
+        kind, least = _COUNTS[key]
+        checks.count(where, x, kind, least)
+    elif key.endswith("seed"):
+        checks.seed(where, x)
+    elif key in _NUMBERS:
+        if not isinstance(x, int) or x < _NUMBERS[key]:
+            raise InputError(f"{where} must be an integer >= {_NUMBERS[key]}, got {x!r}")
+    elif key in _G_KEYS:
+        checks.intensity_g(where, x)  # type: ignore[arg-type]
+    elif key in ("e", "e_values"):
+        restitution(x, where)  # type: ignore[arg-type]
+    elif key == "floor_dampings":
+        in_range(where, x, 0.0, 1.0, lo_open=True, hi_open=True, unit="-")  # type: ignore[arg-type]
+    else:
+        checks.positive(where, x)  # type: ignore[arg-type]
+
+
+def _check_numbers(cfg: dict) -> None:
+    """Every number of the configuration (except the bodies and the envelope parameters, which
+    their own checks judge) against the range of its key."""
+    for section, table in cfg.items():
+        for key, value in table.items():
+            if key_is_bodies(value) or isinstance(value, (str, dict)):
+                continue
+            for x in value if isinstance(value, list) else [value]:
+                if not isinstance(x, str):
+                    _check_number(key, f"{section}.{key}", x)
+
+
 def validate(cfg: dict) -> None:
     """Check the values that only the library can judge (bodies, frames, envelopes, motion
-    numbers) before any work starts; errors name the key, e.g. ``sec7.frames: ...``."""
+    numbers, the range of every number) before any work starts; errors name the key, e.g.
+    ``sec7.frames: ...``."""
     from ..motions.envelopes import make_envelope
 
+    _check_numbers(cfg)
     c = cfg["common"]
     checks: dict[str, Callable[[], object]] = {
         "common.envelope_params": lambda: make_envelope(
