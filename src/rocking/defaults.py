@@ -16,6 +16,8 @@ DEFAULT_E = 0.925
 #: Outside, a Block warns (rocking.dynamics.body.BodyWarning): the input is more often a mistake
 #: of units than meant, but any finite R > 0 and γ > 0 is a body.
 R_RANGE_M = (1e-3, 1e3)
+#: Largest length of a body [m], the Earth's mean radius: larger is refused as no body at all.
+R_MAX_M = 6.371e6
 GAMMA_RANGE = (1e-2, 1e2)
 #: The paper's time step of the motions and of the Runge–Kutta integration [s].
 DT = 1.0 / 400.0

@@ -19,7 +19,7 @@ import warnings
 from dataclasses import dataclass
 
 from ..core.checks import HOUSNER, in_range, positive, restitution
-from ..defaults import GAMMA_RANGE, R_RANGE_M, G
+from ..defaults import GAMMA_RANGE, R_MAX_M, R_RANGE_M, G
 from ..errors import InputError
 
 #: One international foot [m]; the paper's sizes are whole feet printed in metres.
@@ -32,6 +32,18 @@ PAPER_GAMMAS = tuple(2.0 + 0.5 * i for i in range(9))
 
 class BodyWarning(UserWarning):
     """A body that is legal but unusual (sizes outside the usual range, height below width)."""
+
+
+def _size(name: str, value: float) -> float:
+    """A length of a body [m]: finite, > 0 and smaller than the Earth (larger is no body that
+    stands on the ground, and Eq. (11) overflows to inf, "safe", near R = 1e308 m)."""
+    value = positive(name, value, "m")
+    if value > R_MAX_M:
+        raise InputError(
+            f"{name} = {value:g} m is larger than the Earth (radius {R_MAX_M:g} m): not a body "
+            "that stands on the ground; check the units"
+        )
+    return value
 
 
 @dataclass(frozen=True)
@@ -59,6 +71,12 @@ class Block:
         When R, γ or r_g lies outside the usual range of bodies (:data:`rocking.defaults.R_RANGE_M`,
         1 mm to 1 km, and :data:`rocking.defaults.GAMMA_RANGE`, 0.01 to 100): legal (a slender
         limit study may want γ = 200), but more often a mistake of units.
+
+    Raises
+    ------
+    InputError
+        When a value is not finite or ≤ 0, or R or r_g exceeds the Earth's radius
+        (:data:`rocking.defaults.R_MAX_M`): no body at all.
     """
 
     R: float
@@ -66,11 +84,11 @@ class Block:
     r_g: float | None = None
 
     def __post_init__(self):
-        R = positive("R", self.R, "m")
+        R = _size("R", self.R)
         gamma = positive("gamma", self.gamma, "-")
         checks = [("R", R, R_RANGE_M, " m"), ("gamma", gamma, GAMMA_RANGE, "")]
         if self.r_g is not None:
-            r_g = positive("r_g", self.r_g, "m")
+            r_g = _size("r_g", self.r_g)
             checks.append(("r_g", r_g, R_RANGE_M, " m"))
             object.__setattr__(self, "r_g", r_g)
         for name, value, (lo, hi), unit in checks:
