@@ -182,10 +182,16 @@ def test_csv_units_from_the_header(tmp_path, header, factor):
     ens = Ensemble.from_records([path])
     np.testing.assert_allclose(ens.acc[0], np.array([0.0, 1.5, -2.0, 0.25]) * factor, rtol=1e-15)
     assert ens.dt == pytest.approx(0.01, rel=1e-12)
-    # units= overrides the header
-    forced = Ensemble.from_records([path], units="cm/s2")
+    # units= gives the units of a file that states none; against the header's it is refused
+    # (issue 48)
+    plain = tmp_path / "plain.csv"
+    plain.write_text("time,acc\n0.00,0.0\n0.01,1.5\n0.02,-2.0\n0.03,0.25\n")
+    forced = Ensemble.from_records([plain], units="gal")
     np.testing.assert_allclose(forced.acc[0], [0.0, 0.015, -0.02, 0.0025], rtol=1e-15)
     assert forced.meta["record_units"] == ["cm/s2"]
+    other = "mm/s2"
+    with pytest.raises(InputError, match=rf"rec\.csv: units {other} given, but the file states"):
+        Ensemble.from_records([path], units=other)
 
 
 def test_one_column_files_take_record_dt(tmp_path):
