@@ -10,6 +10,9 @@ Errors are printed in one line, never as a traceback:
   ``Error: ...``, exit status 1;
 * anything else is a bug in ``rocking``: the message says so, the traceback is saved to a file
   whose path is printed (for a bug report), exit status 70 (``EX_SOFTWARE``).
+
+Warnings (e.g. a record whose peak is implausible) are printed in one line too:
+``Warning: ...`` on standard error.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ import os
 import signal
 import sys
 import traceback
+import warnings
 from pathlib import Path
 
 import click
@@ -64,6 +68,11 @@ class _Main(click.Group):
         return next(cmd for cmd in mod.COMMANDS if cmd.name == cmd_name)
 
     def invoke(self, ctx):
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return self._invoke(ctx)
+
+    def _invoke(self, ctx):
         try:
             return super().invoke(ctx)
         except BrokenPipeError:
@@ -78,6 +87,12 @@ class _Main(click.Group):
             raise  # click's own messages and control flow (--help and --version end with Exit)
         except Exception as exc:
             raise _Bug(exc) from None
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning (e.g. :class:`rocking.motions.units.ImplausiblePeakWarning`) as one line on
+    standard error: ``Warning: ...``."""
+    click.echo(f"Warning: {_one_line(message)}", err=True)
 
 
 class _Bug(click.ClickException):

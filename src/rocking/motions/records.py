@@ -56,8 +56,9 @@ Manifests
 ---------
 A manifest (:func:`read_manifest`) is a CSV file with one row per motion: column
 ``horizontal`` (required: its record file), ``vertical`` (optional: the vertical record of the
-same motion) and ``scale`` (optional factor > 0 applied to both, default 1). Paths are relative
-to the manifest's folder.
+same motion), ``scale`` (optional factor > 0 applied to both, default 1) and ``dt`` (optional:
+the time step [s] of one-column files, which state none). Paths are relative to the manifest's
+folder.
 
 Shipped records
 ---------------
@@ -88,6 +89,7 @@ from numpy.typing import ArrayLike
 
 from ..core import portable
 from ..core.checks import positive
+from ..core.files import read_text
 from ..dynamics.body import G
 from ..errors import InputError
 from .units import (
@@ -272,7 +274,7 @@ def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
     return np.array(values), dt, _stated_units(header, str(path)), title
 
 
-def _read_text(path: Path, lines: list[str], dt: float | None):
+def _read_columns(path: Path, lines: list[str], dt: float | None):
     """Values, dt, units (None: not stated) and whether the step is ``dt`` (a one-column file)
     of a one- or two-column text file."""
     rows: list[tuple[int, list[str]]] = []
@@ -432,7 +434,7 @@ def read_record(
     elif path.suffix.lower() == ".at2":
         raise InputError(f"{path}: no 'NPTS=..., DT=...' line in the first {_HEADER_LINES} lines")
     else:
-        values, step, stated, dt_given = _read_text(path, lines, dt_arg)
+        values, step, stated, dt_given = _read_columns(path, lines, dt_arg)
     if dt_arg is not None and abs(dt_arg - step) > _DT_RTOL * step:
         raise InputError(f"{path}: dt = {dt_arg:g} s disagrees with the file's step {step:g} s")
     if values.size < 2:
@@ -527,10 +529,30 @@ def read_records(
 ) -> list[Record]:
     """Read several records; ``paths`` is a path or a list of paths, a folder standing for its
     .AT2/.txt/.csv files sorted by name and the word ``example`` for the shipped example record.
-    ``dt`` [s] and ``units`` as in :func:`read_record`."""
-    return [read_record(p, dt=dt, units=units) for p in record_paths(paths)]
+    ``dt`` [s] and ``units`` as in :func:`read_record`; ``dt`` gives the step of one one-column
+    file only (several may have different rates: refused)."""
+    records = [read_record(p, dt=dt, units=units) for p in record_paths(paths)]
+    given = [r.name for r in records if r.dt_given]
+    if dt is not None and len(given) > 1:
+        _refuse_shared_step(given, dt, "read them one at a time, or as two-column files")
+    return records
 
 
+def _refuse_shared_step(names: list[str], dt: float, remedy: str) -> None:
+    """The InputError of one step ``dt`` [s] given for several one-column files ``names``
+    (which state no step: one of them may be at 100 Hz and another at 200 Hz)."""
+    listed = ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+    raise InputError(
+        f"one time step ({dt:g} s) for {len(names)} one-column files ({listed}), which state "
+        f"none: their rates may differ; {remedy}"
+    )
+
+
+#: Coarsest time step of an ensemble of motions [s], a Nyquist frequency of 10 Hz: motions must
+#: carry the amplified region of design spectra, up to 9 Hz (RG 1.60's control point B), which
+#: holds the acceleration peaks that set every motion's PGA and so A_gx. A coarser step filters
+#: it out (resampling) or never held it.
+MAX_DT = 0.05
 #: Largest up- and down-sampling factors of :func:`resample` (its filter has 20·max + 1 taps).
 MAX_RESAMPLING_FACTOR = 1000
 #: Relative tolerance within which dt / new_dt must equal a fraction up / down.
@@ -644,6 +666,8 @@ class ManifestRow:
         Factor applied to both components [-].
     row, line : int
         Its row (1 = the first after the header) and line in the file (for messages).
+    dt : float or None
+        Time step [s] of its records if they are one-column files (which state none).
     """
 
     horizontal: Path
@@ -651,10 +675,11 @@ class ManifestRow:
     scale: float
     row: int
     line: int
+    dt: float | None = None
 
 
 #: Columns of a manifest: the first is required.
-MANIFEST_COLUMNS = ("horizontal", "vertical", "scale")
+MANIFEST_COLUMNS = ("horizontal", "vertical", "scale", "dt")
 
 
 def _manifest_path(folder: Path, spec: str) -> Path:
@@ -670,10 +695,11 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
     Parameters
     ----------
     path : str or Path
-        The CSV file: a header row naming columns ``horizontal`` (required), ``vertical`` and
-        ``scale`` (any case, any order), then one row per motion. Blank lines and lines
-        starting with ``#`` are skipped; an empty ``vertical`` means none, an empty ``scale``
-        1. The word ``example`` (when no file of that name exists) stands for
+        The CSV file: a header row naming columns ``horizontal`` (required), ``vertical``,
+        ``scale`` and ``dt`` (any case, any order), then one row per motion. Blank lines and
+        lines starting with ``#`` are skipped; an empty ``vertical`` means none, an empty
+        ``scale`` 1, an empty ``dt`` none (``dt`` [s] is the step of one-column files). The
+        word ``example`` (when no file of that name exists) stands for
         :func:`example_manifest_path`.
 
     Returns
@@ -684,10 +710,7 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
     path = (
         example_manifest_path() if str(path) == EXAMPLE and not Path(path).exists() else Path(path)
     )
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(f"manifest {path}: no such file") from None
+    text = read_text(path, "manifest")
     numbered = [
         (n, line)
         for n, line in enumerate(text.splitlines(), start=1)
@@ -701,7 +724,7 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
     if unknown or "horizontal" not in header or len(set(header)) < len(header):
         raise InputError(
             f"{path}: line {numbered[0][0]}: the header must name the columns horizontal "
-            f"(required), vertical and scale, once each; got {', '.join(table[0])}"
+            f"(required), vertical, scale and dt, once each; got {', '.join(table[0])}"
         )
     rows = []
     folder = path.parent
@@ -718,6 +741,12 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
             scale = math.nan
         if not (math.isfinite(scale) and scale > 0.0):
             raise InputError(f"{where}: scale must be a number > 0, got {entry['scale']!r}")
+        step = None
+        if entry.get("dt"):
+            try:
+                step = positive("dt", entry["dt"], "s")
+            except InputError as exc:
+                raise InputError(f"{where}: {exc}") from None
         files = {
             key: _manifest_path(folder, entry[key])
             for key in ("horizontal", "vertical")
@@ -726,7 +755,7 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
         for key, file in files.items():
             if not file.is_file():
                 raise InputError(f"{where}: {key} record {file}: no such file")
-        rows.append(ManifestRow(files["horizontal"], files.get("vertical"), scale, i, lineno))
+        rows.append(ManifestRow(files["horizontal"], files.get("vertical"), scale, i, lineno, step))
     if not rows:
         raise InputError(f"{path}: the manifest names no motions (a header and no rows)")
     return rows

@@ -21,6 +21,7 @@ import re
 from ..defaults import G
 from ..errors import InputError
 
+
 class ImplausiblePeakWarning(UserWarning):
     """A record's peak acceleration is implausible for a ground or floor motion (likely a
     mistake of units; :func:`implausible_peak`)."""
