@@ -139,7 +139,9 @@ def test_parse_spectrum_refuses_binary_files_and_units_not_understood(tmp_path):
         parse_spectrum(str(binary))
     latin = tmp_path / "latin.csv"
     latin.write_bytes("freq,PSA [g]\n1,0.5\n2,0.6 \xb5\n".encode("latin-1"))
-    with pytest.raises(InputError, match=r"latin\.csv: the spectrum file is not a text file \(byte 25 is not UTF-8"):
+    with pytest.raises(
+        InputError, match=r"latin\.csv: the spectrum file is not a text file \(byte 25 is not UTF-8"
+    ):
         parse_spectrum(str(latin))
     furlongs = tmp_path / "furlongs.csv"
     furlongs.write_text("freq,PSA [furlongs]\n1,0.5\n2,0.6\n")

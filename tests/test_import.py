@@ -37,7 +37,6 @@ from rocking.motions.records import (
     resampling_factors,
 )
 from rocking.motions.synthesis import generate
-from rocking.motions.units import ImplausiblePeakWarning
 
 EL_CENTRO = example_record_path()
 CHINO_HILLS = Path(__file__).parent / "data" / "RSN8883_14383980_13849360.AT2"
@@ -498,15 +497,15 @@ def test_all_zero_motions_have_no_agx(tmp_path):
         with pytest.raises(InputError, match=r"zero \(a, b, c\): it has no A_gx"):
             fragility_analysis(Block(1.0, 4.0), zero, levels=[0.1])
     path = zero.save(tmp_path / "zero.nc")
-    with pytest.raises(InputError, match=r"zero\.nc: every member is zero \(a, b, c\)"):
+    with pytest.raises(InputError, match=r"zero\.nc: every member is zero everywhere \(a, b, c\)"):
         Ensemble.load(path)
+    # a zero member among others would never move, scaled with them: refused too
     flat = tmp_path / "flat.csv"
-    flat.write_text("t,a\n0,0\n0.01,0\n")
-    with (
-        pytest.warns(ImplausiblePeakWarning, match="every value is zero"),
-        pytest.raises(InputError, match=r"the records: every member is zero \(flat\)"),
+    flat.write_text("t,a\n0,0\n0.01,0\n0.02,0\n")
+    with pytest.raises(
+        InputError, match=r"the records: 1 member\(s\) are zero everywhere \(flat\)"
     ):
-        Ensemble.from_records([flat])
+        Ensemble.from_records([flat, EL_CENTRO], dt=0.01)
 
 
 def _rewritten(path: Path, out: Path, **changes) -> Path:

@@ -326,8 +326,8 @@ class Ensemble:
 
         Refused, naming the file: a file that is no such ensemble; attribute ``dt`` that
         disagrees with the step of the time axis (to :data:`~rocking.motions.records.RATIO_RTOL`);
-        a non-finite sample; an ensemble whose every member is zero; a member whose peak
-        exceeds :data:`~rocking.motions.units.MAX_PEAK_G` (certainly other units than m/s²).
+        a non-finite sample; a member that is zero everywhere; a member whose peak exceeds
+        :data:`~rocking.motions.units.MAX_PEAK_G` (certainly other units than m/s²).
         """
         from scipy.io import netcdf_file
 
@@ -366,11 +366,14 @@ class Ensemble:
         return ens
 
     def _check_motions(self, where: str = "ensemble") -> None:
-        """Refuse (InputError starting with ``where``) an ensemble whose every member is zero,
-        or a member whose horizontal or vertical peak exceeds
-        :data:`~rocking.motions.units.MAX_PEAK_G` [g] (certainly not an acceleration in m/s²)."""
-        if not self.pga.any():
-            raise InputError(f"{where}: every member is zero ({_listed(self.labels)}): no motion")
+        """Refuse (InputError starting with ``where``) members that are zero everywhere (no
+        motion: it has no A_gx, and scaled with the others it never moves), or whose
+        horizontal or vertical peak exceeds :data:`~rocking.motions.units.MAX_PEAK_G` [g]
+        (certainly not an acceleration in m/s²)."""
+        zero = [label for label, p in zip(self.labels, self.pga) if p == 0.0]
+        if zero:
+            every = "every member is" if len(zero) == self.n else f"{len(zero)} member(s) are"
+            raise InputError(f"{where}: {every} zero everywhere ({_listed(zero)}): no motion")
         peaks = self.pga if self.av is None else np.maximum(self.pga, np.abs(self.av).max(1) / G)
         huge = np.flatnonzero(peaks > MAX_PEAK_G)
         if huge.size:
@@ -424,8 +427,10 @@ class Ensemble:
         scale : float or sequence of float, optional
             Factor [-] (> 0) applied to both components: one for all or one per entry of
             ``records`` (default 1).
-        units : {"g", "m/s2", "cm/s2"}, optional
-            Units of the values in the record files, overriding what they state.
+        units : str, optional
+            Units of the values in record files that state none (g, m/s2, cm/s2 or gal,
+            mm/s2, in/s2, ft/s2; :func:`~rocking.motions.records.read_record`): a file that
+            states other units is refused.
         manifest : str or Path, optional
             A CSV with one row per motion (columns ``horizontal``, ``vertical``, ``scale``,
             ``dt``;

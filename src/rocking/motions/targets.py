@@ -246,9 +246,11 @@ class TabulatedSpectrum(TargetSpectrum):
 
         * Abscissa: the first column whose header names a frequency [Hz] ("freq", "Hz") or a
           period [s] ("period", "T", or the unit s/sec in brackets, e.g. "T (s)").
-        * Ordinates: PSA [g] ("psa", "sa" or "acceleration"; a stated unit must be g) or PSV
-          ("psv", "sv" or "velocity", with its unit cm/s or m/s stated, e.g. "psv_cm_s",
-          "PSV [m/s]"), converted to PSA = PSV·2πf/g. Other columns (SD, notes) are ignored.
+        * Ordinates: PSA ("psa", "sa" or "acceleration"; in g unless a unit in brackets says
+          otherwise: any unit of :data:`rocking.motions.units.ACCELERATION_UNITS`, e.g.
+          "PSA [m/s2]", "Sa (gal)"; any other is refused) or PSV ("psv", "sv" or "velocity",
+          with its unit cm/s or m/s stated, e.g. "psv_cm_s", "PSV [m/s]"), converted to
+          PSA = PSV·2πf/g. Other columns (SD, notes) are ignored.
         * Several spectra in one file: one per ordinate column that names a location besides
           quantity and unit (``psv_floor_1_cm_s`` is "floor 1", as ``rocking frame spectra
           --csv`` writes), and, where a label column ("record", "name", "label", "location")

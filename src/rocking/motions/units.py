@@ -110,10 +110,8 @@ def implausible_peak(peak: float, units: str) -> str | None:
     """
     peak_g = peak * ACCELERATION_UNITS[units] / G
     lo, hi = PLAUSIBLE_PEAK_G
-    if lo <= peak_g <= hi:
+    if lo <= peak_g <= hi or peak == 0.0:  # zero: no motion in any unit (refused where used)
         return None
-    if peak == 0.0:
-        return "every value is zero: no motion"
     text = (
         f"peak {peak_g:.4g} g (read in {units}) is implausible for a ground or floor motion "
         f"(recorded peaks lie within {lo:g}–{hi:g} g)"
