@@ -19,6 +19,7 @@ Plain text (any file without an NPTS/DT line)
     One header line of column names is allowed; if it states units (e.g. "acc [m/s2]") they are
     used, otherwise accelerations are in g. Times must be equally spaced (to 0.1 % of the step);
     the first sample is taken as t = 0.
+
 Anything else is refused as a format not recognised, with the list of these formats.
 
 Units
