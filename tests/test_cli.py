@@ -94,13 +94,32 @@ def test_the_light_name_lists_match_the_library():
     # the command line takes these names from rocking.defaults so as not to import the modules
     # that define them; they must stay the same lists
     from rocking import defaults
-    from rocking.cli.spectrum import UNIT_NAMES
     from rocking.motions.envelopes import ENVELOPES
-    from rocking.motions.records import UNITS
     from rocking.structures.frames import PRESETS
     from rocking.studies import STUDIES
 
     assert sorted(defaults.ENVELOPE_NAMES) == sorted(ENVELOPES)
     assert list(defaults.FRAME_PRESETS) == list(PRESETS)
     assert list(defaults.STUDY_SECTIONS) == list(STUDIES)
-    assert sorted(UNIT_NAMES) == sorted(UNITS)
+
+
+def test_binary_files_where_text_is_expected_are_one_line_input_errors(tmp_path):
+    # Issue 49: each of these ended as "internal error ... UnicodeDecodeError" (exit 70). A PNG
+    # header (binary, not UTF-8) is given where a CSV or TOML file is read.
+    binary = tmp_path / "binary.csv"
+    binary.write_bytes(b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\xff\xfe")
+    toml = tmp_path / "binary.toml"
+    toml.write_bytes(binary.read_bytes())
+    cases = {
+        "assess": ["assess", "--bodies", "paper", "--spectrum", binary],
+        "screen": ["screen", "example", "--spectrum", binary, "--out", tmp_path / "s"],
+        "generate": ["motions", "generate", "--target", binary, "--out", tmp_path / "g.nc"],
+        "import": ["motions", "import", "--manifest", binary, "--out", tmp_path / "i.nc"],
+        "frame": ["frame", "show", "--frame-file", toml],
+        "reproduce": ["reproduce", "4", "--config", toml, "--out", tmp_path / "r"],
+    }
+    for name, args in cases.items():
+        out = CliRunner().invoke(cli.main, [str(a) for a in args])
+        assert out.exit_code == 1, (name, out.output)
+        assert out.output.count("\n") == 1 and out.output.startswith("Error: "), (name, out.output)
+        assert "binary." in out.output and "not a text file" in out.output, (name, out.output)

@@ -130,6 +130,25 @@ def test_parse_spectrum_errors_name_the_problem(text, words):
         parse_spectrum(text)
 
 
+def test_parse_spectrum_refuses_binary_files_and_units_not_understood(tmp_path):
+    # Issue 49: a binary file raised UnicodeDecodeError, and a spectrum headed PSA [furlongs]
+    # was read as PSA in g (assess and screen gave verdicts on it).
+    binary = tmp_path / "spectrum.csv"
+    binary.write_bytes(b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\xff")
+    with pytest.raises(InputError, match=r"spectrum\.csv: the spectrum file is not a text file"):
+        parse_spectrum(str(binary))
+    latin = tmp_path / "latin.csv"
+    latin.write_bytes("freq,PSA [g]\n1,0.5\n2,0.6 \xb5\n".encode("latin-1"))
+    with pytest.raises(
+        InputError, match=r"latin\.csv: the spectrum file is not a text file \(byte 25 is not UTF-8"
+    ):
+        parse_spectrum(str(latin))
+    furlongs = tmp_path / "furlongs.csv"
+    furlongs.write_text("freq,PSA [furlongs]\n1,0.5\n2,0.6\n")
+    with pytest.raises(InputError, match=r"column 'PSA \[furlongs\]': unit 'furlongs' is not"):
+        parse_spectrum(str(furlongs))
+
+
 def test_design_pga():
     assert design_pga(RG160(pga=0.3)) == 0.3
     assert design_pga(ASCE7(1.0, 0.6, 8.0)) == pytest.approx(0.4)

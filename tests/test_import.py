@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -20,9 +21,10 @@ from click.testing import CliRunner
 from scipy import signal
 
 from rocking.cli import main
-from rocking.dynamics.body import G
+from rocking.dynamics.body import Block, G
 from rocking.errors import InputError
-from rocking.motions.ensemble import PER_MEMBER, Ensemble
+from rocking.montecarlo.fragility import fragility_analysis
+from rocking.motions.ensemble import PER_MEMBER, Ensemble, location_name
 from rocking.motions.records import (
     Record,
     example_manifest_path,
@@ -30,6 +32,7 @@ from rocking.motions.records import (
     peer_title,
     read_manifest,
     read_record,
+    read_records,
     resample,
     resampling_factors,
 )
@@ -182,10 +185,16 @@ def test_csv_units_from_the_header(tmp_path, header, factor):
     ens = Ensemble.from_records([path])
     np.testing.assert_allclose(ens.acc[0], np.array([0.0, 1.5, -2.0, 0.25]) * factor, rtol=1e-15)
     assert ens.dt == pytest.approx(0.01, rel=1e-12)
-    # units= overrides the header
-    forced = Ensemble.from_records([path], units="cm/s2")
+    # units= gives the units of a file that states none; against the header's it is refused
+    # (issue 48)
+    plain = tmp_path / "plain.csv"
+    plain.write_text("time,acc\n0.00,0.0\n0.01,1.5\n0.02,-2.0\n0.03,0.25\n")
+    forced = Ensemble.from_records([plain], units="gal")
     np.testing.assert_allclose(forced.acc[0], [0.0, 0.015, -0.02, 0.0025], rtol=1e-15)
     assert forced.meta["record_units"] == ["cm/s2"]
+    other = "mm/s2"
+    with pytest.raises(InputError, match=rf"rec\.csv: units {other} given, but the file states"):
+        Ensemble.from_records([path], units=other)
 
 
 def test_one_column_files_take_record_dt(tmp_path):
@@ -366,6 +375,7 @@ def test_horizontal_only_leaves_the_verticals_out():
         ("horizontal\n", r"names no motions"),
         ("", r"empty manifest"),
         ("horizontal\nbad.csv\n", r"row 1 \(line 2\): .*bad\.csv: line 3: not a finite number"),
+        ("horizontal,dt\nh.csv,-0.01\n", r"row 1 \(line 2\): dt must be a finite number > 0"),
     ],
 )
 def test_manifest_errors_name_the_row(tmp_path, text, expected):
@@ -427,6 +437,115 @@ def test_floor_histories_import_with_their_location(tmp_path):
         InputError, match=r"floor\.nc: its motions are at 'floor 3', not at 'ground'"
     ):
         Ensemble.from_records([path])
+
+
+def test_locations_are_ground_or_floors(tmp_path):
+    # Issue 48: --location "roof garden" was accepted; the package knows the ground and floor N
+    # (of a frame), as the floor ensembles of rocking.structures name them.
+    assert location_name(" Ground ") == "ground"
+    assert location_name("FLOOR  3") == "floor 3"
+    assert location_name("floor 2 of paper-2.0") == "floor 2 of paper-2.0"
+    for bad in ("roof garden", "floor 0", "floor", "floor -1", "basement", ""):
+        with pytest.raises(InputError, match=r"location .* is not understood; give ground, floor"):
+            location_name(bad)
+    with pytest.raises(InputError, match=r"location 'roof garden' is not understood"):
+        Ensemble.from_records([EL_CENTRO], location="roof garden")
+
+
+def test_one_step_for_several_one_column_files_is_refused(tmp_path):
+    # Issue 48: one --record-dt was applied to every one-column file, so a 100 Hz and a 200 Hz
+    # file were both taken at 0.01 s (one silently compressed). One step serves one file;
+    # several need theirs, in a manifest's dt column.
+    fast, slow = tmp_path / "fast.txt", tmp_path / "slow.txt"
+    fast.write_text("".join(f"{0.1 * math.sin(k / 5):.6f}\n" for k in range(400)))  # 200 Hz
+    slow.write_text("".join(f"{0.1 * math.sin(k / 2.5):.6f}\n" for k in range(200)))  # 100 Hz
+    with pytest.raises(InputError, match=r"one time step \(0\.01 s\) for 2 one-column files "):
+        Ensemble.from_records([fast, slow], record_dt=0.01)
+    with pytest.raises(InputError, match=r"one time step .* for 2 one-column files"):
+        read_records([fast, slow], dt=0.01)
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("horizontal,dt\nfast.txt,0.005\nslow.txt,0.01\n")
+    ens = Ensemble.from_records(manifest=manifest, dt=0.005)
+    assert ens.meta["record_dt"] == [0.005, 0.01]
+    # both are the same 2 s of one sine (period 31.4 samples at 200 Hz, 15.7 at 100 Hz)
+    assert ens.meta["record_npts"] == [400, 200]
+    # one one-column file (with two-column ones) still takes --record-dt
+    two = tmp_path / "two.csv"
+    two.write_text("t,a\n0,0.1\n0.01,0.2\n0.02,-0.1\n")
+    assert Ensemble.from_records([slow, two], record_dt=0.01).dt == 0.01
+
+
+def test_coarse_steps_are_refused():
+    # Issue 48: resampling a record to a 5 s step was accepted. The bound is 0.05 s (Nyquist
+    # 10 Hz, above the 9 Hz of RG 1.60's control point B): rocking.motions.records.MAX_DT.
+    with pytest.raises(InputError, match=r"dt = 5 s is coarser than 0\.05 s"):
+        Ensemble.from_records([EL_CENTRO], dt=5.0)
+    assert Ensemble.from_records([EL_CENTRO], dt=0.05).dt == 0.05
+
+
+def test_all_zero_motions_have_no_agx(tmp_path):
+    # Issue 49: an all-zero ensemble gave "+inf safe" in assess and NumPy RuntimeWarnings
+    # (division by zero) in fragility before its error. It has no A_gx: an InputError names
+    # the members, with no warning; its file is refused when loaded.
+    zero = Ensemble(np.zeros((3, 100)), 0.01, ["a", "b", "c"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError, match=r"every member of the ensemble is zero \(a, b, c\)"):
+            print(zero.agx)
+        with pytest.raises(InputError, match=r"zero \(a, b, c\): it has no A_gx"):
+            zero.scaled(0.5)
+        with pytest.raises(InputError, match=r"zero \(a, b, c\): it has no A_gx"):
+            fragility_analysis(Block(1.0, 4.0), zero, levels=[0.1])
+    path = zero.save(tmp_path / "zero.nc")
+    with pytest.raises(InputError, match=r"zero\.nc: every member is zero everywhere \(a, b, c\)"):
+        Ensemble.load(path)
+    # a zero member among others would never move, scaled with them: refused too
+    flat = tmp_path / "flat.csv"
+    flat.write_text("t,a\n0,0\n0.01,0\n0.02,0\n")
+    with pytest.raises(
+        InputError, match=r"the records: 1 member\(s\) are zero everywhere \(flat\)"
+    ):
+        Ensemble.from_records([flat, EL_CENTRO], dt=0.01)
+
+
+def _rewritten(path: Path, out: Path, **changes) -> Path:
+    """The ensemble file ``path`` copied to ``out`` with its attribute ``dt`` or its variable
+    ``acc`` changed (as another program might write it)."""
+    from scipy.io import netcdf_file
+
+    with netcdf_file(path, "r", mmap=False) as src, netcdf_file(out, "w", version=2) as dst:
+        for name, size in src.dimensions.items():
+            dst.createDimension(name, size)
+        for name, var in src.variables.items():
+            new = dst.createVariable(name, var.typecode(), var.dimensions)
+            new[:] = changes.get(name, var[:])
+        for key, value in src._attributes.items():
+            setattr(dst, key, changes.get(key, value))
+    return out
+
+
+def test_inconsistent_or_absurd_ensemble_files_are_refused(tmp_path):
+    ens = Ensemble.from_records([EL_CENTRO], dt=0.0025)
+    path = ens.save(tmp_path / "good.nc")
+    # Issue 49: attribute dt 0.01 s against a time axis of 0.0025 s was used without a word
+    bad_dt = _rewritten(path, tmp_path / "dt.nc", dt=0.01)
+    with pytest.raises(
+        InputError,
+        match=r"dt\.nc: its attribute dt = 0\.01 s disagrees with its time axis, whose step is "
+        r"0\.0025 s",
+    ):
+        Ensemble.load(bad_dt)
+    # Issue 49: a sample of 1e30 g imported as "A_gx = 1e+30 g" and was used
+    acc = ens.acc.copy()
+    acc[0, 100] = 1e30 * G
+    huge = _rewritten(path, tmp_path / "huge.nc", acc=acc)
+    with pytest.raises(InputError, match=r"huge\.nc: member ElCentro1940_NS peaks at 1e\+30 g"):
+        Ensemble.load(huge)
+    acc[0, 100] = math.inf
+    inf = _rewritten(path, tmp_path / "inf.nc", acc=acc)
+    with pytest.raises(InputError, match=r"inf\.nc: acc contains a non-finite value"):
+        Ensemble.load(inf)
+    assert Ensemble.load(path).dt == 0.0025
 
 
 # ----------------------------------------------------------------------------- command line
@@ -508,13 +627,62 @@ def test_cli_import_floor_histories_into_fragility(tmp_path):
             ["example", "--dt", 0.02 / math.pi],  # 0.02 s / dt = pi: no fraction p/q
             r"ElCentro1940_NS\.AT2: dt = 0\.00636\d* s: the record step 0\.02 s is not p/q",
         ),
+        # issues 48 and 49
+        (["example", "--units", "furlongs"], r"--units: unit 'furlongs' is not a unit of"),
+        (["example", "--units", "cm/s2"], r"NS\.AT2: units cm/s2 given, but the file states g"),
+        (["example", "--dt", 5], r"dt = 5 s is coarser than 0\.05 s"),
+        (["example", "--location", "roof garden"], r"location 'roof garden' is not understood"),
+        (
+            ["example", "--out", "{tmp}/suite.txt"],
+            r"suite\.txt: an ensemble is written as a netCDF",
+        ),
+        (["{tmp}/in.nc", "--out", "{tmp}/in.nc"], r"--out .*in\.nc is also an input"),
+        (["{tmp}", "--out", "{tmp}/in.nc"], r"--out .*in\.nc is also an input"),
+        (["{tmp}/a.txt", "{tmp}/b.txt", "--record-dt", 0.01], r"one time step \(0\.01 s\) for 2"),
+        (["{tmp}/odd.txt"], r"odd\.txt: format not recognised \(line 2: .*PEER \.AT2"),
+        (["--manifest", "{tmp}/binary.csv"], r"binary\.csv: the manifest is not a text file"),
     ],
 )
 def test_cli_import_errors_are_one_line(tmp_path, args, expected):
+    Ensemble.from_records([EL_CENTRO]).save(tmp_path / "in.nc")
+    for name in ("a.txt", "b.txt"):
+        (tmp_path / name).write_text("0.1\n-0.2\n0.3\n")
+    (tmp_path / "odd.txt").write_text("1 2\n3 4 5\n")
+    (tmp_path / "binary.csv").write_bytes(b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR")
+    args = [str(a).replace("{tmp}", str(tmp_path)) for a in args]
+    if "--out" not in args:
+        args += ["--out", tmp_path / "suite.nc"]
+    before = (tmp_path / "in.nc").read_bytes()
     out = tmp_path / "suite.nc"
-    result = _invoke(["motions", "import", *args, "--out", out])
+    result = _invoke(["motions", "import", *args])
+    assert (tmp_path / "in.nc").read_bytes() == before
     assert result.exit_code == 1
     lines = result.output.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("Error: "), result.output
     assert re.search(expected, lines[0]), lines[0]
     assert not out.exists()
+
+
+def test_cli_import_warns_of_an_implausible_peak_in_one_line(tmp_path):
+    # Issue 48: a record in gal imported without --units became a motion of A_gx = 31.3 g
+    # without a word. The warning is one line, on standard error, naming the likely units.
+    gal = tmp_path / "gal.csv"
+    gal.write_text(
+        "t,a\n" + "".join(f"{0.01 * k:.2f},{31.3 * math.sin(k / 9):.6f}\n" for k in range(300))
+    )
+    result = _invoke(["motions", "import", gal, "--out", tmp_path / "g.nc"])
+    assert result.exit_code == 0, result.output
+    warned = [line for line in result.stderr.splitlines() if line.startswith("warning: ")]
+    assert len(warned) == 1 and "likely in" in warned[0] and "cm/s2" in warned[0], result.stderr
+    assert "wrote" in result.stdout
+    # with the units stated, no warning
+    fine = _invoke(["motions", "import", gal, "--units", "gal", "--out", tmp_path / "ok.nc"])
+    assert fine.exit_code == 0 and "Warning" not in fine.output, fine.output
+
+
+def test_cli_generate_out_must_be_netcdf(tmp_path):
+    # Issue 48: `motions generate --out m.txt` wrote a netCDF file named .txt
+    result = _invoke(["motions", "generate", "--n", 2, "--out", tmp_path / "m.txt"])
+    assert result.exit_code == 1 and result.output.count("\n") == 1, result.output
+    assert "m.txt: an ensemble is written as a netCDF file, named .nc" in result.output
+    assert not (tmp_path / "m.txt").exists()

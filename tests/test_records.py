@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -10,6 +11,7 @@ import pytest
 from rocking.dynamics.body import G
 from rocking.errors import InputError
 from rocking.motions.records import example_record_path, read_record, read_records
+from rocking.motions.units import ImplausiblePeakWarning
 
 #: El Centro 1940 NS ships with the package; Chino Hills (PEER NGA-West2 layout) with the tests.
 EL_CENTRO = example_record_path()
@@ -99,14 +101,60 @@ def test_at2_header_variants(tmp_path, text):
         ("Units: gal", 0.01),
         ("ACCELERATION TIME SERIES IN UNITS OF M/S/S", 1.0),
         ("acceleration [m/s^2]", 1.0),
+        # issue 49: these were read as g (in/s² and ft/s²: exact inch and foot, 0.0254 m and
+        # 0.3048 m)
+        ("ACCELERATION TIME SERIES IN UNITS OF IN/S/S", 0.0254),
+        ("acceleration in ft/sec2", 0.3048),
+        ("The units are (m/s²)", 1.0),
     ],
 )
 def test_at2_stated_units(tmp_path, units_line, factor):
     path = tmp_path / "rec.at2"
     path.write_text(_at2("NPTS= 7, DT= .01 SEC", units_line=units_line))
     np.testing.assert_allclose(read_record(path).acc, np.array(VALUES) * factor, rtol=1e-15)
-    # units= overrides what the file says
-    np.testing.assert_allclose(read_record(path, units="g").acc, np.array(VALUES) * G, rtol=1e-15)
+    stated = read_record(path).units
+    # units= that agree with the file (in any spelling) change nothing; others are refused,
+    # naming both (issue 48: --units cm/s2 for a file in g was taken silently)
+    np.testing.assert_allclose(
+        read_record(path, units=stated.upper()).acc, np.array(VALUES) * factor, rtol=1e-15
+    )
+    other = "g" if stated != "g" else "cm/s2"
+    with pytest.raises(InputError, match=rf"units {other} given, but the file states {stated}"):
+        read_record(path, units=other)
+
+
+@pytest.mark.parametrize(
+    "name,text,where",
+    [
+        ("rec.AT2", _at2("NPTS= 7, DT= .01 SEC", units_line="The units are (furlongs)"), ""),
+        ("rec.AT2", _at2("NPTS= 7, DT= .01 SEC", units_line="UNITS OF FURLONGS/S2"), ""),
+        ("rec.csv", "time [s], acc [furlongs]\n0,0.1\n0.01,0.2\n", ": line 1"),
+        ("rec.txt", "acc (furlongs/s^2)\n0.1\n0.2\n", ": line 1"),
+    ],
+)
+def test_units_not_understood_are_refused(tmp_path, name, text, where):
+    # Issue 49: a unit that is not understood was read as g. The error names the file, the
+    # line of a column header and the unit.
+    path = tmp_path / name
+    path.write_text(text)
+    with pytest.raises(InputError, match=rf"(?i){name}{where}: unit '[^']*furlongs[^']*' is not a"):
+        read_record(path, dt=0.01)
+
+
+def test_header_units_per_second_squared(tmp_path):
+    # Issue 49: "acc [mm/s2]" gave PGA 0.2993 g instead of 0.0003 g (1000x); in/s² and ft/s²
+    # were read as g too. The peak 2.935 in mm/s² is 2.935e-3 / 9.80665 g.
+    for header, factor in (
+        ("time [s], acc [mm/s2]", 1e-3),
+        ("t (sec), a (in/s^2)", 0.0254),
+        ("time_s; acceleration [ft/s²]", 0.3048),
+        ("t [s], a [cm/sec/sec]", 0.01),
+        ("t,a [gal]", 0.01),
+    ):
+        path = tmp_path / "rec.csv"
+        path.write_text(f"{header}\n0,0.1\n0.01,-2.935\n0.02,1.0\n")
+        rec = read_record(path)
+        assert rec.pga == pytest.approx(2.935 * factor / G, rel=1e-14), header
 
 
 @pytest.mark.parametrize(
@@ -196,8 +244,53 @@ def test_text_errors(tmp_path, text, match):
 
 
 def test_bad_units_name(tmp_path):
-    with pytest.raises(InputError, match="units must be one of"):
-        read_record(EL_CENTRO, units="ft/s2")
+    with pytest.raises(InputError, match="units: unit 'furlongs' is not a unit of acceleration"):
+        read_record(EL_CENTRO, units="furlongs")
+
+
+def test_absurd_peaks_are_refused_and_implausible_ones_warned(tmp_path):
+    # Issue 49: a sample of 1e30 g imported as "A_gx = 1e+30 g". Above 100 g no value can be a
+    # ground or floor acceleration in the units read. Issue 48: a record in gal read as g
+    # (peak 312.7 "g") was taken without a word; the message names the likely units first:
+    # 312.7 cm/s² = 312.7 / 980.665 g = 0.3189 g.
+    for text, match in (
+        ("t,a\n0,0.1\n0.01,1e30\n", r"peak 1e\+30 g \(read in g\) is implausible"),
+        ("t,a\n0,0.1\n0.01,-312.7\n", r"peak 312\.7 g .* likely in cm/s2 \(peak 0\.3189 g\)"),
+    ):
+        path = tmp_path / "huge.txt"
+        path.write_text(text)
+        with pytest.raises(InputError, match=rf"huge\.txt: {match}.*above 100 g: refused"):
+            read_record(path)
+    # Below 100 g it is a warning: 45 gal read as g is 45 "g" (0.04589 g in cm/s², 0.1166 g in
+    # in/s², 1.399 g in ft/s²)
+    gal = tmp_path / "gal.txt"
+    gal.write_text("t,a\n0,0.1\n0.01,-45\n")
+    likely = r"gal\.txt: peak 45 g .* cm/s2 \(peak 0\.04589 g\)"
+    with pytest.warns(ImplausiblePeakWarning, match=likely):
+        read_record(gal)
+    # and a record far too weak (values in g read as m/s², say)
+    weak = tmp_path / "weak.txt"
+    weak.write_text("t,a [m/s2]\n0,0.0001\n0.01,-0.0002\n")
+    with pytest.warns(ImplausiblePeakWarning, match=r"weak\.txt: peak 2\.039e-05 g"):
+        read_record(weak)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a plausible record warns of nothing
+        read_record(EL_CENTRO)
+
+
+def test_unrecognised_formats_say_so_and_list_the_formats(tmp_path):
+    # Issue 48: a file in another format got "line 4: expected 2 value(s) like the first data
+    # line". A made-up multi-line header over three-column data, and text among numbers:
+    for text in (
+        "STATION ABC\nCHANNEL 1\n1 2\n3 4 5\n",
+        "a b c\n1 2 3\n",
+        "header\n1\nmore text\n",
+    ):
+        path = tmp_path / "odd.dat"
+        path.write_text(text)
+        with pytest.raises(InputError, match=r"odd\.dat: format not recognised \(line \d") as err:
+            read_record(path, dt=0.01)
+        assert "PEER .AT2" in str(err.value) and "netCDF" in str(err.value)
 
 
 def test_read_records_folder_and_list(tmp_path):

@@ -187,7 +187,13 @@ def test_tabulated_csv_errors_name_file_and_line(tmp_path, text, match):
     "text,match",
     [
         ("freq,psv\n1,50\n2,60\n", r"line 1: column 'psv': state the unit of PSV, cm/s or m/s"),
-        ("freq,psa [m/s2]\n1,5\n2,6\n", r"line 1: column 'psa \[m/s2\]': PSA must be in g"),
+        # issue 49: a unit that is not understood was taken as a location name and PSA read as g
+        (
+            "freq,PSA [furlongs]\n1,5\n2,6\n",
+            r"line 1: column 'PSA \[furlongs\]': unit 'furlongs' is not a unit of acceleration",
+        ),
+        ("freq,psv (in/hr)\n1,5\n2,6\n", r"column 'psv \(in/hr\)': unit 'in/hr' of PSV is not"),
+        ("freq,psa_m_s2\n1,5\n2,6\n", r"column 'psa_m_s2': state the unit of PSA"),
         ("freq,sd_cm\n1,5\n2,6\n", r"line 1: need a column of PSA \[g\] or PSV"),
         (
             "freq,psv [m/s]\n1,0.5\n2,0\n",
@@ -213,6 +219,9 @@ def test_tabulated_csv_psv_in_m_s_and_cm_s_and_column_order(tmp_path):
         "b.csv": "T (s),PSV (m/s)\n" + "".join(f"{1 / x!r},{y!r}\n" for x, y in zip(f, psv)),
         "c.csv": "notes,Frequency [Hz],psv [cm/s]\n"
         + "".join(f"x,{x!r},{100 * y!r}\n" for x, y in zip(f, psv)),
+        # PSA in any unit of acceleration of rocking.motions.units (issue 49): m/s², gal
+        "d.csv": "freq,PSA [m/s^2]\n" + "".join(f"{x!r},{y * G!r}\n" for x, y in zip(f, psa)),
+        "e.csv": "freq,Sa (gal)\n" + "".join(f"{x!r},{y * G * 100!r}\n" for x, y in zip(f, psa)),
     }
     for name, text in files.items():
         (tmp_path / name).write_text(text)
@@ -639,3 +648,28 @@ def test_assess_and_screen_take_the_spectra_our_commands_write(tmp_path):
     )
     assert result.exit_code == 0, result.output
     assert (tmp_path / "screen" / "report.html").is_file()
+
+
+def test_cli_spectrum_step_is_record_dt_and_dt_still_works_for_now(tmp_path):
+    # Issue 48: the step of a one-column file was --record-dt in motions import and --dt in
+    # spectrum. It is --record-dt in both; --dt stays one release, with a warning. The record
+    # is a 2 Hz cosine of 0.3 g at 0.01 s (50 samples per period, the first at its peak): PGA
+    # 0.3 g; in gal 0.3 / 980.665 g.
+    one = tmp_path / "one.txt"
+    wave = (0.3 * math.cos(2 * math.pi * 2 * 0.01 * k) for k in range(400))
+    one.write_text("".join(f"{a:.9f}\n" for a in wave))
+    new = CliRunner().invoke(main, ["spectrum", str(one), "--record-dt", "0.01", "--n", "5"])
+    assert new.exit_code == 0, new.output
+    assert new.stdout.startswith("one: 400 samples at 0.01 s, PGA 0.3 g") and not new.stderr
+    old = CliRunner().invoke(main, ["spectrum", str(one), "--dt", "0.01", "--n", "5"])
+    assert old.exit_code == 0 and old.stdout == new.stdout, old.output
+    assert old.stderr.startswith("warning: --dt of 'rocking spectrum' is renamed --record-dt")
+    both = CliRunner().invoke(main, ["spectrum", str(one), "--dt", "0.01", "--record-dt", "0.01"])
+    assert both.exit_code == 1 and "give --record-dt only" in both.output
+    assert "--dt" not in CliRunner().invoke(main, ["spectrum", "--help"]).output
+    # units in any usual spelling; others refused in one line
+    gal = CliRunner().invoke(main, ["spectrum", str(one), "--record-dt", "0.01", "--units", "GAL"])
+    assert gal.exit_code == 0 and "PGA 0.0003059 g" in gal.stdout, gal.output
+    bad = CliRunner().invoke(main, ["spectrum", str(one), "--record-dt", "0.01", "--units", "ft"])
+    assert bad.exit_code == 1 and bad.output.count("\n") == 1
+    assert "--units: unit 'ft' is not a unit of acceleration" in bad.output

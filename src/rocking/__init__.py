@@ -76,6 +76,7 @@ _EXPORTS = {
     "Record": "motions.records",
     "read_record": "motions.records",
     "read_records": "motions.records",
+    "ImplausiblePeakWarning": "motions.units",
     "Report": "report",
     "provenance": "core.runs",
     "results_table": "assessment.screen",
@@ -154,6 +155,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .motions.response import ResponseSpectrum, response_spectrum
     from .motions.synthesis import generate, limit_peaks, spectral_fit
     from .motions.targets import RG160, TabulatedSpectrum, TargetSpectrum, rg160
+    from .motions.units import ImplausiblePeakWarning
     from .motions.wavelets import VelocityPulse, pulse_period
     from .report import Report
     from .structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg

@@ -12,8 +12,8 @@ Errors are printed in one line, never as a traceback:
 * anything else is a bug in ``rocking``: the message says so, the traceback is saved to a file
   whose path is printed (for a bug report), exit status 70 (``EX_SOFTWARE``).
 
-Warnings (e.g. a body outside the usual range of sizes) are one line each on standard error,
-``warning: ...``.
+Warnings (e.g. a body outside the usual range of sizes, a record whose peak is implausible)
+are one line each on standard error, ``warning: ...``.
 """
 
 from __future__ import annotations
@@ -78,6 +78,11 @@ class _Main(click.Group):
             raise _usage_error(exc) from None
 
     def invoke(self, ctx):
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return self._invoke(ctx)
+
+    def _invoke(self, ctx):
         try:
             return super().invoke(ctx)
         except click.exceptions.NoArgsIsHelpError:
@@ -168,7 +173,6 @@ def main() -> None:
     from ..core.process import configure_process
 
     configure_process()  # before any parallel kernel runs
-    warnings.showwarning = _show_warning
     # SIGTERM (a batch system's stop) unwinds like Ctrl-C, so that long runs record their
     # status as failed in run.json; finished chunks are already on disk.
     signal.signal(signal.SIGTERM, _terminate)

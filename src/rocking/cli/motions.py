@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -19,7 +20,7 @@ from ._options import (
     reporter,
     writable_file,
 )
-from .spectrum import UNIT_NAMES
+from .spectrum import checked_units, record_dt_option, units_option
 
 if TYPE_CHECKING:
     import numpy as np
@@ -131,7 +132,7 @@ def generate_cmd(
     quiet: bool,
 ) -> None:
     """Simulate an ensemble and save it as netCDF."""
-    writable_file(out, "--out")  # before the work, not after
+    _ensemble_out(out)  # before the work, not after
     from ..motions.synthesis import generate
     from ..motions.targets import TabulatedSpectrum, rg160
 
@@ -156,6 +157,24 @@ def generate_cmd(
         f"wrote {out}: {ens.n} motions of {ens.duration:g} s at dt = {ens.dt:g} s "
         f"({envelope}, seed {seed}), A_gx = {ens.agx:.4g} g"
     )
+
+
+def _ensemble_out(out: str, inputs: list[Path] | None = None) -> None:
+    """Refuse, before any work, an ``--out`` that is not named .nc (an ensemble file is netCDF),
+    cannot be written, or is one of the ``inputs`` (a command never overwrites what it reads)."""
+    if Path(out).suffix.lower() != ".nc":
+        raise InputError(
+            f"--out {out}: an ensemble is written as a netCDF file, named .nc "
+            f"(e.g. {Path(out).with_suffix('.nc').name})"
+        )
+    writable_file(out, "--out")
+    target = Path(out).resolve()
+    same = next((p for p in inputs or () if p.resolve() == target), None)
+    if same is not None:
+        raise InputError(
+            f"--out {out} is also an input ({same}): it would be overwritten while it is read; "
+            "choose another --out"
+        )
 
 
 def _with_and_without_baseline(ens: Ensemble) -> tuple[np.ndarray, np.ndarray]:
@@ -410,30 +429,21 @@ def fit_cmd(
 @click.argument("records", nargs=-1, metavar="[RECORD]...")
 @click.option(
     "--manifest",
-    help="CSV with one row per motion: columns horizontal (file), vertical (file, optional) "
-    "and scale (factor > 0, optional); paths relative to the manifest's folder. 'example': "
-    "the shipped real records (El Centro 1940 NS; Ridgecrest 2019 M7.1 at three stations, "
-    "both horizontals, each with its vertical).",
+    help="CSV with one row per motion: columns horizontal (file), vertical (file, optional), "
+    "scale (factor > 0, optional) and dt (step [s] of one-column files, optional); paths "
+    "relative to the manifest's folder. 'example': the shipped real records (El Centro 1940 "
+    "NS; Ridgecrest 2019 M7.1 at three stations, both horizontals, each with its vertical).",
 )
 @click.option(
     "--dt",
     type=click.FloatRange(0.0, min_open=True),
     default=None,
-    help="Common time step [s]: every record is resampled to it (scipy.signal.resample_poly, "
-    "Kaiser-window FIR anti-alias filter). Required when the records' steps differ.",
+    help="Common time step [s], at most 0.05 (Nyquist 10 Hz): every record is resampled to "
+    "it (scipy.signal.resample_poly, Kaiser-window FIR anti-alias filter). Required when the "
+    "records' steps differ.",
 )
-@click.option(
-    "--units",
-    type=click.Choice(UNIT_NAMES),
-    default=None,
-    help="Units of the values in the record files (default: as each file states, else g).",
-)
-@click.option(
-    "--record-dt",
-    type=click.FloatRange(0.0, min_open=True),
-    default=None,
-    help="Time step [s] of one-column text files (which do not state it).",
-)
+@units_option
+@record_dt_option
 @click.option(
     "--horizontal-only",
     is_flag=True,
@@ -443,8 +453,8 @@ def fit_cmd(
     "--location",
     default="ground",
     show_default=True,
-    help='Where the motions act, e.g. "floor 3" for floor acceleration histories exported '
-    "from a structural model.",
+    help='Where the motions act: ground, "floor N" (e.g. "floor 3" for floor acceleration '
+    'histories exported from a structural model) or "floor N of FRAME".',
 )
 @click.option(
     "--out",
@@ -469,13 +479,18 @@ def import_cmd(
     sorted by name), existing ensemble files (.nc: their members are appended) or the word
     'example' (El Centro 1940 NS). Members shorter than the longest are padded with zeros at
     the end. Each member keeps its file, event, station and component (from a PEER header),
-    original time step and units.
+    original time step and units. A one-column file (no times) takes its step from
+    --record-dt; several need one step each, in a --manifest's dt column.
     """
     if not records and manifest is None:
         raise InputError("name at least one RECORD or give --manifest")
-    writable_file(out, "--out")
-    from ..motions.ensemble import Ensemble
-    from ..motions.records import RATIO_RTOL
+    units = checked_units(units)
+    from ..motions.ensemble import IMPORT_SUFFIXES, Ensemble, location_name
+    from ..motions.records import RATIO_RTOL, record_paths
+
+    location = location_name(location)
+    inputs = record_paths(records, IMPORT_SUFFIXES) if records else []
+    _ensemble_out(out, inputs + ([Path(manifest)] if manifest else []))
 
     ens = Ensemble.from_records(
         records,

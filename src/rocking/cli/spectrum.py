@@ -8,6 +8,7 @@ import click
 
 from ..defaults import G
 from ..errors import InputError
+from ..motions.units import UNITS_TEXT, acceleration_unit
 from ._options import count, figure_file, reporter, writable_file
 
 if TYPE_CHECKING:
@@ -16,9 +17,34 @@ if TYPE_CHECKING:
     from ..motions.records import Record
     from ..motions.response import ResponseSpectrum
 
-#: Units of ``--units`` (those of :data:`rocking.motions.records.UNITS`; tests/test_cli.py
-#: checks it).
-UNIT_NAMES = ("cm/s2", "g", "m/s2")
+#: ``--units`` of the commands that read records (``spectrum``, ``motions import``).
+units_option = click.option(
+    "--units",
+    default=None,
+    metavar="UNIT",
+    help=f"Units of the values in record files that do not state theirs: {UNITS_TEXT} (usual "
+    "spellings such as cm/sec/sec or m/s^2 too); a file that states other units is refused "
+    "[default: as each file states, else g]",
+)
+#: ``--record-dt`` of the commands that read records, and ``--dt``, its old name in
+#: ``spectrum`` (hidden; kept for one release, with a warning).
+record_dt_option = click.option(
+    "--record-dt",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    help="Time step [s] of a one-column text file (which does not state it); several "
+    "one-column files need a step each (motions import: a manifest's dt column).",
+)
+_old_dt_option = click.option(
+    "--dt", "old_dt", type=click.FloatRange(0.0, min_open=True), default=None, hidden=True
+)
+
+
+def checked_units(units: str | None) -> str | None:
+    """``--units`` as a name of :data:`rocking.motions.units.ACCELERATION_UNITS` (None: not
+    given); a unit that is not understood is refused, naming it."""
+    return None if units is None else acceleration_unit(units, "--units")
+
 
 #: Highest frequency [Hz] of the spectra unless a record's Nyquist frequency is lower.
 _DEFAULT_FMAX = 50.0
@@ -67,18 +93,9 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
     show_default=True,
     help="Number of frequencies, log-spaced from fmin to fmax.",
 )
-@click.option(
-    "--units",
-    type=click.Choice(UNIT_NAMES),
-    default=None,
-    help="Units of the values in the files (default: as the file states, else g).",
-)
-@click.option(
-    "--dt",
-    type=click.FloatRange(0.0, min_open=True),
-    default=None,
-    help="Time step [s] of one-column text files.",
-)
+@units_option
+@record_dt_option
+@_old_dt_option
 @click.option(
     "--plot",
     "plot_path",
@@ -98,7 +115,8 @@ def spectrum(
     fmax: float | None,
     n_freq: int,
     units: str | None,
-    dt: float | None,
+    record_dt: float | None,
+    old_dt: float | None,
     plot_path: str | None,
     csv_path: str | None,
 ) -> None:
@@ -110,6 +128,16 @@ def spectrum(
     """
     if fmax is not None and not fmin < fmax:
         raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
+    if old_dt is not None:
+        if record_dt is not None:
+            raise InputError("--dt is the old name of --record-dt: give --record-dt only")
+        click.echo(
+            "warning: --dt of 'rocking spectrum' is renamed --record-dt (as in 'rocking "
+            "motions import'); --dt will be removed in the next release",
+            err=True,
+        )
+        record_dt = old_dt
+    units = checked_units(units)
     writable_file(csv_path, "--csv")
     figure_file(plot_path, "--plot")
 
@@ -117,7 +145,7 @@ def spectrum(
     from ..motions.records import read_records
     from ..motions.response import response_spectrum
 
-    records = read_records(files, dt=dt, units=units)
+    records = read_records(files, dt=record_dt, units=units)
     freqs = portable.geomspace(fmin, _highest_frequency(records, fmin, fmax), n_freq)
     with reporter():
         spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]

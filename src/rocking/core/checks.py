@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
+from .files import read_text
 
 if TYPE_CHECKING:
     import numpy as np
@@ -191,11 +192,12 @@ def restitution(value: float | str, name: str = "e") -> Any:
 
 def read_toml(path: str | os.PathLike[str], label: str | None = None) -> dict:
     """The TOML file ``path`` as a dict; a syntax error is an InputError that starts with
-    ``label`` (default: the path)."""
+    ``label`` (default: the path), a file that cannot be read or is not text one that names
+    it (:func:`rocking.core.files.read_text`)."""
     path = Path(path)
+    text = read_text(path, "TOML file")
     try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{label or path}: not valid TOML ({exc})") from None
 

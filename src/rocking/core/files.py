@@ -133,6 +133,40 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], dpi: int = 150) -> Pa
     return atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))
 
 
+#: Bytes of a file looked at for NUL bytes, which no text file holds.
+_SNIFF_BYTES = 4096
+
+
+def read_text(path: str | os.PathLike[str], what: str) -> str:
+    """The text of a UTF-8 file that a user gives (a byte-order mark allowed).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    what : str
+        What the file is, for the error message (e.g. ``"manifest"``, ``"spectrum file"``).
+
+    Raises
+    ------
+    InputError
+        When the file does not exist or cannot be read, or is not text (a binary file: NUL
+        bytes, or bytes that are not UTF-8), naming it.
+    """
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the {what} ({exc.strerror or exc})") from None
+    if b"\0" in data[:_SNIFF_BYTES]:
+        raise InputError(f"{path}: the {what} is not a text file (binary data)")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(
+            f"{path}: the {what} is not a text file (byte {exc.start} is not UTF-8 text)"
+        ) from None
+
+
 def csv_rows(path: str | os.PathLike[str], what: str) -> list[tuple[int, list[str]]]:
     """The rows of a CSV file as (line number, stripped cells), without blank rows and rows
     whose first cell starts with ``#``.
@@ -147,12 +181,9 @@ def csv_rows(path: str | os.PathLike[str], what: str) -> list[tuple[int, list[st
     Raises
     ------
     InputError
-        When the file cannot be read, naming it.
+        When the file cannot be read or is not text, naming it (:func:`read_text`).
     """
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            rows = [(n, [c.strip() for c in cells]) for n, cells in enumerate(csv.reader(fh), 1)]
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or exc
-        raise InputError(f"{path}: cannot read the {what} ({reason})") from None
+    text = read_text(path, what)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    rows = [(n, [c.strip() for c in cells]) for n, cells in enumerate(reader, 1)]
     return [(n, cells) for n, cells in rows if any(cells) and not cells[0].startswith("#")]

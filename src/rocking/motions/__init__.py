@@ -8,6 +8,7 @@
 * :mod:`~rocking.motions.synthesis` — simulated motions (Eq. 9), the iterative correction, the fit;
 * :mod:`~rocking.motions.baseline` — quadratic baseline correction (Section 4);
 * :mod:`~rocking.motions.records` — reading recorded accelerations (PEER .AT2, text);
+* :mod:`~rocking.motions.units` — units of acceleration, plausible peaks;
 * :mod:`~rocking.motions.ensemble` — :class:`Ensemble`, motions with labels and metadata;
 * :mod:`~rocking.motions.intensity` — intensity measures of motions (PGA, PGV, Sa, …);
 * :mod:`~rocking.motions.pulses` — idealised near-fault pulses (:func:`pulse`);

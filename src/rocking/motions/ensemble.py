@@ -14,6 +14,7 @@ import io
 import json
 import math
 import os
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -30,10 +31,12 @@ from ..defaults import G
 from ..errors import InputError
 from .records import (
     _NETCDF_MAGIC,
+    MAX_DT,
     RATIO_RTOL,
     RECORD_SUFFIXES,
     RESAMPLING,
     Record,
+    _refuse_shared_step,
     read_manifest,
     read_record,
     record_path,
@@ -41,6 +44,7 @@ from .records import (
     resample,
 )
 from .targets import StoredTarget
+from .units import MAX_PEAK_G
 
 #: xarray engine for ensemble files: "scipy" writes netCDF-3 (64-bit offset) with SciPy alone.
 #: netCDF-4 (engine "h5netcdf") would add h5py and HDF5 to the install for no gain here.
@@ -66,6 +70,25 @@ PER_MEMBER = ("members", *RECORD_ENTRIES)
 #: Suffixes of the files :meth:`Ensemble.from_records` takes from a folder: records and
 #: ensemble files.
 IMPORT_SUFFIXES = (*RECORD_SUFFIXES, ".nc")
+
+
+#: Where motions act: the ground, or floor N (N ≥ 1) of a building, optionally "of FRAME" (as
+#: :meth:`rocking.structures.frames.ShearFrame.floor_motions` names its floor ensembles).
+_LOCATION = re.compile(r"(ground)|floor\s+([1-9]\d*)(?:\s+of\s+(\S.*))?", re.IGNORECASE)
+#: The locations understood, for messages.
+LOCATIONS_TEXT = "ground, floor N (N = 1, 2, … counted from the ground) or floor N of FRAME"
+
+
+def location_name(text: str) -> str:
+    """Where motions act, as written by a user, in the form the package uses: "ground",
+    "floor N" or "floor N of FRAME" (N ≥ 1; any case and spacing). Anything else (e.g. "roof
+    garden", "floor 0") is an InputError that lists what is understood."""
+    m = _LOCATION.fullmatch(str(text).strip())
+    if m is None:
+        raise InputError(f"location {str(text).strip()!r} is not understood; give {LOCATIONS_TEXT}")
+    if m[1]:
+        return "ground"
+    return f"floor {int(m[2])}" + (f" of {m[3].strip()}" if m[3] else "")
 
 
 def _n_samples(duration: float, dt: float) -> int:
@@ -176,7 +199,15 @@ class Ensemble:
 
     @property
     def agx(self) -> float:
-        """Ensemble intensity A_gx: mean of the members' PGA [g] (paper Section 3)."""
+        """Ensemble intensity A_gx: mean of the members' PGA [g] (paper Section 3).
+
+        An ensemble whose every member is zero has none (InputError, naming the members): it
+        cannot be scaled to a level."""
+        if not self.pga.any():
+            raise InputError(
+                f"every member of the ensemble is zero ({_listed(self.labels)}): it has no "
+                "A_gx and cannot be scaled to a level"
+            )
         return float(self.pga.mean())
 
     @property
@@ -191,8 +222,6 @@ class Ensemble:
     def scaled(self, agx: float) -> Ensemble:
         """The ensemble times one factor, so that its mean PGA is ``agx`` [g] (> 0)."""
         agx = positive("agx", agx, "g")
-        if self.agx == 0.0:
-            raise InputError("cannot scale an ensemble of zero motions to a given agx")
         return self.scaled_by(agx / self.agx)
 
     def subset(self, indices: ArrayLike) -> Ensemble:
@@ -304,12 +333,19 @@ class Ensemble:
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> Ensemble:
-        """Read an ensemble written by :meth:`save`."""
+        """Read an ensemble written by :meth:`save`.
+
+        Refused, naming the file: a file that is no such ensemble; attribute ``dt`` that
+        disagrees with the step of the time axis (to :data:`~rocking.motions.records.RATIO_RTOL`);
+        a non-finite sample; a member that is zero everywhere; a member whose peak exceeds
+        :data:`~rocking.motions.units.MAX_PEAK_G` (certainly other units than m/s²).
+        """
         from scipy.io import netcdf_file
 
         path = Path(path)
         try:
             with netcdf_file(path, "r", mmap=False) as nc:
+                time = np.array(nc.variables["time"][:], dtype=np.float64)
                 acc = np.array(nc.variables["acc"][:], dtype=np.float64)
                 av = (
                     np.array(nc.variables["av"][:], dtype=np.float64)
@@ -326,7 +362,38 @@ class Ensemble:
             raise InputError(
                 f"{path}: not a netCDF ensemble file ({' '.join(str(exc).split()[:12])})"
             ) from None
-        return cls(acc, dt, labels, meta, av)
+        if time.size >= 2:
+            step = float(time[-1] - time[0]) / (time.size - 1)
+            if not math.isclose(step, dt, rel_tol=RATIO_RTOL):
+                raise InputError(
+                    f"{path}: its attribute dt = {dt:g} s disagrees with its time axis, whose "
+                    f"step is {step:g} s; the file is inconsistent (written by another program?)"
+                )
+        try:
+            ens = cls(acc, dt, labels, meta, av)
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+        ens._check_motions(str(path))
+        return ens
+
+    def _check_motions(self, where: str = "ensemble") -> None:
+        """Refuse (InputError starting with ``where``) members that are zero everywhere (no
+        motion: it has no A_gx, and scaled with the others it never moves), or whose
+        horizontal or vertical peak exceeds :data:`~rocking.motions.units.MAX_PEAK_G` [g]
+        (certainly not an acceleration in m/s²)."""
+        zero = [label for label, p in zip(self.labels, self.pga) if p == 0.0]
+        if zero:
+            every = "every member is" if len(zero) == self.n else f"{len(zero)} member(s) are"
+            raise InputError(f"{where}: {every} zero everywhere ({_listed(zero)}): no motion")
+        peaks = self.pga if self.av is None else np.maximum(self.pga, np.abs(self.av).max(1) / G)
+        huge = np.flatnonzero(peaks > MAX_PEAK_G)
+        if huge.size:
+            i = huge[0]
+            raise InputError(
+                f"{where}: member {self.labels[i]} peaks at {peaks[i]:.4g} g, above "
+                f"{MAX_PEAK_G:g} g: certainly not a ground or floor acceleration "
+                f"({huge.size} such member(s))"
+            )
 
     @classmethod
     def from_records(
@@ -363,26 +430,33 @@ class Ensemble:
             by :meth:`save`: their members are appended, with their vertical components and
             metadata). The word ``example`` stands for the shipped record.
         dt : float, optional
-            Common time step [s], > 0.
+            Common time step [s], > 0 and at most :data:`~rocking.motions.records.MAX_DT`
+            (0.05 s).
         vertical : sequence of Record, str, Path or None, optional
             One per entry of ``records``: the vertical record [up positive] of the same motion,
             or None. Members without one get a zero vertical acceleration when others have one.
         scale : float or sequence of float, optional
             Factor [-] (> 0) applied to both components: one for all or one per entry of
             ``records`` (default 1).
-        units : {"g", "m/s2", "cm/s2"}, optional
-            Units of the values in the record files, overriding what they state.
+        units : str, optional
+            Units of the values in record files that state none (g, m/s2, cm/s2 or gal,
+            mm/s2, in/s2, ft/s2; :func:`~rocking.motions.records.read_record`): a file that
+            states other units is refused.
         manifest : str or Path, optional
-            A CSV with one row per motion (columns ``horizontal``, ``vertical``, ``scale``;
+            A CSV with one row per motion (columns ``horizontal``, ``vertical``, ``scale``,
+            ``dt``;
             :func:`~rocking.motions.records.read_manifest`), its members after ``records``.
             Errors in its records name the row.
         location : str, optional
-            Where the motions act, e.g. "floor 3" for floor acceleration histories exported from
-            a structural model (meta ``location``, default "ground"). Appended ensembles must be
-            at the same location.
+            Where the motions act: "ground" (default), "floor N" (e.g. "floor 3" for floor
+            acceleration histories exported from a structural model) or "floor N of FRAME"
+            (:func:`location_name`; meta ``location``). Appended ensembles must be at the same
+            location.
         record_dt : float, optional
-            Time step [s] of one-column text files (which do not state it); checked against the
-            step of the others.
+            Time step [s] of a one-column text file (which does not state it); checked against
+            the step of the others. It gives the step of one such file only: several are
+            refused (their rates may differ) unless each has its own in a manifest's ``dt``
+            column.
         horizontal_only : bool, optional
             Drop every vertical component (given, in the manifest or in appended ensembles):
             e.g. for an IDA that scales records far enough that their verticals would reach −g.
@@ -399,9 +473,7 @@ class Ensemble:
             ``record_scale`` [-]. Labels are the file names without suffix (a repeated label
             gets "-2", "-3", …).
         """
-        location = str(location).strip()
-        if not location:
-            raise InputError("location must name where the motions act, e.g. ground or floor 3")
+        location = location_name(location)
         read = {
             "units": units,
             "dt": None if record_dt is None else positive("record_dt", record_dt, "s"),
@@ -416,7 +488,19 @@ class Ensemble:
                 replace(m, v=None, dt_v=m.dt_h, info={**m.info, "vertical_sources": ""})
                 for m in members
             ]
+        shared = [m.label for m in members if m.shared_step]
+        if len(shared) > 1 and record_dt is not None:
+            remedy = "give each its own step: list them in a manifest with a dt column"
+            _refuse_shared_step(shared, record_dt, remedy)
         step = _common_step(members) if dt is None else positive("dt", dt, "s")
+        if step > MAX_DT:
+            given = f"dt = {step:g} s" if dt is not None else f"the records' step {step:g} s"
+            raise InputError(
+                f"{given} is coarser than {MAX_DT:g} s: motions must carry frequencies up to "
+                f"{0.5 / MAX_DT:g} Hz (the Nyquist frequency of {MAX_DT:g} s), the amplified "
+                "region of design spectra (to 9 Hz, RG 1.60's point B) that sets their peaks "
+                "and A_gx"
+            )
         rows_h = [_resampled(m.h, m.dt_h, step, m) for m in members]
         rows_v = [None if m.v is None else _resampled(m.v, m.dt_v, step, m) for m in members]
         n_t = max(len(x) for x in rows_h + rows_v if x is not None)
@@ -436,7 +520,9 @@ class Ensemble:
             "padding": "zeros at the end, to the longest member",
             **entries,
         }
-        return cls(acc, step, _unique([m.label for m in members]), meta, av)
+        ens = cls(acc, step, _unique([m.label for m in members]), meta, av)
+        ens._check_motions("the records")
+        return ens
 
 
 @dataclass(frozen=True)
@@ -452,9 +538,11 @@ class _Member:
     scale: float
     label: str
     info: dict
+    shared_step: bool = False
 
 
-def _record_member(h: Record, v: Record | None, scale: float) -> _Member:
+def _record_member(h: Record, v: Record | None, scale: float, shared: bool = False) -> _Member:
+    """``shared``: the records were read with the ``record_dt`` of every one-column file."""
     info = {
         **RECORD_ENTRIES,
         "sources": h.source,
@@ -470,7 +558,8 @@ def _record_member(h: Record, v: Record | None, scale: float) -> _Member:
         "record_scale": scale,
     }
     dt_v = h.dt if v is None else v.dt
-    return _Member(h.acc, h.dt, None if v is None else v.acc, dt_v, scale, h.name, info)
+    v_acc = None if v is None else v.acc
+    return _Member(h.acc, h.dt, v_acc, dt_v, scale, h.name, info, shared and h.dt_given)
 
 
 def _ensemble_members(ens: Ensemble, source: str, scale: float, location: str) -> list[_Member]:
@@ -540,7 +629,7 @@ def _members(records, vertical, scale, read: dict, location: str) -> list[_Membe
                 out += _ensemble_members(item, source, f, location)
             else:
                 vert = None if v is None else _read_one(v, read)
-                out.append(_record_member(item, vert, f))
+                out.append(_record_member(item, vert, f, shared=bool(source)))
     return out
 
 
@@ -578,12 +667,13 @@ def _manifest_members(manifest: Path, read: dict) -> list[_Member]:
     """The motions of a manifest; errors name its row."""
     out = []
     for row in read_manifest(manifest):
+        own = read if row.dt is None else {**read, "dt": row.dt}
         try:
-            h = read_record(row.horizontal, **read)
-            v = None if row.vertical is None else read_record(row.vertical, **read)
+            h = read_record(row.horizontal, **own)
+            v = None if row.vertical is None else read_record(row.vertical, **own)
         except InputError as exc:
             raise InputError(f"{manifest}: row {row.row} (line {row.line}): {exc}") from None
-        out.append(_record_member(h, v, row.scale))
+        out.append(_record_member(h, v, row.scale, shared=row.dt is None))
     return out
 
 
@@ -614,6 +704,12 @@ def _resampled(x: np.ndarray, dt: float, step: float, member: _Member) -> np.nda
         return resample(x, dt, step)
     except InputError as exc:
         raise InputError(f"{member.info['sources'] or member.label}: {exc}") from None
+
+
+def _listed(labels: Sequence[str], most: int = 3) -> str:
+    """The first ``most`` labels, then how many more."""
+    more = f" and {len(labels) - most} more" if len(labels) > most else ""
+    return ", ".join(labels[:most]) + more
 
 
 def _unique(labels: list[str]) -> tuple[str, ...]:

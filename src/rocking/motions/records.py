@@ -10,15 +10,25 @@ PEER .AT2
         NPTS=   5093, DT=   .0100 SEC,        (trailing comma, "SEC" and spaces optional)
         3930 0.00500 NPTS, DT                 (older NGA files)
 
-    Units are read from the header ("UNITS OF G", "The units are (g)", "cm/s/s", "m/s/s", ...);
-    a header that states none is taken to be in g. Headers announcing velocity or displacement
-    time series (.VT2, .DT2) are refused.
+    Units are read from the header ("UNITS OF G", "The units are (g)", "cm/s/s", "m/s/s",
+    "in/sec2", "gal", ...); a header that states none is taken to be in g. Headers announcing
+    velocity or displacement time series (.VT2, .DT2) are refused.
 Plain text (any file without an NPTS/DT line)
     One column of accelerations (the time step ``dt`` must be given) or two columns
     (time [s], acceleration), separated by blanks, commas or semicolons. ``#`` starts a comment.
     One header line of column names is allowed; if it states units (e.g. "acc [m/s2]") they are
     used, otherwise accelerations are in g. Times must be equally spaced (to 0.1 % of the step);
     the first sample is taken as t = 0.
+
+Anything else is refused as a format not recognised, with the list of these formats.
+
+Units
+-----
+g, m/s², cm/s² (gal), mm/s², in/s² and ft/s², in the usual spellings
+(:mod:`rocking.motions.units`). A stated unit that is none of these is refused, naming it; units
+given by the caller must agree with those the file states. A peak above 100 g is refused (the
+values are certainly in other units); a peak outside 1e-4–5 g gets an
+:class:`~rocking.motions.units.ImplausiblePeakWarning` naming the likely units.
 
 Every reader returns accelerations in m/s² (g = 9.80665 m/s²) and the units the file was read in.
 Binary files (a netCDF ensemble of motions, say) are refused with an
@@ -47,8 +57,9 @@ Manifests
 ---------
 A manifest (:func:`read_manifest`) is a CSV file with one row per motion: column
 ``horizontal`` (required: its record file), ``vertical`` (optional: the vertical record of the
-same motion) and ``scale`` (optional factor > 0 applied to both, default 1). Paths are relative
-to the manifest's folder.
+same motion), ``scale`` (optional factor > 0 applied to both, default 1) and ``dt`` (optional:
+the time step [s] of one-column files, which state none). Paths are relative to the manifest's
+folder.
 
 Shipped records
 ---------------
@@ -67,6 +78,7 @@ import csv
 import math
 import os
 import re
+import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
@@ -78,26 +90,31 @@ from numpy.typing import ArrayLike
 
 from ..core import portable
 from ..core.checks import positive
+from ..core.files import read_text
 from ..dynamics.body import G
 from ..errors import InputError
-
-#: Accepted unit names and their factor to m/s².
-UNITS = {"g": G, "m/s2": 1.0, "cm/s2": 0.01}
-_UNIT_ALIASES = {
-    "m/s^2": "m/s2",
-    "m/s/s": "m/s2",
-    "m/s**2": "m/s2",
-    "cm/s^2": "cm/s2",
-    "cm/s/s": "cm/s2",
-    "cm/s**2": "cm/s2",
-    "gal": "cm/s2",
-}
-#: Unit statements looked for in headers, in this order (cm before m, so "cm/s/s" is not "m/s/s").
-_UNIT_PATTERNS = (
-    ("cm/s2", re.compile(r"\bcm\s*/\s*s(ec)?\s*(/\s*s(ec)?|\^?\s*2|\*\*\s*2)|\bgals?\b")),
-    ("m/s2", re.compile(r"(?<![a-z])m\s*/\s*s(ec)?\s*(/\s*s(ec)?|\^?\s*2|\*\*\s*2)")),
-    ("g", re.compile(r"\bunits?\b[^a-z]*(of|are|in|:|=)?\s*[(\[]?\s*g\b|[(\[]\s*g\s*[)\]]")),
+from .units import (
+    ACCELERATION_UNITS,
+    MAX_PEAK_G,
+    ImplausiblePeakWarning,
+    acceleration_unit,
+    implausible_peak,
 )
+
+#: Unit statements of a header, tried in this order; the first found gives the unit's text
+#: (group 1), which :func:`rocking.motions.units.acceleration_unit` reads or refuses:
+#: "units of g", "The units are (g)", "UNITS: cm/s/s"; a unit per second squared anywhere
+#: ("acceleration in cm/sec2", "furlongs/s^2"); the word gal; "[g]" or "(g)".
+_UNIT_PATTERNS = (
+    re.compile(r"\bunits?\s*(?:of|are|in|:|=)\s*(?:\(([^)]*)\)|\[([^\]]*)\]|([^\s,;]+))", re.I),
+    re.compile(r"(\b[a-z]+\s*/\s*(?:sec|s)\s*(?:/\s*(?:sec|s)\b|\^?\s*-?2|\*\*\s*2|²))", re.I),
+    re.compile(r"\b(gals?)\b", re.I),
+    re.compile(r"[(\[]\s*(g)\s*[)\]]", re.I),
+)
+#: Text in brackets of a column header: its unit ("time [s], acc [cm/s2]").
+_BRACKETED = re.compile(r"[(\[]([^)\]]*)[)\]]")
+#: Units of time in column headers (the time column of a two-column file).
+_TIME_UNITS = {"s", "sec", "secs", "second", "seconds"}
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"  # a number ("SEC" may follow unspaced)
 _NPTS_DT = (
     re.compile(rf"npts\s*=\s*(?P<n>{_NUM}|[^\s,]*)\s*,?\s*dt\s*=\s*(?P<dt>{_NUM}|[^\s,]*)", re.I),
@@ -124,10 +141,14 @@ class Record:
     source : str
         Path of the file it was read from.
     units : str
-        Units of the values in the file ("g", "m/s2" or "cm/s2"; "" when not read from a file).
+        Units of the values in the file (a name of
+        :data:`~rocking.motions.units.ACCELERATION_UNITS`; "" when not read from a file).
     event, date, station, component : str
         From a PEER header's second line (see :func:`peer_title`); "" when the file does not
         say.
+    dt_given : bool
+        True when the file does not state its time step (a one-column text file) and ``dt``
+        was given for it.
     """
 
     acc: np.ndarray
@@ -139,6 +160,7 @@ class Record:
     date: str = ""
     station: str = ""
     component: str = ""
+    dt_given: bool = False
 
     @property
     def t(self) -> np.ndarray:
@@ -151,27 +173,23 @@ class Record:
         return float(np.abs(self.acc).max()) / G
 
 
-def unit_name(units: str) -> str:
-    """The name in :data:`UNITS` ("g", "m/s2" or "cm/s2") of a unit name as a user writes it
-    ("m/s/s", "gal", "CM/S^2", ...)."""
-    key = str(units).strip().lower().replace(" ", "")
-    key = _UNIT_ALIASES.get(key, key)
-    if key not in UNITS:
-        raise InputError(f"units must be one of g, m/s2, cm/s2, got {units!r}")
-    return key
-
-
-def unit_factor(units: str) -> float:
-    """Factor [m/s² per unit] for a unit name: "g", "m/s2" or "cm/s2" (also "m/s/s", "gal", ...)."""
-    return UNITS[unit_name(units)]
-
-
-def _stated_units(text: str) -> str | None:
-    low = text.lower()
-    for name, pattern in _UNIT_PATTERNS:
-        if pattern.search(low):
-            return name
-    return None
+def _stated_units(text: str, where: str, columns: bool = False) -> str | None:
+    """The unit of acceleration (a name of :data:`~rocking.motions.units.ACCELERATION_UNITS`)
+    that a header states, None when it states none. With ``columns`` (a line of column names)
+    the text in brackets is the unit of its column, the time column's (s) aside. A unit that
+    is stated but not understood is an InputError that names it (``where`` starts the
+    message)."""
+    stated: list[str] = []
+    if columns:
+        inner = (m[1].strip() for m in _BRACKETED.finditer(text))
+        stated = [u for u in inner if u.lower() not in _TIME_UNITS]
+    if not stated:
+        found = next((m for p in _UNIT_PATTERNS if (m := p.search(text)) is not None), None)
+        stated = [] if found is None else [next(g for g in found.groups() if g is not None)]
+    names = {acceleration_unit(u, where) for u in stated}
+    if len(names) > 1:
+        raise InputError(f"{where}: states several units ({', '.join(sorted(names))})")
+    return names.pop() if names else None
 
 
 def _number(token: str, path: Path, lineno: int) -> float:
@@ -254,40 +272,46 @@ def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
             f"{path}: the header announces NPTS = {npts} values, the file holds {len(values)}"
         )
     title = peer_title(lines[1]) if head > 1 else dict.fromkeys(TITLE_FIELDS, "")
-    return np.array(values), dt, _stated_units(header) or "g", title
+    return np.array(values), dt, _stated_units(header, str(path)), title
 
 
-def _read_text(path: Path, lines: list[str], dt: float | None):
-    """Values, dt and units of a one- or two-column text file."""
+def _read_columns(path: Path, lines: list[str], dt: float | None):
+    """Values, dt, units (None: not stated) and whether the step is ``dt`` (a one-column file)
+    of a one- or two-column text file."""
     rows: list[tuple[int, list[str]]] = []
-    header_units = None
+    header: tuple[int, str] | None = None
     for lineno, line in enumerate(lines, start=1):
         cells = [c for c in re.split(r"[\s,;]+", line.split("#", 1)[0].strip()) if c]
         if not cells:
             continue
-        if not rows and header_units is None and not _looks_numeric(cells[0]):
-            header_units = _stated_units(line) or ""  # the header line of column names
+        if not rows and header is None and not _looks_numeric(cells[0]):
+            header = lineno, line  # the header line of column names
             continue
         rows.append((lineno, cells))
     if not rows:
         raise InputError(f"{path}: no data")
     ncol = len(rows[0][1])
     if ncol not in (1, 2):
-        raise InputError(
-            f"{path}: line {rows[0][0]}: expected 1 column (acceleration) or 2 "
-            f"(time [s], acceleration), got {ncol}"
+        raise _unrecognised(
+            path,
+            f"line {rows[0][0]}: expected 1 column (acceleration) or 2 (time [s], "
+            f"acceleration), got {ncol}",
         )
     for lineno, cells in rows:
         if len(cells) != ncol:
-            raise InputError(
-                f"{path}: line {lineno}: expected {ncol} value(s) like the first "
-                f"data line, got {len(cells)}"
+            raise _unrecognised(
+                path,
+                f"line {lineno}: expected {ncol} value(s) like the first data line, "
+                f"got {len(cells)}",
             )
+        if not _looks_numeric(cells[0]):
+            raise _unrecognised(path, f"line {lineno}: text where numbers are expected")
+    units = None if header is None else _stated_units(header[1], f"{path}: line {header[0]}", True)
     data = np.array([[_number(c, path, n) for c in cells] for n, cells in rows])
     if ncol == 1:
         if dt is None:
             raise InputError(f"{path}: a one-column file needs the time step dt [s]")
-        return data[:, 0], dt, header_units or "g"
+        return data[:, 0], dt, units, True
     t = data[:, 0]
     if t.size < 2:
         raise InputError(f"{path}: a two-column file needs at least 2 rows to give the time step")
@@ -303,7 +327,23 @@ def _read_text(path: Path, lines: list[str], dt: float | None):
             f"{steps[i]:g} s from t = {t[i]:g} s where the typical step is "
             f"{typical:g} s"
         )
-    return data[:, 1], (t[-1] - t[0]) / (t.size - 1), header_units or "g"
+    return data[:, 1], (t[-1] - t[0]) / (t.size - 1), units, False
+
+
+#: The formats of record files, for the message of a file in none of them.
+RECORD_FORMATS = (
+    "PEER .AT2 (an 'NPTS=..., DT=...' line in the first 12 lines, then the values), "
+    "one-column text (accelerations, the step given), two-column text or CSV (time [s], "
+    "acceleration; at most one header line of column names) and, as ensembles of motions, "
+    "netCDF files (.nc) written by rocking"
+)
+
+
+def _unrecognised(path: Path, detail: str) -> InputError:
+    """The error of a file that is in none of the formats read (``detail``: where it failed)."""
+    return InputError(
+        f"{path}: format not recognised ({detail}); the formats read are {RECORD_FORMATS}"
+    )
 
 
 #: Leading bytes of netCDF files: classic and 64-bit offset ("CDF" and a version byte), and
@@ -346,8 +386,10 @@ def read_record(
     dt : float, optional
         Time step [s]. Required for one-column text files; for other files, if given, it must
         agree with the file's own step.
-    units : {"g", "m/s2", "cm/s2"}, optional
-        Units of the values in the file, overriding what the file states (default: the file's
+    units : str, optional
+        Units of the values in the file: g, m/s2, cm/s2 (gal), mm/s2, in/s2 or ft/s2 (usual
+        spellings accepted, :func:`rocking.motions.units.acceleration_unit`), for a file that
+        does not state them; a file that states other units is refused (default: the file's
         statement, else g).
 
     Returns
@@ -355,9 +397,22 @@ def read_record(
     Record
         Acceleration [m/s²], time step [s], name (file stem), source path, the units the values
         were read in and, for PEER files, event, date, station and component.
+
+    Raises
+    ------
+    InputError
+        For a file in none of the formats, a unit that is not understood, units that disagree
+        with ``units``, or a peak above :data:`~rocking.motions.units.MAX_PEAK_G` (100 g:
+        certainly other units than read).
+
+    Warns
+    -----
+    ImplausiblePeakWarning
+        When the peak lies outside :data:`~rocking.motions.units.PLAUSIBLE_PEAK_G` (1e-4 to
+        5 g), naming the units the values are likely in.
     """
     path = Path(path)
-    given = None if units is None else unit_name(units)
+    given = None if units is None else acceleration_unit(units, "units")
     dt_arg = None if dt is None else positive("dt", dt, "s")
     data = path.read_bytes()
     _refuse_binary(path, data[:_SNIFF_BYTES])
@@ -374,19 +429,41 @@ def read_record(
         None,
     )
     title = dict.fromkeys(TITLE_FIELDS, "")
+    dt_given = False
     if head is not None:
         values, step, stated, title = _read_at2(path, lines, *head)
     elif path.suffix.lower() == ".at2":
         raise InputError(f"{path}: no 'NPTS=..., DT=...' line in the first {_HEADER_LINES} lines")
     else:
-        values, step, stated = _read_text(path, lines, dt_arg)
+        values, step, stated, dt_given = _read_columns(path, lines, dt_arg)
     if dt_arg is not None and abs(dt_arg - step) > _DT_RTOL * step:
         raise InputError(f"{path}: dt = {dt_arg:g} s disagrees with the file's step {step:g} s")
     if values.size < 2:
         raise InputError(f"{path}: a record needs at least 2 samples, got {values.size}")
-    used = given or stated
-    acc = values * UNITS[used]
-    return Record(acc=acc, dt=float(step), name=path.stem, source=str(path), units=used, **title)
+    if given is not None and stated is not None and given != stated:
+        raise InputError(f"{path}: units {given} given, but the file states {stated}")
+    used = given or stated or "g"
+    _check_peak(float(np.abs(values).max()), used, str(path))
+    return Record(
+        acc=values * ACCELERATION_UNITS[used],
+        dt=float(step),
+        name=path.stem,
+        source=str(path),
+        units=used,
+        dt_given=dt_given,
+        **title,
+    )
+
+
+def _check_peak(peak: float, units: str, where: str) -> None:
+    """Refuse a record whose ``peak`` [``units``] is above :data:`MAX_PEAK_G`, warn when it is
+    implausible (:func:`~rocking.motions.units.implausible_peak`); ``where`` names it."""
+    why = implausible_peak(peak, units)
+    if why is None:
+        return
+    if peak * ACCELERATION_UNITS[units] / G > MAX_PEAK_G:
+        raise InputError(f"{where}: {why} (above {MAX_PEAK_G:g} g: refused)")
+    warnings.warn(f"{where}: {why}", ImplausiblePeakWarning, stacklevel=3)
 
 
 #: The word that stands for the shipped example record.
@@ -453,10 +530,30 @@ def read_records(
 ) -> list[Record]:
     """Read several records; ``paths`` is a path or a list of paths, a folder standing for its
     .AT2/.txt/.csv files sorted by name and the word ``example`` for the shipped example record.
-    ``dt`` [s] and ``units`` as in :func:`read_record`."""
-    return [read_record(p, dt=dt, units=units) for p in record_paths(paths)]
+    ``dt`` [s] and ``units`` as in :func:`read_record`; ``dt`` gives the step of one one-column
+    file only (several may have different rates: refused)."""
+    records = [read_record(p, dt=dt, units=units) for p in record_paths(paths)]
+    given = [r.name for r in records if r.dt_given]
+    if dt is not None and len(given) > 1:
+        _refuse_shared_step(given, dt, "read them one at a time, or as two-column files")
+    return records
 
 
+def _refuse_shared_step(names: list[str], dt: float, remedy: str) -> None:
+    """The InputError of one step ``dt`` [s] given for several one-column files ``names``
+    (which state no step: one of them may be at 100 Hz and another at 200 Hz)."""
+    listed = ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+    raise InputError(
+        f"one time step ({dt:g} s) for {len(names)} one-column files ({listed}), which state "
+        f"none: their rates may differ; {remedy}"
+    )
+
+
+#: Coarsest time step of an ensemble of motions [s], a Nyquist frequency of 10 Hz: motions must
+#: carry the amplified region of design spectra, up to 9 Hz (RG 1.60's control point B), which
+#: holds the acceleration peaks that set every motion's PGA and so A_gx. A coarser step filters
+#: it out (resampling) or never held it.
+MAX_DT = 0.05
 #: Largest up- and down-sampling factors of :func:`resample` (its filter has 20·max + 1 taps).
 MAX_RESAMPLING_FACTOR = 1000
 #: Relative tolerance within which dt / new_dt must equal a fraction up / down.
@@ -570,6 +667,8 @@ class ManifestRow:
         Factor applied to both components [-].
     row, line : int
         Its row (1 = the first after the header) and line in the file (for messages).
+    dt : float or None
+        Time step [s] of its records if they are one-column files (which state none).
     """
 
     horizontal: Path
@@ -577,10 +676,11 @@ class ManifestRow:
     scale: float
     row: int
     line: int
+    dt: float | None = None
 
 
 #: Columns of a manifest: the first is required.
-MANIFEST_COLUMNS = ("horizontal", "vertical", "scale")
+MANIFEST_COLUMNS = ("horizontal", "vertical", "scale", "dt")
 
 
 def _manifest_path(folder: Path, spec: str) -> Path:
@@ -596,10 +696,11 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
     Parameters
     ----------
     path : str or Path
-        The CSV file: a header row naming columns ``horizontal`` (required), ``vertical`` and
-        ``scale`` (any case, any order), then one row per motion. Blank lines and lines
-        starting with ``#`` are skipped; an empty ``vertical`` means none, an empty ``scale``
-        1. The word ``example`` (when no file of that name exists) stands for
+        The CSV file: a header row naming columns ``horizontal`` (required), ``vertical``,
+        ``scale`` and ``dt`` (any case, any order), then one row per motion. Blank lines and
+        lines starting with ``#`` are skipped; an empty ``vertical`` means none, an empty
+        ``scale`` 1, an empty ``dt`` none (``dt`` [s] is the step of one-column files). The
+        word ``example`` (when no file of that name exists) stands for
         :func:`example_manifest_path`.
 
     Returns
@@ -610,10 +711,7 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
     path = (
         example_manifest_path() if str(path) == EXAMPLE and not Path(path).exists() else Path(path)
     )
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(f"manifest {path}: no such file") from None
+    text = read_text(path, "manifest")
     numbered = [
         (n, line)
         for n, line in enumerate(text.splitlines(), start=1)
@@ -627,7 +725,7 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
     if unknown or "horizontal" not in header or len(set(header)) < len(header):
         raise InputError(
             f"{path}: line {numbered[0][0]}: the header must name the columns horizontal "
-            f"(required), vertical and scale, once each; got {', '.join(table[0])}"
+            f"(required), vertical, scale and dt, once each; got {', '.join(table[0])}"
         )
     rows = []
     folder = path.parent
@@ -644,6 +742,12 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
             scale = math.nan
         if not (math.isfinite(scale) and scale > 0.0):
             raise InputError(f"{where}: scale must be a number > 0, got {entry['scale']!r}")
+        step = None
+        if entry.get("dt"):
+            try:
+                step = positive("dt", entry["dt"], "s")
+            except InputError as exc:
+                raise InputError(f"{where}: {exc}") from None
         files = {
             key: _manifest_path(folder, entry[key])
             for key in ("horizontal", "vertical")
@@ -652,7 +756,7 @@ def read_manifest(path: str | os.PathLike[str]) -> list[ManifestRow]:
         for key, file in files.items():
             if not file.is_file():
                 raise InputError(f"{where}: {key} record {file}: no such file")
-        rows.append(ManifestRow(files["horizontal"], files.get("vertical"), scale, i, lineno))
+        rows.append(ManifestRow(files["horizontal"], files.get("vertical"), scale, i, lineno, step))
     if not rows:
         raise InputError(f"{path}: the manifest names no motions (a header and no rows)")
     return rows

@@ -8,7 +8,6 @@ the highest point the PSA is constant (for RG 1.60 that constant is the ZPA).
 
 from __future__ import annotations
 
-import csv
 import math
 import os
 import re
@@ -21,8 +20,10 @@ from numpy.typing import ArrayLike
 
 from ..core import portable
 from ..core.checks import finite_array, in_range, positive
+from ..core.files import csv_rows
 from ..defaults import G
 from ..errors import InputError
+from .units import unit_factor
 
 
 def _freqs(freqs_hz) -> tuple[np.ndarray, tuple]:
@@ -245,9 +246,11 @@ class TabulatedSpectrum(TargetSpectrum):
 
         * Abscissa: the first column whose header names a frequency [Hz] ("freq", "Hz") or a
           period [s] ("period", "T", or the unit s/sec in brackets, e.g. "T (s)").
-        * Ordinates: PSA [g] ("psa", "sa" or "acceleration"; a stated unit must be g) or PSV
-          ("psv", "sv" or "velocity", with its unit cm/s or m/s stated, e.g. "psv_cm_s",
-          "PSV [m/s]"), converted to PSA = PSV·2πf/g. Other columns (SD, notes) are ignored.
+        * Ordinates: PSA ("psa", "sa" or "acceleration"; in g unless a unit in brackets says
+          otherwise: any unit of :data:`rocking.motions.units.ACCELERATION_UNITS`, e.g.
+          "PSA [m/s2]", "Sa (gal)"; any other is refused) or PSV ("psv", "sv" or "velocity",
+          with its unit cm/s or m/s stated, e.g. "psv_cm_s", "PSV [m/s]"), converted to
+          PSA = PSV·2πf/g. Other columns (SD, notes) are ignored.
         * Several spectra in one file: one per ordinate column that names a location besides
           quantity and unit (``psv_floor_1_cm_s`` is "floor 1", as ``rocking frame spectra
           --csv`` writes), and, where a label column ("record", "name", "label", "location")
@@ -268,12 +271,7 @@ class TabulatedSpectrum(TargetSpectrum):
             Needed when the file holds more than one; the error lists the choices.
         """
         path = Path(path)
-        rows: list[tuple[int, list[str]]] = []
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            for lineno, cells in enumerate(csv.reader(fh), start=1):
-                cells = [c.strip() for c in cells]
-                if any(cells) and not cells[0].startswith("#"):
-                    rows.append((lineno, cells))
+        rows = csv_rows(path, "spectrum file")
         if not rows:
             raise InputError(f"{path}: empty spectrum file")
         head_line, head = rows[0]
@@ -282,7 +280,7 @@ class TabulatedSpectrum(TargetSpectrum):
         key = _select_spectrum(spectra, select, path)
         label, group = key
         xcol = cols.x
-        ycol, factor = cols.groups[group]
+        ycol, quantity, factor = cols.groups[group]
         needed = max(xcol, ycol, -1 if cols.label is None else cols.label) + 1
         xs: list[float] = []
         ys: list[float] = []
@@ -302,11 +300,11 @@ class TabulatedSpectrum(TargetSpectrum):
             where.append(f"{path}: line {lineno}")
         x, a = np.array(xs), np.array(ys)
         xname = ("period", "s") if cols.is_period else ("frequency", "Hz")
-        yname = ("PSA", "g") if factor is None else ("PSV", head[ycol])
-        _check_table(x, a, where, str(path), *xname, *yname)
+        _check_table(x, a, where, str(path), *xname, quantity.upper(), head[ycol])
         f = 1.0 / x if cols.is_period else x
-        if factor is not None:  # PSV [unit] -> PSA [g]: PSA = ω·PSV
-            a = a * factor * 2.0 * math.pi * f / G
+        a = a * factor  # PSA [g] or PSV [m/s]
+        if quantity == "psv":  # PSA = ω·PSV [g]
+            a = a * 2.0 * math.pi * f / G
         name = spectra[key]
         return cls(f, a, damping=damping, name=path.stem if not name else f"{path.stem}:{name}")
 
@@ -352,6 +350,10 @@ _QUANTITY_WORDS = {
 _FILLER_WORDS = {"pseudo", "spectral", "spectrum", "response", "mean"}
 #: Units of PSV (header words in order) and their factor to m/s.
 _PSV_UNITS = ((("cm", "s"), 0.01), (("m", "s"), 1.0))
+#: Units of PSV in brackets ("PSV [cm/s]") and their factor to m/s.
+_PSV_UNIT_NAMES = {"cm/s": 0.01, "cm/sec": 0.01, "m/s": 1.0, "m/sec": 1.0}
+#: The unit of a column header, in brackets: "PSA [g]", "PSV (cm/s)".
+_BRACKETED = re.compile(r"[\[(]([^\])]*)[\])]")
 #: Headers of a column that names the spectrum of each row.
 _LABEL_HEADERS = {"record", "name", "label", "location"}
 
@@ -374,37 +376,48 @@ class _SpectrumColumns:
     :meth:`TabulatedSpectrum.from_csv`).
 
     Attributes: ``x`` (index of the abscissa), ``is_period``, ``label`` (index of the label
-    column or None) and ``groups``: location name -> (column index, factor to m/s for PSV or
-    None for PSA [g]), PSA preferred where a location has both.
+    column or None) and ``groups``: location name -> (column index, quantity "psa" or "psv",
+    factor to g of PSA or to m/s of PSV), PSA preferred where a location has both.
     """
 
     def __init__(self, head: list[str], where: str):
         x: int | None = None
         self.is_period = False
         self.label: int | None = None
-        found: dict[str, dict[str, tuple[int, float | None]]] = {}
+        found: dict[str, dict[str, tuple[int, str, float]]] = {}
         for i, header in enumerate(head):
-            words = _words(header)
+            unit = _BRACKETED.search(header)
+            words = _words(header if unit is None else _BRACKETED.sub(" ", header))
             quantity = next((_QUANTITY_WORDS[w] for w in words if w in _QUANTITY_WORDS), None)
             if quantity is not None:
                 words = [w for w in words if w not in _QUANTITY_WORDS and w not in _FILLER_WORDS]
-                if quantity == "psa":
+                column = f"{where}: column {header!r}"
+                if quantity == "psa" and unit is not None:  # any unit of acceleration, to g
+                    factor = unit_factor(unit[1], column) / G
+                elif quantity == "psa":
                     rest = _take(words, ("g",))
                     if rest is None and _take(words, ("s",)) is not None:
-                        raise InputError(f"{where}: column {header!r}: PSA must be in g")
-                    factor, words = None, words if rest is None else rest
+                        raise InputError(f"{column}: state the unit of PSA, e.g. 'PSA [g]'")
+                    factor, words = 1.0, words if rest is None else rest
+                elif unit is not None:
+                    psv_unit = re.sub(r"\s+", "", unit[1].lower())
+                    if psv_unit not in _PSV_UNIT_NAMES:
+                        raise InputError(
+                            f"{column}: unit {unit[1].strip()!r} of PSV is not understood; "
+                            "use cm/s or m/s"
+                        )
+                    factor = _PSV_UNIT_NAMES[psv_unit]
                 else:
-                    factor, rest = next(
-                        ((k, r) for unit, k in _PSV_UNITS if (r := _take(words, unit)) is not None),
+                    found_unit, rest = next(
+                        ((k, r) for u, k in _PSV_UNITS if (r := _take(words, u)) is not None),
                         (None, None),
                     )
-                    if factor is None or rest is None:
+                    if found_unit is None or rest is None:
                         raise InputError(
-                            f"{where}: column {header!r}: state the unit of PSV, "
-                            "cm/s or m/s (e.g. 'PSV [cm/s]')"
+                            f"{column}: state the unit of PSV, cm/s or m/s (e.g. 'PSV [cm/s]')"
                         )
-                    words = rest
-                found.setdefault(" ".join(words), {})[quantity] = (i, factor)
+                    factor, words = found_unit, rest
+                found.setdefault(" ".join(words), {})[quantity] = (i, quantity, factor)
             elif x is None and (_is_frequency(header) or _is_period(header)):
                 x, self.is_period = i, not _is_frequency(header)
             elif self.label is None and header.strip().lower() in _LABEL_HEADERS:
@@ -421,7 +434,7 @@ class _SpectrumColumns:
                 f"such as 'psa_g', 'PSV [cm/s]'), got {','.join(head)!r}"
             )
         self.x: int = x
-        self.groups: dict[str, tuple[int, float | None]] = {
+        self.groups: dict[str, tuple[int, str, float]] = {
             loc: q["psa"] if "psa" in q else q["psv"] for loc, q in found.items()
         }
 
