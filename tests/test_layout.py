@@ -86,3 +86,25 @@ def test_layers_import_downwards():
                     f"{'.'.join(target)} ({LAYERS[there]})"
                 )
     assert not bad, "\n".join(bad)
+
+
+def test_subpackages_re_export_their_public_names():
+    # The codebase's rule: `from rocking.motions import generate` works as `from rocking import
+    # generate` does, and gives the same object, for every public name of every subpackage.
+    import importlib
+
+    from rocking.core.exports import PUBLIC
+
+    served = set()
+    for name, module in PUBLIC.items():
+        package = importlib.import_module("rocking." + module.split(".")[0])
+        if not hasattr(package, "__path__"):  # rocking.errors, rocking.report: modules
+            continue
+        if module.split(".")[1:] == [name]:  # rocking.dynamics.simulate is the module
+            assert name not in package.__all__
+            continue
+        assert getattr(package, name) is getattr(rocking, name), name
+        assert module == "studies" or name in package.__all__  # studies defines reproduce
+        served.add(name)
+    assert {"generate", "Block", "overturning_probability", "provenance"} <= served
+    assert sorted(rocking.__all__) == sorted(PUBLIC)

@@ -9,106 +9,11 @@ it uses (Numba, SciPy, xarray and Matplotlib take seconds to import).
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
 
-#: Public name → module of this package that defines it.
-_EXPORTS = {
-    "DaskBackend": "montecarlo.backends",
-    "LocalBackend": "montecarlo.backends",
-    "get_backend": "montecarlo.backends",
-    "overturn_batch": "dynamics.batch",
-    "overturn_cases": "dynamics.batch",
-    "NamedBody": "assessment.bodies",
-    "read_bodies": "assessment.bodies",
-    "read_bodies_table": "assessment.bodies",
-    "HazardCurve": "assessment.risk",
-    "RiskResult": "assessment.risk",
-    "annual_rate": "assessment.risk",
-    "check_hazard_im": "assessment.risk",
-    "FOOT": "dynamics.body",
-    "G": "dynamics.body",
-    "Block": "dynamics.body",
-    "BodyWarning": "dynamics.body",
-    "housner_sv": "dynamics.body",
-    "paper_bodies": "dynamics.body",
-    "ASCE7": "motions.design",
-    "EC8": "motions.design",
-    "design_pga": "motions.design",
-    "parse_spectrum": "motions.design",
-    "RockingResponse": "dynamics.simulate",
-    "simulate": "dynamics.simulate",
-    "assess": "assessment.energy",
-    "available_sv": "assessment.energy",
-    "energy_balance": "assessment.energy",
-    "InputError": "errors",
-    "RockingError": "errors",
-    "LognormalFit": "montecarlo.statistics",
-    "ExtrapolationWarning": "montecarlo.statistics",
-    "FragilityFit": "montecarlo.statistics",
-    "bootstrap_fragility": "montecarlo.statistics",
-    "agx_50": "montecarlo.probability",
-    "fragility_analysis": "montecarlo.fragility",
-    "im_efficiency": "montecarlo.fragility",
-    "fit_lognormal": "montecarlo.statistics",
-    "overturning_probability": "montecarlo.probability",
-    "overturning_spectrum": "montecarlo.pulse_spectrum",
-    "dimensionless_intensities": "montecarlo.dimensionless",
-    "dimensionless_efficiency": "montecarlo.dimensionless",
-    "member_outcomes": "montecarlo.probability",
-    "wilson_interval": "montecarlo.statistics",
-    "PRESETS": "structures.frames",
-    "ShearFrame": "structures.frames",
-    "kN_per_cm_to_N_per_m": "structures.frames",
-    "kN_per_g_to_kg": "structures.frames",
-    "Inventory": "assessment.inventory",
-    "Item": "assessment.inventory",
-    "SlidingWarning": "assessment.inventory",
-    "read_inventory": "assessment.inventory",
-    "Ensemble": "motions.ensemble",
-    "baseline_correct": "motions.baseline",
-    "generate": "motions.synthesis",
-    "pulse": "motions.pulses",
-    "pulse_period": "motions.wavelets",
-    "VelocityPulse": "motions.wavelets",
-    "limit_peaks": "motions.synthesis",
-    "spectral_fit": "motions.synthesis",
-    "Record": "motions.records",
-    "read_record": "motions.records",
-    "read_records": "motions.records",
-    "ImplausiblePeakWarning": "motions.units",
-    "Report": "report",
-    "provenance": "core.runs",
-    "results_table": "assessment.screen",
-    "screen": "assessment.screen",
-    "RG160": "motions.targets",
-    "ResponseSpectrum": "motions.response",
-    "IntensityMeasure": "motions.intensity",
-    "im_scaling_exponent": "motions.intensity",
-    "intensity_measures": "motions.intensity",
-    "parse_im": "motions.intensity",
-    "TabulatedSpectrum": "motions.targets",
-    "TargetSpectrum": "motions.targets",
-    "response_spectrum": "motions.response",
-    "rg160": "motions.targets",
-    "reproduce": "studies",
-}
+from .core.exports import lazy_exports
 
-__all__ = list(_EXPORTS)
-
-
-def __getattr__(name: str):
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'rocking' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value  # later look-ups are plain attribute reads
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
-
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals())
 
 try:
     from importlib.metadata import version as _version

@@ -6,3 +6,7 @@
 * :mod:`~rocking.assessment.screen` — screening an inventory against a design spectrum;
 * :mod:`~rocking.assessment.risk` — hazard curves and the annual rate of overturning.
 """
+
+from ..core.exports import lazy_exports
+
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals())

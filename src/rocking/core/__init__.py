@@ -7,3 +7,7 @@
 * :mod:`~rocking.core.progress` — progress reports on a terminal and off it;
 * :mod:`~rocking.core.runs` — output folders of runs (claim, status, recorded outputs).
 """
+
+from .exports import lazy_exports
+
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals())

@@ -7,3 +7,7 @@
 * :mod:`~rocking.dynamics.batch` — many simulations at once (SIMD lanes, threads);
 * :mod:`~rocking.dynamics.reference` — an independent SciPy ``solve_ivp`` solver for the tests.
 """
+
+from ..core.exports import lazy_exports
+
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals())

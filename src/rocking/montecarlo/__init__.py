@@ -9,3 +9,7 @@
 * :mod:`~rocking.montecarlo.backends` — where chunks run: this process or a Dask cluster;
 * :mod:`~rocking.montecarlo.store` — the on-disk store of finished chunks.
 """
+
+from ..core.exports import lazy_exports
+
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals())

@@ -16,6 +16,6 @@
   (:func:`~rocking.motions.wavelets.pulse_period`, Shahi & Baker 2014).
 """
 
-from .pulses import pulse
+from ..core.exports import lazy_exports
 
-__all__ = ["pulse"]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals())
