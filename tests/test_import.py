@@ -20,6 +20,7 @@ import pytest
 from click.testing import CliRunner
 from scipy import signal
 
+from rocking.assessment.energy import assess
 from rocking.cli import main
 from rocking.dynamics.body import Block, G
 from rocking.errors import InputError
@@ -496,6 +497,10 @@ def test_all_zero_motions_have_no_agx(tmp_path):
             zero.scaled(0.5)
         with pytest.raises(InputError, match=r"zero \(a, b, c\): it has no A_gx"):
             fragility_analysis(Block(1.0, 4.0), zero, levels=[0.1])
+        # assess reads no A_gx without agx: its spectrum is zero, which cannot judge a body
+        # (it reported "+inf safe")
+        with pytest.raises(InputError, match=r"largest PSV in the band .* is 0 m/s"):
+            assess(Block(1.0, 4.0), zero)
     path = zero.save(tmp_path / "zero.nc")
     with pytest.raises(InputError, match=r"zero\.nc: every member is zero everywhere \(a, b, c\)"):
         Ensemble.load(path)

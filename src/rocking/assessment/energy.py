@@ -128,7 +128,7 @@ def available_sv(
     if isinstance(source, Ensemble):
         check_nyquist(hi, source.dt, "band_hz")
         freqs = band_frequencies((lo, hi), n_freqs)
-        sv = float(mean_psv(source, freqs, damping).max())
+        sv = _judging(float(mean_psv(source, freqs, damping).max()), "the ensemble's", (lo, hi))
         return sv if agx is None else sv * positive("agx", agx, "g") / _agx_of(source)
     if isinstance(source, ResponseSpectrum):
         if not math.isclose(source.damping, damping, rel_tol=1e-9):
@@ -144,9 +144,10 @@ def available_sv(
                 f"{source.freqs_hz.min():g} to {source.freqs_hz.max():g} Hz): it cannot judge "
                 "the bodies"
             )
-        return _band_maximum(
+        sv = _band_maximum(
             source.freqs_hz[inside], source.mean().psv[inside], source.freqs_hz, (lo, hi)
         )
+        return _judging(sv, "the response spectrum's", (lo, hi))
     if isinstance(source, TargetSpectrum):
         if not math.isclose(source.damping, damping, rel_tol=1e-9):
             raise InputError(
@@ -157,11 +158,23 @@ def available_sv(
         freqs = np.union1d(band_frequencies((lo, hi), n_freqs), knots[(knots > lo) & (knots < hi)])
         table = source.freqs_hz if isinstance(source, TabulatedSpectrum) else None
         name = f"the spectrum {source.name!r}"
-        return _band_maximum(freqs, source.psv(freqs), table, (lo, hi), name)
+        sv = _band_maximum(freqs, source.psv(freqs), table, (lo, hi), name)
+        return _judging(sv, f"{name}'s", (lo, hi))
     raise InputError(
         "source must be an Ensemble, a ResponseSpectrum or a TargetSpectrum, got "
         f"{type(source).__name__}"
     )
+
+
+def _judging(sv: float, whose: str, band: tuple[float, float]) -> float:
+    """``sv`` [m/s], the largest PSV in ``band`` [Hz], if it can judge a body: finite and > 0
+    (a spectrum of all-zero motions would call every body safe with an infinite margin)."""
+    if not (math.isfinite(sv) and sv > 0.0):
+        raise InputError(
+            f"{whose} largest PSV in the band {band[0]:g}–{band[1]:g} Hz is {sv:g} m/s: a "
+            "spectrum without motion there (all-zero motions or table) cannot judge the bodies"
+        )
+    return sv
 
 
 def energy_balance(
