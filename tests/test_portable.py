@@ -167,7 +167,7 @@ from rocking.assessment.risk import HazardCurve, example_hazard_path
 x = np.linspace(0.1, 1.5, 15)
 k = np.round(40 * np.clip((x - 0.1) / 1.2, 0, 1) ** 1.3).astype(int)
 fit = fit_lognormal(x, k, np.full(15, 40))
-risk = annual_rate(fit, HazardCurve.from_csv(example_hazard_path()))
+risk = annual_rate(fit, HazardCurve.from_csv(example_hazard_path()), im="pgv")
 fitted = np.array([fit.median, fit.beta, risk.annual_rate, *risk.probability_in([1.0, 50.0])])
 print(json.dumps({"resampled": d(*resampled), "risk": d(fitted),
                   "generate": d(ens.acc), "iterated": d(it.acc),
