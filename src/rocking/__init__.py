@@ -45,6 +45,7 @@ _EXPORTS = {
     "LognormalFit": "montecarlo.statistics",
     "FragilityFit": "montecarlo.statistics",
     "bootstrap_fragility": "montecarlo.statistics",
+    "export_fragility": "montecarlo.export",
     "agx_50": "montecarlo.probability",
     "fragility_analysis": "montecarlo.fragility",
     "im_efficiency": "montecarlo.fragility",
@@ -120,6 +121,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
+    from .montecarlo.export import export_fragility
     from .montecarlo.fragility import fragility_analysis, im_efficiency
     from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
     from .montecarlo.statistics import (
