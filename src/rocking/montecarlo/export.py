@@ -99,9 +99,7 @@ def export_fragility(
         For an unknown format, an IM the format has no name for (A_gx, the ensemble mean PGA
         of the paper, is none: it is not the demand of one event), or no body with a fit.
     """
-    given = _measure(result, im)
-    fmt, demand = check_exportable(given, format)
-    measure = parse_im(given)
+    fmt, demand = check_exportable(_measure(result, im), format)
     curves = _curves(result)
     if fmt == "pelicun":
         text = _pelicun_csv(curves, *demand)
@@ -110,7 +108,7 @@ def export_fragility(
             raise InputError(
                 f"loss_category must be one of {', '.join(LOSS_CATEGORIES)}, got {loss_category!r}"
             )
-        text = _nrml(curves, measure, *demand, loss_category)
+        text = _nrml(curves, *demand, loss_category)
     return atomic_write(path, text)
 
 
@@ -248,14 +246,7 @@ def _pelicun_csv(curves: Curves, demand: str, unit: str, factor: float) -> str:
     return buffer.getvalue()
 
 
-def _nrml(
-    curves: Curves,
-    measure: IntensityMeasure,
-    imt: str,
-    unit: str,
-    factor: float,
-    loss_category: str,
-) -> str:
+def _nrml(curves: Curves, imt: str, unit: str, factor: float, loss_category: str) -> str:
     states = list(dict.fromkeys(ls for _, lss in curves for ls, _, _ in lss))
     ET.register_namespace("", NRML)
     root = ET.Element(f"{{{NRML}}}nrml")
@@ -267,8 +258,8 @@ def _nrml(
         lossCategory=loss_category,
     )
     ET.SubElement(model, f"{{{NRML}}}description").text = (
-        f"Overturning of free-standing rigid blocks against {measure.label}, lognormal "
-        f"curves fitted by rocking; IML in {unit}"
+        f"Overturning of free-standing rigid blocks: lognormal curves against {imt} [{unit}] "
+        "fitted by rocking (maximum likelihood)"
     )
     ET.SubElement(model, f"{{{NRML}}}limitStates").text = " ".join(states)
     for name, lss in curves:
