@@ -141,3 +141,15 @@ def test_risk_reads_an_openquake_site_and_says_what_it_found(tmp_path):
     expected = annual_rate(LognormalFit(0.3, 0.5), by_hand).annual_rate
     got = pd.read_csv(tmp_path / "risk" / "risk.csv")["annual_rate"].iloc[0]
     assert got == pytest.approx(expected, rel=1e-9)  # the quadrature's 1e-10, hand digits 1e-13
+
+
+def test_openquake_site_columns_may_come_before_lon_and_lat(tmp_path):
+    # engines that export a custom_site_id column put it before lon, lat
+    lines = OQ.read_text().splitlines()
+    moved = tmp_path / "ids.csv"
+    moved.write_text(
+        "\n".join([lines[0], "custom_site_id," + lines[1], "a," + lines[2], "b," + lines[3]])
+    )
+    curve = HazardCurve.from_csv(moved, site=0)
+    np.testing.assert_allclose(curve.rates, SITE0_RATES, rtol=1e-13)
+    assert "(lon 10.00000, lat 45.00000)" in curve.origin

@@ -153,7 +153,7 @@ def read_openquake(path: str | os.PathLike[str], site: int | None = None) -> Eng
         raise InputError(f"{path}: no header 'lon,lat,depth,poe-…' below the comment line")
     header_line, header = table[0]
     columns = [i for i, name in enumerate(header) if name.lower().startswith("poe-")]
-    if header[:2] != ["lon", "lat"] or not columns:
+    if "lon" not in header or "lat" not in header or not columns:
         raise InputError(
             f"{path}: line {header_line}: expected the header 'lon,lat,depth,poe-…', got "
             f"{','.join(header[:4])}…"
@@ -190,7 +190,7 @@ def read_openquake(path: str | os.PathLike[str], site: int | None = None) -> Eng
     x, rates, dropped = _positive(
         np.array(levels) * factor, poe_to_rate(poe, years), where, [header[i] for i in columns]
     )
-    lon, lat = cells[0], cells[1]
+    lon, lat = cells[header.index("lon")], cells[header.index("lat")]
     return EngineCurve(
         im,
         x,
