@@ -35,6 +35,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend
     from .montecarlo.dimensionless import dimensionless_efficiency, dimensionless_intensities
+    from .montecarlo.export import export_fragility
     from .montecarlo.fragility import fragility_analysis, im_efficiency
     from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
     from .montecarlo.pulse_spectrum import overturning_spectrum

@@ -106,12 +106,16 @@ class HazardCurve:
         Annual rates of exceeding each x [1/yr], > 0, decreasing.
     source : str
         Where the curve comes from (a file name), for messages.
+    origin : str
+        What was read: for an engine's file, the format, site, IMT and units found and the
+        conversions made (:mod:`rocking.assessment.hazard_formats`); "" otherwise.
     """
 
     im: Any
     values: np.ndarray
     rates: np.ndarray
     source: str = ""
+    origin: str = ""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "im", parse_im(self.im))
@@ -167,17 +171,43 @@ class HazardCurve:
         return np.clip(np.searchsorted(self.values, x, side="right") - 1, 0, self.values.size - 2)
 
     @classmethod
-    def from_csv(cls, path: str | os.PathLike[str]) -> HazardCurve:
-        """Read a hazard curve from a CSV file (format in the module notes); the word
-        ``example`` reads :func:`example_hazard_path` (see :func:`hazard_path`)."""
+    def from_csv(
+        cls, path: str | os.PathLike[str], *, site: int | None = None, im: str | None = None
+    ) -> HazardCurve:
+        """Read a hazard curve from a file: the CSV of the module notes, an OpenQuake-engine
+        hazard-curve CSV or a USGS NSHM hazard JSON (told apart by their content; see
+        :mod:`rocking.assessment.hazard_formats`). The word ``example`` reads
+        :func:`example_hazard_path` (see :func:`hazard_path`).
+
+        Parameters
+        ----------
+        path : str or Path
+        site : int, optional
+            OpenQuake: the site's row, 0 for the first (needed when the file has several).
+        im : str, optional
+            USGS: the IM to take when the file holds curves of several IMTs (e.g. ``"pga"``).
+
+        Intensities come out in the IM's unit of ``rocking`` (OpenQuake's and the USGS's PGV
+        in cm/s becomes m/s), rates in 1/yr; :attr:`origin` says what was found.
+        """
+        from . import hazard_formats
+
         path = hazard_path(path)
+        kind = hazard_formats.detect_format(path)
+        if kind != "csv":
+            read = (
+                hazard_formats.read_openquake(path, site)
+                if kind == "openquake"
+                else hazard_formats.read_usgs(path, im)
+            )
+            return cls(read.im, read.values, read.rates, source=str(path), origin=read.origin)
         lines = csv_rows(path, "hazard file")
         if not lines:
             raise InputError(
                 f"{path}: empty hazard file (need a header such as "
                 "'pgv [m/s],annual_rate' and one row per intensity)"
             )
-        im = _header(path, *lines[0])
+        measure = _header(path, *lines[0])
         if len(lines) < 3:
             raise InputError(f"{path}: a hazard curve needs at least 2 rows below the header")
         values: list[float] = []
@@ -199,7 +229,7 @@ class HazardCurve:
                 )
             values.append(x)
             rates.append(lam)
-        return cls(im, np.array(values), np.array(rates), source=str(path))
+        return cls(measure, np.array(values), np.array(rates), source=str(path))
 
 
 def _header(path: Path, lineno: int, cells: list[str]) -> IntensityMeasure:

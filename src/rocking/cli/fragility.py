@@ -219,6 +219,15 @@ _run_options = options(
     help="Also rank these IMs (e.g. 'pga,pgv,sa(1.0)') by the dispersion beta of the fragility "
     "fitted to the same IDA runs (--method ida only).",
 )
+@click.option(
+    "--export",
+    "exports",
+    multiple=True,
+    type=click.Choice(["pelicun", "openquake"], case_sensitive=False),
+    help="Also write the fitted curves for a loss tool: pelicun (damage-model CSV, "
+    "fragility_pelicun.csv) or openquake (NRML fragility model, fragility_openquake.xml); "
+    "may be repeated. Needs an IM the tool knows (pga, pgv, sa(T), ...; not agx).",
+)
 def fragility_cmd(
     bodies_spec: str,
     motions_path: str,
@@ -238,6 +247,7 @@ def fragility_cmd(
     n_boot: int,
     seed: int,
     compare_text: str | None,
+    exports: tuple[str, ...],
 ) -> None:
     """Overturning probability of each body against an intensity measure: A_gx as in the
     paper (Figs. 9-11, 13), or PGV, Sa(T), ... of recorded or generated motions by IDA,
@@ -261,6 +271,12 @@ def fragility_cmd(
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
+    exports = tuple(dict.fromkeys(f.lower() for f in exports))
+    if exports:
+        from ..montecarlo.export import check_exportable
+
+        for fmt in exports:
+            check_exportable(measure.name, fmt)
     bodies, ensemble, e, backend = _prepare(
         bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
@@ -336,6 +352,7 @@ def fragility_cmd(
         ds = _names(ds, bodies)
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
         _write_fragility(run, ds, measure, efficiency, ensemble, e)
+        _export(run, ds, exports)
     _print_fits(ds, measure)
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
@@ -486,6 +503,20 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
     report.write()
     for name in report.files:
         run.file(name)
+
+
+def _export(run, ds: xr.Dataset, exports: tuple[str, ...]) -> None:
+    """fragility_<format>.csv/.xml: the fitted curves for a loss tool (--export)."""
+    import warnings
+
+    from ..montecarlo.export import EXPORT_FILES, export_fragility
+
+    for fmt in exports:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            export_fragility(ds, run.file(EXPORT_FILES[fmt]), fmt)
+        for warning in caught:
+            click.echo(f"{EXPORT_FILES[fmt]}: {warning.message}")
 
 
 _FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta_high")

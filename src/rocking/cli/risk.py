@@ -123,9 +123,18 @@ def _read_fits(path: Path, im: str) -> list[tuple[str, LognormalFit | None]]:
     "hazard_text",
     required=True,
     metavar="FILE",
-    help="Hazard curve CSV: header 'IM [unit],annual_rate', one row per intensity, rates "
-    "decreasing; its IM must be the fragility's. 'example': the shipped illustrative PGV "
-    "curve (not a real site).",
+    help="Hazard curve: a CSV with the header 'IM [unit],annual_rate', one row per intensity, "
+    "rates decreasing; an OpenQuake-engine hazard-curve CSV (PoE in the investigation time, "
+    "one row per site: see --site); or a USGS NSHM hazard JSON (its curve of the fragility's "
+    "IM). Its IM must be the fragility's. 'example': the shipped illustrative PGV curve (not a "
+    "real site).",
+)
+@click.option(
+    "--site",
+    type=click.IntRange(0),
+    default=None,
+    help="OpenQuake hazard curves: the site's row, 0 for the first (needed when the file has "
+    "several sites).",
 )
 @click.option(
     "--years",
@@ -144,7 +153,13 @@ def _read_fits(path: Path, im: str) -> list[tuple[str, LognormalFit | None]]:
 @overwrite_option
 @quiet_option
 def risk_cmd(
-    fragility_dir: str, hazard_text: str, years: float, out: str, overwrite: bool, quiet: bool
+    fragility_dir: str,
+    hazard_text: str,
+    site: int | None,
+    years: float,
+    out: str,
+    overwrite: bool,
+    quiet: bool,
 ) -> None:
     """Mean annual rate of overturning of each body of a fragility run, and the probability
     of at least one overturning in --years, from a site hazard curve.
@@ -163,10 +178,14 @@ def risk_cmd(
     folder = Path(fragility_dir)
     params, fits = _fragility_run(folder)
     path = hazard_path(hazard_text)
-    hazard = HazardCurve.from_csv(path)
+    hazard = HazardCurve.from_csv(path, site=site, im=params["im"])
     im = check_hazard_im(hazard, params["im"])
+    if hazard.origin:
+        click.echo(f"hazard: {hazard.origin}")
     progress = reporter(quiet)
     run_params = {"fragility": str(folder), "hazard": str(path), "years": years, "im": im.name}
+    if hazard.origin:
+        run_params.update(site=site, hazard_origin=hazard.origin)
     reads = {"--fragility": folder, "--hazard": path}
     with (
         RunFolder(out, command="risk", params=run_params, overwrite=overwrite, reads=reads) as run,
@@ -273,6 +292,8 @@ def _report(run, folder: Path, params: dict, table, figure, hazard, years: float
         f"At this site, with the hazard curve `{Path(hazard.source).name}` and the fragility "
         f"of `{folder}`:\n\n" + "\n".join(_sentence(row, years) for _, row in table.iterrows())
     )
+    if hazard.origin:
+        report.text(f"Hazard file read as: {hazard.origin}.")
     note = illustrative_note(hazard.source)
     if note:
         report.warning(note)

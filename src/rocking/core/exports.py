@@ -49,6 +49,7 @@ PUBLIC = {
     "ExtrapolationWarning": "montecarlo.statistics",
     "FragilityFit": "montecarlo.statistics",
     "bootstrap_fragility": "montecarlo.statistics",
+    "export_fragility": "montecarlo.export",
     "agx_50": "montecarlo.probability",
     "fragility_analysis": "montecarlo.fragility",
     "im_efficiency": "montecarlo.fragility",

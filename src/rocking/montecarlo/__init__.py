@@ -8,6 +8,8 @@
 * :mod:`~rocking.montecarlo.engine` — the chunked, resumable engine behind both;
 * :mod:`~rocking.montecarlo.backends` — where chunks run: this process or a Dask cluster;
 * :mod:`~rocking.montecarlo.store` — the on-disk store of finished chunks.
+* :mod:`~rocking.montecarlo.export` — fragility curves written for loss tools (pelicun,
+  OpenQuake).
 """
 
 from ..core.exports import lazy_exports
