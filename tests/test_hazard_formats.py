@@ -138,7 +138,7 @@ def test_risk_reads_an_openquake_site_and_says_what_it_found(tmp_path):
     assert "IMT PGV [cm/s] read as pgv [m/s]" in (tmp_path / "risk" / "report.html").read_text()
     # the same rate as from the hand-converted curve, read by no reader of engine files
     by_hand = HazardCurve("pgv", [0.05, 0.1, 0.5, 1.0], SITE0_RATES)
-    expected = annual_rate(LognormalFit(0.3, 0.5), by_hand).annual_rate
+    expected = annual_rate(LognormalFit(0.3, 0.5, im="pgv"), by_hand).annual_rate
     got = pd.read_csv(tmp_path / "risk" / "risk.csv")["annual_rate"].iloc[0]
     assert got == pytest.approx(expected, rel=1e-9)  # the quadrature's 1e-10, hand digits 1e-13
 

@@ -72,7 +72,7 @@ def export_fragility(
 
     Parameters
     ----------
-    result : xarray.Dataset, LognormalFit or mapping of name to LognormalFit
+    result : xarray.Dataset, LognormalFit or mapping of name to LognormalFit (or None: no fit)
         The Dataset of :func:`rocking.fragility_analysis` (its ``median`` [the IM's unit] and
         ``beta`` [-] per body, its IM from ``attrs["im"]``), one fit (named ``body``) or fits
         by name. Bodies without a finite fit (nothing overturned, or everything) are left out
@@ -201,7 +201,11 @@ def _curves(result: Any) -> Curves:
             )
         }
     elif isinstance(result, Mapping):
-        fits = {str(k): (float(v.median), float(v.beta)) for k, v in result.items()}
+        nothing = (math.nan, math.nan)  # a body without a fit: None
+        fits = {
+            str(k): nothing if v is None else (float(v.median), float(v.beta))
+            for k, v in result.items()
+        }
     elif hasattr(result, "median") and hasattr(result, "beta"):
         fits = {"body": (float(result.median), float(result.beta))}
     else:
