@@ -60,7 +60,7 @@ def test_no_private_name_crosses_a_subpackage():
             if target[0] != "rocking" or _unit(target) == _unit(module):
                 continue
             private = [p for p in target[1:] if p.startswith("_") and p != "__init__"]
-            private += [n for n in names if n.startswith("_") and n != "__version__"]
+            private += [n for n in names if n.startswith("_")]
             if private:
                 bad.append(
                     f"{path.relative_to(ROOT)}:{line} imports {', '.join(private)} "
@@ -84,6 +84,22 @@ def test_layers_import_downwards():
                 bad.append(
                     f"{path.relative_to(ROOT)}:{line} ({LAYERS[here]}) imports "
                     f"{'.'.join(target)} ({LAYERS[there]})"
+                )
+    assert not bad, "\n".join(bad)
+
+
+def test_no_module_imports_the_package_root():
+    # Issue 44: `from .. import __version__` in core/runs.py and montecarlo/store.py was an
+    # arrow back up to the package root (which serves the whole public API): modules import
+    # the module that defines a name (the version: rocking.core.version)
+    bad = []
+    for path, module in _modules():
+        if module == ("rocking",):
+            continue
+        for target, names, line in _imports(path, module):
+            if target == ("rocking",):
+                bad.append(
+                    f"{path.relative_to(ROOT)}:{line} imports {', '.join(names)} from rocking"
                 )
     assert not bad, "\n".join(bad)
 

@@ -13,14 +13,16 @@ from typing import TYPE_CHECKING
 
 from .core.exports import lazy_exports
 
-__getattr__, __dir__, __all__ = lazy_exports(__name__, globals())
+_public, __dir__, __all__ = lazy_exports(__name__, globals())
 
-try:
-    from importlib.metadata import version as _version
 
-    __version__ = _version("rocking")
-except Exception:  # pragma: no cover - not installed (running from a source tree)
-    __version__ = "0+unknown"
+def __getattr__(name: str):
+    if name == "__version__":  # read on first use (rocking.core.version)
+        from .core.version import package_version
+
+        return package_version()
+    return _public(name)
+
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .assessment.bodies import NamedBody, read_bodies, read_bodies_table

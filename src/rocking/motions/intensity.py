@@ -52,7 +52,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from scipy.integrate import cumulative_trapezoid
 
 from ..core import portable
 from ..core.checks import count
@@ -299,6 +298,10 @@ def intensity_measures(
 
 
 def _values(ens: Ensemble, ims: list[IntensityMeasure]) -> list[np.ndarray]:
+    # on first use: scipy.integrate takes 0.5 s to import, which the commands' refusals (they
+    # parse IM names with this module) must not wait for
+    from scipy.integrate import cumulative_trapezoid
+
     a, dt = ens.acc, ens.dt
     v = cumulative_trapezoid(a, dx=dt, axis=1, initial=0.0)
     # exact integral of the piecewise-quadratic v: trapezoid − dt²·(a_{i+1} − a_i)/12 per step,
