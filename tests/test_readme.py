@@ -1,4 +1,5 @@
-"""The commands of the README's table ("What it does") run exactly as printed.
+"""The README's commands run exactly as printed, top to bottom in one folder (issue 48): those
+of the table ("What it does"), then those of its shell blocks.
 
 They run in one empty folder, each after the commands printed above it that write a file it
 reads (motions.nc, spectrum.csv, floors.csv), through the installed ``rocking`` entry point
@@ -24,7 +25,9 @@ _REPORTS = {"screen", "reproduce", "pulse-spectrum"}
 
 
 def readme_commands() -> list[str]:
-    """Every `rocking ...` command in the command column of the table under "What it does"."""
+    """Every `rocking ...` command in the command column of the table under "What it does",
+    then every `rocking ...` line of the README's shell blocks (continued lines joined, a
+    trailing comment dropped), in the order printed."""
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     section = text.split("\n## What it does\n", 1)[1].split("\n## ", 1)[0]
     rows = [line for line in section.splitlines() if line.startswith("| ")]
@@ -32,6 +35,10 @@ def readme_commands() -> list[str]:
     for row in rows[1:]:  # the first row is the header
         cells = [c.strip() for c in re.split(r"(?<!\\)\|", row)[1:-1]]
         commands += re.findall(r"`(rocking [^`]*)`", cells[1])
+    for block in re.findall(r"```sh\n(.*?)```", text, re.S):
+        for line in block.replace("\\\n", " ").splitlines():
+            if line.startswith("rocking "):
+                commands.append(shlex.join(shlex.split(line, comments=True)))
     return commands
 
 
