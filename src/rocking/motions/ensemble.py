@@ -404,6 +404,7 @@ class Ensemble:
         vertical: Sequence[Record | str | Path | None] | None = None,
         scale: float | Sequence[float] | None = None,
         units: str | None = None,
+        calibration: float | None = None,
         manifest: str | Path | None = None,
         location: str = "ground",
         record_dt: float | None = None,
@@ -441,7 +442,10 @@ class Ensemble:
         units : str, optional
             Units of the values in record files that state none (g, m/s2, cm/s2 or gal,
             mm/s2, in/s2, ft/s2; :func:`~rocking.motions.records.read_record`): a file that
-            states other units is refused.
+            states other units is refused. Required for SAC and miniSEED files.
+        calibration : float, optional
+            ``units`` per count of SAC and miniSEED files (default 1;
+            :func:`~rocking.motions.records.read_record`).
         manifest : str or Path, optional
             A CSV with one row per motion (columns ``horizontal``, ``vertical``, ``scale``,
             ``dt``;
@@ -476,6 +480,7 @@ class Ensemble:
         location = location_name(location)
         read = {
             "units": units,
+            "calibration": calibration,
             "dt": None if record_dt is None else positive("record_dt", record_dt, "s"),
         }
         members = _members(records, vertical, scale, read, location)
