@@ -252,6 +252,7 @@ def test_folder_of_network_files_read_and_imported(tmp_path):
     assert list(meta["stations"]) == ["XX.TST1", "XX-TEST1 Test Station, Nowhere", "XXXH01"]
     assert list(meta["components"]) == ["HNE", "90 deg", "EW2 (KiK-net surface)"]
     assert list(meta["record_units"]) == ["cm/s2"] * 3
+    assert list(meta["record_formats"]) == ["ESM", "COSMOS V2", "KiK-net"]
     result = CliRunner().invoke(main, ["spectrum", str(KIKNET), str(COSMOS)])
     assert result.exit_code == 0, result.output
     assert "XXTEST1" in result.output

@@ -450,7 +450,8 @@ def read_record(
     dt_arg = None if dt is None else positive("dt", dt, "s")
     calib = None if calibration is None else positive("calibration", calibration)
     data = path.read_bytes()
-    binary = binary_format(data[:_SNIFF_BYTES])
+    netcdf = data.startswith(_NETCDF_MAGIC)
+    binary = None if netcdf else binary_format(data[:_SNIFF_BYTES])
     if calib is not None and binary is None:
         raise InputError(
             f"{path}: calibration is for SAC and miniSEED files (counts), not for this file"
