@@ -58,6 +58,7 @@ def test_kiknet_counts_scaled_to_gal_with_the_mean_removed():
     # the header's Max. Acc. (gal) 2.527 is the peak after the mean is removed, to its rounding
     assert abs(rec.pga * G * 100.0 - 2.527) <= 0.0005
     assert rec.format == "KiK-net"
+    assert rec.name == "XXXH011103111446.EW2"  # the file's stem is the same for NS2 and UD2
     assert rec.component == "EW2 (KiK-net surface)"
     assert rec.station == "XXXH01"
     assert rec.date == "2011/03/11 14:46:00 JST (UTC+9)"
@@ -253,9 +254,13 @@ def test_folder_of_network_files_read_and_imported(tmp_path):
     assert list(meta["components"]) == ["HNE", "90 deg", "EW2 (KiK-net surface)"]
     assert list(meta["record_units"]) == ["cm/s2"] * 3
     assert list(meta["record_formats"]) == ["ESM", "COSMOS V2", "KiK-net"]
-    result = CliRunner().invoke(main, ["spectrum", str(KIKNET), str(COSMOS)])
+    # the three components of a K-NET/KiK-net station share a stem: their spectra are told
+    # apart by the whole file name
+    ns2 = _copy(KIKNET, tmp_path / KIKNET.with_suffix(".NS2").name, "E-W", "N-S")
+    result = CliRunner().invoke(main, ["spectrum", str(KIKNET), str(ns2), str(COSMOS)])
     assert result.exit_code == 0, result.output
-    assert "XXTEST1" in result.output
+    for name in ("XXXH011103111446.EW2:", "XXXH011103111446.NS2:", "XXTEST1:"):
+        assert name in result.output
 
 
 def test_cli_sac_without_units_is_one_line_error(tmp_path):

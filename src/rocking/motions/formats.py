@@ -83,6 +83,9 @@ class ParsedRecord:
         Metadata ("" when the file does not say); ``date`` states its time zone.
     header : dict
         The header's fields as written (name -> text).
+    name : str
+        The record's name when the file's stem does not tell it from others ("" otherwise):
+        the whole file name of a K-NET/KiK-net file, whose extension is its component.
     """
 
     values: np.ndarray
@@ -94,6 +97,7 @@ class ParsedRecord:
     station: str = ""
     component: str = ""
     header: dict[str, str] = field(default_factory=dict)
+    name: str = ""
 
 
 def finite_number(text: str, where: str) -> float:
@@ -277,6 +281,7 @@ def read_knet(path: Path, lines: list[str]) -> ParsedRecord:
         station=header["Station Code"],
         component=component,
         header=header,
+        name=path.name,
     )
 
 

@@ -157,7 +157,8 @@ class Record:
     dt : float
         Time step [s].
     name : str
-        Label (the file name without suffix).
+        Label (the file name without suffix; with it for K-NET/KiK-net files, whose suffix is
+        the component).
     source : str
         Path of the file it was read from.
     units : str
@@ -474,7 +475,7 @@ def read_record(
     return Record(
         acc=values * ACCELERATION_UNITS[used],
         dt=float(step),
-        name=path.stem,
+        name=parsed.name or path.stem,
         source=str(path),
         units=used,
         event=parsed.event,
