@@ -8,6 +8,7 @@ README there); the SAC and miniSEED files are written by ObsPy itself in the tes
 from __future__ import annotations
 
 import shutil
+import sys
 import warnings
 from pathlib import Path
 
@@ -139,7 +140,7 @@ def test_cosmos_file_with_two_channels_refused(tmp_path):
         (KIKNET, "r.EW2", "Scale Factor", "Scale", r"line 14: .*starts with 'Scale Factor'"),
         (KIKNET, "r.EW2", "(gal)", "(counts)", r"line 14: unit 'counts' is not a unit of acc"),
         (KIKNET, "r.EW2", "  -2650", "  -26x0", r"r\.EW2: line 18: not a finite number: .-26x0"),
-        (ESM, "a.ASC", "NDATA: 16", "NDATA: 17", r"announces NDATA = 17 values, .* holds 16"),
+        (ESM, "a.ASC", "NDATA: 16", "NDATA: 17", r"line 30: .*NDATA = 17 values, .* holds 16"),
         (ESM, "a.ASC", "ACCELERATION", "VELOCITY", r"line 50: DATA_TYPE VELOCITY, not an acc"),
         (ESM, "a.ASC", "UNITS: cm/s^2", "UNITS:", r"a\.ASC: an ESM/ITACA header without UNITS"),
         (ESM, "a.ASC", "UNITS: cm/s^2", "UNITS: cm/s", r"line 33: unit 'cm/s' is not a unit"),
@@ -225,6 +226,26 @@ def test_obspy_formats_need_units_and_apply_the_calibration(tmp_path, fmt, suffi
     assert rec.format == name
     assert (rec.station, rec.component) == ("XX.TST1.00", "HNE")
     assert rec.date == "2020-01-02T03:04:05 UTC (first sample)"
+
+
+def test_sac_velocity_refused(tmp_path):
+    obspy = pytest.importorskip("obspy")
+    tr = _trace(obspy, [0, 1, -2, 1])
+    tr.stats.sac = obspy.core.AttribDict({"idep": 7})  # SAC's IVEL
+    tr.write(str(tmp_path / "v.sac"), format="SAC")
+    with pytest.raises(InputError, match=r"v\.sac: the SAC header \(IDEP\) says velocity"):
+        read_record(tmp_path / "v.sac", units="cm/s2")
+
+
+def test_sac_file_without_obspy_names_the_extra(tmp_path, monkeypatch):
+    # a SAC header is told by its version number (NVHDR = 6, the 7th integer word after 70
+    # floats: byte 304) whether or not ObsPy is installed
+    head = bytearray(632)
+    head[304:308] = (6).to_bytes(4, "little")
+    (tmp_path / "x.sac").write_bytes(bytes(head) + bytes(16))
+    monkeypatch.setitem(sys.modules, "obspy", None)  # import obspy fails
+    with pytest.raises(InputError, match=r"x\.sac: a SAC file; reading it needs ObsPy: pip ins"):
+        read_record(tmp_path / "x.sac", units="g")
 
 
 def test_obspy_file_with_several_traces_refused(tmp_path):

@@ -338,7 +338,8 @@ def read_esm(path: Path, lines: list[str]) -> ParsedRecord:
     values = numbers(path, lines, len(found))
     if values.size != int(ndata):
         raise InputError(
-            f"{path}: the header announces NDATA = {ndata} values, the file holds {values.size}"
+            f"{where('NDATA')}: the header announces NDATA = {ndata} values, the file holds "
+            f"{values.size}"
         )
     if values.size and value.get("PGA_CM/S^2"):
         pga = value["PGA_CM/S^2"]
@@ -590,18 +591,18 @@ def read_obspy(path: Path, fmt: str, units: str | None, calibration: float) -> P
     """A SAC or miniSEED file through ObsPy (see the module notes); ``units`` (a name of
     :data:`~rocking.motions.units.ACCELERATION_UNITS`) is that of the values times
     ``calibration`` [units per stored value]."""
-    if units is None:
-        raise InputError(
-            f"{path}: a {fmt} file holds counts or units it does not state reliably: give its "
-            "units (--units; in Python units=) and, for counts, the calibration (--calibration, "
-            "units per count)"
-        )
     try:
         import obspy
     except ImportError:
         raise InputError(
             f"{path}: a {fmt} file; reading it needs ObsPy: pip install 'rocking[formats]'"
         ) from None
+    if units is None:
+        raise InputError(
+            f"{path}: a {fmt} file holds counts or units it does not state reliably: give its "
+            "units (--units; in Python units=) and, for counts, the calibration (--calibration, "
+            "units per count)"
+        )
     try:
         stream = obspy.read(str(path), format="MSEED" if fmt == "miniSEED" else "SAC")
     except Exception as exc:  # ObsPy raises many kinds on a damaged file
