@@ -122,6 +122,20 @@ def test_cosmos_v2_acceleration_series():
     assert rec.header["real #62"] == "10.0"
 
 
+def test_cosmos_v1_in_g_with_other_header_layouts():
+    # real header in 5F15.6 on 20 lines, data in 5E16.7, "units=g(02),Format=(5E16.7)" without
+    # blanks: the layout of CESMD-processed files
+    rec = _no_warnings(DATA / "XXTST2.V1c")
+    assert rec.format == "COSMOS V1"
+    assert rec.dt == pytest.approx(0.005)  # real header #62: 5.0 ms
+    assert rec.units == "g"  # unit code 02
+    g_values = [0.001, -0.0025, 0.0125, -0.05, 0.1375, -0.2116, 0.1804, -0.09, 0.03, -0.008]
+    np.testing.assert_allclose(rec.acc, np.array([*g_values, 0.002, 0.0]) * G, rtol=1e-12)
+    assert rec.pga == pytest.approx(0.2116)  # real header #64 -0.2116 g at #65 0.025 s
+    assert rec.component == "Up"  # integer header #54: 400
+    assert rec.station == "XX-TST2 Second Test Station"
+
+
 def test_cosmos_file_with_two_channels_refused(tmp_path):
     first = COSMOS.read_text().split("Velocity data")[0]
     two = tmp_path / "two.V2c"
