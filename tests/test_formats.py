@@ -2,7 +2,9 @@
 miniSEED, recognised by their headers, with their units, steps, peaks and metadata.
 
 The text fixtures in tests/data/formats were written by us to each published format (see the
-README there); the SAC and miniSEED files are written by ObsPy itself in the tests.
+README there); the SAC and miniSEED files are written by ObsPy itself in the tests. Values are
+compared with rtol 1e-12 where the test computes them with the reader's arithmetic (floating-point
+rounding apart); stated peaks to the rounding of the digits the header prints.
 """
 
 from __future__ import annotations
