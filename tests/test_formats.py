@@ -121,7 +121,7 @@ def test_cosmos_v2_acceleration_series():
     assert rec.component == "90 deg"  # integer header #54
     assert rec.station == "XX-TEST1 Test Station, Nowhere"
     assert rec.event.startswith("Test Earthquake")
-    assert rec.header["real #62"] == "10.0"
+    assert rec.header["real #62"] == "10.000000"
 
 
 def test_cosmos_v1_in_g_with_other_header_layouts():
@@ -175,12 +175,21 @@ def test_edited_fixture_refused_naming_file_and_line(tmp_path, fixture, name, ol
         read_record(_copy(fixture, tmp_path / name, old, new))
 
 
+def test_header_peak_judged_to_the_digits_it_prints(tmp_path):
+    # the values' peak is 2.52747 gal: "2.53" is it to 2 decimals (±0.005), "2.52" is not, and
+    # "2.5275E+00" (±5e-5) is it in E format
+    for text in ("2.53", "2.5275E+00"):
+        _no_warnings(_copy(KIKNET, tmp_path / "a.EW2", "2.527", text))
+    with pytest.warns(RecordHeaderWarning, match=r"states a peak of 2\.52 cm/s2"):
+        read_record(_copy(KIKNET, tmp_path / "a.EW2", "2.527", "2.52"))
+
+
 @pytest.mark.parametrize(
     ("fixture", "old", "new", "match"),
     [
         (KIKNET, "2.527", "3.527", r"states a peak of 3\.527 cm/s2, the values' peak is 2\.52"),
         (ESM, "TIME_PGA_S: 0.06", "TIME_PGA_S: 0.50", r"peak at t = 0\.500000 s, the values'"),
-        (COSMOS, " -234.567890", " -204.567890", r"states a peak of -204\.56789 cm/s2"),
+        (COSMOS, " -234.567890", " -204.567890", r"states a peak of -204\.567890 cm/s2"),
     ],
 )
 def test_header_peak_disagreeing_with_the_values_warns(tmp_path, fixture, old, new, match):

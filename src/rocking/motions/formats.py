@@ -121,10 +121,13 @@ def numbers(path: Path, lines: list[str], first: int) -> np.ndarray:
     return np.array(out)
 
 
-def _decimals(text: str) -> int:
-    """Digits after the decimal point of a number as written ("2699.951" -> 3)."""
-    m = re.search(r"\.(\d*)", text)
-    return len(m[1]) if m else 0
+def _rounding(text: str) -> float:
+    """Half a unit of the last digit of a number as written: "2699.951" -> 0.0005,
+    "-6.851512E-03" -> 5e-10."""
+    m = re.fullmatch(r"\s*[-+]?\d*(?:\.(\d*))?(?:[eEdD]([-+]?\d+))?\s*", text)
+    if m is None:
+        return 0.0
+    return 0.5 * 10.0 ** (int(m[2] or 0) - len(m[1] or ""))
 
 
 def _check_stated_peak(
@@ -137,7 +140,7 @@ def _check_stated_peak(
     stated = abs(float(peak))
     i = int(np.argmax(np.abs(values)))
     found = abs(float(values[i]))
-    tol = 0.5 * 10.0 ** -_decimals(peak) + 1e-6 * max(found, stated)
+    tol = _rounding(peak) + 1e-6 * max(found, stated)
     if abs(found - stated) > tol:
         warnings.warn(
             f"{where}: the header states a peak of {peak.strip()} {units}, the values' peak is "
@@ -147,7 +150,7 @@ def _check_stated_peak(
         )
     if time is not None:
         t = i * dt
-        if abs(t - float(time)) > dt + 0.5 * 10.0 ** -_decimals(time):
+        if abs(t - float(time)) > dt + _rounding(time):
             warnings.warn(
                 f"{where}: the header states the peak at t = {time.strip()} s, the values' "
                 f"peak is at t = {t:.6g} s",
@@ -454,8 +457,10 @@ def _cosmos_block(path: Path, lines: list[str], start: int) -> tuple[dict, int]:
     for pattern, what in ((_COSMOS_INT, "integer-header"), (_COSMOS_REAL, "real-header")):
         h = _cosmos_line(path, lines, n, pattern, what)
         fields, n = _fixed(path, lines, n + 1, int(h[1]), int(h[2]), int(h[4]))
-        headers.append([finite_number(c, f"{path}: line {ln}") for ln, c in fields])
-    ints, reals = [int(x) for x in headers[0]], headers[1]
+        for ln, c in fields:
+            finite_number(c, f"{path}: line {ln}")
+        headers.append([c.strip() for _, c in fields])
+    ints, reals = [int(float(x)) for x in headers[0]], [float(x) for x in headers[1]]
     h = _cosmos_line(path, lines, n, _COSMOS_COMMENTS, "comment-count")
     n += 1 + int(h[1])
     d = _cosmos_line(path, lines, n, _COSMOS_DATA, "data")
@@ -469,6 +474,7 @@ def _cosmos_block(path: Path, lines: list[str], start: int) -> tuple[dict, int]:
         "text": text,
         "ints": ints,
         "reals": reals,
+        "reals_text": headers[1],
         "unknown": (unknown_int, unknown_real),
         "kind": kind,
         "unit_text": unit_text,
@@ -528,7 +534,12 @@ def read_cosmos(path: Path, lines: list[str]) -> ParsedRecord:
     peak, time = reals[63], reals[64]  # real header #64: peak value, #65: its time [s]
     if peak != unknown_real:
         _check_stated_peak(
-            str(path), values, dt, units, repr(peak), None if time == unknown_real else repr(time)
+            str(path),
+            values,
+            dt,
+            units,
+            b["reals_text"][63],
+            None if time == unknown_real else b["reals_text"][64],
         )
     level = {1: "V1", 2: "V2"}.get(ints[0], f"V{ints[0]}")
     orientation = ints[53]  # integer header #54
@@ -541,7 +552,8 @@ def read_cosmos(path: Path, lines: list[str]) -> ParsedRecord:
     station = " ".join(s for s in (line5[25:34].strip(), line5[40:].strip()) if s)
     header = {f"text line {i + 1}": line.rstrip() for i, line in enumerate(text)}
     header.update({f"integer #{i + 1}": str(v) for i, v in enumerate(ints) if v != unknown_int})
-    header.update({f"real #{i + 1}": repr(v) for i, v in enumerate(reals) if v != unknown_real})
+    stated = zip(reals, b["reals_text"])
+    header.update({f"real #{i + 1}": t for i, (v, t) in enumerate(stated) if v != unknown_real})
     return ParsedRecord(
         values=values,
         dt=dt,
