@@ -52,6 +52,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .motions.baseline import baseline_correct
     from .motions.design import ASCE7, EC8, design_pga, parse_spectrum
     from .motions.ensemble import Ensemble
+    from .motions.formats import RecordHeaderWarning
     from .motions.intensity import (
         IntensityMeasure,
         im_scaling_exponent,

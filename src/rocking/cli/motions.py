@@ -20,7 +20,7 @@ from ._options import (
     reporter,
     writable_file,
 )
-from .spectrum import checked_units, record_dt_option, units_option
+from .spectrum import calibration_option, checked_units, record_dt_option, units_option
 
 if TYPE_CHECKING:
     import numpy as np
@@ -443,6 +443,7 @@ def fit_cmd(
     "records' steps differ.",
 )
 @units_option
+@calibration_option
 @record_dt_option
 @click.option(
     "--horizontal-only",
@@ -467,6 +468,7 @@ def import_cmd(
     manifest: str | None,
     dt: float | None,
     units: str | None,
+    calibration: float | None,
     record_dt: float | None,
     horizontal_only: bool,
     location: str,
@@ -475,11 +477,13 @@ def import_cmd(
     """Import recorded motions as an ensemble file.
 
     RECORD: PEER .AT2 files, text or CSV files (time [s], acceleration; units from the header,
-    e.g. "acc [cm/s2]", or --units), folders of them (their .AT2, .txt, .csv and .nc files,
-    sorted by name), existing ensemble files (.nc: their members are appended) or the word
-    'example' (El Centro 1940 NS). Members shorter than the longest are padded with zeros at
-    the end. Each member keeps its file, event, station and component (from a PEER header),
-    original time step and units. A one-column file (no times) takes its step from
+    e.g. "acc [cm/s2]", or --units), K-NET/KiK-net, ESM/ITACA and COSMOS V1/V2 files, SAC
+    and miniSEED files (with ObsPy, rocking[formats]; --units required), folders of them (their
+    record files and .nc files, sorted by name), existing ensemble files (.nc: their members
+    are appended) or the word 'example' (El Centro 1940 NS). Formats are told by their headers.
+    Members shorter than the longest are padded with zeros at the end. Each member keeps its
+    file, event, station and component (from the file's header), original time step and
+    units. A one-column file (no times) takes its step from
     --record-dt; several need one step each, in a --manifest's dt column.
     """
     if not records and manifest is None:
@@ -496,6 +500,7 @@ def import_cmd(
         records,
         dt,
         units=units,
+        calibration=calibration,
         manifest=manifest,
         location=location,
         record_dt=record_dt,

@@ -23,8 +23,18 @@ units_option = click.option(
     default=None,
     metavar="UNIT",
     help=f"Units of the values in record files that do not state theirs: {UNITS_TEXT} (usual "
-    "spellings such as cm/sec/sec or m/s^2 too); a file that states other units is refused "
-    "[default: as each file states, else g]",
+    "spellings such as cm/sec/sec or m/s^2 too); a file that states other units is refused; "
+    "required for SAC and miniSEED files (with --calibration for counts) [default: as each "
+    "file states, else g]",
+)
+#: ``--calibration`` of the commands that read records: SAC and miniSEED values per unit.
+calibration_option = click.option(
+    "--calibration",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    metavar="FACTOR",
+    help="Units (--units) per count of SAC and miniSEED files, which hold counts: their values "
+    "are multiplied by it [default: 1, the values are in --units]; refused for other files.",
 )
 #: ``--record-dt`` of the commands that read records, and ``--dt``, its old name in
 #: ``spectrum`` (hidden; kept for one release, with a warning).
@@ -94,6 +104,7 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
     help="Number of frequencies, log-spaced from fmin to fmax.",
 )
 @units_option
+@calibration_option
 @record_dt_option
 @_old_dt_option
 @click.option(
@@ -115,13 +126,15 @@ def spectrum(
     fmax: float | None,
     n_freq: int,
     units: str | None,
+    calibration: float | None,
     record_dt: float | None,
     old_dt: float | None,
     plot_path: str | None,
     csv_path: str | None,
 ) -> None:
-    """Response spectra of ground-acceleration records (PEER .AT2 or text; folders allowed;
-    'example' is the shipped record El Centro 1940 NS).
+    """Response spectra of ground-acceleration records (PEER .AT2, text, K-NET/KiK-net,
+    ESM/ITACA, COSMOS V1/V2, SAC or miniSEED, told by their headers; folders allowed; 'example'
+    is the shipped record El Centro 1940 NS).
 
     Prints PSA [g], PSV [cm/s] and SD [cm] at a few frequencies for each record; --csv saves
     all frequencies, --plot draws PSA against frequency.
@@ -145,7 +158,7 @@ def spectrum(
     from ..motions.records import read_records
     from ..motions.response import response_spectrum
 
-    records = read_records(files, dt=record_dt, units=units)
+    records = read_records(files, dt=record_dt, units=units, calibration=calibration)
     freqs = portable.geomspace(fmin, _highest_frequency(records, fmin, fmax), n_freq)
     with reporter():
         spectra = [response_spectrum(r.acc, r.dt, freqs, damping) for r in records]

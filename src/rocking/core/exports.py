@@ -80,6 +80,7 @@ PUBLIC = {
     "read_record": "motions.records",
     "read_records": "motions.records",
     "ImplausiblePeakWarning": "motions.units",
+    "RecordHeaderWarning": "motions.formats",
     "Report": "report",
     "provenance": "core.runs",
     "results_table": "assessment.screen",

@@ -7,7 +7,8 @@
 * :mod:`~rocking.motions.envelopes` — intensity functions (Fig. 2, Eq. 7);
 * :mod:`~rocking.motions.synthesis` — simulated motions (Eq. 9), the iterative correction, the fit;
 * :mod:`~rocking.motions.baseline` — quadratic baseline correction (Section 4);
-* :mod:`~rocking.motions.records` — reading recorded accelerations (PEER .AT2, text);
+* :mod:`~rocking.motions.records` — reading recorded accelerations (PEER .AT2, text, networks);
+* :mod:`~rocking.motions.formats` — K-NET/KiK-net, ESM/ITACA, COSMOS, SAC and miniSEED files;
 * :mod:`~rocking.motions.units` — units of acceleration, plausible peaks;
 * :mod:`~rocking.motions.ensemble` — :class:`Ensemble`, motions with labels and metadata;
 * :mod:`~rocking.motions.intensity` — intensity measures of motions (PGA, PGV, Sa, …);

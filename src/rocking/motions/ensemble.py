@@ -51,7 +51,8 @@ from .units import MAX_PEAK_G
 NETCDF_ENGINE: Final = "scipy"
 #: Meta entries of :meth:`Ensemble.from_records` that hold one value per member, with the value
 #: given to members of an ensemble file that has none (its generated motions): file, vertical
-#: file, kind, PEER title fields, original time step [s], samples and units, import scale [-].
+#: file, kind, header fields, original time step [s], samples, units and format, import scale
+#: [-].
 RECORD_ENTRIES = {
     "sources": "",
     "vertical_sources": "",
@@ -63,6 +64,7 @@ RECORD_ENTRIES = {
     "record_dt": 0.0,
     "record_npts": 0,
     "record_units": "m/s2",
+    "record_formats": "",
     "record_scale": 1.0,
 }
 #: Meta entries that hold one value per member (kept in step by :meth:`Ensemble.subset`).
@@ -404,6 +406,7 @@ class Ensemble:
         vertical: Sequence[Record | str | Path | None] | None = None,
         scale: float | Sequence[float] | None = None,
         units: str | None = None,
+        calibration: float | None = None,
         manifest: str | Path | None = None,
         location: str = "ground",
         record_dt: float | None = None,
@@ -441,7 +444,10 @@ class Ensemble:
         units : str, optional
             Units of the values in record files that state none (g, m/s2, cm/s2 or gal,
             mm/s2, in/s2, ft/s2; :func:`~rocking.motions.records.read_record`): a file that
-            states other units is refused.
+            states other units is refused. Required for SAC and miniSEED files.
+        calibration : float, optional
+            ``units`` per count of SAC and miniSEED files (default 1;
+            :func:`~rocking.motions.records.read_record`).
         manifest : str or Path, optional
             A CSV with one row per motion (columns ``horizontal``, ``vertical``, ``scale``,
             ``dt``;
@@ -469,13 +475,15 @@ class Ensemble:
             component was resampled), ``padding``, and per member (in step with the members
             through :meth:`subset`): ``sources`` and ``vertical_sources`` (files), ``kinds``,
             ``events``, ``dates``, ``stations``, ``components``, ``record_dt`` [s],
-            ``record_npts`` and ``record_units`` (of the horizontal record) and
+            ``record_npts``, ``record_units`` and ``record_formats`` (of the horizontal record:
+            "PEER", "K-NET", "ESM", …, :attr:`~rocking.motions.records.Record.format`) and
             ``record_scale`` [-]. Labels are the file names without suffix (a repeated label
             gets "-2", "-3", …).
         """
         location = location_name(location)
         read = {
             "units": units,
+            "calibration": calibration,
             "dt": None if record_dt is None else positive("record_dt", record_dt, "s"),
         }
         members = _members(records, vertical, scale, read, location)
@@ -555,6 +563,7 @@ def _record_member(h: Record, v: Record | None, scale: float, shared: bool = Fal
         "record_dt": h.dt,
         "record_npts": int(h.acc.size),
         "record_units": h.units,
+        "record_formats": h.format,
         "record_scale": scale,
     }
     dt_v = h.dt if v is None else v.dt

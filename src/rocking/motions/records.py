@@ -1,4 +1,5 @@
-"""Reading recorded ground accelerations (PEER NGA .AT2 files and plain text).
+"""Reading recorded ground accelerations (PEER NGA .AT2 files, plain text and the formats of
+strong-motion networks).
 
 Formats
 -------
@@ -19,6 +20,12 @@ Plain text (any file without an NPTS/DT line)
     One header line of column names is allowed; if it states units (e.g. "acc [m/s2]") they are
     used, otherwise accelerations are in g. Times must be equally spaced (to 0.1 % of the step);
     the first sample is taken as t = 0.
+
+K-NET/KiK-net ASCII, ESM/ITACA ASCII, COSMOS V1/V2, SAC and miniSEED
+    Recognised by their headers (their first lines or bytes, whatever the file's name) and read
+    by :mod:`rocking.motions.formats`, which describes them; SAC and miniSEED need ObsPy
+    (``pip install 'rocking[formats]'``) and the ``units`` of their values (with
+    ``calibration``, units per count, for counts).
 
 Anything else is refused as a format not recognised, with the list of these formats.
 
@@ -80,7 +87,7 @@ import os
 import re
 import warnings
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from importlib.resources import files
 from pathlib import Path
@@ -93,6 +100,19 @@ from ..core.checks import positive
 from ..core.files import read_text
 from ..dynamics.body import G
 from ..errors import InputError
+from .formats import (
+    ParsedRecord,
+    binary_format,
+    finite_number,
+    is_cosmos,
+    is_esm,
+    is_knet,
+    numbers,
+    read_cosmos,
+    read_esm,
+    read_knet,
+    read_obspy,
+)
 from .units import (
     ACCELERATION_UNITS,
     MAX_PEAK_G,
@@ -137,18 +157,27 @@ class Record:
     dt : float
         Time step [s].
     name : str
-        Label (the file name without suffix).
+        Label (the file name without suffix; with it for K-NET/KiK-net files, whose suffix is
+        the component).
     source : str
         Path of the file it was read from.
     units : str
         Units of the values in the file (a name of
         :data:`~rocking.motions.units.ACCELERATION_UNITS`; "" when not read from a file).
     event, date, station, component : str
-        From a PEER header's second line (see :func:`peer_title`); "" when the file does not
-        say.
+        From the file's header: a PEER header's second line (see :func:`peer_title`), the
+        fields of K-NET/KiK-net, ESM, COSMOS, SAC and miniSEED headers
+        (:mod:`rocking.motions.formats`: ``date`` states its time zone, a KiK-net component
+        its sensor, borehole or surface); "" when the file does not say.
     dt_given : bool
         True when the file does not state its time step (a one-column text file) and ``dt``
         was given for it.
+    format : str
+        The file's format: "PEER", "text", "K-NET", "KiK-net", "ESM", "COSMOS V1",
+        "COSMOS V2", "SAC", "miniSEED" ("" when not read from a file).
+    header : dict
+        The fields of the file's header as written (name -> text), for the formats of
+        :mod:`rocking.motions.formats`; empty for the others.
     """
 
     acc: np.ndarray
@@ -161,6 +190,8 @@ class Record:
     station: str = ""
     component: str = ""
     dt_given: bool = False
+    format: str = ""
+    header: dict[str, str] = field(default_factory=dict)
 
     @property
     def t(self) -> np.ndarray:
@@ -190,16 +221,6 @@ def _stated_units(text: str, where: str, columns: bool = False) -> str | None:
     if len(names) > 1:
         raise InputError(f"{where}: states several units ({', '.join(sorted(names))})")
     return names.pop() if names else None
-
-
-def _number(token: str, path: Path, lineno: int) -> float:
-    try:
-        x = float(token)
-    except ValueError:
-        x = math.nan
-    if not math.isfinite(x):
-        raise InputError(f"{path}: line {lineno}: not a finite number: {token!r}")
-    return x
 
 
 def _npts_dt(line: str) -> tuple[str, str] | None:
@@ -253,7 +274,7 @@ def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
         raise InputError(
             f"{path}: line {lineno}: NPTS is not a whole number: {found[0]!r}"
         ) from None
-    dt = _number(found[1], path, lineno)
+    dt = finite_number(found[1], f"{path}: line {lineno}")
     if not dt > 0.0:
         raise InputError(f"{path}: line {lineno}: DT must be > 0 [s], got {found[1]!r}")
     header = "\n".join(lines[:head])
@@ -262,17 +283,13 @@ def _read_at2(path: Path, lines: list[str], head: int, found: tuple[str, str]):
             f"{path}: the header announces a velocity or displacement time series, "
             "not an acceleration"
         )
-    values = [
-        _number(tok, path, n)
-        for n in range(lineno + 1, len(lines) + 1)
-        for tok in lines[n - 1].split()
-    ]
-    if len(values) != npts:
+    values = numbers(path, lines, lineno)
+    if values.size != npts:
         raise InputError(
-            f"{path}: the header announces NPTS = {npts} values, the file holds {len(values)}"
+            f"{path}: the header announces NPTS = {npts} values, the file holds {values.size}"
         )
     title = peer_title(lines[1]) if head > 1 else dict.fromkeys(TITLE_FIELDS, "")
-    return np.array(values), dt, _stated_units(header, str(path)), title
+    return values, dt, _stated_units(header, str(path)), title
 
 
 def _read_columns(path: Path, lines: list[str], dt: float | None):
@@ -307,7 +324,7 @@ def _read_columns(path: Path, lines: list[str], dt: float | None):
         if not _looks_numeric(cells[0]):
             raise _unrecognised(path, f"line {lineno}: text where numbers are expected")
     units = None if header is None else _stated_units(header[1], f"{path}: line {header[0]}", True)
-    data = np.array([[_number(c, path, n) for c in cells] for n, cells in rows])
+    data = np.array([[finite_number(c, f"{path}: line {n}") for c in cells] for n, cells in rows])
     if ncol == 1:
         if dt is None:
             raise InputError(f"{path}: a one-column file needs the time step dt [s]")
@@ -334,8 +351,11 @@ def _read_columns(path: Path, lines: list[str], dt: float | None):
 RECORD_FORMATS = (
     "PEER .AT2 (an 'NPTS=..., DT=...' line in the first 12 lines, then the values), "
     "one-column text (accelerations, the step given), two-column text or CSV (time [s], "
-    "acceleration; at most one header line of column names) and, as ensembles of motions, "
-    "netCDF files (.nc) written by rocking"
+    "acceleration; at most one header line of column names), K-NET/KiK-net ASCII (17 header "
+    "lines from 'Origin Time' to 'Memo.'), ESM/ITACA ASCII ('KEY: value' header lines with "
+    "SAMPLING_INTERVAL_S, NDATA, UNITS), COSMOS V1/V2 (first line '... (Format v01.20 with 13 "
+    "text lines)'), SAC and miniSEED (binary, with ObsPy: rocking[formats]) and, as ensembles "
+    "of motions, netCDF files (.nc) written by rocking"
 )
 
 
@@ -363,7 +383,9 @@ def _refuse_binary(path: Path, head: bytes) -> None:
             "rocking motions show)"
         )
     if b"\0" in head:
-        raise InputError(f"{path}: a binary file, not a ground-motion record (PEER .AT2 or text)")
+        raise InputError(
+            f"{path}: a binary file, not a ground-motion record (neither SAC nor miniSEED)"
+        )
 
 
 def _looks_numeric(token: str) -> bool:
@@ -375,9 +397,14 @@ def _looks_numeric(token: str) -> bool:
 
 
 def read_record(
-    path: str | os.PathLike[str], *, dt: float | None = None, units: str | None = None
+    path: str | os.PathLike[str],
+    *,
+    dt: float | None = None,
+    units: str | None = None,
+    calibration: float | None = None,
 ) -> Record:
-    """Read one ground-acceleration record (PEER .AT2 or plain text; see the module notes).
+    """Read one ground-acceleration record (PEER .AT2, plain text, K-NET/KiK-net, ESM/ITACA,
+    COSMOS V1/V2, SAC or miniSEED; see the module notes and :mod:`rocking.motions.formats`).
 
     Parameters
     ----------
@@ -390,13 +417,18 @@ def read_record(
         Units of the values in the file: g, m/s2, cm/s2 (gal), mm/s2, in/s2 or ft/s2 (usual
         spellings accepted, :func:`rocking.motions.units.acceleration_unit`), for a file that
         does not state them; a file that states other units is refused (default: the file's
-        statement, else g).
+        statement, else g). Required for SAC and miniSEED files (the units of their values
+        times ``calibration``).
+    calibration : float, optional
+        For SAC and miniSEED files only: ``units`` per stored value (per count), > 0
+        (default 1: the values are in ``units``).
 
     Returns
     -------
     Record
         Acceleration [m/s²], time step [s], name (file stem), source path, the units the values
-        were read in and, for PEER files, event, date, station and component.
+        were read in, the format and, where the file states them, event, date, station,
+        component and the header's fields.
 
     Raises
     ------
@@ -410,32 +442,28 @@ def read_record(
     ImplausiblePeakWarning
         When the peak lies outside :data:`~rocking.motions.units.PLAUSIBLE_PEAK_G` (1e-4 to
         5 g), naming the units the values are likely in.
+    RecordHeaderWarning
+        When a header's stated peak (K-NET/KiK-net, ESM, COSMOS) or its time disagrees with
+        the values (:class:`rocking.motions.formats.RecordHeaderWarning`).
     """
     path = Path(path)
     given = None if units is None else acceleration_unit(units, "units")
     dt_arg = None if dt is None else positive("dt", dt, "s")
+    calib = None if calibration is None else positive("calibration", calibration)
     data = path.read_bytes()
-    _refuse_binary(path, data[:_SNIFF_BYTES])
-    text = data.decode("utf-8", errors="replace")
-    lines = text.splitlines()
-    if not text.strip():
-        raise InputError(f"{path}: empty file")
-    head = next(
-        (
-            (i, f)
-            for i, line in enumerate(lines[:_HEADER_LINES])
-            if (f := _npts_dt(line)) is not None
-        ),
-        None,
-    )
-    title = dict.fromkeys(TITLE_FIELDS, "")
+    netcdf = data.startswith(_NETCDF_MAGIC)
+    binary = None if netcdf else binary_format(data[:_SNIFF_BYTES])
+    if calib is not None and binary is None:
+        raise InputError(
+            f"{path}: calibration is for SAC and miniSEED files (counts), not for this file"
+        )
     dt_given = False
-    if head is not None:
-        values, step, stated, title = _read_at2(path, lines, *head)
-    elif path.suffix.lower() == ".at2":
-        raise InputError(f"{path}: no 'NPTS=..., DT=...' line in the first {_HEADER_LINES} lines")
+    if binary is not None:
+        parsed = read_obspy(path, binary, given, 1.0 if calib is None else calib)
     else:
-        values, step, stated, dt_given = _read_columns(path, lines, dt_arg)
+        _refuse_binary(path, data[:_SNIFF_BYTES])
+        parsed, dt_given = _read_text(path, data, dt_arg)
+    values, step, stated = parsed.values, parsed.dt, parsed.units
     if dt_arg is not None and abs(dt_arg - step) > _DT_RTOL * step:
         raise InputError(f"{path}: dt = {dt_arg:g} s disagrees with the file's step {step:g} s")
     if values.size < 2:
@@ -447,12 +475,44 @@ def read_record(
     return Record(
         acc=values * ACCELERATION_UNITS[used],
         dt=float(step),
-        name=path.stem,
+        name=parsed.name or path.stem,
         source=str(path),
         units=used,
+        event=parsed.event,
+        date=parsed.date,
+        station=parsed.station,
+        component=parsed.component,
         dt_given=dt_given,
-        **title,
+        format=parsed.format,
+        header=parsed.header,
     )
+
+
+def _read_text(path: Path, data: bytes, dt: float | None) -> tuple[ParsedRecord, bool]:
+    """A text record in any of the formats read (by its header), and whether its step is
+    ``dt`` [s] (a one-column file, which states none)."""
+    text = data.decode("utf-8", errors="replace")
+    lines = text.splitlines()
+    if not text.strip():
+        raise InputError(f"{path}: empty file")
+    for recognised, reader in ((is_knet, read_knet), (is_cosmos, read_cosmos), (is_esm, read_esm)):
+        if recognised(lines):
+            return reader(path, lines), False
+    head = next(
+        (
+            (i, f)
+            for i, line in enumerate(lines[:_HEADER_LINES])
+            if (f := _npts_dt(line)) is not None
+        ),
+        None,
+    )
+    if head is not None:
+        values, step, stated, title = _read_at2(path, lines, *head)
+        return ParsedRecord(values, step, stated, "PEER", **title), False
+    if path.suffix.lower() == ".at2":
+        raise InputError(f"{path}: no 'NPTS=..., DT=...' line in the first {_HEADER_LINES} lines")
+    values, step, stated, dt_given = _read_columns(path, lines, dt)
+    return ParsedRecord(values, step, stated, "text"), dt_given
 
 
 def _check_peak(peak: float, units: str, where: str) -> None:
@@ -490,8 +550,31 @@ def record_path(spec: str | os.PathLike[str]) -> Path:
     return example_record_path() if str(spec) == EXAMPLE and not path.exists() else path
 
 
-#: File suffixes picked up when a folder is given to :func:`read_records` (any case).
-RECORD_SUFFIXES = (".AT2", ".txt", ".csv")
+#: File suffixes picked up when a folder is given to :func:`read_records` (any case): PEER,
+#: text, K-NET (.NS, .EW, .UD), KiK-net (borehole 1, surface 2), ESM (.ASC), COSMOS, SAC and
+#: miniSEED files (a file's format is then told by its header, not by its suffix).
+RECORD_SUFFIXES = (
+    ".AT2",
+    ".txt",
+    ".csv",
+    ".NS",
+    ".EW",
+    ".UD",
+    ".NS1",
+    ".EW1",
+    ".UD1",
+    ".NS2",
+    ".EW2",
+    ".UD2",
+    ".ASC",
+    ".V1",
+    ".V2",
+    ".V1c",
+    ".V2c",
+    ".sac",
+    ".mseed",
+    ".miniseed",
+)
 
 
 def record_paths(
@@ -499,8 +582,8 @@ def record_paths(
     suffixes: tuple[str, ...] = RECORD_SUFFIXES,
 ) -> list[Path]:
     """Expand a path or a list of paths: a folder gives its files with one of ``suffixes``
-    (any case; default .AT2, .txt and .csv) sorted by name, the word ``example`` the shipped
-    example record (see :func:`record_path`)."""
+    (any case; default :data:`RECORD_SUFFIXES`) sorted by name, the word ``example`` the
+    shipped example record (see :func:`record_path`)."""
     if isinstance(paths, (str, Path)):
         paths = [paths]
     wanted = {s.lower() for s in suffixes}
@@ -527,12 +610,16 @@ def read_records(
     *,
     dt: float | None = None,
     units: str | None = None,
+    calibration: float | None = None,
 ) -> list[Record]:
     """Read several records; ``paths`` is a path or a list of paths, a folder standing for its
-    .AT2/.txt/.csv files sorted by name and the word ``example`` for the shipped example record.
-    ``dt`` [s] and ``units`` as in :func:`read_record`; ``dt`` gives the step of one one-column
-    file only (several may have different rates: refused)."""
-    records = [read_record(p, dt=dt, units=units) for p in record_paths(paths)]
+    record files (:data:`RECORD_SUFFIXES`) sorted by name and the word ``example`` for the
+    shipped example record. ``dt`` [s], ``units`` and ``calibration`` as in
+    :func:`read_record`; ``dt`` gives the step of one one-column file only (several may have
+    different rates: refused)."""
+    records = [
+        read_record(p, dt=dt, units=units, calibration=calibration) for p in record_paths(paths)
+    ]
     given = [r.name for r in records if r.dt_given]
     if dt is not None and len(given) > 1:
         _refuse_shared_step(given, dt, "read them one at a time, or as two-column files")
