@@ -329,7 +329,11 @@ CASES = [
          ("--n-boot 10,000", "limit"), within=SIZE_S),
     Case("fragility-scheduler-unreachable",
          lambda f: _frag_with(f, "--agx", "0.1:0.3:0.1", "--scheduler", "tcp://127.0.0.1:1",
-                              "--connect-timeout", 1, "--quiet"),
+                              "--connect-timeout", 1),
+         ("tcp://127.0.0.1:1", "--connect-timeout")),
+    Case("screen-scheduler-unreachable",
+         lambda f: ["screen", f.inv, "--spectrum", "rg160:0.3", "--scheduler",
+                    "tcp://127.0.0.1:1", "--connect-timeout", 1, "--out", f.tmp / "s"],
          ("tcp://127.0.0.1:1", "--connect-timeout")),
 ]  # fmt: skip
 
@@ -338,6 +342,7 @@ CASES = [
 def test_each_adversarial_case_gives_one_line_and_the_right_exit_status(files, tmp_path, case):
     f = SimpleNamespace(**vars(files), tmp=tmp_path)
     args = case.args(f)
+    before = set(tmp_path.iterdir())
     status, output, elapsed = _invoke(args)
     assert status == case.status, (args, status, output)
     assert "Traceback" not in output and "internal error" not in output, output
@@ -351,6 +356,8 @@ def test_each_adversarial_case_gives_one_line_and_the_right_exit_status(files, t
         assert len(lines) == 1, output
         line = lines[0]
         assert line.startswith("Error: ") == (status != 0), line
+    if status != 0:  # refused before any work: nothing written
+        assert set(tmp_path.iterdir()) == before, sorted(set(tmp_path.iterdir()) - before)
     for word in case.words:
         assert word in line, (word, line)
     assert elapsed < case.within, (args, elapsed)
