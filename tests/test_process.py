@@ -113,11 +113,32 @@ def test_idle_openmp_threads_do_not_spin_after_a_parallel_kernel():
     assert float(spent) < 2e-3, f"{float(spent) * 1e3:.2f} ms of CPU while idle for 0.1 s"
 
 
-def test_workers_die_with_a_command_killed_outright(tmp_path):
+def _dask_fragility(tmp_path) -> list[str]:
+    """A fragility run on a local Dask cluster long enough to be killed mid-run (72 bodies x
+    19 levels x 40 motions of 10 s: 20-30 s on 2 cores)."""
+    from rocking.motions.synthesis import generate
+
+    motions = generate(40, duration=10.0, dt=0.01, seed=1).save(tmp_path / "m.nc")
+    return ["fragility", "--bodies", "paper", "--motions", str(motions), "--agx", "0.1:1.0:0.05"]
+
+
+@pytest.mark.parametrize(
+    "command, workers",
+    [
+        (lambda tmp: ["reproduce", "4", "--fidelity", "quick"], 1),
+        (lambda tmp: [*_dask_fragility(tmp), "--scheduler", "dask-local"], 2),
+    ],
+    ids=["reproduce-drawing-worker", "fragility-dask-local"],
+)
+def test_workers_die_with_a_command_killed_outright(tmp_path, command, workers):
     # The defect (issue 49): after `kill -9` of `rocking reproduce`, its drawing worker and
     # Python's resource_tracker stayed alive (13 minutes) and held the caller's standard output
     # open, so that a pipe from the command never closed. The workers now die with it, and the
-    # tracker ends when they have.
+    # tracker ends when they have. The same holds for the processes of a local Dask cluster
+    # (`--scheduler dask-local`: two worker processes and their resource_tracker; its scheduler
+    # and nannies live in the command's process): they end within about 1.5 s (measured
+    # 2026-12-04), as a Dask worker process exits when the pipe its nanny holds open closes
+    # (distributed.process.AsyncProcess).
     import contextlib
     import shutil
     import signal
@@ -129,9 +150,9 @@ def test_workers_die_with_a_command_killed_outright(tmp_path):
     if len(os.sched_getaffinity(0)) < 2:
         pytest.skip("one processor: reproduce draws its figures without a worker")
     exe = shutil.which("rocking", path=os.path.dirname(sys.executable))
-    command = [exe] if exe else [sys.executable, "-m", "rocking.cli"]
+    launcher = [exe] if exe else [sys.executable, "-m", "rocking.cli"]
     proc = subprocess.Popen(
-        [*command, "reproduce", "4", "--fidelity", "quick", "--out", str(tmp_path / "r")],
+        [*launcher, *command(tmp_path), "--out", str(tmp_path / "r")],
         stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,
         stdin=subprocess.DEVNULL,
@@ -140,13 +161,14 @@ def test_workers_die_with_a_command_killed_outright(tmp_path):
     try:
         parent = psutil.Process(proc.pid)
         deadline = time.monotonic() + 60
-        # the drawing worker (a spawned interpreter) once it has started
-        while not any("spawn_main" in " ".join(c.cmdline()) for c in children):
+        # the workers (spawned interpreters) once they have started
+        while sum("spawn_main" in " ".join(c.cmdline()) for c in children) < workers:
             assert proc.poll() is None and time.monotonic() < deadline, "no worker started"
             time.sleep(0.05)
             children = parent.children(recursive=True)
-        time.sleep(1.0)  # the worker runs its initializer
+        time.sleep(1.0)  # the workers run their initializers
         children = parent.children(recursive=True)
+        assert proc.poll() is None, "the command ended before it was killed"
         os.kill(proc.pid, signal.SIGKILL)
         closed = threading.Event()
         threading.Thread(target=lambda: (proc.stdout.read(), closed.set()), daemon=True).start()

@@ -79,8 +79,8 @@ def _prepare(
 ) -> tuple[list[NamedBody], Ensemble, float | str, Backend]:
     """Check every input, then load the motions (at the bodies' location).
 
-    Returns the bodies, the ensemble, e and the backend (a Dask cluster is only contacted when
-    the run starts)."""
+    Returns the bodies, the ensemble, e and the backend (connected to a remote scheduler; a local
+    Dask cluster is only started when the run starts)."""
     from ..montecarlo.backends import get_backend
     from ..motions.ensemble import Ensemble
 
@@ -89,6 +89,7 @@ def _prepare(
     e = parse_e(e_text)
     backend = get_backend(scheduler, connect_timeout)
     ensemble = _location(Ensemble.load(motions_path), frame, level)
+    backend.connect()  # an unreachable scheduler is refused before the run folder is made
     return bodies, ensemble, e, backend
 
 

@@ -182,6 +182,7 @@ def screen_command(
     hazard = None if hazard_text is None else _read_hazard(hazard_text)
     ensemble = None if motions_path is None else _read_motions(motions_path)
     backend = get_backend(scheduler, connect_timeout)
+    backend.connect()  # an unreachable scheduler is refused before the run folder is made
     params = {
         "inventory": str(inv_path),
         "spectrum": spectrum.name,

@@ -67,6 +67,10 @@ class Backend(ABC):
     ) -> Iterator[tuple[int, Any]]:
         """Yield ``(i, func(data, tasks[i]))`` for every task, in any order."""
 
+    def connect(self) -> None:  # noqa: B027 (a backend of this machine has nothing to reach)
+        """Reach the machines the backend computes on now, so that an unreachable scheduler is
+        refused before the run starts (InputError)."""
+
     def close(self) -> None:  # noqa: B027 (a backend holding nothing has nothing to release)
         """Release what the backend holds (a cluster, connections)."""
 
@@ -185,6 +189,12 @@ class DaskBackend(Backend):
             self._client, cluster = self._connect()
             self._finalizer = weakref.finalize(self, _close, self._client, cluster)
         return self._client
+
+    def connect(self) -> None:
+        """Connect to the scheduler at ``address`` now (InputError if it cannot be reached within
+        ``connect_timeout``); a local cluster is still started on first use."""
+        if self.address is not None:
+            self.client  # noqa: B018 (the property connects)
 
     def _connect(self):
         import dask
