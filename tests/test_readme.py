@@ -1,5 +1,6 @@
 """The README's commands run exactly as printed, top to bottom in one folder (issue 48): those
-of the table ("What it does"), then those of its shell blocks.
+of the table ("What it does"), then those of its shell blocks (```sh; commands on the user's
+own files, which the repository does not hold, are in ```text blocks).
 
 They run in one empty folder, each after the commands printed above it that write a file it
 reads (motions.nc, spectrum.csv, floors.csv), through the installed ``rocking`` entry point
