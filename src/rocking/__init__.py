@@ -35,6 +35,8 @@ _EXPORTS = {
     "EC8": "motions.design",
     "design_pga": "motions.design",
     "parse_spectrum": "motions.design",
+    "LimitState": "dynamics.limits",
+    "Physics": "dynamics.physics",
     "RockingResponse": "dynamics.simulate",
     "simulate": "dynamics.simulate",
     "assess": "assessment.energy",
@@ -124,6 +126,8 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .core.runs import provenance
     from .dynamics.batch import overturn_batch, overturn_cases
     from .dynamics.body import FOOT, Block, G, housner_sv, paper_bodies
+    from .dynamics.limits import LimitState
+    from .dynamics.physics import Physics
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend

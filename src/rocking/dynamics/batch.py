@@ -53,7 +53,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Literal, NamedTuple, overload
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -71,9 +71,8 @@ from ..core.compile import (
     prange,
     readonly,
 )
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES
 from ..errors import InputError
-from .body import Block, G, resolve_e, resolve_overturn_angle
+from .body import Block
 from .equation import (
     _gv_sample,
     _gv_slope,
@@ -101,6 +100,7 @@ from .impacts import (
     _slopes,
     resolve_impacts,
 )
+from .physics import FROM_PHYSICS, Physics, as_physics
 
 #: A per-block option: one value for all blocks (a number or a keyword) or one per block.
 PerBlock = float | str | Sequence[float | str] | np.ndarray
@@ -151,11 +151,47 @@ class Cases(NamedTuple):
 
 
 class Outcome(NamedTuple):
-    """What the kernel writes for case i."""
+    """What the kernel records for every case: its response quantities (:data:`QUANTITIES`),
+    one array each with one entry per case, and the steps it integrated.
+
+    The one carrier of per-case results from the kernel through the Monte Carlo engine, its
+    chunk store and the probabilities: a new response quantity is a field here (and in
+    :data:`QUANTITIES`) and the kernel's update of it (:func:`_finish`, :func:`_fill`).
+    """
 
     overturned: np.ndarray  #: whether the block overturned (bool)
-    peak: np.ndarray  #: max abs(θ)/α at the samples [-]
-    steps: np.ndarray  #: integrated steps (int64; see :func:`run_cases`)
+    peak_theta_ratio: np.ndarray  #: max abs(θ)/α at the samples [-] (θ_ov/α if overturned)
+    uplift: np.ndarray  #: whether the block left rest at all: rocking at some sample (bool)
+    steps: np.ndarray  #: integrated steps (int64; see :func:`run_cases`), not a quantity
+
+
+#: The response quantities of :class:`Outcome`, with their dtypes, units and meanings (what a
+#: :class:`rocking.LimitState` may be defined on).
+QUANTITIES = {
+    "overturned": (np.bool_, "", "the block overturned"),
+    "peak_theta_ratio": (np.float64, "1", "max |theta| / alpha"),
+    "uplift": (np.bool_, "", "the block left rest (rocked) at all"),
+}
+
+
+def empty_outcome(n: int) -> Outcome:
+    """An :class:`Outcome` of ``n`` cases, every quantity zero (False)."""
+    return Outcome._make(
+        [
+            *(np.zeros(n, dtype) for dtype, _unit, _meaning in QUANTITIES.values()),
+            np.zeros(n, np.int64),
+        ]
+    )
+
+
+def take(outcome: Outcome, index) -> Outcome:
+    """The cases ``index`` (an index array, a mask or a slice) of ``outcome``."""
+    return Outcome(*(field[index] for field in outcome))
+
+
+def concatenate(outcomes: Sequence[Outcome]) -> Outcome:
+    """The cases of ``outcomes`` one after the other."""
+    return Outcome(*(np.concatenate(fields) for fields in zip(*outcomes)))
 
 
 class Lanes(NamedTuple):
@@ -714,9 +750,12 @@ def _finish(lanes, j, overturned, k, blocks, cases, out):
     L = _LANES
     i = lanes.case[j]
     W = lanes.W
+    steps = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end
     out.overturned[i] = overturned
-    out.peak[i] = (W[_OV * L + j] if overturned else W[_PK * L + j]) / blocks.alpha[cases.body[i]]
-    out.steps[i] = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end
+    alpha = blocks.alpha[cases.body[i]]
+    out.peak_theta_ratio[i] = (W[_OV * L + j] if overturned else W[_PK * L + j]) / alpha
+    out.uplift[i] = steps > 0  # an interval not at rest throughout: rocking at its end
+    out.steps[i] = steps
 
 
 @kernel(inline="always")
@@ -734,7 +773,8 @@ def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
         if _start_case(lanes, j, i, motions, vert, blocks, cases):
             return
         out.overturned[i] = False
-        out.peak[i] = 0.0
+        out.peak_theta_ratio[i] = 0.0
+        out.uplift[i] = False
         out.steps[i] = 0
 
 
@@ -901,6 +941,9 @@ class BlockTable:
         Critical angle α [rad].
     g : float
         Gravity [m/s²].
+    physics : Physics
+        The physics resolved for the blocks (:meth:`Physics.for_blocks`), whose numbers these
+        are.
     """
 
     p2: np.ndarray
@@ -911,25 +954,28 @@ class BlockTable:
     theta_ov: np.ndarray
     alpha: np.ndarray
     g: float
+    physics: Physics
 
     @classmethod
     def from_blocks(
         cls,
         blocks: Block | Iterable[Block],
         *,
-        e: PerBlock = DEFAULT_E,
-        overturn_angle: PerBlock = math.pi / 2,
-        g: float = G,
+        physics: Physics | None = None,
+        e: PerBlock = FROM_PHYSICS,
+        overturn_angle: PerBlock = FROM_PHYSICS,
+        g: float = FROM_PHYSICS,
     ) -> BlockTable:
-        """Constants of ``blocks`` (a sequence of :class:`~rocking.Block`).
+        """Constants of ``blocks`` (a sequence of :class:`~rocking.Block`) under ``physics``
+        (:class:`~rocking.Physics`, resolved here once per block).
 
-        ``e`` and ``overturn_angle`` are one value for all blocks (number, ``"housner"`` /
-        ``"alpha"``) or one per block; see :func:`rocking.simulate` [-, rad].  ``g`` [m/s²].
+        ``e``, ``overturn_angle`` [-, rad] and ``g`` [m/s²] are shorthands for the fields of
+        ``physics`` (:func:`~rocking.dynamics.physics.as_physics`): one value for all blocks
+        (number, ``"housner"`` / ``"alpha"``) or one per block.
         """
         blocks = block_list(blocks)
-        g = positive("g", g, "m/s²")
-        e_vals = _per_block("e", e, blocks, resolve_e)
-        ov_vals = _per_block("overturn_angle", overturn_angle, blocks, resolve_overturn_angle)
+        resolved = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g).for_blocks(blocks)
+        g = resolved.g
         alpha = np.array([b.alpha for b in blocks])
         # the same expressions as simulate(), so both integrate bit for bit the same equation
         return cls(
@@ -937,10 +983,11 @@ class BlockTable:
             sin_a=np.array([math.sin(a) for a in alpha]),
             cos_a=np.array([math.cos(a) for a in alpha]),
             tan_a=np.array([math.tan(a) for a in alpha]),
-            e=e_vals,
-            theta_ov=ov_vals,
+            e=np.array(resolved.e, dtype=np.float64),
+            theta_ov=np.array(resolved.overturn_angle, dtype=np.float64),
             alpha=alpha,
             g=g,
+            physics=resolved,
         )
 
     def __len__(self) -> int:
@@ -966,16 +1013,6 @@ def block_list(blocks: Block | Iterable[Block]) -> list[Block]:
     return blocks
 
 
-def _per_block(name, value, blocks, resolve) -> np.ndarray:
-    """One value for every block, or a sequence with one value per block, each resolved."""
-    if isinstance(value, str) or np.ndim(value) == 0:
-        return np.array([resolve(value, b) for b in blocks], dtype=np.float64)
-    values = list(value)
-    if len(values) != len(blocks):
-        raise InputError(f"{name} has {len(values)} values for {len(blocks)} blocks")
-    return np.array([resolve(v, b) for v, b in zip(values, blocks)], dtype=np.float64)
-
-
 def motion_peaks(acc: np.ndarray) -> np.ndarray:
     """max abs(a) of each row of ``acc`` (n_motions, n_t) [m/s²], as the kernel's skip test
     needs."""
@@ -994,7 +1031,6 @@ def motion_suffixes(
     return _suffixes_of(acc, av, np.ones(acc.shape[0], dtype=np.bool_))
 
 
-@overload
 def run_cases(
     table: BlockTable,
     acc: np.ndarray,
@@ -1004,57 +1040,24 @@ def run_cases(
     motion: np.ndarray,
     scale: np.ndarray,
     av: np.ndarray | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str | None = None,
     *,
-    count_steps: Literal[False] = False,
     suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
-) -> tuple[np.ndarray, np.ndarray]: ...
-
-
-@overload
-def run_cases(
-    table: BlockTable,
-    acc: np.ndarray,
-    amax: np.ndarray,
-    dt: float,
-    body: np.ndarray,
-    motion: np.ndarray,
-    scale: np.ndarray,
-    av: np.ndarray | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
-    *,
-    count_steps: Literal[True],
-    suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
-
-
-def run_cases(
-    table: BlockTable,
-    acc: np.ndarray,
-    amax: np.ndarray,
-    dt: float,
-    body: np.ndarray,
-    motion: np.ndarray,
-    scale: np.ndarray,
-    av: np.ndarray | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
-    *,
-    count_steps: bool = False,
-    suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
-) -> tuple[np.ndarray, ...]:
+) -> Outcome:
     """Kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
     ``amax`` is :func:`motion_peaks` of ``acc``; ``suffixes``, if given, :func:`motion_suffixes`
     of ``acc`` and ``av`` (else computed here for the motions this call uses).  ``av``: vertical
     ground accelerations [m/s², up positive], finite, shape and samples as ``acc``, or None (no
     vertical motion: exactly the results without it); case i scales it by abs(scale[i]) (a
-    negative scale mirrors the horizontal motion only).  ``impacts``: "located" (default) or
-    "step-end", as in :func:`rocking.simulate`.  The checks made here: a scaled ``av`` that
-    reaches −g, and an unknown ``impacts``, raise :class:`~rocking.errors.InputError`.  Returns
-    (overturned bool, peak float), shape like ``body``; with ``count_steps``, also the
-    integrated steps of each case (int64): the sample intervals in which the block is not at
-    rest throughout (it rocks at the start or at the end of the interval), up to and including
-    the one in which it overturns.
+    negative scale mirrors the horizontal motion only).  ``impacts``: "located" or "step-end",
+    as in :func:`rocking.simulate` (None: the table's physics).  The checks made here: a
+    scaled ``av`` that reaches −g, and an unknown ``impacts``, raise
+    :class:`~rocking.errors.InputError`.  Returns
+    the :class:`Outcome` of every case, shape like ``body``; its ``steps`` are the integrated
+    steps of each case: the sample intervals in which the block is not at rest throughout (it
+    rocks at the start or at the end of the interval), up to and including the one in which it
+    overturns.
     """
     acc = readonly(acc)
     av = None if av is None else readonly(av)
@@ -1077,10 +1080,11 @@ def run_cases(
             )
         assert avsuf is not None  # computed with av
         vert = Vertical(av.reshape(-1), avmin, avsuf)
-    out = Outcome(
-        np.empty(body.shape, dtype=np.bool_),
-        np.empty(body.shape, dtype=np.float64),
-        np.empty(body.shape, dtype=np.int64),
+    out = Outcome._make(
+        [
+            *(np.empty(body.shape, dtype) for dtype, _unit, _meaning in QUANTITIES.values()),
+            np.empty(body.shape, dtype=np.int64),
+        ]
     )
     # one lane machine per thread, all taking cases from one queue: the threads finish
     # together, and each machine's lanes empty only once per call, at its end (a lane machine
@@ -1097,12 +1101,10 @@ def run_cases(
             table.arrays(),
             Cases(body, motion, scale, order),
             out,
-            resolve_impacts(impacts),
+            resolve_impacts(table.physics.impacts if impacts is None else impacts),
             machines,
         )
-    if count_steps:
-        return out.overturned, out.peak, out.steps
-    return out.overturned, out.peak
+    return out
 
 
 def _acc2d(acc, name: str = "acc") -> np.ndarray:
@@ -1131,11 +1133,12 @@ def overturn_cases(
     motion_index: ArrayLike,
     scales: ArrayLike,
     *,
-    e: PerBlock = DEFAULT_E,
-    overturn_angle: PerBlock = math.pi / 2,
-    g: float = G,
+    physics: Physics | None = None,
+    e: PerBlock = FROM_PHYSICS,
+    overturn_angle: PerBlock = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of an explicit list of cases (block, motion, scale), each from rest.
 
@@ -1151,6 +1154,9 @@ def overturn_cases(
         Block and motion (row of ``acc``) of each case.
     scales : array_like, shape (n_cases,)
         Factor [-] multiplying the case's motion (negative: mirrored motion).
+    physics : Physics, optional
+        The physics (:class:`~rocking.Physics`; default ``Physics()``); ``e``, ``overturn_angle``,
+        ``g`` and ``impacts`` below are shorthands for its fields.
     e : float, "housner" or sequence
         Coefficient of restitution [-], one for all blocks or one per block.
     overturn_angle : float, "alpha" or sequence
@@ -1169,7 +1175,8 @@ def overturn_cases(
     peak : ndarray of float, shape (n_cases,)
         max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
-    table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
+    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    table = BlockTable.from_blocks(blocks, physics=physics)
     acc = _acc2d(acc)
     av = _av2d(av, acc)
     dt = positive("dt", dt, "s")
@@ -1181,7 +1188,8 @@ def overturn_cases(
             f"body_index, motion_index and scales must have the same length, got "
             f"{body.size}, {motion.size} and {scale.size}"
         )
-    return run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale, av, impacts)
+    out = run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale, av)
+    return out.overturned, out.peak_theta_ratio
 
 
 def _index(name: str, values, n: int) -> np.ndarray:
@@ -1199,11 +1207,12 @@ def overturn_batch(
     dt: float,
     scales: ArrayLike,
     *,
-    e: PerBlock = DEFAULT_E,
-    overturn_angle: PerBlock = math.pi / 2,
-    g: float = G,
+    physics: Physics | None = None,
+    e: PerBlock = FROM_PHYSICS,
+    overturn_angle: PerBlock = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of every block under every motion at every scale factor, each from rest.
 
@@ -1220,6 +1229,9 @@ def overturn_batch(
         Sample interval and Runge–Kutta step [s].
     scales : array_like, shape (n_scales,)
         Factors [-] multiplying the motions (negative: mirrored motion).
+    physics : Physics, optional
+        The physics (:class:`~rocking.Physics`; default ``Physics()``); ``e``, ``overturn_angle``,
+        ``g`` and ``impacts`` below are shorthands for its fields.
     e : float, "housner" or sequence
         Coefficient of restitution [-], one for all blocks or one per block.
     overturn_angle : float, "alpha" or sequence
@@ -1238,14 +1250,13 @@ def overturn_batch(
     peak : ndarray of float, shape (n_blocks, n_scales, n_motions)
         max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
-    table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
+    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    table = BlockTable.from_blocks(blocks, physics=physics)
     acc = _acc2d(acc)
     av = _av2d(av, acc)
     dt = positive("dt", dt, "s")
     scales = finite_array("scales", scales, ndim=(1,), min_len=1)
     shape = (len(table), scales.size, acc.shape[0])
     body, level, motion = (np.ascontiguousarray(i.ravel()) for i in np.indices(shape))
-    overturned, peak = run_cases(
-        table, acc, motion_peaks(acc), dt, body, motion, scales[level], av, impacts
-    )
-    return overturned.reshape(shape), peak.reshape(shape)
+    out = run_cases(table, acc, motion_peaks(acc), dt, body, motion, scales[level], av)
+    return out.overturned.reshape(shape), out.peak_theta_ratio.reshape(shape)

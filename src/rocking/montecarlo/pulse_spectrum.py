@@ -57,10 +57,10 @@ def _switches(table, unit, dt, amps, rtol, impacts) -> list[tuple[float, bool]]:
 
     def outcomes(scales: np.ndarray) -> np.ndarray:
         zeros = np.zeros(scales.size, dtype=np.int64)
-        over, _peak = run_cases(
+        out = run_cases(
             table, acc, peaks, dt, zeros, zeros, scales, None, impacts, suffixes=suffixes
         )
-        return over
+        return out.overturned
 
     over = outcomes(amps)
     brackets = _brackets(amps, over)
