@@ -9,6 +9,7 @@ from click.testing import CliRunner
 
 import rocking
 from rocking.cli import main
+from rocking.cli.screen import EXAMPLE_INVENTORY
 from rocking.dynamics.batch import QUANTITIES, Outcome
 from rocking.dynamics.body import Block
 from rocking.dynamics.limits import LimitState, parse_limit_states
@@ -244,3 +245,23 @@ def test_keyword_arguments_are_shorthands_for_physics():
     p1 = rocking.overturning_probability(BLOCKS, ens, [0.5], e=0.8, progress=False)
     p2 = rocking.overturning_probability(BLOCKS, ens, [0.5], physics=Physics(e=0.8))
     assert p1["count"].values.tobytes() == p2["count"].values.tobytes()
+
+
+def test_screen_gives_the_probability_of_each_limit_state_at_the_design_level():
+    # the limit states' probabilities come from the simulations of the overturning
+    # probability: "overturn" equals it item by item, and the nested states are ordered
+    ds = rocking.screen(
+        EXAMPLE_INVENTORY,
+        "asce7:SDS=1.0,SD1=0.6,TL=8",
+        frame="paper-2.0",
+        n=10,
+        duration=6.0,
+        limit_states=STATES,
+    )
+    p = ds["limit_state_probability"]
+    assert p.dims == ("item", "limit_state")
+    assert np.array_equal(p.sel(limit_state="overturn").values, ds["probability"].values)
+    assert np.all(p.values[:, 0] >= p.values[:, 1]) and np.all(p.values[:, 1] >= p.values[:, 2])
+    assert p.values[:, 0].max() > p.values[:, 2].max()  # uplift without overturning is seen
+    table = rocking.results_table(ds)
+    assert np.array_equal(table["P(uplift) [-]"].values, p.values[:, 0])
