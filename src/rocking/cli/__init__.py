@@ -87,11 +87,11 @@ class _Bug(click.ClickException):
     exit_code = 70
 
     def __init__(self, exc: Exception):
-        from .. import __version__
+        from ..core.version import VERSION
 
         where = _save_traceback(exc)
         super().__init__(
-            f"internal error in rocking {__version__} (a bug, not a problem with "
+            f"internal error in rocking {VERSION} (a bug, not a problem with "
             f"your input): {type(exc).__name__}: {_one_line(exc)}. The traceback "
             f"is in {where}; please report it."
         )

@@ -315,13 +315,13 @@ def provenance(out_dir: str | os.PathLike[str], **params: Any) -> Path:
     import scipy
     import xarray
 
-    from .. import __version__
+    from .version import VERSION
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     record = {
         "package": "rocking",
-        "version": __version__,
+        "version": VERSION,
         "written_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         "command_line": [Path(sys.argv[0]).name, *sys.argv[1:]],
         "python": platform.python_version(),

@@ -74,12 +74,12 @@ def fingerprint(params: dict) -> str:
 @cache
 def code_version() -> dict:
     """The package version and the SHA-256 of the source of the integration kernels."""
-    from .. import __version__
+    from ..core.version import VERSION
 
     h = hashlib.sha256()
     for name in KERNEL_MODULES:
         h.update(resources.files("rocking").joinpath(name).read_bytes())
-    return {"version": __version__, "kernel_sha256": h.hexdigest()}
+    return {"version": VERSION, "kernel_sha256": h.hexdigest()}
 
 
 class ChunkStore:
