@@ -41,6 +41,7 @@ from ..core import portable
 from ..core.checks import positive
 from ..core.progress import Reporter
 from ..core.reuse import reusing
+from ..defaults import DT
 from ..dynamics.body import Block
 from ..dynamics.limits import LimitState, limit_state_coords, parse_limit_states
 from ..dynamics.physics import Physics
@@ -128,7 +129,7 @@ def screen(
     n: int = 200,
     seed: int = 0,
     duration: float = 20.0,
-    dt: float = 1 / 400,
+    dt: float = DT,
     ensemble: Ensemble | None = None,
     band_hz: Sequence[float] = BAND_HZ,
     resolution: float = 0.01,

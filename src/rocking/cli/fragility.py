@@ -275,10 +275,12 @@ def fragility_cmd(
         bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
     from ..core.runs import RunFolder
+    from ..dynamics.physics import Physics
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
     from ..montecarlo.statistics import ExtrapolationWarning
 
     blocks = [b.block for b in bodies]
+    physics = Physics(e=e)  # the physics of every simulation of the run
     progress = reporter(quiet)
     params = _run_params(
         bodies,
@@ -320,7 +322,7 @@ def fragility_cmd(
                 method=method,
                 levels=levels,
                 stripes=stripes_path,
-                e=e,
+                physics=physics,
                 backend=backend,
                 out=run.chunks / "fragility",
                 progress=progress,
@@ -338,7 +340,7 @@ def fragility_cmd(
                     levels=levels,
                     scale_im=measure.name if measure.name != AGX else "pga",
                     names=[b.name for b in bodies],
-                    e=e,
+                    physics=physics,
                     backend=backend,
                     out=run.chunks / "im-efficiency",
                     progress=progress,
@@ -706,10 +708,12 @@ def agx50_cmd(
 
     from ..assessment.energy import energy_balance, forms_grid, grid_table
     from ..core.runs import RunFolder
+    from ..dynamics.physics import Physics
     from ..montecarlo.probability import agx_50
     from ..plots.fragility import plot_sv_agx
 
     blocks = [b.block for b in bodies]
+    physics = Physics(e=e)  # the physics of every simulation of the run
     progress = reporter(quiet)
     params = _run_params(
         bodies,
@@ -735,7 +739,7 @@ def agx50_cmd(
                 ensemble,
                 resolution=resolution,
                 agx_max=agx_max,
-                e=e,
+                physics=physics,
                 backend=backend,
                 out=run.chunks / "agx50",
                 progress=progress,

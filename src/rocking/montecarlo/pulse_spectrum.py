@@ -19,7 +19,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES, PULSE_KAPPA_MAX, PULSE_N_SCAN
+from ..defaults import DEFAULT_E, IMPACT_SCHEMES, OVERTURN_ANGLE, PULSE_KAPPA_MAX, PULSE_N_SCAN
 from ..dynamics.batch import BlockTable, motion_peaks, motion_suffixes, run_cases
 from ..dynamics.body import Block, G
 from ..dynamics.simulate import simulate
@@ -96,7 +96,7 @@ def overturning_spectrum(
     rtol: float = RTOL,
     samples_per_period: int = SAMPLES_PER_PERIOD,
     tail: float | None = None,
-    overturn_angle: float | str = math.pi / 2,
+    overturn_angle: float | str = OVERTURN_ANGLE,
     g: float = G,
     impacts: str = IMPACT_SCHEMES[0],
     gamma: float | None = None,

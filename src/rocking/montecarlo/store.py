@@ -63,6 +63,8 @@ KERNEL_MODULES = (
     "dynamics/equation.py",
     "dynamics/impacts.py",
     "dynamics/batch.py",
+    "dynamics/batch_lanes.py",
+    "dynamics/batch_records.py",
 )
 
 

@@ -66,7 +66,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..core.checks import read_toml
-from ..defaults import DEFAULT_E
+from ..defaults import BAND_HZ, DEFAULT_E, DT
 from ..dynamics.body import FOOT, Block, paper_bodies
 from ..errors import InputError
 from ..structures.frames import PRESETS as FRAME_PRESETS
@@ -92,7 +92,7 @@ _R4, _R8, _R12 = _ft(4, 8, 12)
 
 PAPER: dict = {
     "common": {
-        "dt": 1 / 400,
+        "dt": DT,
         "e": DEFAULT_E,
         "envelope": "compound",
         "duration": 20.0,
@@ -154,7 +154,7 @@ PAPER: dict = {
         "fig13_agx": _grid(0.5, 1.6, 0.05),
         "examples": [[_R4, 2.0], [_R4, 4.0]],
         "example_agx": 0.6,
-        "band_hz": [0.04, 0.6],
+        "band_hz": list(BAND_HZ),
     },
     "soundness": {
         "seed": 8,
@@ -162,7 +162,7 @@ PAPER: dict = {
         "bodies": "paper",
         "resolution": 0.01,
         "agx_max": 5.0,
-        "band_hz": [0.04, 0.6],
+        "band_hz": list(BAND_HZ),
         "dts": [1 / 200, 1 / 400, 1 / 800, 1 / 1600],
         "convergence_n": 200,
         "convergence_bodies": "paper",

@@ -17,6 +17,7 @@ import pandas as pd
 import xarray as xr
 
 from ..core import portable
+from ..defaults import BAND_HZ
 from ..dynamics.body import Block
 from ..montecarlo.probability import overturning_probability
 from ..motions.response import response_spectrum
@@ -140,7 +141,7 @@ def report(result: Sec7Result, rep: Report, ctx: RunContext) -> None:
         name="sec7-mean-probability",
         floatfmt=".3f",
     )
-    band = psv.sel(freq=slice(0.04, 0.6)).max("freq")
+    band = psv.sel(freq=slice(*BAND_HZ)).max("freq")
     rows = {
         f: {loc: 100 * float(band.sel(frame=f, location=loc)) for loc in psv["location"].values}
         for f in psv["frame"].values
