@@ -179,17 +179,18 @@ def simulate_cmd(
     """
     from ..core.checks import positive
     from ..dynamics.body import Block
+    from ..dynamics.physics import Physics
     from ..dynamics.simulate import simulate
 
     block = Block(R, gamma)
-    e = parse_e(e_text)
+    physics = Physics(e=parse_e(e_text), overturn_angle=_OVERTURN[overturn])
     peak_g = None if scale_g is None else positive("--scale-g", scale_g, "g")
     dt = None if dt is None else positive("--dt", dt, "s")
     writable_file(plot_path, "--plot")
     with reporter():
         ag, step, name = load_motion(motion, dt)
         ag, factor = (ag, 1.0) if peak_g is None else scale_to_peak(ag, peak_g)
-        response = simulate(block, ag, step, e=e, overturn_angle=_OVERTURN[overturn])
+        response = simulate(block, ag, step, physics=physics)
     summary = run_summary(block, response, ag, step, name, factor)
     if as_json:
         click.echo(json.dumps(summary, indent=2))
