@@ -68,6 +68,7 @@ from typing import TYPE_CHECKING, Any
 from ..core.checks import read_toml
 from ..defaults import BAND_HZ, DEFAULT_E, DT
 from ..dynamics.body import FOOT, Block, paper_bodies
+from ..dynamics.physics import Physics
 from ..errors import InputError
 from ..structures.frames import PRESETS as FRAME_PRESETS
 from ..structures.frames import ShearFrame
@@ -482,6 +483,11 @@ class RunContext:
     backend: Backend | None = None
     progress: bool | Reporter | None = False
     chunks: Path | None = None
+
+    @property
+    def physics(self) -> Physics:
+        """The physics of every simulation of the run (the common restitution ``e``)."""
+        return Physics(e=self.cfg["common"]["e"])
 
     def store(self, section: str, name: str) -> Path | None:
         """Chunk folder of one Monte Carlo call, ``chunks/<section>-<hash>/<name>``: the hash

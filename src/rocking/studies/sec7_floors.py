@@ -11,6 +11,7 @@ at A_gx = 0.6 g.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -45,11 +46,11 @@ class Sec7Result:
 
 def run(ctx: RunContext) -> Sec7Result:
     """Floor ensembles of every frame, their overturning probabilities and mean spectra."""
-    p, e = ctx.cfg["sec7"], ctx.cfg["common"]["e"]
+    p, physics = ctx.cfg["sec7"], ctx.physics
     blocks = resolve_bodies(p["bodies"], "sec7.bodies")
     ground = ctx.motions("sec7", p["n"])
     freqs = portable.geomspace(*SPECTRA_BAND_HZ, p["n_freq"])
-    options = {"e": e, "backend": ctx.backend, "progress": ctx.progress}
+    options: dict[str, Any] = {"physics": physics, "backend": ctx.backend, "progress": ctx.progress}
     # the ground is the same for every frame: its probabilities and spectrum once
     on_ground = overturning_probability(
         blocks, {"ground": ground}, p["agx"], out=ctx.store("sec7", "ground"), **options

@@ -389,7 +389,7 @@ def _search(ctx: RunContext, blocks, ens, store: str, resolution: float, **optio
         ens,
         resolution=resolution,
         agx_max=ctx.cfg["soundness"]["agx_max"],
-        e=ctx.cfg["common"]["e"],
+        physics=ctx.physics,
         backend=ctx.backend,
         progress=ctx.progress,
         out=ctx.store("soundness", store),
@@ -403,7 +403,7 @@ def _outcomes(ctx: RunContext, blocks, ensemble, levels, impacts: str = "located
     row per block), in one batch (:func:`~rocking.montecarlo.probability.member_outcomes`);
     axes ([case,] block, level, motion)."""
     return member_outcomes(
-        blocks, ensemble, levels, e=ctx.cfg["common"]["e"], backend=ctx.backend, impacts=impacts
+        blocks, ensemble, levels, physics=ctx.physics, backend=ctx.backend, impacts=impacts
     )
 
 
@@ -442,7 +442,7 @@ def _bootstrap_outcomes(
     engine = Engine(
         blocks,
         [ensemble],
-        e=ctx.cfg["common"]["e"],
+        physics=ctx.physics,
         overturn_angle=OVERTURN_ANGLE,
         g=G,
         backend=ctx.backend,
