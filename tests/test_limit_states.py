@@ -10,6 +10,7 @@ from click.testing import CliRunner
 import rocking
 from rocking.cli import main
 from rocking.cli.screen import EXAMPLE_INVENTORY
+from rocking.defaults import RESPONSE_QUANTITIES
 from rocking.dynamics.batch import QUANTITIES, Outcome
 from rocking.dynamics.body import Block
 from rocking.dynamics.limits import LimitState, parse_limit_states
@@ -148,7 +149,9 @@ def test_limit_state_text_form():
     assert large.threshold == 0.5 and large.name == "theta/alpha>=0.5"
     (named,) = parse_limit_states("large rocking=theta/alpha>=0.8")
     assert named == LimitState("large rocking", "peak_theta_ratio", 0.8)
+    # the kernel's quantities, the Outcome's fields and the names the text form knows agree
     assert set(QUANTITIES) == {f for f in Outcome._fields if f != "steps"}
+    assert tuple(QUANTITIES) == RESPONSE_QUANTITIES
 
 
 @pytest.mark.parametrize(
