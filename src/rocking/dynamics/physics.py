@@ -131,7 +131,7 @@ def _angle(value):
 
 def _each(value, check):
     """``check`` of one value, or a tuple of the checked values of a sequence."""
-    if isinstance(value, str) or not isinstance(value, Iterable):
+    if isinstance(value, str) or not isinstance(value, Iterable) or getattr(value, "ndim", 1) == 0:
         return check(value)
     return tuple(check(v) for v in value)
 
