@@ -12,8 +12,6 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING
 
-from .core.version import VERSION as __version__
-
 #: Public name → module of this package that defines it.
 _EXPORTS = {
     "DaskBackend": "montecarlo.backends",
@@ -111,6 +109,13 @@ def __getattr__(name: str):
 def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
 
+
+try:
+    from importlib.metadata import version as _version
+
+    __version__ = _version("rocking")
+except Exception:  # pragma: no cover - not installed (running from a source tree)
+    __version__ = "0+unknown"
 
 if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .assessment.bodies import NamedBody, read_bodies, read_bodies_table

@@ -87,11 +87,11 @@ class _Bug(click.ClickException):
     exit_code = 70
 
     def __init__(self, exc: Exception):
-        from ..core.version import VERSION
+        from ..core.version import package_version
 
         where = _save_traceback(exc)
         super().__init__(
-            f"internal error in rocking {VERSION} (a bug, not a problem with "
+            f"internal error in rocking {package_version()} (a bug, not a problem with "
             f"your input): {type(exc).__name__}: {_one_line(exc)}. The traceback "
             f"is in {where}; please report it."
         )

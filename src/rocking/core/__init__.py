@@ -5,7 +5,5 @@
 * :mod:`~rocking.core.files` — atomic writing of files;
 * :mod:`~rocking.core.process` — settings of the processes that run rocking's commands;
 * :mod:`~rocking.core.progress` — progress reports on a terminal and off it;
-* :mod:`~rocking.core.runs` — output folders of runs (claim, status, recorded outputs);
-* :mod:`~rocking.core.reuse` — results computed once per run from the same inputs;
-* :mod:`~rocking.core.version` — the installed package's version.
+* :mod:`~rocking.core.runs` — output folders of runs (claim, status, recorded outputs).
 """

@@ -327,13 +327,13 @@ def provenance(out_dir: str | os.PathLike[str], **params: Any) -> Path:
     import scipy
     import xarray
 
-    from .version import VERSION
+    from .version import package_version
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     record = {
         "package": "rocking",
-        "version": VERSION,
+        "version": package_version(),
         "written_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         "command_line": [Path(sys.argv[0]).name, *sys.argv[1:]],
         "python": platform.python_version(),

@@ -76,12 +76,12 @@ def fingerprint(params: dict) -> str:
 @cache
 def code_version() -> dict:
     """The package version and the SHA-256 of the source of the integration kernels."""
-    from ..core.version import VERSION
+    from ..core.version import package_version
 
     h = hashlib.sha256()
     for name in KERNEL_MODULES:
         h.update(resources.files("rocking").joinpath(name).read_bytes())
-    return {"version": VERSION, "kernel_sha256": h.hexdigest()}
+    return {"version": package_version(), "kernel_sha256": h.hexdigest()}
 
 
 class ChunkStore:
