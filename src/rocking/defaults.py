@@ -13,9 +13,6 @@ import math
 G = 9.80665
 #: Coefficient of restitution of the paper (Aslam et al. 1980; paper Section 2) [-].
 DEFAULT_E = 0.925
-#: The angle abs(θ) at which a block counts as overturned (the paper's: the block on its side,
-#: where gravity no longer brings it back for any α < π/2) [rad].
-OVERTURN_ANGLE = math.pi / 2
 #: Sizes R [m] and slenderness ratios γ [-] a Block may have: a rigid body from a millimetre to a
 #: kilometre, from a slab 100 times wider than high to a needle 100 times higher than wide.
 #: Outside, the input is almost surely a mistake of units (and R = 1e308 m overflows Eq. 11).
@@ -27,6 +24,9 @@ DT = 1.0 / 400.0
 #: inside the step) and "step-end" (θ = 0 and θ' × e at the end of a step that changes side;
 #: issue 17). :func:`rocking.dynamics.impacts.resolve_impacts` reads them.
 IMPACT_SCHEMES = ("located", "step-end")
+#: The angle abs(θ) at which a block counts as overturned (the paper's: the block on its side,
+#: where gravity no longer brings it back for any α < π/2) [rad].
+OVERTURN_ANGLE = math.pi / 2
 #: The response quantities the batched kernel records per case
 #: (:class:`rocking.dynamics.batch.Outcome`), on which a :class:`rocking.LimitState` is defined:
 #: overturned (yes/no), max abs(θ)/α [-], uplift (the block left rest at all, yes/no).

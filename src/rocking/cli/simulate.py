@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from ..defaults import DT, OVERTURN_ANGLE, G
+from ..defaults import G
 from ..errors import InputError
 from ._options import R_option, e_option, gamma_option, parse_e, reporter, writable_file
 
@@ -28,7 +28,7 @@ SIMULATED = "simulated"
 SIMULATED_SPEC: dict[str, Any] = {"duration": 20.0, "envelope": "compound", "seed": 0}
 _SIMULATED_NAME = "simulated (RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
 #: --overturn-angle choices: the paper's π/2, or the critical angle α.
-_OVERTURN: dict[str, float | str] = {"pi2": OVERTURN_ANGLE, "alpha": "alpha"}
+_OVERTURN: dict[str, float | str] = {"pi2": math.pi / 2, "alpha": "alpha"}
 
 
 def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
@@ -44,7 +44,7 @@ def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
     from ..motions.synthesis import generate
 
     if spec == SIMULATED and not Path(spec).exists():
-        ens = generate(1, dt=DT if dt is None else dt, **SIMULATED_SPEC)
+        ens = generate(1, dt=1 / 400 if dt is None else dt, **SIMULATED_SPEC)
         return ens.acc[0], ens.dt, _SIMULATED_NAME
     path = record_path(spec)
     if not path.is_file():
@@ -179,18 +179,17 @@ def simulate_cmd(
     """
     from ..core.checks import positive
     from ..dynamics.body import Block
-    from ..dynamics.physics import Physics
     from ..dynamics.simulate import simulate
 
     block = Block(R, gamma)
-    physics = Physics(e=parse_e(e_text), overturn_angle=_OVERTURN[overturn])
+    e = parse_e(e_text)
     peak_g = None if scale_g is None else positive("--scale-g", scale_g, "g")
     dt = None if dt is None else positive("--dt", dt, "s")
     writable_file(plot_path, "--plot")
     with reporter():
         ag, step, name = load_motion(motion, dt)
         ag, factor = (ag, 1.0) if peak_g is None else scale_to_peak(ag, peak_g)
-        response = simulate(block, ag, step, physics=physics)
+        response = simulate(block, ag, step, e=e, overturn_angle=_OVERTURN[overturn])
     summary = run_summary(block, response, ag, step, name, factor)
     if as_json:
         click.echo(json.dumps(summary, indent=2))
