@@ -268,3 +268,31 @@ def test_screen_gives_the_probability_of_each_limit_state_at_the_design_level():
     assert p.values[:, 0].max() > p.values[:, 2].max()  # uplift without overturning is seen
     table = rocking.results_table(ds)
     assert np.array_equal(table["P(uplift) [-]"].values, p.values[:, 0])
+
+
+def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensemble, tmp_path):
+    import pandas as pd
+
+    motions = tmp_path / "m.nc"
+    ensemble.save(motions)
+    bodies = tmp_path / "bodies.csv"
+    bodies.write_text("name,R,gamma\nslim,0.5,5\nstocky,1.0,4\n")
+    out = tmp_path / "out"
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", "0.1:0.9:0.2"]
+    args += ["--limit-states", STATES, "--n-boot", "20", "--out", out]
+    result = CliRunner().invoke(main, [str(a) for a in args])
+    assert result.exit_code == 0, result.output
+    probabilities = pd.read_csv(out / "probabilities.csv")
+    assert list(probabilities["limit_state"].unique()) == ["uplift", "theta/alpha>=0.5", "overturn"]
+    assert len(probabilities) == 2 * 5 * 3  # bodies × levels × limit states
+    fits = pd.read_csv(out / "lognormal.csv")
+    assert len(fits) == 2 * 3 and {"limit_state", "median", "beta"} <= set(fits.columns)
+    # the counts of the table are those of the API (the same simulations)
+    api = overturning_probability(BLOCKS, ensemble, [0.1, 0.3, 0.5, 0.7, 0.9], limit_states=STATES)
+    ours = probabilities.set_index(["body", "agx", "limit_state"])["count"]
+    for b, body in enumerate(["slim", "stocky"]):
+        for s, state in enumerate(api["limit_state"].values):
+            for a, agx in enumerate(api["agx"].values):
+                assert ours[(body, agx, state)] == int(api["count"][b, a, s])
+    assert (out / "fragility-slim.png").stat().st_size > 0
+    assert (out / "fragility-stocky.png").stat().st_size > 0
