@@ -272,7 +272,8 @@ def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
     args = kernel_args(w)
     table, acc, amax = args[:3]
     run_cases(table, acc, amax, DT, w["body"][:200], w["motion"][:200], w["scale"][:200])
-    overturned, peak = run_cases(*args)
+    result = run_cases(*args)
+    overturned, peak = result.overturned, result.peak_theta_ratio
     same = bool(
         np.array_equal(overturned, counted["overturned"]) and np.array_equal(peak, counted["peak"])
     )
@@ -605,10 +606,10 @@ def count_steps(tmp: Path, fidelity: str, exhaustive: bool) -> dict:
     total = {"steps": 0, "simulations": 0}
 
     def counting(*args, **kwargs):
-        overturned, peak, steps = real_run_cases(*args, count_steps=True, **kwargs)
-        total["steps"] += int(steps.sum())
-        total["simulations"] += int(steps.size)
-        return overturned, peak
+        out = real_run_cases(*args, **kwargs)
+        total["steps"] += int(out.steps.sum())
+        total["simulations"] += int(out.steps.size)
+        return out
 
     def in_full(self, keys):
         self.run(keys)

@@ -8,6 +8,7 @@ import xarray as xr
 
 import rocking.montecarlo.engine as engine_module
 from rocking.defaults import DEFAULT_E, G
+from rocking.dynamics.batch import Outcome
 from rocking.dynamics.body import Block
 from rocking.errors import InputError
 from rocking.montecarlo.engine import Engine, level_key
@@ -103,6 +104,11 @@ def _engine(ensemble, out=None):
     )
 
 
+def _outcome(overturned, peak):
+    """The engine's record of motions that overturned or reached ``peak`` = max|θ|/α."""
+    return Outcome(overturned, peak, peak > 0.0, np.zeros(peak.size, np.int64))
+
+
 def test_decision_order_puts_the_motions_likeliest_to_decide_first(ensemble):
     # outcomes known at the body's other levels (recorded by hand, nothing simulated) rank the
     # motions of level 500: a motion that overturned at a lower level is likely to overturn,
@@ -114,24 +120,28 @@ def test_decision_order_puts_the_motions_likeliest_to_decide_first(ensemble):
     # 0-15 overturned at 400, 16-23 survived with peaks 0.67-0.96: likely >= half, likeliest
     # first (the overturned in their order, then the survivors by falling peak)
     eng = _engine(ensemble)
-    eng._record(0, 0, 400, motions, motions < 16, np.where(motions < 16, 2.0, motions / n))
+    eng._record(
+        0, 0, 400, motions, _outcome(motions < 16, np.where(motions < 16, 2.0, motions / n))
+    )
     assert eng.decision_order((0, 0, 500)).tolist() == [*range(16), *range(23, 15, -1)]
     # 0-3 overturned at 400, 4-23 survived with peaks 0.04-0.23: fewer than half likely, the
     # least likely first (the survivors by rising peak, the overturned last)
     eng = _engine(ensemble)
-    eng._record(0, 0, 400, motions, motions < 4, np.where(motions < 4, 2.0, motions / 100))
+    eng._record(
+        0, 0, 400, motions, _outcome(motions < 4, np.where(motions < 4, 2.0, motions / 100))
+    )
     assert eng.decision_order((0, 0, 500)).tolist() == [*range(4, 24), *range(4)]
     # only a higher level known: 0-4 survived there (likely safe), 5-23 overturned there
     # (slightly likely): likely >= half, 5-23 first
     eng = _engine(ensemble)
-    eng._record(0, 0, 600, motions, motions >= 5, np.where(motions >= 5, 2.0, 0.5))
+    eng._record(0, 0, 600, motions, _outcome(motions >= 5, np.where(motions >= 5, 2.0, 0.5)))
     assert eng.decision_order((0, 0, 500)).tolist() == [*range(5, 24), *range(5)]
     # the order is only the order: the answer of at_least_half is that of the full count
     full = overturning_probability(BLOCKS[:1], ensemble, [0.5], members=True)
     eng = _engine(ensemble)
     with eng:
         key = (0, 0, level_key(0.5))
-        eng._record(0, 0, level_key(0.4), motions, motions < 16, np.full(n, 0.5))
+        eng._record(0, 0, level_key(0.4), motions, _outcome(motions < 16, np.full(n, 0.5)))
         answer = eng.at_least_half([key])[key]
     assert answer == (2 * int(full["count"].values[0, 0]) >= n)
 

@@ -100,7 +100,7 @@ def test_the_stage_line_says_what_is_compiling_then_counts():
 def test_the_package_kernels_are_named_by_their_module():
     from types import SimpleNamespace
 
-    from rocking.dynamics import batch
+    from rocking.dynamics import batch_lanes as batch  # the lane machine: the kernels
     from rocking.motions import response
 
     def named(func):

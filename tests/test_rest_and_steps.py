@@ -37,9 +37,12 @@ def _late_pulse_motions(block: Block, n_t: int) -> np.ndarray:
     return np.ascontiguousarray(np.vstack([late, last, quiet]))
 
 
-def _run(blocks, acc, body, motion, scale, **kw):
+def _run(blocks, acc, body, motion, scale, count_steps=False, **kw):
     table = BlockTable.from_blocks(blocks)
-    return run_cases(table, acc, motion_peaks(acc), DT, body, motion, scale, **kw)
+    out = run_cases(table, acc, motion_peaks(acc), DT, body, motion, scale, **kw)
+    if count_steps:
+        return out.overturned, out.peak_theta_ratio, out.steps
+    return out.overturned, out.peak_theta_ratio
 
 
 @pytest.mark.parametrize("given", [False, True], ids=["suffixes computed", "suffixes given"])

@@ -33,6 +33,8 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .core.runs import provenance
     from .dynamics.batch import overturn_batch, overturn_cases
     from .dynamics.body import FOOT, Block, BodyWarning, G, housner_sv, paper_bodies
+    from .dynamics.limits import LimitState
+    from .dynamics.physics import Physics
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError
     from .montecarlo.backends import DaskBackend, LocalBackend, get_backend

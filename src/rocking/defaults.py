@@ -7,6 +7,8 @@ option answer in a fraction of a second).
 
 from __future__ import annotations
 
+import math
+
 #: Standard gravity [m/s²].
 G = 9.80665
 #: Coefficient of restitution of the paper (Aslam et al. 1980; paper Section 2) [-].
@@ -25,6 +27,21 @@ DT = 1.0 / 400.0
 #: inside the step) and "step-end" (θ = 0 and θ' × e at the end of a step that changes side;
 #: issue 17). :func:`rocking.dynamics.impacts.resolve_impacts` reads them.
 IMPACT_SCHEMES = ("located", "step-end")
+#: The angle abs(θ) at which a block counts as overturned (the paper's: the block on its side,
+#: where gravity no longer brings it back for any α < π/2) [rad].
+OVERTURN_ANGLE = math.pi / 2
+#: The response quantities the batched kernel records per case
+#: (:class:`rocking.dynamics.batch.Outcome`), on which a :class:`rocking.LimitState` is defined:
+#: overturned (yes/no), max abs(θ)/α [-], uplift (the block left rest at all, yes/no).
+RESPONSE_QUANTITIES = ("overturned", "peak_theta_ratio", "uplift")
+#: Names of the response quantities in the text form of limit states (``--limit-states``).
+QUANTITY_ALIASES = {"overturn": "overturned", "theta/alpha": "peak_theta_ratio"}
+#: The text form of a list of limit states (:func:`rocking.dynamics.limits.parse_limit_states`).
+LIMIT_STATE_SYNTAX = (
+    "limit states separated by commas, each 'uplift', 'overturn' or 'theta/alpha>=X' "
+    "(X > 0; also any quantity of " + ", ".join(RESPONSE_QUANTITIES) + " as QUANTITY>=X), "
+    "optionally named NAME=…, e.g. 'uplift, theta/alpha>=0.5, overturn'"
+)
 #: The paper's band of the available pseudo-velocity S_v [Hz] (Section 8).
 BAND_HZ = (0.04, 0.6)
 #: Band over which the fit of simulated motions to their target is summarised [Hz].

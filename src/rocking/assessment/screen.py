@@ -40,7 +40,11 @@ from numpy.typing import ArrayLike
 from ..core import portable
 from ..core.checks import positive
 from ..core.progress import Reporter
+from ..core.reuse import reusing
+from ..defaults import DT
 from ..dynamics.body import Block
+from ..dynamics.limits import LimitState, limit_state_coords, parse_limit_states
+from ..dynamics.physics import Physics
 from ..errors import InputError
 from ..montecarlo.backends import Backend
 from ..montecarlo.fragility import fragility_analysis
@@ -91,6 +95,8 @@ class _MonteCarlo:
     confidence: float  # of the Wilson interval [-]
     backend: Backend | None
     progress: Reporter | bool | None
+    physics: Physics | None = None  # e: the items' own
+    limit_states: tuple[LimitState, ...] | None = None  # their probabilities besides
 
 
 @dataclass(frozen=True)
@@ -123,7 +129,7 @@ def screen(
     n: int = 200,
     seed: int = 0,
     duration: float = 20.0,
-    dt: float = 1 / 400,
+    dt: float = DT,
     ensemble: Ensemble | None = None,
     band_hz: Sequence[float] = BAND_HZ,
     resolution: float = 0.01,
@@ -134,6 +140,8 @@ def screen(
     progress: Reporter | bool | None = None,
     hazard: HazardCurve | str | os.PathLike[str] | None = None,
     years: float = 50.0,
+    physics: Physics | None = None,
+    limit_states: str | Sequence[str | LimitState] | None = None,
 ) -> xr.Dataset:
     """Screen every item of an inventory against a design spectrum.
 
@@ -182,6 +190,13 @@ def screen(
         Needs ``floor_motions="building"``.
     years : float
         Exposure time [yr] of the probability of at least one overturning (Poisson), > 0.
+    physics : Physics, optional
+        The physics of the simulations (:class:`~rocking.Physics`: overturning angle, g, impact
+        scheme); the restitution is each item's own.
+    limit_states : str or sequence of str or LimitState, optional
+        Limit states on the response (e.g. ``"uplift, theta/alpha>=0.5, overturn"``): their
+        probability at the design A_gx per item, ``limit_state_probability`` (item,
+        limit_state), from the simulations of ``probability``.
 
     Returns
     -------
@@ -219,7 +234,8 @@ def screen(
     check_nyquist(max(band_hz), ensemble.dt, "band_hz")  # the floors' spectra, before any work
     agx = design_pga(spectrum)
     ground = ensemble.scaled(agx)
-    settings = _MonteCarlo(resolution, agx_max, confidence, backend, progress)
+    states = None if limit_states is None else parse_limit_states(limit_states)
+    settings = _MonteCarlo(resolution, agx_max, confidence, backend, progress, physics, states)
     risk = None if hazard is None else _risk(hazard, years, ground)
     parts = [
         _screen_location(location, band_hz, settings, risk)
@@ -354,12 +370,17 @@ def _screen_location(
     variables.update(_monte_carlo_variables(blocks, e, location, settings))
     if risk is not None:
         variables.update(_annual_rates(blocks, e, location.motions, risk, settings))
+    states = {} if settings.limit_states is None else limit_state_coords(settings.limit_states)
     return xr.Dataset(
         {
-            k: ("item", np.asarray(v), {"units": u, "long_name": ln} if u else {"long_name": ln})
+            k: (
+                ("item", "limit_state")[: np.ndim(v)],
+                np.asarray(v),
+                {"units": u, "long_name": ln} if u else {"long_name": ln},
+            )
             for k, (v, u, ln) in variables.items()
         },
-        coords={"item": [it.name for it in location.items]},
+        coords={"item": [it.name for it in location.items], **states},
     )
 
 
@@ -413,28 +434,42 @@ def _monte_carlo_variables(
     ground A_gx.
     """
     motions, ratio = location.motions, location.ratio
-    mc = overturning_probability(
-        blocks,
-        motions,
-        [motions.agx],
-        e=e,
-        backend=settings.backend,
-        progress=settings.progress,
-        confidence=settings.confidence,
-    ).isel(agx=0)
-    a50 = (
-        agx_50(
+    options: dict[str, Any] = dict(physics=settings.physics, e=e, backend=settings.backend)
+
+    def at_design(limit_states) -> xr.Dataset:
+        return overturning_probability(
             blocks,
             motions,
-            resolution=settings.resolution * ratio,
-            agx_max=settings.agx_max * ratio,
-            e=e,
-            backend=settings.backend,
+            [motions.agx],
             progress=settings.progress,
-        )["agx50"].values
-        / ratio
-    )
+            confidence=settings.confidence,
+            limit_states=limit_states,
+            **options,
+        ).isel(agx=0)
+
+    with reusing():  # the limit states read the outcomes of the overturning run
+        mc = at_design(None)
+        states = None if settings.limit_states is None else at_design(settings.limit_states)
+        a50 = (
+            agx_50(
+                blocks,
+                motions,
+                resolution=settings.resolution * ratio,
+                agx_max=settings.agx_max * ratio,
+                progress=settings.progress,
+                **options,
+            )["agx50"].values
+            / ratio
+        )
+    extra: _Variables = {}
+    if states is not None:
+        extra["limit_state_probability"] = (
+            states["probability"].values,
+            "1",
+            "probability of the limit state at the design A_gx",
+        )
     return {
+        **extra,
         "probability": (mc["probability"].values, "1", "overturning probability at design A_gx"),
         "ci_low": (mc["ci_low"].values, "1", "Wilson interval, lower end"),
         "ci_high": (mc["ci_high"].values, "1", "Wilson interval, upper end"),
@@ -462,6 +497,7 @@ def _annual_rates(
         im=hazard.im.name,
         levels=np.array([float(f"{x:.6g}") for x in levels]),
         im_values=risk.ground_im,
+        physics=settings.physics,
         e=e,
         backend=settings.backend,
         progress=settings.progress,
@@ -624,6 +660,9 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
             ),
         }
     )
+    if "limit_state_probability" in ds:
+        for j, name in enumerate(ds["limit_state"].values):
+            table[f"P({name}) [-]"] = ds["limit_state_probability"].values[:, j]
     if "annual_rate" in ds:
         unit = ds["fragility_median"].attrs.get("units", "")
         table[f"fragility median [{unit}]"] = ds["fragility_median"].values

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import click
 
 from ..defaults import AGX, N_BOOT
+from ..errors import InputError
 from ._options import (
     BAND_TEXT,
     G_LEVEL,
@@ -213,6 +214,16 @@ _run_options = options(
 )
 @click.option("--seed", type=SEED, default=0, show_default=True, help="Bootstrap seed.")
 @click.option(
+    "--limit-states",
+    "limit_states_text",
+    default=None,
+    metavar="LIST",
+    help="Limit states on the response instead of overturning alone, e.g. 'uplift, "
+    "theta/alpha>=0.5, overturn' (uplift: the body rocks at all; theta/alpha>=X: its peak "
+    "rotation reaches X times alpha; overturn). The tables gain a limit_state column, and "
+    "each body a figure with one curve per limit state.",
+)
+@click.option(
     "--im-efficiency",
     "compare_text",
     default=None,
@@ -247,6 +258,7 @@ def fragility_cmd(
     stripes_path: str | None,
     n_boot: int,
     seed: int,
+    limit_states_text: str | None,
     compare_text: str | None,
     exports: tuple[str, ...],
 ) -> None:
@@ -259,20 +271,29 @@ def fragility_cmd(
     every motion's outcome), lognormal.csv (maximum-likelihood median and dispersion beta per
     body, with bootstrap 95 % intervals, the IM and its unit, and median_extrapolated: the
     median lies at or outside the levels tested), fragility.png, im_efficiency.csv with
-    --im-efficiency, report.html and run.json (parameters and status).
+    --im-efficiency, report.html and run.json (parameters and status).  With --limit-states:
+    the probabilities and fits of every limit state (a limit_state column in
+    probabilities.csv and lognormal.csv) and fragility-<body>.png per body.
     """
     # a range too long or too strong is refused at once: the IMs' module takes a second to load
     for option, text in (("--agx", agx_text), ("--levels", levels_text)):
         if text is not None:
             parse_range(text, option, unit="g" if option == "--agx" else "of the IM's unit")
+    from ..dynamics.limits import parse_limit_states
     from ..montecarlo.fragility import AnalysisIM
 
+    states = None if limit_states_text is None else parse_limit_states(limit_states_text)
     measure = AnalysisIM.parse(im_text)
     levels = _levels(measure.name, method, agx_text, levels_text, stripes_path, measure.unit)
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
     exports = tuple(dict.fromkeys(f.lower() for f in exports))
+    if exports and states is not None:
+        raise InputError(
+            "--export cannot be combined with --limit-states yet (it writes each body's "
+            "overturning curve): export from a run without --limit-states"
+        )
     if exports:
         from ..montecarlo.export import check_exportable
 
@@ -282,10 +303,12 @@ def fragility_cmd(
         bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
     from ..core.runs import RunFolder
+    from ..dynamics.physics import Physics
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
     from ..montecarlo.statistics import ExtrapolationWarning
 
     blocks = [b.block for b in bodies]
+    physics = Physics(e=e)  # the physics of every simulation of the run
     progress = reporter(quiet)
     params = _run_params(
         bodies,
@@ -300,6 +323,7 @@ def fragility_cmd(
         n_boot=n_boot,
         seed=seed,
         im_efficiency=compare,
+        limit_states=None if states is None else [ls.name for ls in states],
     )
     if measure.name == AGX:
         params["agx_g"] = params["levels"]
@@ -326,12 +350,13 @@ def fragility_cmd(
                 method=method,
                 levels=levels,
                 stripes=stripes_path,
-                e=e,
+                physics=physics,
                 backend=backend,
                 out=run.chunks / "fragility",
                 progress=progress,
                 n_boot=n_boot,
                 seed=seed,
+                limit_states=states,
             )
             efficiency = (
                 None
@@ -343,7 +368,7 @@ def fragility_cmd(
                     levels=levels,
                     scale_im=measure.name if measure.name != AGX else "pga",
                     names=[b.name for b in bodies],
-                    e=e,
+                    physics=physics,
                     backend=backend,
                     out=run.chunks / "im-efficiency",
                     progress=progress,
@@ -352,8 +377,11 @@ def fragility_cmd(
             )
         ds = _names(ds, bodies)
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
-        _write_fragility(run, ds, measure, efficiency, ensemble, e)
-        _export(run, ds, exports)
+        if states is None:
+            _write_fragility(run, ds, measure, efficiency, ensemble, e)
+            _export(run, ds, exports)
+        else:
+            _write_limit_states(run, ds, measure, efficiency, ensemble, e)
     _print_fits(ds, measure)
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
@@ -367,19 +395,30 @@ def _print_fits(ds: xr.Dataset, measure) -> None:
     from ._options import print_table
 
     pct = f"{100 * ds.attrs['confidence']:g} %"
+    states = list(ds["limit_state"].values) if "limit_state" in ds.dims else [None]
     rows = []
     for body in ds["body"].values:
-        b = ds.sel(body=body)
-        median, beta = float(b["median"]), float(b["beta"])
-        if not np.isfinite(median):
-            why = "never overturned" if int(b["count"].sum()) == 0 else "overturned in every run"
-            rows.append((str(body), "-", "-", "-", f"({why}: nothing to fit)"))
-            continue
-        low, high = float(b["median_low"]), float(b["median_high"])
-        interval = f"{low:.3g} to {high:.3g}" if np.isfinite(low) else "-"
-        rows.append((str(body), f"{median:.3g}", interval, f"{beta:.3g}", ""))
-    head = ("body", f"median [{measure.unit}]", f"{pct} interval", "beta [-]", "")
-    print_table(head, rows)
+        for state in states:
+            b = ds.sel(body=body) if state is None else ds.sel(body=body, limit_state=state)
+            first = (str(body),) if state is None else (str(body), str(state))
+            median, beta = float(b["median"]), float(b["beta"])
+            if not np.isfinite(median):
+                done = "overturned" if state is None else "exceeded"
+                why = f"never {done}" if int(b["count"].sum()) == 0 else f"{done} in every run"
+                rows.append((*first, "-", "-", "-", f"({why}: nothing to fit)"))
+                continue
+            low, high = float(b["median_low"]), float(b["median_high"])
+            interval = f"{low:.3g} to {high:.3g}" if np.isfinite(low) else "-"
+            rows.append((*first, f"{median:.3g}", interval, f"{beta:.3g}", ""))
+    head = ("body",) if states == [None] else ("body", "limit state")
+    print_table((*head, f"median [{measure.unit}]", f"{pct} interval", "beta [-]", ""), rows)
+    if states != [None]:
+        flagged = ds["median_extrapolated"].values  # (body, limit state)
+        for b, j in zip(*np.nonzero(flagged)):
+            medians = {f"{ds['body'].values[b]} ({states[j]})": float(ds["median"][b, j])}
+            warning = extrapolation_warning(medians, _tested(ds), measure.unit)
+            click.echo(f"warning: {warning}", err=True)
+        return
     for body, median in _extrapolated(ds).items():
         warning = extrapolation_warning({body: median}, _tested(ds), measure.unit)
         click.echo(f"warning: {warning}", err=True)
@@ -498,6 +537,12 @@ def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensembl
         f"{lo:g} to {hi:g} {measure.unit}).",
         "fit",
     )
+    _finish_report(run, report, efficiency)
+
+
+def _finish_report(run, report: Report, efficiency) -> None:
+    """The IM ranking (im_efficiency.csv and its section, if any), then the report written and
+    its files recorded in the run."""
     if efficiency is not None:
         run.write_csv("im_efficiency.csv", efficiency)
         efficiency_section(report, efficiency)
@@ -521,6 +566,81 @@ def _export(run, ds: xr.Dataset, exports: tuple[str, ...]) -> None:
 
 
 _FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta_high")
+
+
+def _write_limit_states(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensemble, e) -> None:
+    """probabilities.csv/.nc and lognormal.csv with a ``limit_state`` column, a figure per body
+    with one curve per limit state (fragility-<body>.png), im_efficiency.csv and report.html of
+    a fragility run with --limit-states."""
+    import numpy as np
+
+    from ..montecarlo.statistics import LognormalFit
+    from ..plots.fragility import plot_fragility
+    from ..report import Report, slug
+
+    agx = measure.name == AGX
+    column = "agx" if agx else f"{measure.name} [{measure.unit}]"
+    states = ["limit_state", "quantity", "threshold"]
+    curves = ds[["probability", "count", "n", "ci_low", "ci_high"]].rename(level="agx")
+    tidy = curves.to_dataframe().reset_index()
+    tidy = tidy[
+        ["body", "R", "gamma", *states, "agx", "probability", "count", "n", "ci_low", "ci_high"]
+    ]
+    run.write_csv("probabilities.csv", tidy.rename(columns={"agx": column}))
+    run.write_netcdf("probabilities.nc", ds.rename(level="agx") if agx else ds)
+    fits = ds[[*_FIT_COLUMNS, "median_extrapolated"]].to_dataframe().reset_index()
+    fits["im"], fits["unit"] = measure.name, measure.unit
+    fit_table = fits[
+        [
+            "body",
+            "R",
+            "gamma",
+            *states,
+            "im",
+            "unit",
+            *_FIT_COLUMNS,
+            "median_extrapolated",
+        ]
+    ]
+    run.write_csv("lognormal.csv", fit_table)
+    where = ensemble.meta.get("location", "ground")
+    report = Report(f"Limit states of {ds.sizes['body']} bodies against {measure.label}", run.path)
+    names = ", ".join(str(s) for s in ds["limit_state"].values)
+    report.text(
+        f"{ensemble.n} motions ({where}) from `{ds.attrs['motions']}`, method "
+        f"{ds.attrs['method'].upper()}, restitution e = {e}, limit states {names}. Lognormal "
+        "fragility curves fitted by maximum likelihood (Baker 2015), nested limit states "
+        "jointly with one β, so that their curves do not cross (an ordinal model); "
+        "intervals: Wilson 95 % for the probabilities, bootstrap over motions "
+        f"({ds.attrs['n_boot']} resamples, seed {ds.attrs['seed']}) for the median and β."
+    )
+    for i, body in enumerate(ds["body"].values):
+        one = curves.isel(body=i, drop=True).rename(limit_state="body")
+        one = one.drop_vars(["quantity", "threshold"]).transpose("body", "agx")
+        one.attrs = dict(ds.attrs)
+        b = ds.isel(body=i)
+        fitted: dict[Hashable, LognormalFit] = {
+            str(state): LognormalFit(float(m), float(beta), im=measure.name, unit=measure.unit)
+            for state, m, beta in zip(b["limit_state"].values, b["median"].values, b["beta"].values)
+            if np.isfinite(m)
+        }
+        title = f"{body}: {ensemble.n} motions, {where}, e = {e}, {ds.attrs['method'].upper()}"
+        figure = plot_fragility(
+            one,
+            fits=fitted,
+            title=title,
+            xlabel=measure.label,
+            ylabel="probability of exceeding the limit state [-]",
+        )
+        name = f"fragility-{slug(str(body))}.png"
+        run.write_figure(name, figure)
+        report.figure(figure, name[:-4], f"{body}: probability of each limit state.")
+    report.table(
+        fit_table,
+        "Fitted median and β of each limit state with their bootstrap 95 % intervals.",
+        "fit",
+    )
+    _finish_report(run, report, efficiency)
 
 
 def extrapolation_warning(medians: dict[str, float], tested: tuple[float, float], unit: str) -> str:
@@ -636,6 +756,7 @@ def agx50_cmd(
 
     from ..assessment.energy import energy_balance, forms_grid, grid_table
     from ..core.runs import RunFolder
+    from ..dynamics.physics import Physics
     from ..montecarlo.probability import agx_50
     from ..motions.response import check_nyquist
     from ..plots.fragility import plot_sv_agx
@@ -643,6 +764,7 @@ def agx50_cmd(
     check_nyquist(band[1], ensemble.dt, f"--band {band_text}")  # before the search, not after
 
     blocks = [b.block for b in bodies]
+    physics = Physics(e=e)  # the physics of every simulation of the run
     progress = reporter(quiet)
     params = _run_params(
         bodies,
@@ -668,7 +790,7 @@ def agx50_cmd(
                 ensemble,
                 resolution=resolution,
                 agx_max=agx_max,
-                e=e,
+                physics=physics,
                 backend=backend,
                 out=run.chunks / "agx50",
                 progress=progress,
@@ -779,8 +901,6 @@ def assess_cmd(
     frame, level = frame_and_floor(frame_name, floor)
     is_ensemble = Path(spectrum_path).suffix.lower() == ".nc"
     if not is_ensemble and (agx is not None or frame is not None):
-        from ..errors import InputError
-
         raise InputError("--agx, --floor and --frame apply to an ensemble (.nc) spectrum only")
     import numpy as np
 

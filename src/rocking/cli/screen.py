@@ -132,6 +132,14 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
     show_default=True,
     help="Exposure time [yr] of the probability of overturning with --hazard.",
 )
+@click.option(
+    "--limit-states",
+    "limit_states_text",
+    default=None,
+    metavar="LIST",
+    help="Also the probability of each of these limit states at the design level, e.g. "
+    "'uplift, theta/alpha>=0.5, overturn' (columns P(<limit state>) of screen.csv).",
+)
 @quiet_option
 def screen_command(
     inventory: str,
@@ -150,6 +158,7 @@ def screen_command(
     motions_path: str | None,
     hazard_text: str | None,
     years: float,
+    limit_states_text: str | None,
     quiet: bool,
 ) -> None:
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
@@ -172,12 +181,14 @@ def screen_command(
     """
     from ..assessment.screen import screen
     from ..core.runs import RunFolder
+    from ..dynamics.limits import parse_limit_states
     from ..montecarlo.backends import get_backend
     from ..motions.design import design_pga
     from ..report import remove_report
 
     started = time.perf_counter()
     out = Path(out_dir)
+    states = None if limit_states_text is None else parse_limit_states(limit_states_text)
     inv_path, spectrum, inv, notes = _read_inputs(inventory, spectrum_text, frame)
     hazard = None if hazard_text is None else _read_hazard(hazard_text)
     ensemble = None if motions_path is None else _read_motions(motions_path)
@@ -198,6 +209,7 @@ def screen_command(
         "motions": motions_path,
         "hazard": None if hazard is None else hazard.source,
         "years": years,
+        "limit_states": None if states is None else [ls.name for ls in states],
     }
     progress = reporter(quiet)
     folder = RunFolder(
@@ -229,6 +241,7 @@ def screen_command(
                 ensemble=ensemble,
                 hazard=hazard,
                 years=years,
+                limit_states=states,
             )
         for name in _write_report(ds, out, inv_path, notes):
             run.file(name)

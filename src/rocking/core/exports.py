@@ -38,6 +38,8 @@ PUBLIC = {
     "EC8": "motions.design",
     "design_pga": "motions.design",
     "parse_spectrum": "motions.design",
+    "LimitState": "dynamics.limits",
+    "Physics": "dynamics.physics",
     "RockingResponse": "dynamics.simulate",
     "simulate": "dynamics.simulate",
     "assess": "assessment.energy",

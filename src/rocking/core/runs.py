@@ -49,6 +49,33 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 LOCK = ".rocking.lock"
+
+
+def claim(folder: Path, whose: str = "") -> Any:
+    """Create ``folder`` if needed and lock it for this process (an operating-system lock on
+    :data:`LOCK`, released if the process dies): the one home of the claim of an output folder
+    (run folders here, the Monte Carlo chunk store). Returns the held ``filelock`` lock; an
+    InputError names the folder when it cannot be created or written, or when another run
+    holds it (``whose``: where to read about that run, e.g. " (see its run.json)")."""
+    import filelock
+
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"out: cannot create folder {folder} ({exc.strerror})") from None
+    lock = filelock.FileLock(folder / LOCK, timeout=0)
+    try:
+        lock.acquire()
+    except filelock.Timeout:
+        raise InputError(
+            f"out: {folder} is in use by another rocking run{whose}; wait for it to end or "
+            "choose another folder"
+        ) from None
+    except OSError as exc:
+        raise InputError(f"out: cannot write in {folder} ({exc.strerror})") from None
+    return lock
+
+
 RUN_JSON = "run.json"
 #: Subfolder of a run's resumable work (Monte Carlo chunks).
 CHUNKS = "chunks"
@@ -103,25 +130,10 @@ class RunFolder:
 
     # ---- claim and status ----------------------------------------------------------------------
     def __enter__(self) -> RunFolder:
-        import filelock
-
         if self.path.exists() and not self.path.is_dir():
             raise InputError(f"out: {self.path} exists and is not a folder")
         self._check_reads(None)
-        try:
-            self.path.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise InputError(f"out: cannot create folder {self.path} ({exc.strerror})") from None
-        lock = filelock.FileLock(self.path / LOCK, timeout=0)
-        try:
-            lock.acquire()
-        except filelock.Timeout:
-            raise InputError(
-                f"out: {self.path} is in use by another rocking run (see its "
-                f"{RUN_JSON}); wait for it to end or choose another folder"
-            ) from None
-        except OSError as exc:
-            raise InputError(f"out: cannot write in {self.path} ({exc.strerror})") from None
+        lock = claim(self.path, f" (see its {RUN_JSON})")
         self._lock = lock
         try:
             previous = self._previous()

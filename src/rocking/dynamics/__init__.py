@@ -3,8 +3,12 @@
 * :mod:`~rocking.dynamics.body` — :class:`Block` and Housner's energy balance, Eq. (11);
 * :mod:`~rocking.dynamics.equation` — Eq. (1) and its Runge–Kutta step (compiled, pure);
 * :mod:`~rocking.dynamics.impacts` — impacts, uplift, rest and overturning in one sample interval;
+* :mod:`~rocking.dynamics.physics` — :class:`Physics`, the physics of a simulation as one record;
+* :mod:`~rocking.dynamics.limits` — :class:`LimitState` on the kernel's response quantities;
 * :mod:`~rocking.dynamics.simulate` — :func:`simulate`, one block under one motion;
-* :mod:`~rocking.dynamics.batch` — many simulations at once (SIMD lanes, threads);
+* :mod:`~rocking.dynamics.batch` — many simulations at once (SIMD lanes, threads): the entry
+  points, with its records in :mod:`~rocking.dynamics.batch_records` and its lane machine in
+  :mod:`~rocking.dynamics.batch_lanes`;
 * :mod:`~rocking.dynamics.reference` — an independent SciPy ``solve_ivp`` solver for the tests.
 """
 

@@ -1,41 +1,12 @@
-"""Many rocking simulations at once: overturned flags and peak rotations (issue 5, part 1).
+"""Many rocking simulations at once: the response quantities of each case (issue 5, part 1).
 
 One compiled, parallel kernel integrates independent cases (block, motion, scale factor) with the
 physics of :func:`rocking.dynamics.simulate` — the same compiled one-interval functions of
-:mod:`rocking.dynamics` — and keeps only what a Monte Carlo study needs: whether the block
-overturned and its largest abs(θ)/α.
-
-How it is fast (issues 6 and 18).  A *lane machine* integrates ``_LANES`` cases side by side, one
-sample interval per round.  Each round first computes the RK4 step of every lane in loops that
-the compiler turns into SIMD code (:func:`rocking.dynamics.equation._plain_step`: branch-free,
-polynomial trigonometry; cut into five loops, so that the processor overlaps the lanes'
-dependency chains); the lanes whose interval holds nothing else (no impact, no possible
-touch of θ = 0, no overturning; about 98.5 % of rocking intervals) keep that step, and the loop
-returns the others as bit masks.  Every quantity the loop changes is stored for every lane (the
-state the step started from in rows of its own, which the event handling reads): a store only
-where the step is plain would compile to a masked store, which AMD processors before Zen 4
-execute in microcode.  The other lanes — and lanes at rest — are handled one by one by
-:func:`rocking.dynamics.impacts._advance_events`, exactly as :func:`~rocking.dynamics.simulate`
-handles them, except that the impact of a step that ends on the other side of θ = 0 is located
-with the partial Runge–Kutta steps of its Newton iteration computed in the lane's next SIMD rounds
-(:func:`_start_locating`; the same operations as :func:`rocking.dynamics.impacts._locate`: a
-scalar partial step is a chain of ~100 cycles of latency), and that after an impact from which the
-block rocks on the rest of the interval goes back to the SIMD loop.  Cases of the
-same motion sit side by side (they read the same samples).  A lane whose case ends takes the
-next case of the call's queue, which the lane machines of all threads share (each holding at
-most its share of the call's cases, so that a small call keeps every thread busy); when none is
-left, the last lane moves into its place, so the SIMD loop only runs over live lanes.  The kernel's
-inputs and its lanes' state are records (:class:`Motions`, :class:`Vertical`, :class:`Blocks`,
-:class:`Cases`, :class:`Outcome`, :class:`Lanes`).  Work that cannot change the answer is skipped:
-
-* a case whose scaled motion never lifts the block (abs(scale·a_g)·cos α ≤ g·sin α at every sample;
-  the ground acceleration is linear between samples, so the samples bound it; with a vertical
-  acceleration, max abs(scale·a_g)·cos α ≤ (g + abs(scale)·min a_v)·sin α, a conservative bound):
-  not overturned, peak 0, no integration at all;
-* intervals at rest: the lane jumps to the next sample at which the block lifts, and a case
-  whose remaining samples cannot lift it (their suffix maximum of abs(a_g) and, with a_v,
-  suffix minimum of a_v, in the same test) ends there: at rest to the end;
-* everything after overturning.
+:mod:`rocking.dynamics` — and keeps only what a Monte Carlo study needs, the
+:class:`~rocking.dynamics.batch_records.Outcome` of each case: whether the block overturned, its
+largest abs(θ)/α and whether it left rest at all.  Split along its seams (issue 44): the records
+in :mod:`rocking.dynamics.batch_records`, the lane machine (how it is fast, issues 6 and 18) in
+:mod:`rocking.dynamics.batch_lanes`, the entry points here.
 
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
 only its own output slot, so results do not depend on the number of threads, on which machine
@@ -46,947 +17,68 @@ bit for bit.
 :func:`overturn_cases` runs an explicit list of (block, motion, scale) triples, for searches that
 need a different scale per block.  Both go through :func:`run_cases`, the unchecked entry used by
 the Monte Carlo engine of :mod:`rocking.montecarlo.probability`.
+
+The records are re-exported here (``from rocking.dynamics.batch import BlockTable, Outcome``).
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
-from typing import Literal, NamedTuple, overload
+from collections.abc import Iterable
 
 import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
-from ..core.compile import (
-    aligned_zeros,
-    borrowing_kernel,
-    fetch_add,
-    highest_bit,
-    kernel,
-    maxnum,
-    parallel_kernel,
-    prange,
-    readonly,
-)
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES
+from ..core.compile import readonly
 from ..errors import InputError
-from .body import Block, G, resolve_e, resolve_overturn_angle
-from .equation import (
-    _gv_sample,
-    _gv_slope,
-    _plain_terms,
-    _plain_tests,
-    _rk4_end,
-    _rk4_middle,
-    _rk4_stages,
-    _sincos,
-    _uplifts,
+from .batch_lanes import _cases_kernel, _suffixes_of
+from .batch_records import (
+    QUANTITIES,
+    Blocks,
+    BlockTable,
+    Cases,
+    Motions,
+    Outcome,
+    PerBlock,
+    Vertical,
+    block_list,
+    concatenate,
+    empty_outcome,
+    motion_peaks,
+    take,
 )
-from .impacts import (
-    _NEWTON_MAX,
-    _OVERTURNED,
-    _REST,
-    _ROCKING,
-    Body,
-    Interval,
-    Swing,
-    _advance_events,
-    _ends_across,
-    _impact,
-    _locate_start,
-    _newton,
-    _slopes,
-    resolve_impacts,
-)
-
-#: A per-block option: one value for all blocks (a number or a keyword) or one per block.
-PerBlock = float | str | Sequence[float | str] | np.ndarray
-
-#: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
-_LANES = 128
-
-
-class Motions(NamedTuple):
-    """The horizontal ground motions of a batch as the kernel reads them: rows end to end."""
-
-    acc: np.ndarray  #: ground accelerations [m/s²], motion after motion, shape (n_m·n_t,)
-    n_t: int  #: samples per motion
-    dt: float  #: sample interval and Runge–Kutta step [s]
-    amax: np.ndarray  #: max abs(acc) of each motion [m/s²], shape (n_m,)
-    asuf: np.ndarray  #: max abs(acc) from each sample to the end of its motion [m/s²], like acc
-
-
-class Vertical(NamedTuple):
-    """The vertical ground accelerations of a batch (absent: ``None`` in its place)."""
-
-    av: np.ndarray  #: vertical accelerations [m/s², up positive], laid out like Motions.acc
-    avmin: np.ndarray  #: min av of each motion [m/s²]
-    avsuf: np.ndarray  #: min av from each sample to the end of its motion [m/s²], like av
-
-
-class Blocks(NamedTuple):
-    """Per-block constants in the kernel (see :class:`BlockTable`)."""
-
-    p2: np.ndarray  #: p² [1/s²]
-    sa: np.ndarray  #: sin α
-    ca: np.ndarray  #: cos α
-    tan_a: np.ndarray  #: tan α
-    e: np.ndarray  #: coefficient of restitution
-    th_ov: np.ndarray  #: overturning angle [rad]
-    alpha: np.ndarray  #: α [rad]
-    g: float  #: gravity [m/s²]
-
-
-class Cases(NamedTuple):
-    """Case i is block ``body[i]`` under motion ``motion[i]`` scaled by ``scale[i]``; the lane
-    machines take them in the order ``order`` (a permutation)."""
-
-    body: np.ndarray
-    motion: np.ndarray
-    scale: np.ndarray
-    order: np.ndarray
-
-
-class Outcome(NamedTuple):
-    """What the kernel writes for case i."""
-
-    overturned: np.ndarray  #: whether the block overturned (bool)
-    peak: np.ndarray  #: max abs(θ)/α at the samples [-]
-    steps: np.ndarray  #: integrated steps (int64; see :func:`run_cases`)
-
-
-class Lanes(NamedTuple):
-    """The state of one lane machine: ``_LANES`` cases side by side.
-
-    ``W`` holds one row of ``_LANES`` float64 values per quantity (one array, rows at constant
-    offsets ``row·_LANES``, so that the compiler can prove the SIMD loop's loads and stores
-    independent); the integer arrays hold one value per lane.
-    """
-
-    W: np.ndarray
-    nxt: np.ndarray  #: index in Motions.acc of that sample (one past it after a SIMD round)
-    case: np.ndarray  #: the lane's case, −1 for none
-    base: np.ndarray  #: index in Motions.acc of the case's first sample
-    state: np.ndarray  #: _REST, _ROCKING or _OVERTURNED
-
-
-# Rows of the lane table W.  The SIMD loop (:func:`_lane_steps`) stores every row it changes
-# unconditionally: the step's end state in the state rows (TH, OM, U0, G0, TAU) and the state
-# it started from in the S rows, which the event handling of a lane whose step was not plain
-# reads (a row stored only where the step is plain would compile to masked stores, slow on many
-# processors).
-_TH = 0  # θ [rad] at the start of the lane's interval; after a SIMD round, the RK4 step's θ
-_OM = 1  # θ' [rad/s] likewise
-_SG = 2  # pivot side s = ±1
-_RK = 3  # 1.0 if rocking, 0.0 if at rest or locating an impact (the step cannot be plain)
-_U0 = 4  # u = a_g/g at the start of the interval; after a SIMD round, u at its end
-_G0 = 5  # vertical factor gv = 1 + a_v/g likewise (with a_v only)
-_TAU = 6  # local time [s] from which the interval is still to be integrated (0 but after events)
-_THS = 7  # the state from which the SIMD round's step started: θ, θ', u, gv, tau
-_OMS = 8
-_U0S = 9
-_G0S = 10
-_TAUS = 11
-_VAL = 12  # 1.0 if the SIMD round's step is _rk4's step (fast trigonometry valid)
-_PL = 13  # 1.0 if it is plain: all that happens in the interval (_plain_step)
-_PK = 14  # max abs(θ) so far [rad]
-_TST = 15  # _advance_events' t_start and false_side in this interval
-_FS = 16
-_NR = 17  # intervals of the case spent at rest throughout, so far (step counting)
-_R0 = 18  # 1.0 if the lane's current interval started at rest (step counting)
-_SC = 19  # the case's constants: scale factor, p² [1/s²], sin α, cos α, overturning angle [rad]
-_P2 = 20
-_SA = 21
-_CA = 22
-_OV = 23
-# Rows passed from one SIMD loop of a round to the next (see _lane_steps): sin θ, cos θ, du/dt
-# [1/s]; the step's length h [s], _stage_terms (θ''_1 [rad/s²], brackets Pm, Qm, Pb, Qb), the
-# bound of _no_touch [rad/s²]; θ''_2, θ''_3 [rad/s²] and max(abs(δ_2), abs(δ_3)) [rad].
-_ST = 24
-_CT = 25
-_DU = 26
-_H = 27
-_K1 = 28
-_PM = 29
-_QM = 30
-_PB = 31
-_QB = 32
-_AM = 33
-_K2 = 34
-_K3 = 35
-_D23 = 36
-_A1 = 37  # the samples that end the lanes' intervals (_gather): a_g [m/s²], a_v [m/s²]
-_AV1 = 38
-# A lane locating an impact (:func:`_attend`): the partial step length of its next SIMD round
-# [s] (0: none, the step to the interval's end), the bracket of _newton [s] and the Newton
-# corrections made so far.
-_HL = 39
-_LO = 40
-_HI = 41
-_NI = 42
-# The step's end from the fourth SIMD loop to the fifth: θ_1 [rad], θ'_1 [rad/s], max abs(δ) [rad].
-_TH1 = 43
-_OM1 = 44
-_DMX = 45
-_ROWS = 46
-
-
-@borrowing_kernel
-def _lane_steps(lanes, n, motions, g, vert):
-    """One sample interval of lanes 0 … n−1 (SIMD loops): the RK4 step from each lane's state
-    (:func:`rocking.dynamics.equation._plain_step`), kept where it is all that happens in the
-    interval; every lane's ``nxt`` advances by one.
-
-    The step is computed in five loops over the lanes, through rows of W: (1) the ground
-    motion's change and sin θ, cos θ; (2) the stages' brackets and the bound of
-    :func:`~rocking.dynamics.equation._no_touch` (:func:`~rocking.dynamics.equation._plain_terms`);
-    (3) stages 2 and 3; (4) stage 4 and the step; (5) its tests and the lanes' masks.  The same
-    operations on the same values as one loop, but the dependency chain of a lane's step, about
-    110 cycles, is cut into five short ones, which the processor overlaps across lanes: one loop
-    of the whole step is longer than its reorder window (Zen 3: 20 % less time per step with four
-    loops than with one, 4–6 % less with five than with four; loops 1 and 2 in one: 4 % more).
-
-    Returns the lanes that need attention (the step is not plain, or the motion has ended) as bit
-    masks: lanes 0 … 63, lanes 64 … 127.
-    """
-    L = _LANES
-    W = lanes.W
-    nxt = lanes.nxt
-    base = lanes.base
-    dt = motions.dt
-    n_t = motions.n_t
-    for j in range(n):  # what depends on the samples and θ only
-        u0 = W[_U0 * L + j]
-        sc = W[_SC * L + j]
-        u1 = sc * W[_A1 * L + j] / g  # as simulate(block, scale * acc, dt)
-        g0 = _vertical_row(vert, W, _G0 * L + j)
-        g1 = _vertical_end(vert, W, _AV1 * L + j, sc, g)  # as simulate(..., av=abs(scale) * av)
-        st, ct = _sincos(W[_TH * L + j])
-        W[_ST * L + j] = st
-        W[_CT * L + j] = ct
-        W[_DU * L + j] = (u1 - u0) / dt
-        W[_U0S * L + j] = u0
-        W[_TAUS * L + j] = W[_TAU * L + j]
-        W[_U0 * L + j] = u1
-        W[_TAU * L + j] = 0.0
-        _store_vertical(vert, W, j, g0, g1)
-    for j in range(n):
-        u0 = W[_U0S * L + j]
-        tau = W[_TAUS * L + j]
-        du = W[_DU * L + j]
-        hl = W[_HL * L + j]
-        h = hl if hl > 0.0 else dt - tau  # hl: a partial step locating an impact
-        g0 = _vertical_row(vert, W, _G0S * L + j)
-        dg = _gv_slope(g0, _vertical_row(vert, W, _G0 * L + j), dt)
-        k1w, Pm, Qm, Pb, Qb, amax = _plain_terms(
-            W[_ST * L + j],
-            W[_CT * L + j],
-            W[_SG * L + j],
-            u0,
-            du,
-            g0,
-            dg,
-            tau,
-            h,
-            W[_P2 * L + j],
-            W[_SA * L + j],
-            W[_CA * L + j],
-        )
-        W[_K1 * L + j] = k1w
-        W[_PM * L + j] = Pm
-        W[_QM * L + j] = Qm
-        W[_PB * L + j] = Pb
-        W[_QB * L + j] = Qb
-        W[_AM * L + j] = amax
-        W[_H * L + j] = h
-    for j in range(n):
-        k2w, k3w, d23 = _rk4_middle(
-            W[_OM * L + j],
-            W[_K1 * L + j],
-            W[_PM * L + j],
-            W[_QM * L + j],
-            W[_H * L + j],
-            W[_P2 * L + j],
-        )
-        W[_K2 * L + j] = k2w
-        W[_K3 * L + j] = k3w
-        W[_D23 * L + j] = d23
-    for j in range(n):
-        th1, om1, dmax = _rk4_end(
-            W[_TH * L + j],
-            W[_OM * L + j],
-            W[_K1 * L + j],
-            W[_K2 * L + j],
-            W[_K3 * L + j],
-            W[_D23 * L + j],
-            W[_PB * L + j],
-            W[_QB * L + j],
-            W[_H * L + j],
-            W[_P2 * L + j],
-        )
-        W[_TH1 * L + j] = th1
-        W[_OM1 * L + j] = om1
-        W[_DMX * L + j] = dmax
-    low = np.uint64(0)
-    high = np.uint64(0)
-    for j in range(n):
-        theta = W[_TH * L + j]
-        omega = W[_OM * L + j]
-        th1 = W[_TH1 * L + j]
-        valid, plain = _plain_tests(
-            theta,
-            omega,
-            W[_SG * L + j],
-            th1,
-            W[_DMX * L + j],
-            W[_AM * L + j],
-            W[_H * L + j],
-            W[_OV * L + j],
-        )
-        plain = plain & (W[_RK * L + j] != 0.0)
-        W[_THS * L + j] = theta
-        W[_OMS * L + j] = omega
-        W[_TH * L + j] = th1
-        W[_OM * L + j] = W[_OM1 * L + j]
-        W[_PK * L + j] = maxnum(W[_PK * L + j], abs(th1) if plain else 0.0)
-        W[_VAL * L + j] = 1.0 if valid else 0.0
-        W[_PL * L + j] = 1.0 if plain else 0.0
-        k1 = nxt[j] + 1
-        nxt[j] = k1
-        att = (not plain) | (k1 >= base[j] + n_t)  # an event, or the motion ended
-        bit = np.uint64(1 if att else 0) << np.uint64(j & 63)
-        low |= bit if j < 64 else np.uint64(0)
-        high |= np.uint64(0) if j < 64 else bit
-    return low, high
-
-
-@kernel(inline="always")
-def _vertical_row(vert, W, r):
-    """W[r] with vertical motion, None without."""
-    if vert is None:
-        return None
-    return W[r]
-
-
-@kernel(inline="always")
-def _vertical_end(vert, W, r, sc, g):
-    """gv at the end of a lane's interval (:func:`_gv_sample` of its gathered sample W[r]), or
-    None without vertical motion."""
-    if vert is None:
-        return None
-    return _gv_sample(W, r, sc, g)
-
-
-@kernel(inline="always")
-def _store_vertical(vert, W, j, g0, g1):
-    """The SIMD round's gv rows of lane j (nothing without vertical motion)."""
-    if vert is None:
-        return
-    W[_G0S * _LANES + j] = g0
-    W[_G0 * _LANES + j] = g1
-
-
-@kernel(inline="always")
-def _gather(lanes, n, motions, vert):
-    """The samples that end lanes 0 … n−1's intervals into rows _A1 (acc[nxt[j]] [m/s²]) and _AV1
-    (av likewise), as an unsigned index: no test for negative ones."""
-    for j in range(n):
-        lanes.W[_A1 * _LANES + j] = motions.acc[np.uint64(lanes.nxt[j])]
-    if vert is not None:
-        for j in range(n):
-            lanes.W[_AV1 * _LANES + j] = vert.av[np.uint64(lanes.nxt[j])]
-
-
-@kernel(inline="always")
-def _row_or_none(vert, x):
-    """x with vertical motion, None without."""
-    if vert is None:
-        return None
-    return x
-
-
-@borrowing_kernel
-def _start_case(lanes, j, i, motions, vert, blocks, cases):
-    """Put case i in lane j at the first interval in which its block may lift; False (lane left
-    as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
-    peak 0, no steps)."""
-    L = _LANES
-    W = lanes.W
-    b = cases.body[i]
-    m = cases.motion[i]
-    sc = cases.scale[i]
-    g = blocks.g
-    # gv ≥ 1 + abs(sc)·min a_v/g throughout the motion (conservative: it may lift only if ...)
-    if not _may_lift(motions.amax[m], _avmin(vert), m, sc, g, blocks.sa[b], blocks.ca[b]):
-        return False  # no need to look at the samples
-    first = m * motions.n_t
-    k, u0, g0 = _rest_until_uplift(
-        motions,
-        vert,
-        first,
-        0,
-        sc * motions.acc[first] / g,
-        _gv_sample(_av(vert), first, sc, g),
-        sc,
-        g,
-        blocks.sa[b],
-        blocks.ca[b],
-    )
-    if k >= motions.n_t - 1:
-        return False
-    lanes.base[j] = first
-    lanes.nxt[j] = first + k + 1
-    lanes.state[j] = _REST
-    lanes.case[j] = i
-    W[_TH * L + j] = 0.0
-    W[_OM * L + j] = 0.0
-    W[_SG * L + j] = 1.0
-    W[_RK * L + j] = 0.0
-    W[_HL * L + j] = 0.0
-    W[_U0 * L + j] = u0
-    W[_TAU * L + j] = 0.0
-    W[_PK * L + j] = 0.0
-    W[_TST * L + j] = -1.0
-    W[_FS * L + j] = 0.0
-    W[_NR * L + j] = k
-    W[_SC * L + j] = sc
-    W[_P2 * L + j] = blocks.p2[b]
-    W[_SA * L + j] = blocks.sa[b]
-    W[_CA * L + j] = blocks.ca[b]
-    W[_OV * L + j] = blocks.th_ov[b]
-    _set_vertical(vert, W, _G0 * L + j, g0)
-    return True
-
-
-@kernel(inline="always")
-def _set_vertical(vert, W, r, x):
-    """W[r] = x with vertical motion (nothing without)."""
-    if vert is not None:
-        W[r] = x
-
-
-@kernel(inline="always")
-def _av(vert):
-    """The vertical accelerations end to end, or None."""
-    if vert is None:
-        return None
-    return vert.av
-
-
-@kernel(inline="always")
-def _avmin(vert):
-    """The least vertical acceleration of each motion, or None."""
-    if vert is None:
-        return None
-    return vert.avmin
-
-
-@kernel(inline="always")
-def _avsuf(vert):
-    """The suffix minima of the vertical accelerations, or None."""
-    if vert is None:
-        return None
-    return vert.avsuf
-
-
-@kernel(inline="always")
-def _attend(lanes, j, motions, vert, blocks, cases, located):
-    """Lane j after a SIMD round in which it needs attention (see :func:`_lane_steps`): the
-    events of its interval (:func:`rocking.dynamics.impacts._advance_events`, exactly as
-    :func:`rocking.simulate` handles them), the intervals at rest that follow, or the end of its
-    motion.
-
-    Returns (done, overturned, k): whether the case has ended, whether by overturning, and the
-    intervals integrated or skipped so far (the interval in which it ended counts).
-    """
-    L = _LANES
-    W = lanes.W
-    n_t = motions.n_t
-    dt = motions.dt
-    b = cases.body[lanes.case[j]]
-    if W[_PL * L + j] != 0.0:  # a plain step that ended the motion
-        return True, False, lanes.nxt[j] - lanes.base[j] - 1
-    k = lanes.nxt[j] - lanes.base[j] - 2  # the interval: from sample k to k + 1
-    state = lanes.state[j]
-    if W[_TAUS * L + j] == 0.0:  # a new interval (step counting)
-        W[_R0 * L + j] = 1.0 if state == _REST else 0.0
-    u0 = W[_U0S * L + j]
-    u1 = W[_U0 * L + j]
-    g0 = _row_or_none(vert, W[_G0S * L + j])
-    g1 = _row_or_none(vert, W[_G0 * L + j])
-    iv = Interval(u0, u1, g0, g1, dt)
-    body = Body(
-        W[_P2 * L + j],
-        W[_SA * L + j],
-        W[_CA * L + j],
-        blocks.tan_a[b],
-        blocks.e[b],
-        W[_OV * L + j],
-    )
-    sw = Swing(
-        W[_THS * L + j],
-        W[_OMS * L + j],
-        W[_SG * L + j],
-        state,
-        W[_TAUS * L + j],
-        W[_TST * L + j],
-        W[_FS * L + j],
-    )
-    if W[_HL * L + j] > 0.0:  # locating an impact: the round computed a partial step
-        found, sw, deferred = _lane_impact(W, j, sw, iv, body, located)
-        if not found:  # the next partial step in the next round
-            _repeat_interval(lanes, j, vert)
-            return False, False, k
-    elif _crosses(W, j, sw, dt, located):
-        _start_locating(W, j, sw, iv)
-        _repeat_interval(lanes, j, vert)
-        return False, False, k
-    else:
-        sw, _ni, _te, deferred = _advance_events(
-            sw,
-            iv,
-            body,
-            W[_TH * L + j],
-            W[_OM * L + j],
-            (state == _ROCKING) & (W[_VAL * L + j] != 0.0),
-            True,
-            located,
-        )
-    W[_TH * L + j] = sw.theta
-    W[_OM * L + j] = sw.omega
-    W[_SG * L + j] = sw.s
-    lanes.state[j] = sw.state
-    if deferred:  # the rest of the interval, from tau, in the next SIMD round
-        W[_RK * L + j] = 1.0
-        W[_TAU * L + j] = sw.tau
-        W[_TST * L + j] = sw.t_start
-        W[_FS * L + j] = sw.false_side
-        W[_U0 * L + j] = u0
-        _set_vertical(vert, W, _G0 * L + j, g0)
-        lanes.nxt[j] -= 1
-        return False, False, k
-    W[_TST * L + j] = -1.0
-    W[_FS * L + j] = 0.0
-    k += 1
-    if sw.state == _OVERTURNED:
-        return True, True, k
-    W[_PK * L + j] = maxnum(W[_PK * L + j], abs(sw.theta))
-    if sw.state == _REST:
-        if W[_R0 * L + j] != 0.0:  # at rest throughout
-            W[_NR * L + j] += 1.0
-        k0 = k
-        sc = W[_SC * L + j]
-        k, u1, g1 = _rest_until_uplift(
-            motions, vert, lanes.base[j], k, u1, g1, sc, blocks.g, W[_SA * L + j], W[_CA * L + j]
-        )
-        W[_NR * L + j] += k - k0
-        W[_U0 * L + j] = u1
-        _set_vertical(vert, W, _G0 * L + j, g1)
-    W[_RK * L + j] = 1.0 if sw.state == _ROCKING else 0.0
-    lanes.nxt[j] = lanes.base[j] + k + 1
-    return k >= n_t - 1, False, k
-
-
-@kernel(inline="always")
-def _crosses(W, j, sw, dt, located):
-    """Whether lane j's SIMD step ``sw`` → (θ, θ') of its rows TH, OM is an RK4 step that ends on
-    the other side of θ = 0, so that :func:`~rocking.dynamics.impacts._advance_events` would
-    begin by locating that impact (:func:`~rocking.dynamics.impacts._locate` on the bracket
-    (0, dt − tau)): the kernel then locates it in the lane (:func:`_start_locating`)."""
-    L = _LANES
-    return (
-        located
-        & (sw.state == _ROCKING)
-        & (W[_VAL * L + j] != 0.0)
-        & (dt - sw.tau > 0.0)
-        & _ends_across(sw.s, W[_TH * L + j], W[_OM * L + j])
-    )
-
-
-@kernel(inline="always")
-def _start_locating(W, j, sw, iv):
-    """Lane j locates the impact of its SIMD step (:func:`_crosses`) in the next rounds: each
-    computes the partial RK4 step of length W[_HL] from ``sw`` (the SIMD loop: the same
-    operations as :func:`~rocking.dynamics.impacts._locate`'s scalar ones, sin θ and cos θ of
-    the round in rows ST, CT), and :func:`_lane_impact` makes the Newton correction."""
-    L = _LANES
-    h = iv.dt - sw.tau
-    du, dg = _slopes(iv)
-    W[_HL * L + j] = _locate_start(
-        sw.theta,
-        W[_ST * L + j],
-        W[_CT * L + j],
-        sw.omega,
-        sw.s,
-        iv.u0,
-        du,
-        iv.g0,
-        dg,
-        sw.tau,
-        0.0,
-        h,
-        sw.theta,
-        W[_TH * L + j],
-        0.0,
-        -sw.s,
-        W[_P2 * L + j],
-        W[_SA * L + j],
-        W[_CA * L + j],
-    )
-    W[_LO * L + j] = 0.0
-    W[_HI * L + j] = h
-    W[_NI * L + j] = 0.0
-    W[_RK * L + j] = 0.0  # never plain
-
-
-@kernel(inline="always")
-def _lane_impact(W, j, sw, iv, body, located):
-    """The Newton correction of lane j's impact location after the round's partial step
-    (:func:`~rocking.dynamics.impacts._newton`, as in
-    :func:`~rocking.dynamics.impacts._locate`).  Returns (found, swing, deferred): when found,
-    the impact and the rest of the interval as :func:`~rocking.dynamics.impacts._advance_events`
-    goes on after it (``deferred`` as it returns it); else W[_HL] is the next length to try."""
-    L = _LANES
-    dt = iv.dt
-    du, dg = _slopes(iv)
-    s = sw.s
-    h = W[_HL * L + j]
-    th = W[_TH * L + j]
-    om = W[_OM * L + j]
-    if W[_VAL * L + j] == 0.0:  # the fast step is not valid: _rk4_sc's other branch
-        th, om = _rk4_stages(
-            sw.theta, sw.omega, s, iv.u0, du, iv.g0, dg, sw.tau, h, body.p2, body.sa, body.ca
-        )
-    ni = W[_NI * L + j]
-    if ni < _NEWTON_MAX:
-        found, h, lo, hi, th, om = _newton(
-            th,
-            om,
-            h,
-            W[_LO * L + j],
-            W[_HI * L + j],
-            0.0,
-            -s,
-            s,
-            iv.u0,
-            du,
-            iv.g0,
-            dg,
-            sw.tau,
-            body.p2,
-            body.sa,
-            body.ca,
-        )
-        W[_LO * L + j] = lo
-        W[_HI * L + j] = hi
-        W[_NI * L + j] = ni + 1.0
-        if not found:
-            W[_HL * L + j] = h
-            return False, sw, False
-    W[_HL * L + j] = 0.0
-    arrived = Swing(sw.theta, sw.omega, s, sw.state, sw.tau + h, sw.t_start, sw.false_side)
-    sw, _n = _impact(arrived, om, iv, du, dg, body)
-    if sw.state == _ROCKING:  # what _advance_events does after it (here without a call)
-        return True, sw, dt - sw.tau > 0.0
-    sw, _n, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
-    return True, sw, deferred
-
-
-@kernel(inline="always")
-def _repeat_interval(lanes, j, vert):
-    """Lane j back at the state its SIMD round started from, to integrate from it again."""
-    L = _LANES
-    W = lanes.W
-    W[_TH * L + j] = W[_THS * L + j]
-    W[_OM * L + j] = W[_OMS * L + j]
-    W[_U0 * L + j] = W[_U0S * L + j]
-    W[_TAU * L + j] = W[_TAUS * L + j]
-    _set_vertical(vert, W, _G0 * L + j, _row_or_none(vert, W[_G0S * L + j]))
-    lanes.nxt[j] -= 1
-
-
-@kernel(inline="always")
-def _finish(lanes, j, overturned, k, blocks, cases, out):
-    """The results of lane j's case, which ended after k intervals (overturned or not)."""
-    L = _LANES
-    i = lanes.case[j]
-    W = lanes.W
-    out.overturned[i] = overturned
-    out.peak[i] = (W[_OV * L + j] if overturned else W[_PK * L + j]) / blocks.alpha[cases.body[i]]
-    out.steps[i] = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end
-
-
-@kernel(inline="always")
-def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
-    """Start in lane j the next case of the shared queue (positions in ``cases.order``, taken
-    with :func:`~rocking.core.compile.fetch_add` on ``queue``) that lifts its block (those that
-    don't get their result at once); lanes.case[j] = −1 if none is left."""
-    lanes.case[j] = -1
-    n = cases.order.size
-    while True:
-        pos = fetch_add(queue, 1)
-        if pos >= n:
-            return
-        i = cases.order[pos]
-        if _start_case(lanes, j, i, motions, vert, blocks, cases):
-            return
-        out.overturned[i] = False
-        out.peak[i] = 0.0
-        out.steps[i] = 0
-
-
-@kernel(inline="always")
-def _move_lane(lanes, src, dst):
-    """Lane ``src``'s case into lane ``dst``; lane ``src`` left empty."""
-    L = _LANES
-    for r in range(_ROWS):
-        lanes.W[r * L + dst] = lanes.W[r * L + src]
-    lanes.case[dst] = lanes.case[src]
-    lanes.base[dst] = lanes.base[src]
-    lanes.nxt[dst] = lanes.nxt[src]
-    lanes.state[dst] = lanes.state[src]
-    lanes.case[src] = -1
-
-
-@kernel
-def _new_lanes(vert):
-    """An empty lane machine (its table's rows start cache lines: :func:`aligned_zeros`)."""
-    L = _LANES
-    return Lanes(
-        aligned_zeros(_ROWS * L),
-        np.zeros(L, np.int64),
-        np.full(L, -1, np.int64),
-        np.zeros(L, np.int64),
-        np.zeros(L, np.int64),
-    )
-
-
-@borrowing_kernel
-def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, width):
-    """Integrate cases taken from the shared ``queue`` (see :func:`_fill`) in the empty lane
-    machine ``lanes`` (:func:`_new_lanes`; allocated by the caller: this function is compiled
-    without reference counting, :func:`~rocking.core.compile.borrowing_kernel`), at most
-    ``width`` (≤ ``_LANES``) at a time, until none is left, and write their results (see the
-    module docstring)."""
-    live = 0  # lanes 0 … live−1 hold a case
-    while live < width:
-        _fill(lanes, live, queue, motions, vert, blocks, cases, out)
-        if lanes.case[live] < 0:
-            break
-        live += 1
-    while live > 0:
-        _gather(lanes, live, motions, vert)
-        low, high = _lane_steps(lanes, live, motions, blocks.g, vert)
-        # the lanes that need attention, from the highest down: when a case ends, its lane
-        # takes the next case, or the last live lane (handled already) moves into it
-        while (high | low) != 0:
-            if high != 0:
-                j = 64 + highest_bit(high)
-                high ^= np.uint64(1) << np.uint64(j - 64)
-            else:
-                j = highest_bit(low)
-                low ^= np.uint64(1) << np.uint64(j)
-            done, overturned, k = _attend(lanes, j, motions, vert, blocks, cases, located)
-            if not done:
-                continue
-            _finish(lanes, j, overturned, k, blocks, cases, out)
-            _fill(lanes, j, queue, motions, vert, blocks, cases, out)
-            if lanes.case[j] < 0:  # no case left
-                live -= 1
-                if j < live:
-                    _move_lane(lanes, live, j)
-
-
-@parallel_kernel
-def _suffix_extremes(acc, av, used, asuf, avsuf):
-    """Suffix maximum of abs(acc) ``asuf`` and suffix minimum of ``av`` ``avsuf`` (unused when
-    ``av`` is None) from each sample to the end of its motion [m/s²], the motions (rows) end to
-    end, filled: a block at rest that no later sample can lift is at rest to the end
-    (:func:`_rest_until_uplift`).  Only the motions ``used[m]`` are computed (the others'
-    values are left as they were: no case reads them)."""
-    n_m, n_t = acc.shape
-    for m in prange(n_m):
-        if not used[m]:
-            continue
-        top = 0.0
-        low = math.inf
-        for k in range(n_t - 1, -1, -1):
-            top = max(top, abs(acc[m, k]))
-            asuf[m * n_t + k] = top
-            if av is not None:
-                low = min(low, av[m, k])
-                avsuf[m * n_t + k] = low
-
-
-def _suffixes_of(
-    acc: np.ndarray, av: np.ndarray | None, used: np.ndarray
-) -> tuple[np.ndarray, np.ndarray | None]:
-    """:func:`_suffix_extremes` of the motions ``used`` into arrays allocated here by NumPy,
-    which asks Linux for huge pages for large arrays (allocated by the kernel, a thousand
-    motions' 64 MB took 16,000 page faults, ~0.25 s of system time on a VM, per call)."""
-    asuf = np.empty(acc.size)
-    avsuf = None if av is None else np.empty(av.size)
-    _suffix_extremes(acc, av, used, asuf, np.empty(0) if avsuf is None else avsuf)
-    return asuf, avsuf
-
-
-@kernel(inline="always")
-def _may_lift(amax, avmin, i, sc, g, sa, ca):
-    """Whether samples whose abs(a_g) is at most ``amax`` [m/s²] and whose vertical acceleration is
-    at least ``avmin[i]`` [m/s²] (``avmin`` None: no vertical motion) may lift a block at rest
-    under the case's scale ``sc``: :func:`~rocking.dynamics.equation._uplifts` of the extremes.
-    It is exactly the test at every such sample or weaker: abs(sc·a)/g rounds monotonically in
-    abs(a), 1 + abs(sc)·a_v/g in a_v, and the test is monotone in both (conservative when the
-    extremes fall on different samples)."""
-    return _uplifts(abs(sc * amax) / g, _gv_sample(avmin, i, sc, g), sa, ca)
-
-
-@borrowing_kernel
-def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
-    """First interval k' ≥ k of a block at rest in which it may lift (u and gv at its start), or
-    (n_t − 1, u, gv) if none: the intervals skipped are those where _advance leaves it at rest
-    (no uplift at either end; u and gv linear in between, abs(u)·cos α − gv·sin α convex).
-    ``base``: index of the motion's first sample in ``motions.acc``; when no sample from k on
-    can lift the block (:func:`_may_lift` of the suffix extremes), it is at rest to the end, and
-    the samples are not looked at."""
-    n_t = motions.n_t
-    flat = motions.acc
-    avflat = _av(vert)
-    if not _may_lift(motions.asuf[base + k], _avsuf(vert), base + k, sc, g, sa, ca):
-        return n_t - 1, u, gv
-    while k < n_t - 1:
-        u_next = sc * flat[base + k + 1] / g
-        g_next = _gv_sample(avflat, base + k + 1, sc, g)
-        if _uplifts(u, gv, sa, ca) or _uplifts(u_next, g_next, sa, ca):
-            break
-        u = u_next
-        gv = g_next
-        k += 1
-    return k, u, gv
-
-
-@parallel_kernel
-def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
-    """Integrate the cases from rest in ``machines`` lane machines (a thread each), which take
-    them in the order ``cases.order`` from one shared queue, and write their :class:`Outcome`;
-    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`.
-
-    A machine holds at most its share of the cases at a time (all its lanes when there are
-    enough for every machine's): otherwise the first machine to start could take every case of
-    a call of up to ``_LANES`` cases before the other threads start."""
-    queue = np.zeros(1, np.int64)
-    width = min(_LANES, -(-cases.order.size // machines))
-    for _ in prange(machines):
-        _lane_machine(_new_lanes(vert), motions, vert, blocks, cases, out, located, queue, width)
-
-
-@dataclass(frozen=True, eq=False)
-class BlockTable:
-    """Per-block constants of Eq. (1) for the kernel, arrays of shape (n_blocks,).
-
-    Attributes
-    ----------
-    p2 : ndarray
-        p² = g·R/(r_g² + R²) [1/s²] (3g/(4R) for a uniform block; :meth:`Block.p_squared`).
-    sin_a, cos_a, tan_a : ndarray
-        sin α, cos α, tan α of the critical angle [-].
-    e : ndarray
-        Coefficient of restitution [-].
-    theta_ov : ndarray
-        Overturning angle [rad].
-    alpha : ndarray
-        Critical angle α [rad].
-    g : float
-        Gravity [m/s²].
-    """
-
-    p2: np.ndarray
-    sin_a: np.ndarray
-    cos_a: np.ndarray
-    tan_a: np.ndarray
-    e: np.ndarray
-    theta_ov: np.ndarray
-    alpha: np.ndarray
-    g: float
-
-    @classmethod
-    def from_blocks(
-        cls,
-        blocks: Block | Iterable[Block],
-        *,
-        e: PerBlock = DEFAULT_E,
-        overturn_angle: PerBlock = math.pi / 2,
-        g: float = G,
-    ) -> BlockTable:
-        """Constants of ``blocks`` (a sequence of :class:`~rocking.Block`).
-
-        ``e`` and ``overturn_angle`` are one value for all blocks (number, ``"housner"`` /
-        ``"alpha"``) or one per block; see :func:`rocking.simulate` [-, rad].  ``g`` [m/s²].
-        """
-        blocks = block_list(blocks)
-        g = positive("g", g, "m/s²")
-        e_vals = _per_block("e", e, blocks, resolve_e)
-        ov_vals = _per_block("overturn_angle", overturn_angle, blocks, resolve_overturn_angle)
-        alpha = np.array([b.alpha for b in blocks])
-        # the same expressions as simulate(), so both integrate bit for bit the same equation
-        return cls(
-            p2=np.array([b.p_squared(g) for b in blocks]),
-            sin_a=np.array([math.sin(a) for a in alpha]),
-            cos_a=np.array([math.cos(a) for a in alpha]),
-            tan_a=np.array([math.tan(a) for a in alpha]),
-            e=e_vals,
-            theta_ov=ov_vals,
-            alpha=alpha,
-            g=g,
-        )
-
-    def __len__(self) -> int:
-        return self.p2.size
-
-    def arrays(self) -> Blocks:
-        """The constants as the kernel takes them."""
-        return Blocks(
-            self.p2, self.sin_a, self.cos_a, self.tan_a, self.e, self.theta_ov, self.alpha, self.g
-        )
-
-
-def block_list(blocks: Block | Iterable[Block]) -> list[Block]:
-    """``blocks`` as a non-empty list of :class:`~rocking.Block` (one Block is a list of one)."""
-    if isinstance(blocks, Block):
-        blocks = [blocks]
-    blocks = list(blocks)
-    if not blocks:
-        raise InputError("blocks must contain at least one rocking.Block")
-    for i, b in enumerate(blocks):
-        if not isinstance(b, Block):
-            raise InputError(f"blocks[{i}] must be a rocking.Block, got {type(b).__name__}")
-    return blocks
-
-
-def _per_block(name, value, blocks, resolve) -> np.ndarray:
-    """One value for every block, or a sequence with one value per block, each resolved."""
-    if isinstance(value, str) or np.ndim(value) == 0:
-        return np.array([resolve(value, b) for b in blocks], dtype=np.float64)
-    values = list(value)
-    if len(values) != len(blocks):
-        raise InputError(f"{name} has {len(values)} values for {len(blocks)} blocks")
-    return np.array([resolve(v, b) for v, b in zip(values, blocks)], dtype=np.float64)
-
-
-def motion_peaks(acc: np.ndarray) -> np.ndarray:
-    """max abs(a) of each row of ``acc`` (n_motions, n_t) [m/s²], as the kernel's skip test
-    needs."""
-    return np.abs(acc).max(axis=1)
+from .body import Block
+from .impacts import resolve_impacts
+from .physics import FROM_PHYSICS, Physics, as_physics
+
+__all__ = [
+    "QUANTITIES",
+    "BlockTable",
+    "Blocks",
+    "Cases",
+    "Motions",
+    "Outcome",
+    "PerBlock",
+    "Vertical",
+    "block_list",
+    "concatenate",
+    "empty_outcome",
+    "motion_peaks",
+    "motion_suffixes",
+    "overturn_batch",
+    "overturn_cases",
+    "run_cases",
+    "take",
+]
 
 
 def motion_suffixes(
     acc: np.ndarray, av: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """The rest test's suffix extremes of every motion of ``acc`` (n_motions, n_t) and of its
-    vertical accelerations ``av`` (or None) [m/s²], flat (see :func:`_suffix_extremes`), for
+    vertical accelerations ``av`` (or None) [m/s²], flat (see
+    :func:`rocking.dynamics.batch_lanes._suffix_extremes`), for
     :func:`run_cases` calls on the same motions: computed once for them instead of in every
     call (with a thousand motions, as long as the simulations of a call)."""
     acc = readonly(np.ascontiguousarray(acc))
@@ -994,7 +86,6 @@ def motion_suffixes(
     return _suffixes_of(acc, av, np.ones(acc.shape[0], dtype=np.bool_))
 
 
-@overload
 def run_cases(
     table: BlockTable,
     acc: np.ndarray,
@@ -1004,57 +95,24 @@ def run_cases(
     motion: np.ndarray,
     scale: np.ndarray,
     av: np.ndarray | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str | None = None,
     *,
-    count_steps: Literal[False] = False,
     suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
-) -> tuple[np.ndarray, np.ndarray]: ...
-
-
-@overload
-def run_cases(
-    table: BlockTable,
-    acc: np.ndarray,
-    amax: np.ndarray,
-    dt: float,
-    body: np.ndarray,
-    motion: np.ndarray,
-    scale: np.ndarray,
-    av: np.ndarray | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
-    *,
-    count_steps: Literal[True],
-    suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
-
-
-def run_cases(
-    table: BlockTable,
-    acc: np.ndarray,
-    amax: np.ndarray,
-    dt: float,
-    body: np.ndarray,
-    motion: np.ndarray,
-    scale: np.ndarray,
-    av: np.ndarray | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
-    *,
-    count_steps: bool = False,
-    suffixes: tuple[np.ndarray, np.ndarray | None] | None = None,
-) -> tuple[np.ndarray, ...]:
+) -> Outcome:
     """Kernel call on validated, C-contiguous inputs (see :func:`overturn_cases`).
 
     ``amax`` is :func:`motion_peaks` of ``acc``; ``suffixes``, if given, :func:`motion_suffixes`
     of ``acc`` and ``av`` (else computed here for the motions this call uses).  ``av``: vertical
     ground accelerations [m/s², up positive], finite, shape and samples as ``acc``, or None (no
     vertical motion: exactly the results without it); case i scales it by abs(scale[i]) (a
-    negative scale mirrors the horizontal motion only).  ``impacts``: "located" (default) or
-    "step-end", as in :func:`rocking.simulate`.  The checks made here: a scaled ``av`` that
-    reaches −g, and an unknown ``impacts``, raise :class:`~rocking.errors.InputError`.  Returns
-    (overturned bool, peak float), shape like ``body``; with ``count_steps``, also the
-    integrated steps of each case (int64): the sample intervals in which the block is not at
-    rest throughout (it rocks at the start or at the end of the interval), up to and including
-    the one in which it overturns.
+    negative scale mirrors the horizontal motion only).  ``impacts``: "located" or "step-end",
+    as in :func:`rocking.simulate` (None: the table's physics).  The checks made here: a
+    scaled ``av`` that reaches −g, and an unknown ``impacts``, raise
+    :class:`~rocking.errors.InputError`.  Returns
+    the :class:`Outcome` of every case, shape like ``body``; its ``steps`` are the integrated
+    steps of each case: the sample intervals in which the block is not at rest throughout (it
+    rocks at the start or at the end of the interval), up to and including the one in which it
+    overturns.
     """
     acc = readonly(acc)
     av = None if av is None else readonly(av)
@@ -1077,10 +135,11 @@ def run_cases(
             )
         assert avsuf is not None  # computed with av
         vert = Vertical(av.reshape(-1), avmin, avsuf)
-    out = Outcome(
-        np.empty(body.shape, dtype=np.bool_),
-        np.empty(body.shape, dtype=np.float64),
-        np.empty(body.shape, dtype=np.int64),
+    out = Outcome._make(
+        [
+            *(np.empty(body.shape, dtype) for dtype, _unit, _meaning in QUANTITIES.values()),
+            np.empty(body.shape, dtype=np.int64),
+        ]
     )
     # one lane machine per thread, all taking cases from one queue: the threads finish
     # together, and each machine's lanes empty only once per call, at its end (a lane machine
@@ -1097,12 +156,10 @@ def run_cases(
             table.arrays(),
             Cases(body, motion, scale, order),
             out,
-            resolve_impacts(impacts),
+            resolve_impacts(table.physics.impacts if impacts is None else impacts),
             machines,
         )
-    if count_steps:
-        return out.overturned, out.peak, out.steps
-    return out.overturned, out.peak
+    return out
 
 
 def _acc2d(acc, name: str = "acc") -> np.ndarray:
@@ -1131,11 +188,12 @@ def overturn_cases(
     motion_index: ArrayLike,
     scales: ArrayLike,
     *,
-    e: PerBlock = DEFAULT_E,
-    overturn_angle: PerBlock = math.pi / 2,
-    g: float = G,
+    physics: Physics | None = None,
+    e: PerBlock = FROM_PHYSICS,
+    overturn_angle: PerBlock = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of an explicit list of cases (block, motion, scale), each from rest.
 
@@ -1151,6 +209,9 @@ def overturn_cases(
         Block and motion (row of ``acc``) of each case.
     scales : array_like, shape (n_cases,)
         Factor [-] multiplying the case's motion (negative: mirrored motion).
+    physics : Physics, optional
+        The physics (:class:`~rocking.Physics`; default ``Physics()``); ``e``, ``overturn_angle``,
+        ``g`` and ``impacts`` below are shorthands for its fields.
     e : float, "housner" or sequence
         Coefficient of restitution [-], one for all blocks or one per block.
     overturn_angle : float, "alpha" or sequence
@@ -1169,7 +230,8 @@ def overturn_cases(
     peak : ndarray of float, shape (n_cases,)
         max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
-    table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
+    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    table = BlockTable.from_blocks(blocks, physics=physics)
     acc = _acc2d(acc)
     av = _av2d(av, acc)
     dt = positive("dt", dt, "s")
@@ -1181,7 +243,8 @@ def overturn_cases(
             f"body_index, motion_index and scales must have the same length, got "
             f"{body.size}, {motion.size} and {scale.size}"
         )
-    return run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale, av, impacts)
+    out = run_cases(table, acc, motion_peaks(acc), dt, body, motion, scale, av)
+    return out.overturned, out.peak_theta_ratio
 
 
 def _index(name: str, values, n: int) -> np.ndarray:
@@ -1199,11 +262,12 @@ def overturn_batch(
     dt: float,
     scales: ArrayLike,
     *,
-    e: PerBlock = DEFAULT_E,
-    overturn_angle: PerBlock = math.pi / 2,
-    g: float = G,
+    physics: Physics | None = None,
+    e: PerBlock = FROM_PHYSICS,
+    overturn_angle: PerBlock = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of every block under every motion at every scale factor, each from rest.
 
@@ -1220,6 +284,9 @@ def overturn_batch(
         Sample interval and Runge–Kutta step [s].
     scales : array_like, shape (n_scales,)
         Factors [-] multiplying the motions (negative: mirrored motion).
+    physics : Physics, optional
+        The physics (:class:`~rocking.Physics`; default ``Physics()``); ``e``, ``overturn_angle``,
+        ``g`` and ``impacts`` below are shorthands for its fields.
     e : float, "housner" or sequence
         Coefficient of restitution [-], one for all blocks or one per block.
     overturn_angle : float, "alpha" or sequence
@@ -1238,14 +305,13 @@ def overturn_batch(
     peak : ndarray of float, shape (n_blocks, n_scales, n_motions)
         max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
-    table = BlockTable.from_blocks(blocks, e=e, overturn_angle=overturn_angle, g=g)
+    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    table = BlockTable.from_blocks(blocks, physics=physics)
     acc = _acc2d(acc)
     av = _av2d(av, acc)
     dt = positive("dt", dt, "s")
     scales = finite_array("scales", scales, ndim=(1,), min_len=1)
     shape = (len(table), scales.size, acc.shape[0])
     body, level, motion = (np.ascontiguousarray(i.ravel()) for i in np.indices(shape))
-    overturned, peak = run_cases(
-        table, acc, motion_peaks(acc), dt, body, motion, scales[level], av, impacts
-    )
-    return overturned.reshape(shape), peak.reshape(shape)
+    out = run_cases(table, acc, motion_peaks(acc), dt, body, motion, scales[level], av)
+    return out.overturned.reshape(shape), out.peak_theta_ratio.reshape(shape)

@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
 from ..core.checks import finite_array, positive
-from ..defaults import DEFAULT_E
+from ..defaults import DEFAULT_E, OVERTURN_ANGLE
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .simulate import RockingResponse
@@ -143,7 +143,7 @@ def simulate_reference(
     dt: float,
     *,
     e: float | str = DEFAULT_E,
-    overturn_angle: float | str = math.pi / 2,
+    overturn_angle: float | str = OVERTURN_ANGLE,
     g: float = G,
     av: ArrayLike | None = None,
     rtol: float = 1e-10,

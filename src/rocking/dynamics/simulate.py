@@ -14,10 +14,11 @@ from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive
 from ..core.compile import kernel
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES
+from ..defaults import DEFAULT_E, OVERTURN_ANGLE
 from ..errors import InputError
-from .body import Block, G, resolve_e, resolve_overturn_angle
+from .body import Block
 from .impacts import _OVERTURNED, _REST, _ROCKING, Body, Interval, _advance, resolve_impacts
+from .physics import FROM_PHYSICS, Physics, as_physics
 
 
 @kernel
@@ -108,7 +109,13 @@ class RockingResponse:
     max_abs_theta: float
     block: Block = field(repr=False)
     e: float = DEFAULT_E
-    overturn_angle: float = math.pi / 2
+    overturn_angle: float = OVERTURN_ANGLE
+
+    @property
+    def uplift(self) -> bool:
+        """Whether the block left rest at all: rocking at some sample (θ ≠ 0 at a sample after
+        the first) or overturned; the batched kernel's ``uplift`` for a block starting at rest."""
+        return bool(self.overturned or np.any(self.theta[1:] != 0.0))
 
     @property
     def theta_over_alpha(self) -> np.ndarray:
@@ -150,13 +157,14 @@ def simulate(
     ag: ArrayLike,
     dt: float,
     *,
-    e: float | str = DEFAULT_E,
-    overturn_angle: float | str = math.pi / 2,
+    physics: Physics | None = None,
+    e: float | str = FROM_PHYSICS,
+    overturn_angle: float | str = FROM_PHYSICS,
     theta0: float = 0.0,
     omega0: float = 0.0,
-    g: float = G,
+    g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
 ) -> RockingResponse:
     """Rocking response of ``block`` to the ground acceleration history ``ag``.
 
@@ -171,6 +179,9 @@ def simulate(
         Horizontal ground acceleration [m/s²] at times 0, dt, 2·dt, … (linear in between).
     dt : float
         Sample interval [s]; also the Runge–Kutta step (the paper uses 1/400 s).
+    physics : Physics, optional
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): ``e``,
+        ``overturn_angle``, ``g`` and ``impacts`` below are shorthands for its fields.
     e : float or "housner"
         Coefficient of restitution θ'⁺/θ'⁻ [-] in (0, 1]; the paper's 0.925 by default;
         ``"housner"`` gives 1 − 1.5·sin²α (:meth:`Block.housner_e` for a general body).
@@ -198,12 +209,13 @@ def simulate(
     if not isinstance(block, Block):
         raise InputError(f"block must be a rocking.Block, got {type(block).__name__}")
     dt = positive("dt", dt, "s")
-    g = positive("g", g, "m/s²")
+    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    g = physics.g
     ag = finite_array("ag", ag, ndim=(1,), min_len=1)
     gv = None if av is None else _vertical_factor(av, ag.size, g)
-    located = resolve_impacts(impacts)
-    e_val = resolve_e(e, block)
-    th_ov = resolve_overturn_angle(overturn_angle, block)
+    located = resolve_impacts(physics.impacts)
+    # e and the overturning angle as numbers, once (for_blocks checks per-block settings)
+    e_val, th_ov = physics.for_blocks([block]).resolve(block)
     theta0 = in_range("theta0", theta0, -math.pi / 2, math.pi / 2, unit="rad")
     try:
         omega0 = float(omega0)

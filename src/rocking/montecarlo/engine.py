@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from contextlib import ExitStack
 from typing import Any
 
@@ -29,8 +29,19 @@ from ..core import portable
 from ..core.checks import require_memory
 from ..core.progress import resolve as resolve_progress
 from ..core.reuse import array_digest, digest, shared
-from ..defaults import IMPACT_SCHEMES
-from ..dynamics.batch import BlockTable, block_list, motion_peaks, motion_suffixes, run_cases
+from ..dynamics.batch import (
+    BlockTable,
+    Outcome,
+    block_list,
+    concatenate,
+    empty_outcome,
+    motion_peaks,
+    motion_suffixes,
+    run_cases,
+    take,
+)
+from ..dynamics.limits import LimitState
+from ..dynamics.physics import FROM_PHYSICS, Physics, as_physics
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from .backends import Backend, LocalBackend
@@ -51,12 +62,14 @@ _PAIR_OVERHEAD = 400
 #: What the engines of one run share (:func:`rocking.core.reuse.shared`): the outcomes they
 #: simulated ("levels": by :meth:`Engine._book_key` and level key) and their size ("bytes").
 _BOOK = "engine outcomes"
-#: Largest size of the shared outcomes [bytes], ~20 M simulations: past it no more are added
+#: Largest size of the shared outcomes [bytes], ~12 M simulations: past it no more are added
 #: (a fixed figure, not the machine's memory, so that a run simulates the same on every
-#: machine).  The paper run keeps 2.8 M outcomes, 43 MB.
+#: machine).  The paper run keeps 2.8 M outcomes, 62 MB.
 _BOOK_BYTES = 256 * 2**20
-#: Bytes of a shared outcome (motion index, flag, peak) and of a (body, level) entry besides.
-_OUTCOME_BYTES = 13
+#: Bytes of a motion's :class:`~rocking.dynamics.batch.Outcome` (every field, one case).
+_CASE_BYTES = sum(field.itemsize for field in empty_outcome(1))
+#: Bytes of a shared outcome (motion index and its Outcome) and of a (body, level) entry besides.
+_OUTCOME_BYTES = 4 + _CASE_BYTES
 _ENTRY_BYTES = 500
 
 
@@ -100,42 +113,54 @@ def _pack(units: list, size: int) -> list[list]:
     return chunks
 
 
-def _by_triple(body, level, motion, overturned, peak):
+def _by_triple(body, level, motion, outcome: Outcome):
     """Split the flat results of a chunk into runs of one (body, level key): yields (body, level
-    key, motions, overturned, peak)."""
+    key, motions, their Outcome)."""
     starts = np.flatnonzero(np.diff(body, prepend=-1) | np.diff(level, prepend=-1))
     for lo, hi in zip(starts.tolist(), [*starts[1:].tolist(), body.size]):
-        yield int(body[lo]), int(level[lo]), motion[lo:hi], overturned[lo:hi], peak[lo:hi]
+        yield int(body[lo]), int(level[lo]), motion[lo:hi], take(outcome, slice(lo, hi))
 
 
 def _chunk_simulations(a: dict, cases: list[Ensemble]):
-    """(case, body, level key, motion, overturned, peak), flat with one entry per simulation, of
-    a stored chunk; None if the chunk cannot be one of this run.  Chunks without ``motion``
-    (written before motions were simulated in parts) hold every motion of each (body, level)."""
+    """(case, body, level key, motion, Outcome), flat with one entry per simulation, of a stored
+    chunk (one array per field of :class:`~rocking.dynamics.batch.Outcome`, by its name); None
+    if the chunk cannot be one of this run.  Chunks without ``motion`` (written before motions
+    were simulated in parts) hold every motion of each (body, level); chunks of flags and
+    ``peak`` only (written before the Outcome record), see :func:`_legacy_outcome`."""
     try:
         c = int(a["case"])
         if not 0 <= c < len(cases):
             return None
         n = cases[c].n
-        body, level, overturned, peak = a["body"], a["level"], a["overturned"], a["peak"]
+        body, level = a["body"], a["level"]
+        outcome = _legacy_outcome(a) if "peak" in a else Outcome(*(a[f] for f in Outcome._fields))
         if "motion" not in a:  # every motion of each (body, level) pair
-            if overturned.shape != (body.size, n) or level.shape != body.shape:
+            if outcome.overturned.shape != (body.size, n) or level.shape != body.shape:
                 return None
             body, level = np.repeat(body, n), np.repeat(level, n)
             motion = np.tile(np.arange(n, dtype=np.int64), a["body"].size)
-            overturned, peak = overturned.ravel(), peak.ravel()
+            outcome = Outcome(*(field.ravel() for field in outcome))
         else:
             motion = a["motion"]
-        shapes = {x.shape for x in (body, level, motion, overturned, peak)}
     except KeyError:
         return None
+    shapes = {x.shape for x in (body, level, motion, *outcome)}
     if (
         len(shapes) != 1
         or body.ndim != 1
         or (motion.size and not 0 <= motion.min() <= motion.max() < n)
     ):
         return None
-    return c, body, level, motion, overturned, peak
+    return c, body, level, motion, outcome
+
+
+def _legacy_outcome(a: dict) -> Outcome:
+    """The Outcome of a chunk that holds ``overturned`` and ``peak`` (max abs(θ)/α) only: uplift
+    is overturned or a peak above 0 (the kernel's uplift, rocking at some sample, but for a
+    block rocking at θ = 0 exactly at every sample it rocks at), steps −1 (not recorded)."""
+    overturned, peak = a["overturned"], a["peak"]
+    uplift = overturned | (peak > 0.0)
+    return Outcome(overturned, peak, uplift, np.full(overturned.shape, -1, np.int64))
 
 
 class Engine:
@@ -148,21 +173,25 @@ class Engine:
         blocks,
         cases: list[Ensemble],
         *,
-        e,
-        overturn_angle,
-        g,
         backend,
         out,
         progress,
         chunk_size,
         desc,
+        physics: Physics | None = None,
+        e=FROM_PHYSICS,
+        overturn_angle=FROM_PHYSICS,
+        g=FROM_PHYSICS,
         basis: list[np.ndarray] | None = None,
         exponent: float = 1.0,
-        impacts: str = IMPACT_SCHEMES[0],
+        impacts: str = FROM_PHYSICS,
         same_motions: bool = False,
     ):
         self.blocks = block_list(blocks)
-        self.table = BlockTable.from_blocks(self.blocks, e=e, overturn_angle=overturn_angle, g=g)
+        physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+        self.table = BlockTable.from_blocks(self.blocks, physics=physics)
+        #: The physics resolved for the blocks (numbers per block).
+        self.physics = self.table.physics
         self.cases = cases
         if basis is None:  # A_gx: one factor for all motions (computed from all samples: once)
             basis = [np.full(ens.n, ens.agx) for ens in cases]
@@ -175,9 +204,7 @@ class Engine:
             )
         self.basis = [np.asarray(b, dtype=float) for b in basis]
         self.exponent = float(exponent)
-        if impacts not in IMPACT_SCHEMES:
-            raise InputError(f"impacts must be one of {', '.join(IMPACT_SCHEMES)}, got {impacts!r}")
-        self.impacts = impacts
+        self.impacts = self.physics.impacts
         if same_motions and len({ens.n for ens in cases}) > 1:
             raise InputError("same_motions needs ensembles with the same number of motions")
         #: The cases hold the same motions (e.g. sampled at other steps): :meth:`decision_order`
@@ -190,10 +217,10 @@ class Engine:
         if not (isinstance(chunk, int) and chunk >= 1):
             raise InputError(f"chunk_size must be an integer >= 1, got {chunk_size!r}")
         self.chunk_size = chunk
-        #: (case, body, level key) -> (overturned, peak) of every motion of the case.
-        self.results: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray]] = {}
-        # triples with some motions simulated: (overturned, peak, simulated) over the motions
-        self._partial: dict[tuple[int, int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        #: (case, body, level key) -> the Outcome of every motion of the case.
+        self.results: dict[tuple[int, int, int], Outcome] = {}
+        # triples with some motions simulated: (Outcome, simulated) over the motions
+        self._partial: dict[tuple[int, int, int], tuple[Outcome, np.ndarray]] = {}
         # level keys with some outcome, per (case, body): what decision_order reads
         self._levels: dict[tuple[int, int], set[int]] = {}
         self.chunks_loaded = 0
@@ -227,15 +254,14 @@ class Engine:
         self._exit.__exit__(*exc)
 
     def _params(self) -> dict:
-        t = self.table
+        """What the chunks depend on (the chunk store's fingerprint): every field of the
+        resolved :class:`~rocking.Physics` (:meth:`~rocking.Physics.params`, so that none can
+        be left out), the bodies, the motions and their scaling."""
         return {
+            **self.physics.params(),
             "bodies": [[b.R, b.gamma, b.r_g] for b in self.blocks],
-            "p2": t.p2.tolist(),
-            "e": t.e.tolist(),
-            "overturn_angle": t.theta_ov.tolist(),
-            "g": t.g,
+            "p2": self.table.p2.tolist(),
             "level_unit_g": LEVEL_UNIT,
-            "impacts": self.impacts,
             "motions": [
                 {
                     "dt": ens.dt,
@@ -258,13 +284,13 @@ class Engine:
             sims = _chunk_simulations(a, self.cases)
             if sims is None:
                 continue  # not a chunk of this run: computed again if needed
-            c, body, level, motion, overturned, peak = sims
-            for b, k, m, o, p in _by_triple(body, level, motion, overturned, peak):
-                self._record(c, b, k, m, o, p)
-                self._enter(c, b, k, m, o, p)
+            c, body, level, motion, outcome = sims
+            for b, k, m, o in _by_triple(body, level, motion, outcome):
+                self._record(c, b, k, m, o)
+                self._enter(c, b, k, m, o)
             self.chunks_loaded += 1
 
-    def _record(self, c: int, b: int, k: int, motion, overturned, peak) -> None:
+    def _record(self, c: int, b: int, k: int, motion, outcome: Outcome) -> None:
         """Keep the results of motions ``motion`` of (case c, body b, level key k); a triple whose
         every motion is known moves to :attr:`results`."""
         key = (c, b, k)
@@ -273,23 +299,29 @@ class Engine:
         if key not in self._partial:
             self._levels.setdefault((c, b), set()).add(k)
             n = self.cases[c].n
-            self._partial[key] = (np.zeros(n, np.bool_), np.zeros(n), np.zeros(n, np.bool_))
-        ov, pk, done = self._partial[key]
-        ov[motion], pk[motion], done[motion] = overturned, peak, True
+            self._partial[key] = (empty_outcome(n), np.zeros(n, np.bool_))
+        known, done = self._partial[key]
+        for field, values in zip(known, outcome):
+            field[motion] = values
+        done[motion] = True
         if done.all():
-            self.results[key] = (ov, pk)
+            self.results[key] = known
             del self._partial[key]
 
     def _book_key(self, c: int, b: int) -> tuple:
         """What determines the outcome of a motion of case ``c`` with body ``b`` at a level (with
         the motion's index and the level key): the motions' contents, their scaling to levels,
-        the impact scheme and the body's constants as the kernel takes them (every field of
-        :meth:`BlockTable.arrays`, by their bits)."""
+        every field of the physics (body b's value of a per-block one) and the body's constants
+        as the kernel takes them (every field of :meth:`BlockTable.arrays`, by their bits)."""
         key = self._book_keys.get((c, b))
         if key is None:
-            *per_block, g = self.table.arrays()
+            *per_block, _g = self.table.arrays()
             body = np.array([field[b] for field in per_block])
-            scaling = digest((self.basis[c], self.exponent, g, self.impacts))
+            physics = {
+                name: value[b] if isinstance(value, list) else value
+                for name, value in self.physics.params().items()
+            }
+            scaling = digest((self.basis[c], self.exponent, sorted(physics.items())))
             key = (self.cases[c].sha256, scaling, body.tobytes())
             self._book_keys[(c, b)] = key
         return key
@@ -302,14 +334,14 @@ class Engine:
         entry = self._book["levels"].get(self._book_key(c, b), {}).get(k)
         if entry is None:
             return missing
-        motions, overturned, peak = entry
+        motions, outcome = entry
         at = np.minimum(np.searchsorted(motions, missing), motions.size - 1)
         found = motions[at] == missing
         if found.any():
-            self._record(c, b, k, missing[found], overturned[at[found]], peak[at[found]])
+            self._record(c, b, k, missing[found], take(outcome, at[found]))
         return missing[~found]
 
-    def _enter(self, c: int, b: int, k: int, motion, overturned, peak) -> None:
+    def _enter(self, c: int, b: int, k: int, motion, outcome: Outcome) -> None:
         """Add outcomes of (case c, body b, level key k) to the run's book (if any, and while it
         is below :data:`_BOOK_BYTES`): kept by motion, in order, once each."""
         if self._book is None:
@@ -321,11 +353,10 @@ class Engine:
         if k in levels:
             old = levels[k]
             size -= _ENTRY_BYTES + _OUTCOME_BYTES * old[0].size
-            motion, overturned, peak = (
-                np.concatenate(x) for x in zip(old, (motion, overturned, peak))
-            )
+            motion = np.concatenate([old[0], motion])
+            outcome = concatenate([old[1], outcome])
         motion, first = np.unique(motion, return_index=True)
-        levels[k] = (motion.astype(np.int32), overturned[first], peak[first])
+        levels[k] = (motion.astype(np.int32), take(outcome, first))
         self._book["bytes"] = size + _ENTRY_BYTES + _OUTCOME_BYTES * motion.size
 
     def _data(self):
@@ -341,18 +372,18 @@ class Engine:
 
     def outcomes(self, key: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
         """(overturned, simulated) masks over the motions of ``key`` = (case, body, level key)."""
-        overturned, _peak, simulated = self._known(key)
-        return overturned, simulated
+        outcome, simulated = self._known(key)
+        return outcome.overturned, simulated
 
-    def _known(self, key: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(overturned, peak, simulated) over the motions of ``key`` (none simulated: zeros)."""
+    def _known(self, key: tuple[int, int, int]) -> tuple[Outcome, np.ndarray]:
+        """(Outcome, simulated) over the motions of ``key`` (none simulated: zeros)."""
         if key in self.results:
-            ov, pk = self.results[key]
-            return ov, pk, np.ones(ov.size, np.bool_)
+            outcome = self.results[key]
+            return outcome, np.ones(outcome.overturned.size, np.bool_)
         part = self._partial.get(key)
         if part is None:
             n = self.cases[key[0]].n
-            return np.zeros(n, np.bool_), np.zeros(n), np.zeros(n, np.bool_)
+            return empty_outcome(n), np.zeros(n, np.bool_)
         return part
 
     def decision_order(self, key: tuple[int, int, int]) -> np.ndarray:
@@ -379,7 +410,8 @@ class Engine:
         if self.same_motions:
             for other_case in range(len(self.cases)):
                 if other_case != c and k in self._levels.get((other_case, b), ()):
-                    ov, _, sim = self._known((other_case, b, k))
+                    known, sim = self._known((other_case, b, k))
+                    ov = known.overturned
                     over_here |= sim & ov
                     safe_here |= sim & ~ov
         over_below = np.zeros(n, np.bool_)  # overturned at some lower level
@@ -390,7 +422,8 @@ class Engine:
         for other in self._levels.get((c, b), ()):  # any order: "nearest" compares levels
             if other == k:
                 continue
-            ov, pk, sim = self._known((c, b, other))
+            known, sim = self._known((c, b, other))
+            ov, pk = known.overturned, known.peak_theta_ratio
             if other < k:
                 over_below |= sim & ov
                 survived = sim & ~ov & (other > nearest)
@@ -461,7 +494,7 @@ class Engine:
                 tasks.append((c, body, motion, scale))
                 levels.append(level)
         self._stage.expect(total)
-        for i, (overturned, peak) in self.backend.map(run_chunk, self._data(), tasks):
+        for i, outcome in self.backend.map(run_chunk, self._data(), tasks):
             c, body, motion, _scale = tasks[i]
             if self.store is not None:
                 self.store.save(
@@ -470,12 +503,11 @@ class Engine:
                     body=body,
                     level=levels[i],
                     motion=motion,
-                    overturned=overturned,
-                    peak=peak,
+                    **outcome._asdict(),
                 )
-            for b, k, m, o, p in _by_triple(body, levels[i], motion, overturned, peak):
-                self._record(c, b, k, m, o, p)
-                self._enter(c, b, k, m, o, p)
+            for b, k, m, o in _by_triple(body, levels[i], motion, outcome):
+                self._record(c, b, k, m, o)
+                self._enter(c, b, k, m, o)
             self.chunks_computed += 1
             self._stage.update(motion.size)
 
@@ -531,12 +563,17 @@ class Engine:
 
     def count(self, c: int, b: int, k: int) -> int:
         """Motions of case ``c`` that overturn body ``b`` at level key ``k``."""
-        return int(np.count_nonzero(self.results[(c, b, k)][0]))
+        return int(np.count_nonzero(self.results[(c, b, k)].overturned))
+
+    def counts(self, key: tuple[int, int, int], states: Sequence[LimitState]) -> list[int]:
+        """Motions of ``key`` = (case, body, level key) that exceed each of ``states``."""
+        outcome = self.results[key]
+        return [int(np.count_nonzero(ls.exceeded(outcome))) for ls in states]
 
     def require_memory(self, pairs: int, parameter: str) -> None:
         """Refuse, before any work, a run whose results for ``pairs`` (body, A_gx) pairs per
         case would not fit in the available memory."""
-        per_pair = max(ens.n for ens in self.cases) * 9 + _PAIR_OVERHEAD
+        per_pair = max(ens.n for ens in self.cases) * (1 + _CASE_BYTES) + _PAIR_OVERHEAD
         require_memory(
             pairs * len(self.cases) * per_pair,
             f"{parameter}: {pairs:,} (body, A_gx) pairs x "
@@ -548,7 +585,7 @@ class Engine:
         return {"chunks_computed": self.chunks_computed, "chunks_loaded": self.chunks_loaded}
 
 
-def run_chunk(data: dict, task: tuple) -> tuple[np.ndarray, np.ndarray]:
+def run_chunk(data: dict, task: tuple) -> Outcome:
     """One chunk of a Monte Carlo run: a list of simulations (block, motion, scale).
 
     Executed by a backend (:mod:`rocking.montecarlo.backends`), possibly in a worker process,
@@ -557,7 +594,7 @@ def run_chunk(data: dict, task: tuple) -> tuple[np.ndarray, np.ndarray]:
     None; one entry per ensemble, as :func:`run_cases` takes them); ``task`` = (case index, body
     indices, motion indices (int64), scale factors (float64)), one entry per simulation.
 
-    Returns (overturned, peak), one entry per simulation.
+    Returns the :class:`~rocking.dynamics.batch.Outcome`, one entry per simulation.
     """
     c, body, motion, scale = task
     acc, amax, dt, av, suffixes = data["cases"][c]

@@ -20,8 +20,9 @@ from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive
 from ..core.reuse import key_of, recall, remember
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES, G
 from ..dynamics.batch import BlockTable, block_list
+from ..dynamics.limits import LimitState, limit_state_coords, parse_limit_states
+from ..dynamics.physics import FROM_PHYSICS, Physics
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
@@ -83,18 +84,21 @@ def overturning_probability(
     ensemble: Ensemble | dict[str, Ensemble],
     agx: ArrayLike,
     *,
-    e: float | str | Sequence[float | str] | np.ndarray = DEFAULT_E,
-    overturn_angle: float | str | Sequence[float | str] | np.ndarray = math.pi / 2,
-    g: float = G,
+    physics: Physics | None = None,
+    e: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
+    overturn_angle: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
     backend: Backend | None = None,
     out: str | os.PathLike[str] | None = None,
     progress: Reporter | bool | None = None,
     confidence: float = 0.95,
     chunk_size: int | None = None,
     members: bool = False,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
+    limit_states: str | Sequence[str | LimitState] | None = None,
 ) -> xr.Dataset:
-    """Probability that each body overturns, as a function of the ensemble intensity A_gx.
+    """Probability that each body overturns (or exceeds each of ``limit_states``), as a
+    function of the ensemble intensity A_gx.
 
     At each A_gx the ensemble is scaled so that its mean PGA equals A_gx
     (``ensemble.scaled(agx)``) and every body is simulated under every motion.
@@ -108,6 +112,9 @@ def overturning_probability(
         (e.g. floors, durations, intensity functions).
     agx : array_like
         Intensities A_gx [g], > 0.
+    physics : Physics, optional
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): ``e``,
+        ``overturn_angle``, ``g`` and ``impacts`` are shorthands for its fields.
     e : float, "housner" or sequence
         Coefficient of restitution [-], one for all bodies or one per body.
     overturn_angle : float, "alpha" or sequence
@@ -135,6 +142,11 @@ def overturning_probability(
     members : bool
         Also return ``overturned`` and ``peak`` of every motion (dimension ``member``; for a
         dict, all ensembles must have the same number of motions).
+    limit_states : str or sequence of str or LimitState, optional
+        Limit states on the response (:class:`~rocking.LimitState`, or their text form, e.g.
+        ``"uplift, theta/alpha>=0.5, overturn"``): the probability of each, from the same
+        simulations, along a last dimension ``limit_state`` (coordinates ``quantity``,
+        ``threshold``).  None (default): overturning, without that dimension.
 
     Returns
     -------
@@ -149,6 +161,7 @@ def overturning_probability(
     labels, cases = _cases(ensemble)
     levels = _levels(agx)
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
+    states = None if limit_states is None else parse_limit_states(limit_states)
     if members:
         _same_size(cases, "members=True")
     blocks = block_list(blocks)  # one Block is a list of one
@@ -160,6 +173,7 @@ def overturning_probability(
         "P(overturn)",
         nb * len(levels) * (2 if members else 1),
         dict(
+            physics=physics,
             e=e,
             overturn_angle=overturn_angle,
             g=g,
@@ -170,13 +184,14 @@ def overturning_probability(
             impacts=impacts,
         ),
     )
-    data_vars = _probability_vars(engine, keys, confidence)
+    data_vars = _probability_vars(engine, keys, confidence, states)
     coords: dict[str, Any] = {
         "agx": (
             "agx",
             np.array([level_agx(k) for k in levels]),
             {"units": "g", "long_name": "mean PGA of the ensemble"},
-        )
+        ),
+        **({} if states is None else limit_state_coords(states)),
     }
     if members:
         data_vars.update(_member_vars(engine, keys))
@@ -191,14 +206,15 @@ def member_outcomes(
     ensemble: Ensemble | dict[str, Ensemble],
     agx: ArrayLike,
     *,
-    e: float | str | Sequence[float | str] | np.ndarray = DEFAULT_E,
-    overturn_angle: float | str | Sequence[float | str] | np.ndarray = math.pi / 2,
-    g: float = G,
+    physics: Physics | None = None,
+    e: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
+    overturn_angle: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
     backend: Backend | None = None,
     out: str | os.PathLike[str] | None = None,
     progress: Reporter | bool | None = None,
     chunk_size: int | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
 ) -> xr.Dataset:
     """Whether each motion overturns each body, every body at intensities of its own.
 
@@ -215,7 +231,7 @@ def member_outcomes(
         number of motions).
     agx : array_like, shape (n_bodies,) or (n_bodies, n_levels)
         Intensities A_gx [g], > 0, of each body: one per body, or a row per body.
-    e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
+    physics, e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
         As for :func:`overturning_probability`.
 
     Returns
@@ -246,6 +262,7 @@ def member_outcomes(
         "outcomes",
         values.size * 2,
         dict(
+            physics=physics,
             e=e,
             overturn_angle=overturn_angle,
             g=g,
@@ -306,21 +323,33 @@ def _levels(agx) -> list[int]:
     return [level_key(a) for a in agx.tolist()]
 
 
-def _probability_vars(engine: Engine, keys: list, confidence: float) -> dict[str, Any]:
+def _probability_vars(
+    engine: Engine, keys: list, confidence: float, states: Sequence[LimitState] | None = None
+) -> dict[str, Any]:
     """``probability``, ``count``, ``n`` and the Wilson interval at every (case, body, level) of
-    ``keys`` (nested [case][body][level]), from the engine's full counts."""
-    count = np.array(
-        [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
-        dtype=np.int64,
-    )
+    ``keys`` (nested [case][body][level]), from the engine's full counts: of overturning, or,
+    with ``states``, of each limit state along a last dimension ``limit_state``."""
+    if states is None:
+        count = np.array(
+            [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
+            dtype=np.int64,
+        )
+        dims: tuple[str, ...] = ("body", "agx")
+        what = "overturning probability", "motions that overturn the body"
+    else:
+        count = np.array(
+            [[[engine.counts(k, states) for k in pb] for pb in pc] for pc in keys], dtype=np.int64
+        )
+        dims = ("body", "agx", "limit_state")
+        what = "probability of the limit state", "motions that exceed the limit state"
     n = np.broadcast_to(
-        np.array([ens.n for ens in engine.cases])[:, None, None], count.shape
+        np.array([ens.n for ens in engine.cases]).reshape(-1, *[1] * (count.ndim - 1)),
+        count.shape,
     ).copy()
     low, high = wilson_interval(count, n, confidence)
-    dims = ("body", "agx")
     return {
-        "probability": (dims, count / n, {"units": "1", "long_name": "overturning probability"}),
-        "count": (dims, count, {"long_name": "motions that overturn the body"}),
+        "probability": (dims, count / n, {"units": "1", "long_name": what[0]}),
+        "count": (dims, count, {"long_name": what[1]}),
         "n": (dims, n, {"long_name": "motions"}),
         "ci_low": (dims, low, {"units": "1", "long_name": f"Wilson {confidence:g} lower bound"}),
         "ci_high": (dims, high, {"units": "1", "long_name": f"Wilson {confidence:g} upper bound"}),
@@ -331,7 +360,8 @@ def _member_vars(engine: Engine, keys: list, level_dim: str = "agx") -> dict[str
     """``overturned`` and ``peak`` of every motion at every (case, body, level) of ``keys``
     (nested [case][body][level]; the levels' dimension named ``level_dim``)."""
     flags, peaks = (
-        np.array([[[engine.results[k][i] for k in pb] for pb in pc] for pc in keys]) for i in (0, 1)
+        np.array([[[getattr(engine.results[k], name) for k in pb] for pb in pc] for pc in keys])
+        for name in ("overturned", "peak_theta_ratio")
     )
     dims = ("body", level_dim, "member")
     return {
@@ -346,15 +376,16 @@ def agx_50(
     *,
     resolution: float = 0.01,
     agx_max: float = 5.0,
-    e: float | str | Sequence[float | str] | np.ndarray = DEFAULT_E,
-    overturn_angle: float | str | Sequence[float | str] | np.ndarray = math.pi / 2,
-    g: float = G,
+    physics: Physics | None = None,
+    e: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
+    overturn_angle: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
     backend: Backend | None = None,
     out: str | os.PathLike[str] | None = None,
     progress: Reporter | bool | None = None,
     coarse: int = 10,
     chunk_size: int | None = None,
-    impacts: str = IMPACT_SCHEMES[0],
+    impacts: str = FROM_PHYSICS,
     exhaustive: bool = False,
     same_motions: bool = False,
     members: bool = False,
@@ -393,7 +424,7 @@ def agx_50(
         Grid step of A_gx [g] (the paper reads A_gx to 0.01 g).
     agx_max : float
         Largest A_gx searched [g], ≥ resolution.
-    e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
+    physics, e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
         As for :func:`overturning_probability`.
     coarse : int
         Levels of the bracketing round (≥ 1).
@@ -434,6 +465,7 @@ def agx_50(
         blocks,
         cases,
         desc="A_gx(50%)",
+        physics=physics,
         e=e,
         overturn_angle=overturn_angle,
         g=g,
@@ -450,7 +482,9 @@ def agx_50(
     # searched before is not searched again
     settings = (*engine.table.arrays(), K, resolution)  # the kernel's constants, the grid
     reuse = [
-        None if members else key_of("agx_50", (ens.sha256, *settings, coarse, impacts))
+        None
+        if members
+        else key_of("agx_50", (ens.sha256, *settings, coarse, engine.physics.fingerprint))
         for ens in cases
     ]
     known = {c: found for c, rk in enumerate(reuse) if (found := recall(rk)) is not None}

@@ -19,9 +19,10 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, positive
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES, PULSE_KAPPA_MAX, PULSE_N_SCAN
+from ..defaults import PULSE_KAPPA_MAX, PULSE_N_SCAN
 from ..dynamics.batch import BlockTable, motion_peaks, motion_suffixes, run_cases
-from ..dynamics.body import Block, G
+from ..dynamics.body import Block
+from ..dynamics.physics import FROM_PHYSICS, Physics, as_physics
 from ..dynamics.simulate import simulate
 from ..errors import InputError
 from ..motions.pulses import MP_GAMMA, MP_NU, parse_pulse, pulse
@@ -57,10 +58,10 @@ def _switches(table, unit, dt, amps, rtol, impacts) -> list[tuple[float, bool]]:
 
     def outcomes(scales: np.ndarray) -> np.ndarray:
         zeros = np.zeros(scales.size, dtype=np.int64)
-        over, _peak = run_cases(
+        out = run_cases(
             table, acc, peaks, dt, zeros, zeros, scales, None, impacts, suffixes=suffixes
         )
-        return over
+        return out.overturned
 
     over = outcomes(amps)
     brackets = _brackets(amps, over)
@@ -90,15 +91,16 @@ def overturning_spectrum(
     shape: str,
     periods: ArrayLike,
     *,
-    e: float | str = DEFAULT_E,
+    physics: Physics | None = None,
+    e: float | str = FROM_PHYSICS,
     kappa_max: float = PULSE_KAPPA_MAX,
     n_scan: int = PULSE_N_SCAN,
     rtol: float = RTOL,
     samples_per_period: int = SAMPLES_PER_PERIOD,
     tail: float | None = None,
-    overturn_angle: float | str = math.pi / 2,
-    g: float = G,
-    impacts: str = IMPACT_SCHEMES[0],
+    overturn_angle: float | str = FROM_PHYSICS,
+    g: float = FROM_PHYSICS,
+    impacts: str = FROM_PHYSICS,
     gamma: float | None = None,
     nu: float | None = None,
 ) -> xr.Dataset:
@@ -132,6 +134,9 @@ def overturning_spectrum(
         Pulse shape of :func:`rocking.pulse` (with ``mavroeidis-papageorgiou:gamma=…,nu=…``).
     periods : array_like of float
         Pulse periods T_p [s], > 0 (for ``rectangular``, the duration t_d).
+    physics : Physics, optional
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): ``e``,
+        ``overturn_angle``, ``g`` and ``impacts`` are shorthands for its fields.
     e : float or "housner"
         Coefficient of restitution θ'⁺/θ'⁻ [-], as in :func:`rocking.simulate`.
     kappa_max : float
@@ -214,12 +219,13 @@ def overturning_spectrum(
     rtol = positive("rtol", rtol, "-")
     if rtol > 0.1:
         raise InputError(f"rtol must be in (0, 0.1], got {rtol:g}")
-    g = positive("g", g, "m/s²")
+    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    g = physics.g
     p = block.p_at(g)
     tail = (TAIL_BASE + math.log(1.0 / rtol)) / p if tail is None else float(tail)
     if not (math.isfinite(tail) and tail >= 0.0):
         raise InputError(f"tail must be a time >= 0 [s], got {tail!r}")
-    table = BlockTable.from_blocks(block, e=e, overturn_angle=overturn_angle, g=g)
+    table = BlockTable.from_blocks(block, physics=physics)
     uplift = g * float(table.tan_a[0])
     kappas = kappa_max ** (np.arange(n_scan) / (n_scan - 1))
     kappas[0] = 1.0  # exactly the uplift threshold: no motion
@@ -239,18 +245,10 @@ def overturning_spectrum(
             unit = pulse(shape, 1.0, period, dt, tail=tail, gamma=gamma, nu=nu)
             durations.append((unit.size - 1) * dt)
             found = []
-            for amp, over in _switches(table, unit, dt, kappas * uplift, rtol, impacts):
+            for amp, over in _switches(table, unit, dt, kappas * uplift, rtol, physics.impacts):
                 mode, t_ov = -1, math.nan
                 if over:  # simulate: the kernel's outcome bit for bit, and it counts impacts
-                    resp = simulate(
-                        block,
-                        amp * unit,
-                        dt,
-                        e=e,
-                        overturn_angle=overturn_angle,
-                        g=g,
-                        impacts=impacts,
-                    )
+                    resp = simulate(block, amp * unit, dt, physics=physics)
                     mode, t_ov = resp.n_impacts, resp.t_overturn
                 found.append((amp, over, mode, t_ov))
             per_period.append(found)

@@ -402,6 +402,93 @@ def _mle(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> LognormalFit:
     return LognormalFit(median=float(median[0]), beta=float(beta[0]))
 
 
+def _ordinal_rows(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Joint maximum-likelihood fits of nested limit states, one per row: K lognormal curves
+    with one β and a median each (an ordinal probit model: z_i = c_i + s·x, s = 1/β), so that
+    the curves never cross.  x = ln(IM) and m trials of shape (B, n), k of shape (B, K, n)
+    (k[:, i] the exceedances of limit state i).  Returns (medians (B, K), βs (B,)); a limit
+    state all 0 or all m in a row has no information on its median (NaN), and a row with no
+    such state is NaN throughout.
+
+    Newton's method on (c_1 … c_K, s), whose Hessian is an arrowhead (c_i meets only s), solved
+    through its Schur complement; from the one-by-one fits (:func:`_fit_rows`), s at the mean
+    of their slopes.  A step that would take s beyond its bounds (:data:`BETA_BOUNDS`) is
+    shortened to end on the bound (or, from the bound outward, moves the c alone); a step is
+    halved until the likelihood does not decrease; a fit ends when the gain its step predicts
+    is below the rounding of ℓ (the likelihood is concave: a probit model)."""
+    B, K, n = k.shape
+    mm = np.broadcast_to(m[:, None, :], k.shape)
+    informed = np.any(k > 0, axis=2) & np.any(k < mm, axis=2)  # (B, K)
+    flat = informed.ravel()
+    rows = np.flatnonzero(flat)
+    xk = np.broadcast_to(x[:, None, :], k.shape).reshape(B * K, n)
+    med1, _beta1, _sep = _fit_rows(
+        np.ascontiguousarray(xk[rows]), k.reshape(B * K, n)[rows], mm.reshape(B * K, n)[rows]
+    )
+    slope = np.zeros(B * K)
+    slope[rows] = 1.0 / _beta1
+    lnmed = np.zeros(B * K)
+    lnmed[rows] = portable.log(med1)
+    used = informed.sum(axis=1)
+    s = np.clip(slope.reshape(B, K).sum(axis=1) / np.maximum(used, 1), _S_LO, _S_HI)
+    c = -s[:, None] * lnmed.reshape(B, K)
+    w = informed.astype(float)[:, :, None]  # states without information weigh nothing
+    kw, mw = k * w, mm * w
+
+    def loglik(c, s, on):
+        ll, g, h = _probit_loglik(
+            xk.reshape(B, K, n)[on].reshape(-1, n),
+            kw[on].reshape(-1, n),
+            mw[on].reshape(-1, n),
+            c[on].ravel(),
+            np.repeat(s[on], K),
+        )
+        shape = (on.size, K, n)
+        return ll.reshape(on.size, K).sum(axis=1), g.reshape(shape), h.reshape(shape)
+
+    on = np.flatnonzero(used > 0)
+    ll, g, h = loglik(c, s, on)
+    for _ in range(_NEWTON_MAX):
+        if on.size == 0:
+            break
+        xo, co, so, inf = x[on][:, None, :], c[on], s[on], informed[on]
+        gc, gs = g.sum(axis=2), np.sum(g * xo, axis=(1, 2))
+        d = np.where(inf, h.sum(axis=2), -1.0)  # -1: a state without information stays put
+        b = np.sum(h * xo, axis=2)
+        a = np.sum(h * xo * xo, axis=(1, 2))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            schur = a - np.sum(b * b / d, axis=1)
+            ds = (-gs + np.sum(b * gc / d, axis=1)) / schur
+            ds = np.where(np.isfinite(ds), ds, 0.0)
+            outward = ((so >= _S_HI) & (ds > 0.0)) | ((so <= _S_LO) & (ds < 0.0))
+            ds = np.where(outward, 0.0, ds)
+            dc = (-gc - b * ds[:, None]) / d
+            bound = np.where(so + ds > _S_HI, _S_HI, np.where(so + ds < _S_LO, _S_LO, np.nan))
+            t = np.where(np.isnan(bound), 1.0, (bound - so) / ds)
+        rounding = 8.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(ll))
+        gain = 0.5 * t * (np.sum(gc * dc, axis=1) + gs * ds)
+        last = gain <= rounding
+        trial = np.flatnonzero(~last)
+        ll_new, g_new, h_new = ll.copy(), g.copy(), h.copy()
+        while trial.size:
+            c_try, s_try = c.copy(), s.copy()
+            c_try[on[trial]] = co[trial] + t[trial, None] * dc[trial]
+            s_try[on[trial]] = np.clip(so[trial] + t[trial] * ds[trial], _S_LO, _S_HI)
+            ll_t, g_t, h_t = loglik(c_try, s_try, on[trial])
+            ok = ll_t >= ll[trial] - rounding[trial]
+            ll_new[trial[ok]], g_new[trial[ok]], h_new[trial[ok]] = ll_t[ok], g_t[ok], h_t[ok]
+            c[on[trial[ok]]] = c_try[on[trial[ok]]]
+            s[on[trial[ok]]] = s_try[on[trial[ok]]]
+            t[trial[~ok]] *= 0.5
+            trial = trial[~ok & (t[trial] >= 1e-12)]
+        moved = ~last & (ll_new > ll + rounding)  # still gaining: another step
+        on, ll, g, h = on[moved], ll_new[moved], g_new[moved], h_new[moved]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        medians = np.where(informed, portable.exp(-c / s[:, None]), np.nan)
+    beta = np.where(used > 0, 1.0 / s, np.nan)
+    return medians, beta
+
+
 class Interval(NamedTuple):
     """A confidence interval (low, high)."""
 
@@ -581,6 +668,88 @@ def bootstrap_fragility(
         n_unfitted=int(n_boot - medians.size),
         n_separated=separated,
     )
+
+
+def bootstrap_limit_states(
+    im: np.ndarray,
+    outcomes: np.ndarray,
+    *,
+    n_boot: int,
+    confidence: float,
+    seed: int,
+    measure: str | None = None,
+    unit: str | None = None,
+) -> list[FragilityFit | None]:
+    """Lognormal curves of nested limit states fitted jointly, with one β (:func:`_ordinal_rows`:
+    an ordinal probit model, so that the curves never cross; e.g. Nguyen & Lallemant 2022,
+    "Order matters: the benefits of ordinal fragility curves for damage and loss estimation",
+    Risk Analysis 42(5)), with bootstrap intervals over the motions as
+    :func:`bootstrap_fragility` draws them (the same resamples for the same seed).
+
+    ``im`` [the IM's unit, > 0] and ``outcomes`` (bool) of limit state i in ``outcomes[i]``,
+    laid out as for :func:`bootstrap_fragility` (levels × motions, or one per motion for a
+    cloud, where im holds each motion's IM); every exceedance of a state is one of the states
+    before it or after it (nested; checked by the caller).  Returns one
+    :class:`FragilityFit` per limit state (its β and β interval those of all), None for a
+    state without information (never or always exceeded).  ``n_boot`` 0: the point fit only,
+    intervals NaN."""
+    log_x = portable.log(im)
+    K, n_motions = outcomes.shape[0], outcomes.shape[-1]
+    if outcomes.ndim == 3:
+        k = outcomes.sum(axis=2).astype(float)[None]
+        m = np.full((1, im.size), float(n_motions))
+    else:
+        k, m = outcomes.astype(float)[None], np.ones((1, im.size))
+    medians, beta = _ordinal_rows(log_x[None], k, m)
+    parts_m, parts_b = [np.empty((0, K))], [np.empty(0)]
+    resamples = _bootstrap_resamples(seed, n_boot, n_motions)
+    step = max(1, _FIT_BLOCK_ELEMENTS // (K * max(im.size, n_motions)))
+    for idx in (resamples[i : i + step] for i in range(0, n_boot, step)):
+        if outcomes.ndim == 3:
+            kb = np.transpose(np.sum(outcomes[:, :, idx], axis=3), (2, 0, 1)).astype(float)
+            xb = np.broadcast_to(log_x, (idx.shape[0], im.size))
+            mb = np.full(xb.shape, float(n_motions))
+        else:
+            kb = np.transpose(outcomes[:, idx], (1, 0, 2)).astype(float)
+            xb, mb = log_x[idx], np.ones(idx.shape)
+        med_b, beta_b = _ordinal_rows(np.ascontiguousarray(xb), kb, mb)
+        parts_m.append(med_b)
+        parts_b.append(beta_b)
+    boot_m, boot_b = np.concatenate(parts_m), np.concatenate(parts_b)
+    q = [(1.0 - confidence) / 2.0, (1.0 + confidence) / 2.0]
+    ok_b = boot_b[np.isfinite(boot_b)]
+    beta_ci = (
+        Interval(*map(float, np.quantile(ok_b, q))) if ok_b.size else Interval(math.nan, math.nan)
+    )
+    fits: list[FragilityFit | None] = []
+    for i in range(K):
+        if not np.isfinite(medians[0, i]):
+            fits.append(None)
+            continue
+        point = LognormalFit(
+            float(medians[0, i]),
+            float(beta[0]),
+            im=measure,
+            unit=unit,
+            im_range=(float(im.min()), float(im.max())),
+        )
+        ok = boot_m[np.isfinite(boot_m[:, i]), i]
+        med_ci = (
+            Interval(*map(float, np.quantile(ok, q))) if ok.size else Interval(math.nan, math.nan)
+        )
+        fits.append(
+            FragilityFit(
+                fit=point,
+                median_ci=med_ci,
+                beta_ci=beta_ci if n_boot else Interval(math.nan, math.nan),
+                confidence=confidence,
+                n_boot=int(n_boot),
+                seed=int(seed),
+                n_unfitted=int(n_boot - ok.size),
+                n_separated=int(np.sum(boot_b == BETA_BOUNDS[0])),
+            )
+        )
+    return fits
 
 
 def _outcomes(outcomes, n_im: int) -> np.ndarray:

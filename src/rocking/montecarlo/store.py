@@ -44,6 +44,7 @@ from typing import IO, TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.files import atomic_write
+from ..core.runs import claim
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -52,7 +53,6 @@ if TYPE_CHECKING:
 MANIFEST = "chunks.json"
 #: Sums of the chunks written since the manifest was last rewritten, one "key sha256" a line.
 JOURNAL = "chunks.sums"
-LOCK = ".rocking.lock"
 _FORMAT = "rocking-chunks-2"
 #: Seconds between writes of the chunk sums to the manifest (it is rewritten whole: once per
 #: chunk would cost O(chunks²); a chunk whose sum a kill -9 lost is computed again).
@@ -63,6 +63,8 @@ KERNEL_MODULES = (
     "dynamics/equation.py",
     "dynamics/impacts.py",
     "dynamics/batch.py",
+    "dynamics/batch_lanes.py",
+    "dynamics/batch_records.py",
 )
 
 
@@ -112,20 +114,7 @@ class ChunkStore:
         self._journal: IO[str] | None = None  # JOURNAL, appended to while the store is open
 
     def __enter__(self) -> ChunkStore:
-        import filelock
-
-        try:
-            self.folder.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise InputError(f"out: cannot create folder {self.folder} ({exc.strerror})") from None
-        lock = filelock.FileLock(self.folder / LOCK, timeout=0)
-        try:
-            lock.acquire()
-        except filelock.Timeout:
-            raise InputError(
-                f"out: {self.folder} is in use by another run; wait for it to end "
-                "or use another folder"
-            ) from None
+        lock = claim(self.folder)
         self._lock = lock
         try:
             self._check_manifest()

@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike
 from ..core import checks, portable
 from ..core.checks import finite_array, positive, require_memory
 from ..core.compile import parallel_kernel, prange
-from ..defaults import FIT_BAND, G
+from ..defaults import DT, FIT_BAND, G
 from ..errors import InputError
 from .baseline import baseline_correct
 from .ensemble import Ensemble, _n_samples
@@ -466,7 +466,7 @@ def generate(
     n: int,
     *,
     duration: float = 20.0,
-    dt: float = 1 / 400,
+    dt: float = DT,
     envelope: str = "compound",
     envelope_params: dict | None = None,
     target: SupportsPsa | Callable[..., ArrayLike] = rg160,

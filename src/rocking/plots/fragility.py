@@ -35,6 +35,7 @@ def plot_fragility(
     fits: Mapping[Hashable, LognormalFit] | None = None,
     title: str = "",
     xlabel: str = AGX_LABEL,
+    ylabel: str = "probability of overturning [-]",
 ) -> Figure:
     """Overturning probability against A_gx, one curve per body (paper Figs. 9–11, 13).
 
@@ -66,6 +67,8 @@ def plot_fragility(
     xlabel : str
         Label of the intensity axis (another IM than A_gx: its name and unit; the values are
         still those of the ``agx`` coordinate).
+    ylabel : str
+        Label of the probability axis (of a limit state other than overturning: its name).
     """
     fits = fits or {}
     if "case" not in ds.dims and ds.sizes["body"] > MAX_LEGEND:
@@ -86,7 +89,7 @@ def plot_fragility(
         )
     _probability_axes(ax)
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("probability of overturning [-]")
+    ax.set_ylabel(ylabel)
     extra = f" ({len(curves) - MAX_LEGEND} more not listed)" if len(curves) > MAX_LEGEND else ""
     legend_beside(ax, _key_text(ds, fits).replace("; ", "\n") + extra)
     if title:

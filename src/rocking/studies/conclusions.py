@@ -13,12 +13,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..assessment.screen import AGREE, eq11_vs_monte_carlo
+from ..defaults import BAND_HZ
 from ..dynamics.body import FOOT
 from ..montecarlo.statistics import wilson_interval
 from .paper import paper_values
@@ -481,10 +483,8 @@ def evaluate(results: dict) -> list[Verdict]:
 
 def robustness(results: dict) -> list[str]:
     """For each of the nine conclusions, whether the section "soundness" found it robust to
-    the time step and the ensemble size (:func:`rocking.studies.soundness.robust_9`), or "not
-    assessed" (that section measures Tables 2-3, which only conclusion 9 rests on)."""
-    from .soundness import robust_9
-
+    the time step and the ensemble size (:func:`robust_9`), or "not assessed" (that section
+    measures Tables 2-3, which only conclusion 9 rests on)."""
     sound = results.get("soundness")
     if sound is None:
         return ["not assessed (section soundness not run)"] * 9
@@ -608,7 +608,7 @@ def _frame_hint(psv: xr.DataArray, pv: dict) -> str:
 
     target = pv["section8"]["example_floor_sv_cm_s"]
     order = pv["section7"]["order_2s_1hz"]
-    band = 100 * psv.sel(freq=slice(0.04, 0.6)).max("freq")
+    band = 100 * psv.sel(freq=slice(*BAND_HZ)).max("freq")
     parts, both = [], []
     for frame in psv["frame"].values:
         sv1 = float(band.sel(frame=frame, location="floor 1"))
@@ -633,4 +633,45 @@ def _frame_hint(psv: xr.DataArray, pv: dict) -> str:
         f"(0.04–0.6 Hz) and the order {', '.join(order)} at 1 Hz. Ours: "
         + "; ".join(parts)
         + f". {verdict}"
+    )
+
+
+def _dt_label(dt: float) -> str:
+    """A time step as the paper writes it, e.g. "1/400 s"."""
+    return f"1/{1 / dt:.0f} s"
+
+
+def robust_9(result: Any) -> str:
+    """Whether the ground part of conclusion 9 (ratios S_v1/S_v within :data:`RATIO_RANGE`,
+    mean within RATIO_MEAN of 1) holds at every time step and across the bootstrap intervals of
+    section soundness's ``result`` (:class:`rocking.studies.soundness.SoundnessResult`; text
+    for the conclusions table)."""
+    conv, ens = result.parts["convergence"], result.parts["ensemble"]
+
+    def holds(ratios: np.ndarray) -> bool:
+        s = ratio_stats(ratios)
+        return (
+            s["n"] > 0
+            and RATIO_RANGE[0] <= s["min"]
+            and s["max"] <= RATIO_RANGE[1]
+            and abs(s["mean"] - 1.0) <= RATIO_MEAN
+        )
+
+    by_dt = {_dt_label(d): holds(conv["ratio"].sel(dt=d).values) for d in conv["dt"].values}
+    lo, hi = (np.nanquantile(ens["ratio"], q, axis=1) for q in (0.025, 0.975))
+    means = np.nanmean(ens["ratio"], axis=0)
+    m_lo, m_hi = np.nanquantile(means, [0.025, 0.975])
+    in_ci = bool(
+        np.nanmin(lo) >= RATIO_RANGE[0]
+        and np.nanmax(hi) <= RATIO_RANGE[1]
+        and abs(m_lo - 1) <= RATIO_MEAN
+        and abs(m_hi - 1) <= RATIO_MEAN
+    )
+    ok = all(by_dt.values()) and in_ci
+    fails = [k for k, v in by_dt.items() if not v]
+    return (
+        f"{'yes' if ok else 'no'} (ground ratios): criterion "
+        f"{'met at every dt' if not fails else 'missed at ' + ', '.join(fails)}; bootstrap 95 % "
+        f"bounds of the ratios {np.nanmin(lo):.3f}–{np.nanmax(hi):.3f}, of their mean "
+        f"{m_lo:.3f}–{m_hi:.3f}; floors not assessed"
     )

@@ -70,8 +70,9 @@ from typing import TYPE_CHECKING, Any
 
 from ..core import checks
 from ..core.checks import in_range, read_toml, restitution
-from ..defaults import DEFAULT_E
+from ..defaults import BAND_HZ, DEFAULT_E, DT
 from ..dynamics.body import FOOT, Block, paper_bodies
+from ..dynamics.physics import Physics
 from ..errors import InputError
 from ..structures.frames import PRESETS as FRAME_PRESETS
 from ..structures.frames import ShearFrame
@@ -96,7 +97,7 @@ _R4, _R8, _R12 = _ft(4, 8, 12)
 
 PAPER: dict = {
     "common": {
-        "dt": 1 / 400,
+        "dt": DT,
         "e": DEFAULT_E,
         "envelope": "compound",
         "duration": 20.0,
@@ -158,7 +159,7 @@ PAPER: dict = {
         "fig13_agx": _grid(0.5, 1.6, 0.05),
         "examples": [[_R4, 2.0], [_R4, 4.0]],
         "example_agx": 0.6,
-        "band_hz": [0.04, 0.6],
+        "band_hz": list(BAND_HZ),
     },
     "soundness": {
         "seed": 8,
@@ -166,7 +167,7 @@ PAPER: dict = {
         "bodies": "paper",
         "resolution": 0.01,
         "agx_max": 5.0,
-        "band_hz": [0.04, 0.6],
+        "band_hz": list(BAND_HZ),
         "dts": [1 / 200, 1 / 400, 1 / 800, 1 / 1600],
         "convergence_n": 200,
         "convergence_bodies": "paper",
@@ -539,6 +540,11 @@ class RunContext:
     backend: Backend | None = None
     progress: bool | Reporter | None = False
     chunks: Path | None = None
+
+    @property
+    def physics(self) -> Physics:
+        """The physics of every simulation of the run (the common restitution ``e``)."""
+        return Physics(e=self.cfg["common"]["e"])
 
     def store(self, section: str, name: str) -> Path | None:
         """Chunk folder of one Monte Carlo call, ``chunks/<section>-<hash>/<name>``: the hash

@@ -38,7 +38,7 @@ class Sec4Result:
 
 def run(ctx: RunContext) -> Sec4Result:
     """Simulate Figs. 3–4 and the outcome check (see the module docstring)."""
-    p, e = ctx.cfg["sec4"], ctx.cfg["common"]["e"]
+    p, physics = ctx.cfg["sec4"], ctx.physics
     raw = ctx.motions("sec4", max(p["n_check"], p["motion"]), baseline=False)
     acc = {"uncorrected": raw.acc, "corrected": baseline_correct(raw.acc, raw.dt)}
     # every motion at its own PGA = 1 g, then scaled to p["agx"] (the paper's "α" of one motion)
@@ -49,12 +49,15 @@ def run(ctx: RunContext) -> Sec4Result:
     t_ov = np.empty((2, len(blocks)))
     for i, corr in enumerate(CORRECTIONS):
         for j, block in enumerate(blocks):
-            res = simulate(block, p["agx"] * unit[corr][k], raw.dt, e=e)
+            res = simulate(block, p["agx"] * unit[corr][k], raw.dt, physics=physics)
             theta[i, j] = res.theta_over_alpha
             t_ov[i, j] = res.t_overturn
     n_check = p["n_check"]
     flags, peaks = zip(
-        *(overturn_batch(blocks, unit[c][:n_check], raw.dt, [p["agx"]], e=e) for c in CORRECTIONS)
+        *(
+            overturn_batch(blocks, unit[c][:n_check], raw.dt, [p["agx"]], physics=physics)
+            for c in CORRECTIONS
+        )
     )
     coords = {"correction": list(CORRECTIONS), "gamma": p["gammas"]}
     responses = xr.Dataset(

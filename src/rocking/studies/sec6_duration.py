@@ -38,7 +38,7 @@ class Sec6Result:
 
 def run(ctx: RunContext) -> Sec6Result:
     """Overturning probabilities for every intensity function and duration."""
-    p, e = ctx.cfg["sec6"], ctx.cfg["common"]["e"]
+    p, physics = ctx.cfg["sec6"], ctx.physics
     blocks = resolve_bodies(p["bodies"], "sec6.bodies")
     by_env = []
     for env in p["envelopes"]:
@@ -50,7 +50,7 @@ def run(ctx: RunContext) -> Sec6Result:
                     blocks,
                     ens,
                     p["agx"],
-                    e=e,
+                    physics=physics,
                     backend=ctx.backend,
                     progress=ctx.progress,
                     out=ctx.store("sec6", f"{env}-T{dur:g}"),

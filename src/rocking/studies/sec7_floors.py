@@ -11,12 +11,14 @@ at A_gx = 0.6 g.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
 from ..core import portable
+from ..defaults import BAND_HZ
 from ..dynamics.body import Block
 from ..montecarlo.probability import overturning_probability
 from ..motions.response import response_spectrum
@@ -44,11 +46,11 @@ class Sec7Result:
 
 def run(ctx: RunContext) -> Sec7Result:
     """Floor ensembles of every frame, their overturning probabilities and mean spectra."""
-    p, e = ctx.cfg["sec7"], ctx.cfg["common"]["e"]
+    p, physics = ctx.cfg["sec7"], ctx.physics
     blocks = resolve_bodies(p["bodies"], "sec7.bodies")
     ground = ctx.motions("sec7", p["n"])
     freqs = portable.geomspace(*SPECTRA_BAND_HZ, p["n_freq"])
-    options = {"e": e, "backend": ctx.backend, "progress": ctx.progress}
+    options: dict[str, Any] = {"physics": physics, "backend": ctx.backend, "progress": ctx.progress}
     # the ground is the same for every frame: its probabilities and spectrum once
     on_ground = overturning_probability(
         blocks, {"ground": ground}, p["agx"], out=ctx.store("sec7", "ground"), **options
@@ -140,7 +142,7 @@ def report(result: Sec7Result, rep: Report, ctx: RunContext) -> None:
         name="sec7-mean-probability",
         floatfmt=".3f",
     )
-    band = psv.sel(freq=slice(0.04, 0.6)).max("freq")
+    band = psv.sel(freq=slice(*BAND_HZ)).max("freq")
     rows = {
         f: {loc: 100 * float(band.sel(frame=f, location=loc)) for loc in psv["location"].values}
         for f in psv["frame"].values

@@ -54,7 +54,7 @@ class Sec8Result:
 
 def run(ctx: RunContext) -> Sec8Result:
     """A_gx50 of every body on the ground and the floor, S_v1, and the worked examples."""
-    p, e = ctx.cfg["sec8"], ctx.cfg["common"]["e"]
+    p, physics = ctx.cfg["sec8"], ctx.physics
     blocks = resolve_bodies(p["bodies"], "sec8.bodies")
     examples = resolve_bodies(p["examples"], "sec8.examples")
     ground = ctx.motions("sec8", p["n"])
@@ -66,7 +66,7 @@ def run(ctx: RunContext) -> Sec8Result:
         cases,
         resolution=p["resolution"],
         agx_max=p["agx_max"],
-        e=e,
+        physics=physics,
         backend=ctx.backend,
         progress=ctx.progress,
         out=ctx.store("sec8", "agx50"),
@@ -79,7 +79,12 @@ def run(ctx: RunContext) -> Sec8Result:
         pd.Index(list(cases), name="location"),
     )
     fig13 = overturning_probability(
-        examples[:1], ground, p["fig13_agx"], e=e, backend=ctx.backend, progress=ctx.progress
+        examples[:1],
+        ground,
+        p["fig13_agx"],
+        physics=physics,
+        backend=ctx.backend,
+        progress=ctx.progress,
     )
     same = np.isclose(a50["R"].values, examples[0].R, rtol=1e-9) & np.isclose(
         a50["gamma"].values, examples[0].gamma, rtol=1e-9
@@ -93,7 +98,7 @@ def run(ctx: RunContext) -> Sec8Result:
                 ground,
                 resolution=p["resolution"],
                 agx_max=p["agx_max"],
-                e=e,
+                physics=physics,
                 backend=ctx.backend,
             )["agx50"][0]
         )
@@ -104,7 +109,9 @@ def run(ctx: RunContext) -> Sec8Result:
         else np.full(freqs.size, np.nan)
     )
     verdicts = assess(examples, floor, agx=p["example_agx"], band_hz=p["band_hz"])
-    sim = overturning_probability(examples, floor, [p["example_agx"]], e=e, backend=ctx.backend)
+    sim = overturning_probability(
+        examples, floor, [p["example_agx"]], physics=physics, backend=ctx.backend
+    )
     ex = xr.merge(
         [
             verdicts,

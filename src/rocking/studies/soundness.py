@@ -52,6 +52,7 @@ from numpy.typing import ArrayLike
 
 from ..assessment.energy import available_sv, band_frequencies, energy_balance
 from ..core import portable
+from ..defaults import OVERTURN_ANGLE
 from ..dynamics.body import G
 from ..errors import InputError
 from ..montecarlo.engine import Engine, level_agx, level_key
@@ -66,7 +67,13 @@ from ..motions.targets import rg160
 from ..plots.fragility import plot_sv_agx
 from ..report import Report
 from ..structures.frames import ShearFrame
-from .conclusions import FLOOR_RANGE, RATIO_MEAN, RATIO_RANGE, conclusion_9, linear_fit, ratio_stats
+from .conclusions import (
+    FLOOR_RANGE,
+    _dt_label,
+    conclusion_9,
+    linear_fit,
+    ratio_stats,
+)
 from .config import RunContext, resolve_bodies, resolve_frame
 from .paper import paper_values
 
@@ -382,7 +389,7 @@ def _search(ctx: RunContext, blocks, ens, store: str, resolution: float, **optio
         ens,
         resolution=resolution,
         agx_max=ctx.cfg["soundness"]["agx_max"],
-        e=ctx.cfg["common"]["e"],
+        physics=ctx.physics,
         backend=ctx.backend,
         progress=ctx.progress,
         out=ctx.store("soundness", store),
@@ -396,7 +403,7 @@ def _outcomes(ctx: RunContext, blocks, ensemble, levels, impacts: str = "located
     row per block), in one batch (:func:`~rocking.montecarlo.probability.member_outcomes`);
     axes ([case,] block, level, motion)."""
     return member_outcomes(
-        blocks, ensemble, levels, e=ctx.cfg["common"]["e"], backend=ctx.backend, impacts=impacts
+        blocks, ensemble, levels, physics=ctx.physics, backend=ctx.backend, impacts=impacts
     )
 
 
@@ -435,8 +442,8 @@ def _bootstrap_outcomes(
     engine = Engine(
         blocks,
         [ensemble],
-        e=ctx.cfg["common"]["e"],
-        overturn_angle=math.pi / 2,
+        physics=ctx.physics,
+        overturn_angle=OVERTURN_ANGLE,
         g=G,
         backend=ctx.backend,
         out=None,
@@ -657,10 +664,6 @@ def run_floor(ctx: RunContext, done: dict) -> dict[str, Any]:
 
 
 # --------------------------------------------------------------------------- reports
-
-
-def _dt_label(dt: float) -> str:
-    return f"1/{1 / dt:.0f} s"
 
 
 def report_impacts(res: xr.Dataset, located: xr.Dataset, rep: Report, lab: str) -> None:
@@ -944,39 +947,4 @@ def report(result: SoundnessResult, rep: Report, ctx: RunContext) -> None:
         result.provenance,
         f"Provenance of this section: sizes, seeds and wall time of each part [{lab}]",
         name="soundness-provenance",
-    )
-
-
-def robust_9(result: SoundnessResult) -> str:
-    """Whether the ground part of conclusion 9 (ratios S_v1/S_v within
-    :data:`rocking.studies.conclusions.RATIO_RANGE`, mean within RATIO_MEAN of 1) holds at every
-    time step and across the bootstrap intervals (text for the conclusions table)."""
-    conv, ens = result.parts["convergence"], result.parts["ensemble"]
-
-    def holds(ratios: np.ndarray) -> bool:
-        s = ratio_stats(ratios)
-        return (
-            s["n"] > 0
-            and RATIO_RANGE[0] <= s["min"]
-            and s["max"] <= RATIO_RANGE[1]
-            and abs(s["mean"] - 1.0) <= RATIO_MEAN
-        )
-
-    by_dt = {_dt_label(d): holds(conv["ratio"].sel(dt=d).values) for d in conv["dt"].values}
-    lo, hi = (np.nanquantile(ens["ratio"], q, axis=1) for q in (0.025, 0.975))
-    means = np.nanmean(ens["ratio"], axis=0)
-    m_lo, m_hi = np.nanquantile(means, [0.025, 0.975])
-    in_ci = bool(
-        np.nanmin(lo) >= RATIO_RANGE[0]
-        and np.nanmax(hi) <= RATIO_RANGE[1]
-        and abs(m_lo - 1) <= RATIO_MEAN
-        and abs(m_hi - 1) <= RATIO_MEAN
-    )
-    ok = all(by_dt.values()) and in_ci
-    fails = [k for k, v in by_dt.items() if not v]
-    return (
-        f"{'yes' if ok else 'no'} (ground ratios): criterion "
-        f"{'met at every dt' if not fails else 'missed at ' + ', '.join(fails)}; bootstrap 95 % "
-        f"bounds of the ratios {np.nanmin(lo):.3f}–{np.nanmax(hi):.3f}, of their mean "
-        f"{m_lo:.3f}–{m_hi:.3f}; floors not assessed"
     )

@@ -1,0 +1,298 @@
+"""Limit states on the response, the Physics record and the kernel's Outcome record (issue 44)."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import rocking
+from rocking.cli import main
+from rocking.cli.screen import EXAMPLE_INVENTORY
+from rocking.defaults import RESPONSE_QUANTITIES
+from rocking.dynamics.batch import QUANTITIES, Outcome
+from rocking.dynamics.body import Block
+from rocking.dynamics.limits import LimitState, parse_limit_states
+from rocking.dynamics.physics import Physics
+from rocking.dynamics.simulate import simulate
+from rocking.errors import InputError
+from rocking.montecarlo.engine import Engine
+from rocking.montecarlo.fragility import fragility_analysis
+from rocking.montecarlo.probability import overturning_probability
+from rocking.montecarlo.statistics import _fit_rows, _ordinal_rows, _probit_loglik
+from rocking.motions.synthesis import generate
+
+BLOCKS = [Block(0.5, 5.0), Block(1.0, 4.0)]
+AGX = [0.1, 0.25, 0.4, 0.6, 0.9]
+STATES = "uplift, theta/alpha>=0.5, overturn"
+
+
+@pytest.fixture(scope="module")
+def ensemble():
+    """8 motions of 6 s at 200 Hz: the bodies uplift, rock and overturn over AGX."""
+    return generate(8, duration=6.0, dt=1 / 200, seed=5)
+
+
+def _direct(block, ens, agx, quantity):
+    """The quantity of every motion by rocking.simulate, each motion scaled by agx / A_gx of
+    the ensemble (as the engine scales it: one factor for all motions)."""
+    values = []
+    for acc in ens.acc:
+        r = simulate(block, (agx / ens.agx) * acc, ens.dt)
+        values.append(
+            {
+                "overturned": r.overturned,
+                "peak_theta_ratio": r.max_abs_theta / block.alpha,
+                "uplift": r.uplift,
+            }[quantity]
+        )
+    return np.array(values)
+
+
+def test_every_limit_state_probability_equals_a_direct_count_over_simulate(ensemble):
+    # the counts of the batched kernel through the engine, per body, level and limit state,
+    # against counts of rocking.simulate's responses of the same cases (exact: the kernel
+    # equals simulate bit for bit, so no tolerance)
+    states = parse_limit_states(STATES)
+    p = overturning_probability(BLOCKS, ensemble, AGX, limit_states=states)
+    f = fragility_analysis(BLOCKS, ensemble, levels=AGX, limit_states=states, n_boot=0)
+    assert p["count"].dims == ("body", "agx", "limit_state")
+    for b, block in enumerate(BLOCKS):
+        for a, agx in enumerate(AGX):
+            for s, ls in enumerate(states):
+                direct = _direct(block, ensemble, agx, ls.quantity) >= ls.threshold
+                assert int(p["count"][b, a, s]) == int(direct.sum()), (block, agx, ls)
+                assert int(f["count"][b, a, s]) == int(direct.sum())
+                assert np.array_equal(f["exceeded"].values[b, a, :, s], direct)
+    # the bodies uplift, rock and overturn over these levels: the test sees every state
+    total = p["count"].sum(dim=("body", "agx")).values
+    assert 0 < total[2] < total[1] < total[0] < p["n"].sum(dim=("body", "agx")).values[0]
+    # Wilson intervals around each probability
+    assert np.all(p["ci_low"] <= p["probability"]) and np.all(p["probability"] <= p["ci_high"])
+
+
+def test_overturning_alone_is_todays_result(ensemble):
+    # the default and the limit state "overturn": the same counts; no limit_state dimension
+    # without limit states
+    plain = overturning_probability(BLOCKS, ensemble, AGX)
+    assert "limit_state" not in plain.dims
+    states = overturning_probability(BLOCKS, ensemble, AGX, limit_states="overturn")
+    assert np.array_equal(plain["count"].values, states["count"].values[..., 0])
+    fit = fragility_analysis(BLOCKS, ensemble, levels=AGX, n_boot=0)
+    assert "limit_state" not in fit.dims and fit["overturned"].dims == ("body", "level", "member")
+
+
+def test_theta_thresholds_give_monotone_probabilities(ensemble):
+    # P(θ/α ≥ x) cannot grow with x, and lies between P(overturn) and P(uplift) for
+    # 0 < x ≤ θ_ov/α (π/2 over α ≥ 1 here)
+    thresholds = [0.05, 0.2, 0.5, 0.8, 1.0]
+    text = ", ".join(["uplift", *(f"theta/alpha>={x}" for x in thresholds), "overturn"])
+    count = overturning_probability(BLOCKS, ensemble, AGX, limit_states=text)["count"].values
+    assert np.all(np.diff(count, axis=-1) <= 0)
+    assert np.any(np.diff(count, axis=-1) < 0)  # the thresholds do tell the cases apart
+
+
+def test_nested_limit_states_are_fitted_jointly_and_do_not_cross(ensemble):
+    ds = fragility_analysis(BLOCKS, ensemble, levels=AGX, limit_states=STATES, n_boot=20)
+    assert ds.attrs["fits"].startswith("joint")
+    for b in range(len(BLOCKS)):
+        medians, betas = ds["median"].values[b], ds["beta"].values[b]
+        ok = np.isfinite(medians)
+        assert ok.sum() >= 2
+        # one β, medians in the order of the states: P(uplift) ≥ P(θ/α ≥ 0.5) ≥ P(overturn)
+        # at every intensity, so the curves never cross
+        assert np.all(betas[ok] == betas[ok][0])
+        assert np.all(np.diff(medians[ok]) >= 0)
+
+
+def test_the_joint_fit_is_the_maximum_of_the_joint_likelihood():
+    # reference: SciPy's Nelder-Mead on the same ordinal probit likelihood (K medians, one β);
+    # counts of three nested states drawn from capacities with medians 0.3, 0.5, 0.8 g and
+    # β = 0.35 (the joint fit must find the likelihood's maximum: to 1e-4 of the reference's
+    # parameters, which Nelder-Mead reaches at xatol 1e-9)
+    from scipy.optimize import minimize
+
+    rng = np.random.default_rng(2)
+    x = np.log(np.linspace(0.1, 1.5, 12))
+    cap = rng.normal(0.0, 0.35, 40)
+    y = x[None, :, None] >= (np.log([0.3, 0.5, 0.8])[:, None, None] + cap[None, None, :])
+    k = y.sum(axis=2).astype(float)
+    m = np.full(x.size, 40.0)
+    medians, beta = _ordinal_rows(x[None], k[None], m[None])
+
+    def nll(p):
+        c, s = p[:3], math.exp(p[3])
+        ll, _, _ = _probit_loglik(np.tile(x, (3, 1)), k, np.tile(m, (3, 1)), c, np.full(3, s))
+        return -ll.sum()
+
+    s0 = 1.0 / beta[0]
+    start = np.r_[-s0 * np.log(medians[0]) + 0.1, math.log(s0) - 0.1]
+    ref = minimize(nll, start, method="Nelder-Mead", options={"xatol": 1e-9, "fatol": 1e-12})
+    s_ref = math.exp(ref.x[3])
+    assert beta[0] == pytest.approx(1.0 / s_ref, rel=1e-4)
+    np.testing.assert_allclose(medians[0], np.exp(-ref.x[:3] / s_ref), rtol=1e-4)
+    # one state alone: the usual fit of one curve
+    one, b1 = _ordinal_rows(x[None], k[None, :1], m[None])
+    med, bet, _ = _fit_rows(x[None], k[None, 0], m[None])
+    assert one[0, 0] == pytest.approx(med[0], rel=1e-9) and b1[0] == pytest.approx(bet[0], rel=1e-9)
+
+
+def test_limit_state_text_form():
+    assert parse_limit_states(None) == (LimitState("overturn", "overturned", 1.0),)
+    uplift, large, over = parse_limit_states(STATES)
+    assert (uplift.quantity, large.quantity, over.quantity) == (
+        "uplift",
+        "peak_theta_ratio",
+        "overturned",
+    )
+    assert large.threshold == 0.5 and large.name == "theta/alpha>=0.5"
+    (named,) = parse_limit_states("large rocking=theta/alpha>=0.8")
+    assert named == LimitState("large rocking", "peak_theta_ratio", 0.8)
+    # the kernel's quantities, the Outcome's fields and the names the text form knows agree
+    assert set(QUANTITIES) == {f for f in Outcome._fields if f != "steps"}
+    assert tuple(QUANTITIES) == RESPONSE_QUANTITIES
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("uplift, slide", "unknown quantity 'slide'"),
+        ("theta/alpha", "needs a threshold"),
+        ("theta/alpha>=0", "threshold must be a number > 0"),
+        ("theta/alpha>=half", "'half' is not a number"),
+        ("uplift>=2", "yes/no"),
+        ("uplift, uplift", "given twice"),
+        (" , ", "none given"),
+    ],
+)
+def test_bad_limit_states_are_refused_in_one_line(text, expected):
+    with pytest.raises(InputError, match=expected) as err:
+        parse_limit_states(text)
+    assert "\n" not in str(err.value)
+
+
+def test_the_command_refuses_bad_limit_states_before_any_work(tmp_path):
+    result = CliRunner().invoke(
+        main,
+        [
+            "fragility",
+            "--bodies",
+            "example",
+            "--motions",
+            str(tmp_path / "none.nc"),
+            "--limit-states",
+            "uplift, theta/alpha>=x",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+    )
+    assert result.exit_code != 0 and "Traceback" not in result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and "'x' is not a number" in lines[0], result.output
+    assert not (tmp_path / "out").exists()
+
+
+# ----------------------------------------------------------------------------- Physics
+
+
+CHANGED = {"e": "housner", "overturn_angle": "alpha", "g": 9.81, "impacts": "step-end"}
+
+
+def test_physics_fingerprints_differ_for_every_field():
+    # every field (dataclasses.fields, so that a field added later is covered or fails here)
+    # changes the fingerprint, and the chunk store's parameters of an engine, which hold it
+    assert set(CHANGED) == {f.name for f in dataclasses.fields(Physics)}
+    base = Physics()
+    blocks = [Block(1.0, 4.0)]
+    ens = generate(2, duration=1.0, seed=1)
+
+    def params(physics):
+        return Engine(
+            blocks,
+            [ens],
+            physics=physics,
+            backend=None,
+            out=None,
+            progress=False,
+            chunk_size=None,
+            desc="",
+        )._params()
+
+    for name, value in CHANGED.items():
+        other = dataclasses.replace(base, **{name: value})
+        assert other.fingerprint != base.fingerprint, name
+        assert params(other) != params(base), name
+    assert set(base.params()) <= set(params(base))
+
+
+def test_keyword_arguments_are_shorthands_for_physics():
+    # simulate(e=…, …) is simulate(physics=Physics(e=…, …)) bit for bit; a shorthand given
+    # with a physics replaces its field; Physics is frozen and checks its fields
+    block = Block(0.8, 4.0)
+    ens = generate(1, duration=4.0, seed=4)
+    ag = 3.0 * ens.acc[0]
+    short = simulate(block, ag, ens.dt, e="housner", overturn_angle="alpha", impacts="step-end")
+    full = simulate(
+        block, ag, ens.dt, physics=Physics(e="housner", overturn_angle="alpha", impacts="step-end")
+    )
+    assert short.theta.tobytes() == full.theta.tobytes() and short.e == block.housner_e()
+    mixed = simulate(block, ag, ens.dt, physics=Physics(e="housner"), e=0.7)
+    assert mixed.e == 0.7
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        Physics().e = 0.5
+    with pytest.raises(InputError, match=r"\be\b"):
+        Physics(e=1.5)
+    with pytest.raises(InputError, match="physics must be a rocking.Physics"):
+        rocking.overturning_probability(BLOCKS, ens, [0.3], physics={"e": 0.9})
+    p1 = rocking.overturning_probability(BLOCKS, ens, [0.5], e=0.8, progress=False)
+    p2 = rocking.overturning_probability(BLOCKS, ens, [0.5], physics=Physics(e=0.8))
+    assert p1["count"].values.tobytes() == p2["count"].values.tobytes()
+
+
+def test_screen_gives_the_probability_of_each_limit_state_at_the_design_level():
+    # the limit states' probabilities come from the simulations of the overturning
+    # probability: "overturn" equals it item by item, and the nested states are ordered
+    ds = rocking.screen(
+        EXAMPLE_INVENTORY,
+        "asce7:SDS=1.0,SD1=0.6,TL=8",
+        frame="paper-2.0",
+        n=10,
+        duration=6.0,
+        limit_states=STATES,
+    )
+    p = ds["limit_state_probability"]
+    assert p.dims == ("item", "limit_state")
+    assert np.array_equal(p.sel(limit_state="overturn").values, ds["probability"].values)
+    assert np.all(p.values[:, 0] >= p.values[:, 1]) and np.all(p.values[:, 1] >= p.values[:, 2])
+    assert p.values[:, 0].max() > p.values[:, 2].max()  # uplift without overturning is seen
+    table = rocking.results_table(ds)
+    assert np.array_equal(table["P(uplift) [-]"].values, p.values[:, 0])
+
+
+def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensemble, tmp_path):
+    import pandas as pd
+
+    motions = tmp_path / "m.nc"
+    ensemble.save(motions)
+    bodies = tmp_path / "bodies.csv"
+    bodies.write_text("name,R,gamma\nslim,0.5,5\nstocky,1.0,4\n")
+    out = tmp_path / "out"
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", "0.1:0.9:0.2"]
+    args += ["--limit-states", STATES, "--n-boot", "20", "--out", out]
+    result = CliRunner().invoke(main, [str(a) for a in args])
+    assert result.exit_code == 0, result.output
+    probabilities = pd.read_csv(out / "probabilities.csv")
+    assert list(probabilities["limit_state"].unique()) == ["uplift", "theta/alpha>=0.5", "overturn"]
+    assert len(probabilities) == 2 * 5 * 3  # bodies × levels × limit states
+    fits = pd.read_csv(out / "lognormal.csv")
+    assert len(fits) == 2 * 3 and {"limit_state", "median", "beta"} <= set(fits.columns)
+    # the counts of the table are those of the API (the same simulations)
+    api = overturning_probability(BLOCKS, ensemble, [0.1, 0.3, 0.5, 0.7, 0.9], limit_states=STATES)
+    ours = probabilities.set_index(["body", "agx", "limit_state"])["count"]
+    for b, body in enumerate(["slim", "stocky"]):
+        for s, state in enumerate(api["limit_state"].values):
+            for a, agx in enumerate(api["agx"].values):
+                assert ours[(body, agx, state)] == int(api["count"][b, a, s])
+    assert (out / "fragility-slim.png").stat().st_size > 0
+    assert (out / "fragility-stocky.png").stat().st_size > 0
