@@ -13,7 +13,7 @@ from rocking.cli import main
 from rocking.errors import InputError
 from rocking.motions.ensemble import Ensemble
 from rocking.motions.response import response_spectrum
-from rocking.motions.synthesis import generate
+from rocking.motions.synthesis import generate, regenerate
 from rocking.structures.frames import PRESETS, ShearFrame, kN_per_cm_to_N_per_m, kN_per_g_to_kg
 
 G = 9.80665
@@ -267,7 +267,7 @@ def test_floor_ensemble_bad_input(ground):
     with pytest.raises(InputError, match="already a floor motion"):
         frame.floor_ensemble(floor2, 1)
     with pytest.raises(InputError):  # a floor motion is not a simulated ground motion
-        floor2.regenerate()
+        regenerate(floor2)
 
 
 # ---- command line -------------------------------------------------------------------------------

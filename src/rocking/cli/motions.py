@@ -180,9 +180,10 @@ def _ensemble_out(out: str, inputs: list[Path] | None = None) -> None:
 def _with_and_without_baseline(ens: Ensemble) -> tuple[np.ndarray, np.ndarray]:
     """(uncorrected, corrected) accelerations [m/s²] of the members of the Ensemble ``ens``."""
     from ..motions.baseline import baseline_correct
+    from ..motions.synthesis import regenerate
 
     if ens.simulated and ens.meta["baseline"]:
-        return ens.regenerate(baseline=False).acc, ens.acc
+        return regenerate(ens, baseline=False).acc, ens.acc
     return ens.acc, baseline_correct(ens.acc, ens.dt)
 
 

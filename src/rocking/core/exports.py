@@ -73,6 +73,7 @@ PUBLIC = {
     "Ensemble": "motions.ensemble",
     "baseline_correct": "motions.baseline",
     "generate": "motions.synthesis",
+    "regenerate": "motions.synthesis",
     "pulse": "motions.pulses",
     "pulse_period": "motions.wavelets",
     "VelocityPulse": "motions.wavelets",

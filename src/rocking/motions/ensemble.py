@@ -2,7 +2,7 @@
 :class:`Ensemble`.
 
 Simulated ensembles (:func:`rocking.generate`) remember how they were made and can be rebuilt
-(:meth:`Ensemble.regenerate`); recorded ones (:meth:`Ensemble.from_records`) name their sources
+(:func:`rocking.regenerate`); recorded ones (:meth:`Ensemble.from_records`) name their sources
 (file, event, station, component, original time step and units of each member).
 :meth:`Ensemble.scaled` rescales all members by one factor to a chosen A_gx (mean PGA [g], paper
 Section 3). A member may have a vertical component ``av`` [m/s², up positive], scaled with it.
@@ -215,7 +215,7 @@ class Ensemble:
     @property
     def simulated(self) -> bool:
         """True for a simulated ground-motion ensemble (``kind`` "simulated" at the ground),
-        which :meth:`regenerate` can rebuild from its metadata."""
+        which :func:`rocking.regenerate` can rebuild from its metadata."""
         return self.meta.get("kind") == "simulated" and self.meta.get("location") == "ground"
 
     def __len__(self) -> int:
@@ -236,35 +236,6 @@ class Ensemble:
         meta = {k: ([v[i] for i in idx] if k in PER_MEMBER else v) for k, v in self.meta.items()}
         av = None if self.av is None else self.av[idx]
         return Ensemble(self.acc[idx], self.dt, [self.labels[i] for i in idx], meta, av)
-
-    def regenerate(self, **overrides: Any) -> Ensemble:
-        """Simulate this ensemble again from its metadata (same members, phases and scale).
-
-        ``overrides`` replace stored generation parameters of :func:`generate` (e.g.
-        ``baseline=False``); changing the frequencies needs a new ``target``.
-        """
-        from .synthesis import _GENERATION_KEYS, _generate  # (synthesis makes Ensembles)
-
-        if not self.simulated:
-            raise InputError(
-                "only simulated ground motions can be regenerated (this ensemble "
-                f"is {self.meta.get('kind', 'of unknown kind')!r} at "
-                f"{self.meta['location']!r})"
-            )
-        unknown = set(overrides) - set(_GENERATION_KEYS) - {"target"}
-        if unknown:
-            raise InputError(
-                f"cannot override {', '.join(sorted(unknown))}: not a parameter of generate()"
-            )
-        m = self.meta
-        # Files written before peak limiting existed were generated without it.
-        params = {"peak_limit": False, **{k: m[k] for k in _GENERATION_KEYS if k in m}}
-        params["target"] = StoredTarget(
-            m["target"], tuple(m["freqs_hz"]), tuple(m["target_psa"]), m["damping"]
-        )
-        params.update(overrides)
-        ens = _generate(m["members"], **params)
-        return ens.scaled_by(m["scale"]) if m["scale"] != 1.0 else ens
 
     def target_spectrum(self) -> StoredTarget:
         """The target a simulated ensemble was fitted to, times its ``scale`` (PSA [g]); known

@@ -21,7 +21,7 @@ import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,7 +36,7 @@ from .ensemble import Ensemble, _n_samples
 from .envelopes import ENVELOPES, make_envelope
 from .psd import DEFAULT_PEAK_CONSTANT, PowerSpectrum, log_frequencies, power_spectrum, target_psa
 from .response import response_spectrum
-from .targets import rg160
+from .targets import StoredTarget, rg160
 
 if TYPE_CHECKING:
     from typing import Protocol
@@ -578,6 +578,36 @@ def generate(
         peak_constant=peak_constant,
         convention=convention,
     )
+
+
+def regenerate(ensemble: Ensemble, **overrides: Any) -> Ensemble:
+    """Simulate a simulated ground-motion ``ensemble`` again from its metadata (same members,
+    phases and scale; accelerations [m/s²]).
+
+    ``overrides`` replace stored generation parameters of :func:`generate` (e.g.
+    ``baseline=False``); changing the frequencies needs a new ``target``. Recorded motions and
+    floor motions cannot be regenerated (InputError).
+    """
+    if not ensemble.simulated:
+        raise InputError(
+            "only simulated ground motions can be regenerated (this ensemble "
+            f"is {ensemble.meta.get('kind', 'of unknown kind')!r} at "
+            f"{ensemble.meta['location']!r})"
+        )
+    unknown = set(overrides) - set(_GENERATION_KEYS) - {"target"}
+    if unknown:
+        raise InputError(
+            f"cannot override {', '.join(sorted(unknown))}: not a parameter of generate()"
+        )
+    m = ensemble.meta
+    # Files written before peak limiting existed were generated without it.
+    params = {"peak_limit": False, **{k: m[k] for k in _GENERATION_KEYS if k in m}}
+    params["target"] = StoredTarget(
+        m["target"], tuple(m["freqs_hz"]), tuple(m["target_psa"]), m["damping"]
+    )
+    params.update(overrides)
+    ens = _generate(m["members"], **params)
+    return ens.scaled_by(m["scale"]) if m["scale"] != 1.0 else ens
 
 
 def _generate(

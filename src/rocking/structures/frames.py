@@ -402,7 +402,7 @@ class ShearFrame:
         return np.ascontiguousarray(ensemble.acc, dtype=np.float64)
 
     def _wrap(self, ensemble, floor: int, acc: np.ndarray):
-        # kind changes so that Ensemble.regenerate (ground motions only) refuses a floor ensemble
+        # kind changes so that rocking.regenerate (ground motions only) refuses a floor ensemble
         meta = {
             **ensemble.meta,
             **self.to_meta(),
