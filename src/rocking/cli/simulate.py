@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from ..defaults import G
+from ..defaults import DT, OVERTURN_ANGLE, G
 from ..errors import InputError
 from ._options import G_LEVEL, R_option, e_option, figure_file, gamma_option, parse_e, reporter
 
@@ -23,12 +23,12 @@ if TYPE_CHECKING:
 #: The word that selects the built-in simulated motion for ``--motion``.
 SIMULATED = "simulated"
 #: The built-in simulated motion: member 0 of a simulated ensemble (seed 0) compatible with
-#: RG 1.60 at 1 g, 20 s long with the compound intensity function; sampled at 1/400 s unless --dt
-#: is given.
+#: RG 1.60 at 1 g, 20 s long with the compound intensity function; sampled at the paper's step
+#: :data:`rocking.defaults.DT` unless --dt is given.
 SIMULATED_SPEC: dict[str, Any] = {"duration": 20.0, "envelope": "compound", "seed": 0}
 _SIMULATED_NAME = "simulated (RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
 #: --overturn-angle choices: the paper's π/2, or the critical angle α.
-_OVERTURN: dict[str, float | str] = {"pi2": math.pi / 2, "alpha": "alpha"}
+_OVERTURN: dict[str, float | str] = {"pi2": OVERTURN_ANGLE, "alpha": "alpha"}
 
 
 def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
@@ -38,13 +38,13 @@ def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
     ``example`` is the shipped El Centro 1940 NS record
     (:func:`rocking.motions.records.example_record_path`), ``simulated`` the built-in simulated
     motion (:data:`SIMULATED_SPEC`). ``dt`` [s] is the step of a one-column file (checked against
-    the file's own step otherwise), or the step of the simulated motion (1/400 s if None).
+    the file's own step otherwise), or the step of the simulated motion (:data:`DT` if None).
     """
     from ..motions.records import EXAMPLE, read_record, record_path
     from ..motions.synthesis import generate
 
     if spec == SIMULATED and not Path(spec).exists():
-        ens = generate(1, dt=1 / 400 if dt is None else dt, **SIMULATED_SPEC)
+        ens = generate(1, dt=DT if dt is None else dt, **SIMULATED_SPEC)
         return ens.acc[0], ens.dt, _SIMULATED_NAME
     path = record_path(spec)
     if not path.is_file():
@@ -142,7 +142,7 @@ def _text(s: dict) -> list[str]:
     type=float,
     default=None,
     help="Time step [s]: needed for one-column files, checked against other files' "
-    "own step; for 'simulated' the step of the generated motion (default 1/400).",
+    f"own step; for 'simulated' the step of the generated motion (default {DT:g}).",
 )
 @click.option(
     "--overturn-angle",
@@ -179,16 +179,17 @@ def simulate_cmd(
     """
     from ..core.checks import positive
     from ..dynamics.body import Block
+    from ..dynamics.physics import Physics
     from ..dynamics.simulate import simulate
 
     block = Block(R, gamma)
-    e = parse_e(e_text)
+    physics = Physics(e=parse_e(e_text), overturn_angle=_OVERTURN[overturn])
     dt = None if dt is None else positive("--dt", dt, "s")
     figure_file(plot_path, "--plot")
     with reporter():
         ag, step, name = load_motion(motion, dt)
         ag, factor = (ag, 1.0) if scale_g is None else scale_to_peak(ag, scale_g)
-        response = simulate(block, ag, step, e=e, overturn_angle=_OVERTURN[overturn])
+        response = simulate(block, ag, step, physics=physics)
     summary = run_summary(block, response, ag, step, name, factor)
     if as_json:
         click.echo(json.dumps(summary, indent=2))

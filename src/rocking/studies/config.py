@@ -168,7 +168,7 @@ PAPER: dict = {
         "resolution": 0.01,
         "agx_max": 5.0,
         "band_hz": list(BAND_HZ),
-        "dts": [1 / 200, 1 / 400, 1 / 800, 1 / 1600],
+        "dts": [2 * DT, DT, DT / 2, DT / 4],  # 1/200 … 1/1600 s, exactly
         "convergence_n": 200,
         "convergence_bodies": "paper",
         "convergence_resolution": 0.001,
