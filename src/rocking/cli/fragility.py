@@ -238,7 +238,8 @@ _run_options = options(
     type=click.Choice(["pelicun", "openquake"], case_sensitive=False),
     help="Also write the fitted curves for a loss tool: pelicun (damage-model CSV, "
     "fragility_pelicun.csv) or openquake (NRML fragility model, fragility_openquake.xml); "
-    "may be repeated. Needs an IM the tool knows (pga, pgv, sa(T), ...; not agx).",
+    "may be repeated. Needs an IM the tool knows (pga, pgv, sa(T), ...; not agx). With "
+    "--limit-states: every limit state, by increasing severity (LS1, LS2, ...).",
 )
 def fragility_cmd(
     bodies_spec: str,
@@ -289,11 +290,6 @@ def fragility_cmd(
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
     exports = tuple(dict.fromkeys(f.lower() for f in exports))
-    if exports and states is not None:
-        raise InputError(
-            "--export cannot be combined with --limit-states yet (it writes each body's "
-            "overturning curve): export from a run without --limit-states"
-        )
     if exports:
         from ..montecarlo.export import check_exportable
 
@@ -379,9 +375,9 @@ def fragility_cmd(
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
         if states is None:
             _write_fragility(run, ds, measure, efficiency, ensemble, e)
-            _export(run, ds, exports)
         else:
             _write_limit_states(run, ds, measure, efficiency, ensemble, e)
+        _export(run, ds, exports)
     _print_fits(ds, measure)
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")

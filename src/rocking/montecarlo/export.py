@@ -1,8 +1,21 @@
 """Fragility curves written for loss tools (issue 47): :func:`export_fragility`.
 
-Each body is one component with one limit state per fitted curve (today one, overturning: the
-files carry LS1 … LSn, so more limit states come as more entries of the same loop). A lognormal
-curve P(x) = Φ(ln(x/θ)/β) has median θ [the IM's unit] and dispersion β [-].
+Each body is one component with one limit state per fitted curve: overturning, or every limit
+state of a result with a ``limit_state`` dimension (``fragility_analysis(...,
+limit_states=...)``). A lognormal curve P(x) = Φ(ln(x/θ)/β) has median θ [the IM's unit] and
+dispersion β [-].
+
+Several limit states are written in order of increasing severity (LS1 the most often exceeded,
+whatever the order they were given in), since both tools take them as sequential damage
+states: pelicun draws one capacity per component for all its limit states (perfectly
+correlated, pelicun 3.10 ``model/damage_model.py``) and puts the component in the highest
+limit state its demand exceeds; OpenQuake takes the probability of damage state n as the
+difference of the curves of limit states n and n+1. So P(DS ≥ n) is the curve of limit state n
+only if the states are nested and their medians θ₁ < θ₂ < … increase with severity (with one
+β, the joint fit of nested states, the curves then never cross). States that are not nested
+(fitted one by one), or a body whose medians do not increase (two states exceeded in the same
+cases have the same median: a damage state that never occurs), are refused, naming them; one
+state at a time can still be exported (``result.sel(limit_state=[name])``).
 
 * ``pelicun`` — the damage-model CSV of pelicun 3.x (``damage_DB_…csv``): one row per component,
   columns ``ID``, ``Demand-Directional`` (1), ``Demand-Offset`` (0), ``Demand-Type``,
@@ -24,13 +37,15 @@ curve P(x) = Φ(ln(x/θ)/β) has median θ [the IM's unit] and dispersion β [-]
   beyond the levels tested is what the fragility report warns about.
 
 Identifiers: a body's name with every character but letters, digits, ``-`` and ``_`` replaced
-by ``_`` (the NRML rule), at most 100 characters.
+by ``_`` (the NRML rule), at most 100 characters; so are the names of limit states in NRML
+(``theta/alpha>=0.5`` is ``theta_alpha__0_5``; the description lists them as given).
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import itertools
 import math
 import os
 import re
@@ -44,6 +59,7 @@ from ..core.files import atomic_write
 from ..defaults import IM_DAMPING
 from ..errors import InputError
 from ..motions.intensity import IntensityMeasure, parse_im
+from .statistics import severity_order
 
 #: The formats :func:`export_fragility` writes, and the file ``rocking fragility --export``
 #: writes in its output folder.
@@ -74,9 +90,10 @@ def export_fragility(
     ----------
     result : xarray.Dataset, LognormalFit or mapping of name to LognormalFit (or None: no fit)
         The Dataset of :func:`rocking.fragility_analysis` (its ``median`` [the IM's unit] and
-        ``beta`` [-] per body, its IM from ``attrs["im"]``), one fit (named ``body``) or fits
-        by name. Bodies without a finite fit (nothing overturned, or everything) are left out
-        with a warning.
+        ``beta`` [-] per body, and per limit state if it has them, its IM from
+        ``attrs["im"]``), one fit (named ``body``) or fits by name. Bodies without a finite
+        fit of every limit state (nothing exceeded it, or everything) are left out with a
+        warning.
     path : str or Path
         The file to write (its folder must exist); written atomically.
     format : str
@@ -97,10 +114,11 @@ def export_fragility(
     ------
     InputError
         For an unknown format, an IM the format has no name for (A_gx, the ensemble mean PGA
-        of the paper, is none: it is not the demand of one event), or no body with a fit.
+        of the paper, is none: it is not the demand of one event), no body with a fit, limit
+        states that are not nested or a body whose medians do not increase with severity.
     """
     fmt, demand = check_exportable(_measure(result, im), format)
-    curves = _curves(result)
+    curves, title = _curves(result)
     if fmt == "pelicun":
         text = _pelicun_csv(curves, *demand)
     else:
@@ -108,7 +126,7 @@ def export_fragility(
             raise InputError(
                 f"loss_category must be one of {', '.join(LOSS_CATEGORIES)}, got {loss_category!r}"
             )
-        text = _nrml(curves, *demand, loss_category)
+        text = _nrml(curves, title, *demand, loss_category)
     return atomic_write(path, text)
 
 
@@ -191,11 +209,19 @@ def _name(im: str | IntensityMeasure) -> str:
     return "agx" if str(im).strip().lower() == "agx" else parse_im(im).name
 
 
-def _curves(result: Any) -> Curves:
-    """(name, [(limit state, θ, β), …]) of each body with a finite fit."""
-    if hasattr(result, "data_vars"):  # the Dataset of fragility_analysis
+def _curves(result: Any) -> tuple[Curves, str]:
+    """(name, [(limit state, θ, β), …]) of each body with a finite fit of every limit state,
+    and what the curves are of (the start of the NRML description)."""
+    states, title = [OVERTURNING], "Overturning of free-standing rigid blocks"
+    if hasattr(result, "data_vars") and "limit_state" in result.dims:
+        states, fits = _limit_state_fits(result)
+        title = (
+            "Limit states of free-standing rigid blocks by increasing severity "
+            f"({', '.join(states)}), nested, one beta per block"
+        )
+    elif hasattr(result, "data_vars"):  # the Dataset of fragility_analysis
         fits = {
-            str(b): (float(m), float(s))
+            str(b): [(float(m), float(s))]
             for b, m, s in zip(
                 result["body"].values, result["median"].values, result["beta"].values
             )
@@ -203,20 +229,21 @@ def _curves(result: Any) -> Curves:
     elif isinstance(result, Mapping):
         nothing = (math.nan, math.nan)  # a body without a fit: None
         fits = {
-            str(k): nothing if v is None else (float(v.median), float(v.beta))
+            str(k): [nothing if v is None else (float(v.median), float(v.beta))]
             for k, v in result.items()
         }
     elif hasattr(result, "median") and hasattr(result, "beta"):
-        fits = {"body": (float(result.median), float(result.beta))}
+        fits = {"body": [(float(result.median), float(result.beta))]}
     else:
         raise InputError(
             "result must be the Dataset of rocking.fragility_analysis, a rocking.LognormalFit "
             f"or a mapping of names to fits, got {type(result).__name__}"
         )
+    labels = _identifiers(states, "limit state")
     good = {
-        name: [(OVERTURNING, m, b)]
-        for name, (m, b) in fits.items()
-        if math.isfinite(m) and m > 0.0 and math.isfinite(b) and b > 0.0
+        name: [(ls, m, b) for ls, (m, b) in zip(labels, pairs)]
+        for name, pairs in fits.items()
+        if all(math.isfinite(m) and m > 0.0 and math.isfinite(b) and b > 0.0 for m, b in pairs)
     }
     left = [name for name in fits if name not in good]
     if not good:
@@ -225,13 +252,58 @@ def _curves(result: Any) -> Curves:
         warnings.warn(
             f"not exported, no finite fit: {', '.join(left)}", RuntimeWarning, stacklevel=3
         )
-    ids = [_ID_CHARS.sub("_", name)[:100] for name in good]
+    return list(zip(_identifiers(list(good), "body"), good.values())), title
+
+
+def _identifiers(names: list[str], what: str) -> list[str]:
+    """``names`` as NRML identifiers (letters, digits, - and _, at most 100 characters)."""
+    ids = [_ID_CHARS.sub("_", name)[:100] for name in names]
     if len(set(ids)) < len(ids):
         raise InputError(
-            f"the body names {', '.join(good)} give the same identifier once characters other "
-            "than letters, digits, - and _ are replaced: rename them"
+            f"the {what} names {', '.join(names)} give the same identifier once characters "
+            "other than letters, digits, - and _ are replaced: rename them"
         )
-    return [(i, states) for i, states in zip(ids, good.values())]
+    return ids
+
+
+def _limit_state_fits(ds: Any) -> tuple[list[str], dict[str, list[tuple[float, float]]]]:
+    """The limit states of a result of ``fragility_analysis(..., limit_states=...)`` by
+    increasing severity, and each body's (θ, β) of each in that order; InputError where they
+    are not nested or a body's medians do not increase with severity (module notes)."""
+    names = [str(s) for s in ds["limit_state"].values]
+    key = next((k for k in ("exceeded_motion", "exceeded") if k in ds), None)
+    if key is None:
+        raise InputError(
+            "result: a limit_state dimension without the variable exceeded of "
+            "rocking.fragility_analysis (each case's outcome), which orders the limit states"
+        )
+    order, loose = severity_order(ds[key].transpose("limit_state", ...).values)
+    if loose:
+        pairs = "; ".join(f"{names[s]!r} is exceeded where {names[m]!r} is not" for m, s in loose)
+        raise InputError(
+            f"limit states not nested ({pairs}): a loss tool takes limit states as sequential "
+            "damage states, each severer one exceeded only where the one before it is; export "
+            "them one at a time (result.sel(limit_state=[name]))"
+        )
+    median = ds["median"].transpose("body", "limit_state").values[:, order]
+    beta = ds["beta"].transpose("body", "limit_state").values[:, order]
+    unit = ds.attrs.get("im_unit", "")
+    for body, row in zip(ds["body"].values, median):
+        for i, j in itertools.pairwise(range(len(order))):
+            # a NaN median (no fit) leaves the body out, with a warning
+            if row[j] <= row[i]:
+                raise InputError(
+                    f"body {body}: the median of limit state {names[order[j]]!r} "
+                    f"({row[j]:.6g} {unit}) is not above that of the milder "
+                    f"{names[order[i]]!r} ({row[i]:.6g} {unit}): a loss tool's damage states "
+                    "need medians that increase with severity (equal ones: the two states are "
+                    "exceeded in the same cases); drop one of them"
+                )
+    fits = {
+        str(b): [(float(m), float(s)) for m, s in zip(ms, ss)]
+        for b, ms, ss in zip(ds["body"].values, median, beta)
+    }
+    return [names[i] for i in order], fits
 
 
 def _pelicun_csv(curves: Curves, demand: str, unit: str, factor: float) -> str:
@@ -250,7 +322,9 @@ def _pelicun_csv(curves: Curves, demand: str, unit: str, factor: float) -> str:
     return buffer.getvalue()
 
 
-def _nrml(curves: Curves, imt: str, unit: str, factor: float, loss_category: str) -> str:
+def _nrml(
+    curves: Curves, title: str, imt: str, unit: str, factor: float, loss_category: str
+) -> str:
     states = list(dict.fromkeys(ls for _, lss in curves for ls, _, _ in lss))
     ET.register_namespace("", NRML)
     root = ET.Element(f"{{{NRML}}}nrml")
@@ -262,8 +336,7 @@ def _nrml(curves: Curves, imt: str, unit: str, factor: float, loss_category: str
         lossCategory=loss_category,
     )
     ET.SubElement(model, f"{{{NRML}}}description").text = (
-        f"Overturning of free-standing rigid blocks: lognormal curves against {imt} [{unit}] "
-        "fitted by rocking (maximum likelihood)"
+        f"{title}: lognormal curves against {imt} [{unit}] fitted by rocking (maximum likelihood)"
     )
     ET.SubElement(model, f"{{{NRML}}}limitStates").text = " ".join(states)
     for name, lss in curves:

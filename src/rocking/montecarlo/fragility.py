@@ -16,7 +16,6 @@ predict overturning (:func:`im_efficiency`).
 
 from __future__ import annotations
 
-import itertools
 import math
 import os
 import warnings
@@ -51,6 +50,7 @@ from .statistics import (
     bootstrap_fragility,
     bootstrap_limit_states,
     fit_lognormal,
+    severity_order,
     wilson_interval,
 )
 
@@ -344,10 +344,7 @@ def _limit_states(
     (:func:`_add_fits`)."""
     key = "overturned_motion" if "overturned_motion" in parts[0] else "overturned"
     flags = np.array([part[key].values for part in parts])  # (state, body, ...)
-    by_count = np.argsort(-flags.reshape(len(parts), -1).sum(axis=1), kind="stable")
-    nested = all(
-        np.all(flags[mild] | ~flags[severe]) for mild, severe in itertools.pairwise(by_count)
-    )
+    nested = not severity_order(flags)[1]
     if not nested:
         for part, ls in zip(parts, states):
             _add_fits(part, *fit, f" ({ls.name})")

@@ -13,6 +13,7 @@ each) alike.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, replace
 from typing import NamedTuple
@@ -670,6 +671,20 @@ def bootstrap_fragility(
     )
 
 
+def severity_order(flags: np.ndarray) -> tuple[list[int], list[tuple[int, int]]]:
+    """Limit states in order of severity, and where they are not nested.
+
+    ``flags`` (bool, state first): each limit state's exceedances over the same cases.  Returns
+    the states' indices from the most often exceeded (the mildest) to the least (in the order
+    given where counts tie), and the neighbouring pairs (milder, severer) of that order where
+    a case exceeds the severer state but not the milder (none: the states are nested, each
+    exceeded in every case a severer one is)."""
+    flat = np.asarray(flags, dtype=bool).reshape(len(flags), -1)
+    order = [int(i) for i in np.argsort(-flat.sum(axis=1), kind="stable")]
+    loose = [(m, s) for m, s in itertools.pairwise(order) if np.any(flat[s] & ~flat[m])]
+    return order, loose
+
+
 def bootstrap_limit_states(
     im: np.ndarray,
     outcomes: np.ndarray,
@@ -689,7 +704,7 @@ def bootstrap_limit_states(
     ``im`` [the IM's unit, > 0] and ``outcomes`` (bool) of limit state i in ``outcomes[i]``,
     laid out as for :func:`bootstrap_fragility` (levels × motions, or one per motion for a
     cloud, where im holds each motion's IM); every exceedance of a state is one of the states
-    before it or after it (nested; checked by the caller).  Returns one
+    before it or after it (nested: :func:`severity_order`, checked by the caller).  Returns one
     :class:`FragilityFit` per limit state (its β and β interval those of all), None for a
     state without information (never or always exceeded).  ``n_boot`` 0: the point fit only,
     intervals NaN."""
