@@ -689,8 +689,12 @@ def efficiency_section(report: Report, efficiency: pd.DataFrame) -> None:
     report.text(
         "Dispersion β of the lognormal fragility fitted to the same IDA runs, each run "
         "placed at its motion's value of each IM (smaller β: the IM predicts overturning "
-        "better), with bootstrap 95 % intervals over motions."
+        "better), with bootstrap 95 % intervals over motions; with several bodies, also of "
+        "one fragility fitted to the runs of all bodies pooled (the last row)."
     )
+    verdict = dimensionless_verdict(efficiency)
+    if verdict:
+        report.text(verdict)
     report.figure(
         plot_im_efficiency(efficiency),
         "im-efficiency",
@@ -706,12 +710,10 @@ def efficiency_section(report: Report, efficiency: pd.DataFrame) -> None:
             "β [-]": efficiency["beta"],
             "β, 95 % low [-]": efficiency["beta_low"],
             "β, 95 % high [-]": efficiency["beta_high"],
+            "note": efficiency["note"].fillna("") if "note" in efficiency else "",
         }
     )
     report.table(page, "IMs ranked by β per body.", "im", csv=efficiency, collapsed=True)
-    verdict = dimensionless_verdict(efficiency)
-    if verdict:
-        report.text(verdict)
 
 
 def dimensionless_verdict(efficiency: pd.DataFrame) -> str:
