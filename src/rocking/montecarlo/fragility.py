@@ -84,11 +84,16 @@ class AnalysisIM:
             return cls(AGX, "A_gx (mean PGA of the ensemble) [g]", "g", 1, None)
         m = parse_im(im)
         if m.per_body and not per_body:
+            instead = (
+                f": analyse the fragility against {m.dimensional} and compare {m.name} with "
+                "im_efficiency (--im-efficiency)"
+                if m.dimensional
+                else "; scaling does not change it either: it cannot be the IM of a fragility "
+                "analysis"
+            )
             raise InputError(
                 f"im {m.name} is per body, so one level of it is a different motion for each "
-                "body: analyse the fragility against "
-                f"{m.dimensional or 'pga'} and compare {m.name} with im_efficiency "
-                "(--im-efficiency)"
+                f"body{instead}"
             )
         return cls(m.name, m.label, m.unit, m.scaling_exponent, m)
 
