@@ -365,3 +365,44 @@ def test_paper_body_names_write_gamma_as_gamma(paper_run):
         assert "gamma" in table.columns
     with xr.open_dataset(paper_run / "probabilities.nc", engine=NETCDF_ENGINE) as ds:
         assert "R=3.35 m, γ=6" in ds["body"].values  # the netCDF-3 file keeps the name
+
+
+def test_im_efficiency_report_says_whether_the_dimensionless_ims_predict_better(tmp_path, motions):
+    # Two blocks of one slenderness, R = 0.3 and 1.5 m: pooled, PGV·p/(g tan α) removes their
+    # size (similarity: Makris & Konstantinidis 2003; Dimitrakopoulos & DeJong 2012), so the
+    # report compares its pooled β with PGV's in one sentence, with the numbers of the table.
+    bodies = tmp_path / "sizes.csv"
+    bodies.write_text("name,R,gamma\nsmall,0.3,4\nlarge,1.5,4\n")
+    out = tmp_path / "out"
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--im", "pga"]
+    args += ["--levels", "0.1:1.5:0.1", "--n-boot", 0, "--out", out, "--quiet"]
+    result = _run([*args, "--im-efficiency", "pga,pgv,pga/gtana,pgv*p/gtana"])
+    assert result.exit_code == 0, result.output
+    table = pd.read_csv(out / "im_efficiency.csv", keep_default_na=False)
+    pooled = table[table["body"] == "all bodies (pooled)"].set_index("im")["beta"]
+    assert sorted(pooled.index) == ["pga", "pga/gtana", "pgv", "pgv*p/gtana"]
+    html = (out / "report.html").read_text()
+    word = "better than" if pooled["pgv*p/gtana"] < pooled["pgv"] else "worse than"
+    sentence = (
+        f"PGV·p/(g tan α) predicts overturning {word} PGV "
+        f"(β {pooled['pgv*p/gtana']:.2f} against {pooled['pgv']:.2f})"
+    )
+    assert "Pooled over the 2 bodies" in html and sentence in html
+    assert word == "better than"  # the physics of the comparison, with these 6 motions
+
+
+@pytest.mark.parametrize(
+    "extra, expected",
+    [
+        (["--im", "pga/gtana"], "im pga/gtana is per body"),
+        (["--im", "pga", "--im-efficiency", "pgv,omega"], "omega does not change when"),
+    ],
+)
+def test_im_efficiency_refuses_what_it_cannot_compare_before_work(
+    tmp_path, motions, bodies, extra, expected
+):
+    out = tmp_path / "out"
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--levels", "0.1:1:0.1"]
+    line = _one_line_error(_run([*args, "--out", out, *extra]))
+    assert expected in line
+    assert not out.exists()

@@ -192,3 +192,41 @@ def test_bad_arguments_of_intensity_measures(el_centro):
         intensity_measures(el_centro, [])
     with pytest.raises(InputError, match="twice"):
         intensity_measures(el_centro, ["sa(1)", "SA(1.0, 0.05)"])
+
+
+def test_dimensionless_ims_of_blocks_follow_their_similarity_law(el_centro):
+    # Rocking depends on a block only through tan α and p = sqrt(3g/(4R)) (Housner 1963; the
+    # similarity of Dimitrakopoulos & DeJong 2012): at γ = 4, g·tan α = g/4, so PGA/(g tan α)
+    # is 4·PGA [g] for every size; a block 4 times larger has p halved, so PGV·p/(g tan α)
+    # halves and Ω = 2π/(T_p·p) doubles. Only rounding differs (1e-12).
+    small, large = rocking.Block(0.5, 4.0), rocking.Block(2.0, 4.0)
+    ims = ["pga", "pga/gtana", "pgv*p/gtana", "omega"]
+    a = intensity_measures(el_centro, ims, body=small).iloc[0]
+    b = intensity_measures(el_centro, ims, body=large).iloc[0]
+    assert a["pga/gtana [-]"] == pytest.approx(4.0 * a["pga [g]"], rel=1e-12)
+    assert b["pga/gtana [-]"] == pytest.approx(a["pga/gtana [-]"], rel=1e-12)
+    assert b["pgv*p/gtana [-]"] == pytest.approx(a["pgv*p/gtana [-]"] / 2, rel=1e-12)
+    assert b["omega [-]"] == pytest.approx(2 * a["omega [-]"], rel=1e-12)
+    # Ω from the record's pulse period, ω_p = 2π/T_p (Shahi & Baker 2014's T_p)
+    t_p = rocking.pulse_period(el_centro.acc[0], el_centro.dt).period
+    assert a["omega [-]"] == pytest.approx(2 * math.pi / (t_p * small.p), rel=1e-12)
+    # scaling the motion: PGA/(g tan α), PGV·p/(g tan α) by λ, Ω not at all (its period stays)
+    lam = 2.5
+    scaled = intensity_measures(el_centro.scaled_by(lam), ims, body=small).iloc[0]
+    for col, name in zip(a.index, ims):
+        k = math.log(scaled[col] / a[col]) / math.log(lam)
+        assert k == pytest.approx(im_scaling_exponent(name), abs=1e-9), name
+    assert [parse_im(s).dimensional for s in ims] == [None, "pga", "pgv", None]
+    for s in ims:  # the column names parse back to the same IM
+        assert parse_im(parse_im(s).column) == parse_im(s)
+
+
+def test_dimensionless_ims_are_refused_without_a_body(el_centro):
+    with pytest.raises(InputError, match=r"pga/gtana, omega are per body .* give body="):
+        intensity_measures(el_centro, ["pga", "pga/gtana", "omega"])
+    with pytest.raises(InputError, match="body must be a rocking.Block, got str"):
+        intensity_measures(el_centro, ["pga/gtana"], body="R=1")
+    with pytest.raises(InputError, match="is per body.*im_efficiency"):
+        rocking.fragility_analysis(
+            rocking.Block(1.0, 4.0), el_centro, im="pgv*p/gtana", levels=[1.0]
+        )

@@ -102,7 +102,8 @@ SAAVG_PERIODS = 10
 IM_SYNTAX = (
     "pga [g], pgv [m/s], pgd [m], sa(T) or sa(T,zeta) [g], psv(T) or psv(T,zeta) [m/s], "
     "saavg(T1:T2), saavg(T1:T2:n) or saavg(T1:T2:n,zeta) [g], arias [m/s], cav [m/s], "
-    "pgv/pga [s] (T in s, zeta a fraction, default 0.05; n periods, default 10)"
+    "pgv/pga [s], per body pga/gtana, pgv*p/gtana, omega [-] (T in s, zeta a fraction, "
+    "default 0.05; n periods, default 10)"
 )
 
 #: Bootstrap resamples of the motions for the intervals of a fragility's median and β, in the

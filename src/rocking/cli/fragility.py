@@ -10,6 +10,7 @@ file written atomically; the Monte Carlo chunks in ``chunks/`` let the same comm
 from __future__ import annotations
 
 import json
+import math
 import warnings
 from collections.abc import Hashable
 from pathlib import Path
@@ -281,7 +282,7 @@ def fragility_cmd(
         if text is not None:
             parse_range(text, option, unit="g" if option == "--agx" else "of the IM's unit")
     from ..dynamics.limits import parse_limit_states
-    from ..montecarlo.fragility import AnalysisIM
+    from ..montecarlo.fragility import AnalysisIM, efficiency_measures
 
     states = None if limit_states_text is None else parse_limit_states(limit_states_text)
     measure = AnalysisIM.parse(im_text)
@@ -289,6 +290,8 @@ def fragility_cmd(
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
+    if compare is not None:
+        efficiency_measures(compare)  # an IM it cannot compare is refused before any work
     exports = tuple(dict.fromkeys(f.lower() for f in exports))
     if exports:
         from ..montecarlo.export import check_exportable
@@ -682,8 +685,12 @@ def efficiency_section(report: Report, efficiency: pd.DataFrame) -> None:
     report.text(
         "Dispersion β of the lognormal fragility fitted to the same IDA runs, each run "
         "placed at its motion's value of each IM (smaller β: the IM predicts overturning "
-        "better), with bootstrap 95 % intervals over motions."
+        "better), with bootstrap 95 % intervals over motions; with several bodies, also of "
+        "one fragility fitted to the runs of all bodies pooled (the last row)."
     )
+    verdict = dimensionless_verdict(efficiency)
+    if verdict:
+        report.text(verdict)
     report.figure(
         plot_im_efficiency(efficiency),
         "im-efficiency",
@@ -699,9 +706,42 @@ def efficiency_section(report: Report, efficiency: pd.DataFrame) -> None:
             "β [-]": efficiency["beta"],
             "β, 95 % low [-]": efficiency["beta_low"],
             "β, 95 % high [-]": efficiency["beta_high"],
+            "note": efficiency["note"].fillna("") if "note" in efficiency else "",
         }
     )
     report.table(page, "IMs ranked by β per body.", "im", csv=efficiency, collapsed=True)
+
+
+def dimensionless_verdict(efficiency: pd.DataFrame) -> str:
+    """One sentence: whether the dimensionless IMs of an :func:`rocking.im_efficiency` table
+    (PGA/(g tan α), PGV·p/(g tan α)) predict overturning better than PGA and PGV, by the β of
+    the fragility of all bodies pooled; "" if the table has no such pair of IMs."""
+    from ..montecarlo.fragility import POOLED
+    from ..motions.intensity import parse_im
+
+    ims = {str(im): parse_im(str(im)) for im in efficiency["im"]}
+    name = {im: m.label.rsplit(" [", 1)[0] for im, m in ims.items()}  # without the unit
+    pairs = [(im, m.dimensional) for im, m in ims.items() if m.dimensional in ims]
+    if not pairs:
+        return ""
+    pooled = efficiency[efficiency["body"] == POOLED].set_index("im")["beta"]
+    if pooled.empty:
+        return (
+            "With one body, "
+            + " and ".join(f"{name[a]} is {name[str(b)]} times a constant" for a, b in pairs)
+            + ", with the same β: only bodies of different sizes, pooled, compare them."
+        )
+
+    def compared(a: str, b: str) -> str:
+        x, y = float(pooled[a]), float(pooled[b])
+        if not (math.isfinite(x) and math.isfinite(y)):
+            return f"{name[a]} cannot be compared with {name[b]} (nothing to fit)"
+        same = abs(x - y) <= 1e-9 * y  # equal but for rounding (bodies of one slenderness)
+        word = "as well as" if same else "better than" if x < y else "worse than"
+        return f"{name[a]} predicts overturning {word} {name[b]} (β {x:.2f} against {y:.2f})"
+
+    n = len(set(efficiency["body"])) - 1
+    return f"Pooled over the {n} bodies, " + "; ".join(compared(a, str(b)) for a, b in pairs) + "."
 
 
 @click.command("agx50")

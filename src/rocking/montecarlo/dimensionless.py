@@ -10,9 +10,10 @@ curves for rocking response to near-fault excitations", Earthq. Eng. Struct. Dyn
 
 For one body these are PGA and PGV times a constant: a fragility fitted against them has the
 same dispersion β (a lognormal's β does not change when its variable is multiplied by a
-constant), so :func:`rocking.im_efficiency` would rank them exactly as PGA and PGV.  They differ
-when bodies are pooled: :func:`dimensionless_efficiency` fits one fragility to the outcomes of
-all bodies against each measure and compares the β.
+constant), so their per-body β in :func:`rocking.im_efficiency` is PGA's and PGV's.  They differ
+when bodies are pooled: :func:`rocking.im_efficiency` fits one fragility to the outcomes of all
+bodies against each measure too, and :func:`dimensionless_efficiency` returns those rows for
+PGA, PGV and the two dimensionless measures.
 """
 
 from __future__ import annotations
@@ -32,8 +33,10 @@ from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from ..motions.intensity import intensity_measures
 from ..motions.wavelets import pulse_period
-from .fragility import fragility_analysis
-from .statistics import fit_lognormal
+from .fragility import POOLED, im_efficiency
+
+#: The IMs :func:`dimensionless_efficiency` compares.
+DIMENSIONLESS_IMS = ("pga", "pgv", "pga/gtana", "pgv*p/gtana")
 
 
 def dimensionless_intensities(
@@ -54,25 +57,21 @@ def dimensionless_intensities(
     blocks = block_list(blocks)
     if not isinstance(ensemble, Ensemble):
         raise InputError(f"ensemble must be a rocking.Ensemble, got {type(ensemble).__name__}")
-    ims = intensity_measures(ensemble, ["pga", "pgv"])
-    pga = ims.iloc[:, 0].to_numpy() * G  # [m/s²] (PGA comes in units of standard gravity)
-    pgv = ims.iloc[:, 1].to_numpy()  # [m/s]
     pulses = [pulse_period(a, ensemble.dt) for a in ensemble.acc]
-    t_p = np.array([p.period for p in pulses])
+    t_p = np.array([p.period for p in pulses])  # [s]
     rows = []
     for b in blocks:
-        uplift = g * math.tan(b.alpha)
-        p = b.p_at(g)
+        ims = intensity_measures(ensemble, ["pga/gtana", "pgv*p/gtana"], body=b, g=g)
         rows.append(
             pd.DataFrame(
                 {
                     "body": b.label,
                     "motion": list(ensemble.labels),
-                    "pga_over_uplift": pga / uplift,
-                    "pgv_p_over_uplift": pgv * p / uplift,
+                    "pga_over_uplift": ims.iloc[:, 0].to_numpy(),
+                    "pgv_p_over_uplift": ims.iloc[:, 1].to_numpy(),
                     "pulse_period": t_p,
                     "pulse_like": [p.pulse_like for p in pulses],
-                    "omega_ratio": 2.0 * math.pi / (t_p * p),
+                    "omega_ratio": 2.0 * math.pi / (t_p * b.p_at(g)),  # Ω = ω_p/p
                 }
             )
         )
@@ -90,9 +89,9 @@ def dimensionless_efficiency(
     """Dispersion β of one lognormal fragility fitted to all bodies at once against PGA, PGV,
     PGA/(g·tan α) and PGV·p/(g·tan α): smaller β, a better predictor of overturning.
 
-    An IDA scales every motion to each PGA of ``levels`` [g] (:func:`rocking.fragility_analysis`,
-    ``im="pga"``); every (body, level, motion) run is a point of one cloud whose intensity is
-    the scaled motion's IM (its PGA and PGV times the scale factor; the dimensionless ones
+    An IDA scales every motion to each PGA of ``levels`` [g] (:func:`rocking.im_efficiency`,
+    ``scale_im="pga"``); every (body, level, motion) run is a point of one cloud whose intensity
+    is the scaled motion's IM (its PGA and PGV times the scale factor; the dimensionless ones
     divided by the body's g·tan α, times p for PGV), and a lognormal is fitted to it by maximum
     likelihood (:func:`rocking.fit_lognormal`, one trial per point).
 
@@ -108,33 +107,19 @@ def dimensionless_efficiency(
     g : float
         Gravity [m/s²].
     **options :
-        As for :func:`rocking.fragility_analysis` (e, backend, progress, …).
+        As for :func:`rocking.im_efficiency` (e, backend, progress, n_boot (default 0 here),
+        …).
 
     Returns
     -------
     DataFrame
-        One row per IM, sorted by β: ``im``, ``unit``, ``median`` [the IM's unit], ``beta``.
+        One row per IM, sorted by β: ``im`` (``pga``, ``pgv``, ``pga/gtana``, ``pgv*p/gtana``),
+        ``unit``, ``median`` [the IM's unit], ``beta``: :func:`rocking.im_efficiency`'s pooled
+        rows (its rows of the one body if there is one).
     """
     blocks = block_list(blocks)
-    ida = fragility_analysis(
-        blocks, ensemble, im="pga", method="ida", levels=levels, g=g, n_boot=1, **options
-    )
-    ims = intensity_measures(ensemble, ["pga", "pgv"])
-    pga, pgv = ims.iloc[:, 0].to_numpy(), ims.iloc[:, 1].to_numpy()  # [g], [m/s]
-    factors = ida["level"].values[:, None] / pga[None, :]  # (level, motion)
-    y = ida["overturned"].values  # (body, level, motion)
-    uplift = np.array([g * math.tan(b.alpha) for b in blocks])[:, None, None]  # [m/s²]
-    p = np.array([b.p_at(g) for b in blocks])[:, None, None]  # [rad/s]
-    ones = np.ones_like(uplift)
-    measures = {
-        ("pga", "g"): ones * factors * pga,
-        ("pgv", "m/s"): ones * factors * pgv,
-        ("pga/(g tan alpha)", "-"): factors * pga * G / uplift,
-        ("pgv p/(g tan alpha)", "-"): factors * pgv * p / uplift,
-    }
-    rows = []
-    for (name, unit), x in measures.items():
-        count = y.ravel().astype(np.int64)
-        fit = fit_lognormal(x.ravel(), count, np.ones_like(count))
-        rows.append({"im": name, "unit": unit, "median": fit.median, "beta": fit.beta})
-    return pd.DataFrame(rows).sort_values("beta", kind="stable", ignore_index=True)
+    options.setdefault("n_boot", 0)
+    table = im_efficiency(blocks, ensemble, DIMENSIONLESS_IMS, levels=levels, g=g, **options)
+    if len(blocks) > 1:
+        table = table[table["body"] == POOLED]
+    return table[["im", "unit", "median", "beta"]].reset_index(drop=True)

@@ -76,18 +76,38 @@ class AnalysisIM:
     measure: IntensityMeasure | None
 
     @classmethod
-    def parse(cls, im: str | IntensityMeasure) -> AnalysisIM:
-        """From ``"agx"`` or any form of :func:`rocking.parse_im`."""
+    def parse(cls, im: str | IntensityMeasure, *, per_body: bool = False) -> AnalysisIM:
+        """From ``"agx"`` or any form of :func:`rocking.parse_im`; the per-body IMs
+        (PGA/(g tan α), ...) only with ``per_body`` (not as the IM of a fragility analysis,
+        whose levels are the same for every body)."""
         if isinstance(im, str) and im.strip().lower() == AGX:
             return cls(AGX, "A_gx (mean PGA of the ensemble) [g]", "g", 1, None)
         m = parse_im(im)
+        if m.per_body and not per_body:
+            instead = (
+                f": analyse the fragility against {m.dimensional} and compare {m.name} with "
+                "im_efficiency (--im-efficiency)"
+                if m.dimensional
+                else "; scaling does not change it either: it cannot be the IM of a fragility "
+                "analysis"
+            )
+            raise InputError(
+                f"im {m.name} is per body, so one level of it is a different motion for each "
+                f"body{instead}"
+            )
         return cls(m.name, m.label, m.unit, m.scaling_exponent, m)
 
-    def of_motions(self, ensemble: Ensemble) -> np.ndarray:
-        """The IM of every motion as it is (A_gx: the PGA of each motion) [unit]."""
+    @property
+    def per_body(self) -> bool:
+        """True for the IMs whose value depends on the body (PGA/(g tan α), ...)."""
+        return self.measure is not None and self.measure.per_body
+
+    def of_motions(self, ensemble: Ensemble, body: Block | None = None, g: float = G) -> np.ndarray:
+        """The IM of every motion as it is (A_gx: the PGA of each motion) [unit], for ``body``
+        under gravity ``g`` [m/s²] if it is per body."""
         if self.measure is None:
             return ensemble.pga
-        return intensity_measures(ensemble, [self.measure]).iloc[:, 0].to_numpy()
+        return intensity_measures(ensemble, [self.measure], body=body, g=g).iloc[:, 0].to_numpy()
 
 
 def _checked_levels(levels, unit: str) -> np.ndarray:
@@ -637,6 +657,10 @@ def _fit_one(
     )
 
 
+#: The ``body`` of :func:`im_efficiency`'s rows of the fit to all bodies at once.
+POOLED = "all bodies (pooled)"
+
+
 def im_efficiency(
     blocks: Block | Sequence[Block],
     ensemble: Ensemble,
@@ -651,39 +675,116 @@ def im_efficiency(
     **options: Any,
 ) -> pd.DataFrame:
     """Rank intensity measures by how well they predict overturning: the dispersion β of the
-    lognormal fragility fitted against each of them (smaller: more efficient).
+    lognormal fragility fitted against each of them (smaller: more efficient), per body and,
+    for several bodies, of one fragility of all bodies pooled.
 
     One IDA scales every motion to each of ``levels`` of ``scale_im``; every (motion, scale)
     run is then a point of a cloud whose intensity, for each IM of ``ims``, is
-    factor^k·IM(motion) (k its scaling exponent; an IM that does not scale, such as PGV/PGA, is
-    refused: compare it by cloud analysis of unscaled records).  A lognormal fitted by maximum
-    likelihood to each cloud (:func:`rocking.fit_lognormal`, one trial per point) gives β; its
-    bootstrap interval resamples whole motions.
+    factor^k·IM(motion) (k its scaling exponent; an IM that does not scale, such as PGV/PGA or
+    Ω, is refused: compare it by cloud analysis of unscaled records).  A lognormal fitted by
+    maximum likelihood to each cloud (:func:`rocking.fit_lognormal`, one trial per point) gives
+    β; its bootstrap interval resamples whole motions.  With more than one body, the runs of
+    all bodies also make one cloud per IM (rows ``body`` = :data:`POOLED`): the β of a
+    fragility meant for bodies of any size.
+
+    The per-body IMs ``pga/gtana`` = PGA/(g tan α) and ``pgv*p/gtana`` = PGV·p/(g tan α)
+    (:func:`rocking.intensity_measures`) are, for one body, PGA and PGV times a constant: a
+    lognormal's β does not change when its variable is multiplied by a constant, so their
+    per-body β is that of PGA and PGV (said in the ``note`` of those rows).  Only the pooled
+    rows compare them: rocking depends on the motion only through a_g/(g tan α) and the time
+    p·t (Makris & Konstantinidis 2003, "The rocking spectrum and the limitations of practical
+    design methodologies", Earthq. Eng. Struct. Dyn. 32; Dimitrakopoulos & DeJong 2012,
+    "Revisiting the rocking block: closed-form solutions and similarity laws", Proc. R. Soc.
+    A 468), so they remove the size of the bodies that PGA and PGV leave in the pooled cloud.
 
     Parameters
     ----------
     blocks : Block or sequence of Block
     ensemble : Ensemble
     ims : sequence of str
-        The IMs compared (forms of :func:`rocking.parse_im`).
+        The IMs compared (forms of :func:`rocking.parse_im`, per-body ones included).
     levels : array_like
         Levels of ``scale_im`` [its unit] that span the bodies' fragility.
     scale_im : str
-        The IM the motions are scaled by (default PGA).
+        The IM the motions are scaled by (default PGA; not a per-body IM).
     names : sequence of str, optional
         Names of the bodies in the table (default: their labels, e.g. "R=1.22 m, γ=4").
     n_boot, seed, confidence :
-        Bootstrap of the β intervals.
+        Bootstrap of the β intervals (n_boot 0: no intervals).
     **options :
-        As for :func:`fragility_analysis` (e, backend, out, progress, …).
+        As for :func:`fragility_analysis` (e, g, physics, backend, out, progress, …); the
+        per-body IMs use the gravity g of the simulations.
 
     Returns
     -------
     DataFrame
-        One row per (body, IM), sorted by body then β: ``body``, ``im``, ``label``, ``median``
-        [the IM's unit], ``beta``, ``beta_low``, ``beta_high``.
+        One row per (body, IM), sorted by body then β, then, for several bodies, the pooled
+        rows sorted by β: ``body``, ``im``, ``label``, ``unit``, ``median`` [the IM's unit],
+        ``beta``, ``beta_low``, ``beta_high``, ``note``.
     """
-    parsed = [AnalysisIM.parse(i) for i in ([ims] if isinstance(ims, str) else list(ims))]
+    parsed = efficiency_measures(ims)
+    blocks = block_list(blocks)
+    bodies = [b.label for b in blocks] if names is None else [str(n) for n in names]
+    if len(bodies) != len(blocks):
+        raise InputError(f"names has {len(bodies)} names for {len(blocks)} bodies")
+    if POOLED in bodies:
+        raise InputError(f"names: {POOLED!r} names the rows of the pooled fit, not a body")
+    if not (isinstance(n_boot, int) and n_boot >= 0):
+        raise InputError(f"n_boot must be an integer >= 0, got {n_boot!r}")
+    ida = fragility_analysis(
+        blocks, ensemble, im=scale_im, method="ida", levels=levels, n_boot=1, **options
+    )
+    g = as_physics(options.get("physics"), g=options.get("g", FROM_PHYSICS)).g
+    base = AnalysisIM.parse(scale_im).of_motions(ensemble)
+    factors = ida["level"].values[:, None] / base[None, :]  # (level, motion)
+    if AnalysisIM.parse(scale_im).exponent == 2:
+        factors = np.sqrt(factors)
+    resamples = _bootstrap_resamples(seed, n_boot, ensemble.n)
+    y = ida["overturned"].values  # (body, level, motion)
+    shared = {m.name: m.of_motions(ensemble) for m in parsed if not m.per_body}
+    x = np.array(  # (body, IM, level, motion): each run's intensity
+        [
+            [
+                (shared[m.name] if m.name in shared else m.of_motions(ensemble, block, g))[None, :]
+                * factors**m.exponent
+                for m in parsed
+            ]
+            for block in blocks
+        ]
+    )
+    table = pd.DataFrame(
+        [
+            _efficiency_row(body, m, x[b, i], y[b], resamples, confidence)
+            for b, body in enumerate(bodies)
+            for i, m in enumerate(parsed)
+        ]
+    ).sort_values(["body", "beta"], kind="stable", ignore_index=True)
+    if len(blocks) == 1:
+        return table
+    n_runs = y.shape[0] * y.shape[1]  # the pooled cloud: (body·level, motion)
+    pooled = pd.DataFrame(
+        [
+            _efficiency_row(
+                POOLED,
+                m,
+                x[:, i].reshape(n_runs, -1),
+                y.reshape(n_runs, -1),
+                resamples,
+                confidence,
+                note=f"{len(blocks)} bodies in one fit",
+            )
+            for i, m in enumerate(parsed)
+        ]
+    ).sort_values("beta", kind="stable", ignore_index=True)
+    return pd.concat([table, pooled], ignore_index=True)
+
+
+def efficiency_measures(ims: str | Iterable[str | IntensityMeasure]) -> list[AnalysisIM]:
+    """The IMs :func:`im_efficiency` can compare, parsed (per-body ones included), or an
+    :class:`~rocking.errors.InputError` naming the one that cannot be (one that scaling does
+    not change)."""
+    items = [ims] if isinstance(ims, (str, IntensityMeasure)) else list(ims)
+    parsed = [AnalysisIM.parse(i, per_body=True) for i in items]
     if not parsed:
         raise InputError("ims must name at least one intensity measure")
     for measure in parsed:
@@ -695,47 +796,35 @@ def im_efficiency(
                 "cannot be measured on scaled motions: compare it by cloud analysis of the "
                 "unscaled records (fragility_analysis(..., method='cloud'))"
             )
-    ida = fragility_analysis(
-        blocks, ensemble, im=scale_im, method="ida", levels=levels, n_boot=1, **options
-    )
-    base = AnalysisIM.parse(scale_im).of_motions(ensemble)
-    factors = ida["level"].values[:, None] / base[None, :]  # (level, motion)
-    if AnalysisIM.parse(scale_im).exponent == 2:
-        factors = np.sqrt(factors)
-    resamples = _bootstrap_resamples(seed, n_boot, ensemble.n)
-    rows = []
-    bodies = list(ida["body"].values) if names is None else [str(n) for n in names]
-    if len(bodies) != ida.sizes["body"]:
-        raise InputError(f"names has {len(bodies)} names for {ida.sizes['body']} bodies")
-    for b, body in enumerate(bodies):
-        y = ida["overturned"].values[b]  # (level, motion)
-        rows.extend(_efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence))
-    table = pd.DataFrame(rows)
-    return table.sort_values(["body", "beta"], kind="stable", ignore_index=True)
+    return parsed
 
 
-def _efficiency_rows(body, y, ensemble, parsed, factors, resamples, confidence) -> list[dict]:
-    """:func:`im_efficiency`'s rows of one body (outcomes ``y`` of shape (level, motion)):
-    the cloud fit against each IM and the β interval of its bootstrap ``resamples``."""
-    rows = []
-    for measure in parsed:
-        x = measure.of_motions(ensemble)[None, :] * factors**measure.exponent
-        fit = _cloud_fit(x, y)
-        betas_ok = _cloud_betas(x, y, resamples)
-        q = ((1 - confidence) / 2, (1 + confidence) / 2)
-        low, high = np.quantile(betas_ok, q) if betas_ok.size else (math.nan, math.nan)
-        rows.append(
-            {
-                "body": body,
-                "im": measure.name,
-                "label": measure.label,
-                "median": math.nan if fit is None else fit.median,
-                "beta": math.nan if fit is None else fit.beta,
-                "beta_low": low,
-                "beta_high": high,
-            }
+def _efficiency_row(
+    body: str, measure: AnalysisIM, x, y, resamples, confidence, note: str = ""
+) -> dict:
+    """:func:`im_efficiency`'s row of one cloud (intensities ``x`` and outcomes ``y``, of
+    shape (run, motion)): the fit against the IM and the β interval of its bootstrap
+    ``resamples`` of the motions."""
+    fit = _cloud_fit(x, y)
+    betas_ok = _cloud_betas(x, y, resamples)
+    q = ((1 - confidence) / 2, (1 + confidence) / 2)
+    low, high = np.quantile(betas_ok, q) if betas_ok.size else (math.nan, math.nan)
+    dimensional = None if measure.measure is None else measure.measure.dimensional
+    if not note and dimensional is not None:
+        note = (
+            f"for one body {measure.name} is {dimensional} times a constant: the β of {dimensional}"
         )
-    return rows
+    return {
+        "body": body,
+        "im": measure.name,
+        "label": measure.label,
+        "unit": measure.unit,
+        "median": math.nan if fit is None else fit.median,
+        "beta": math.nan if fit is None else fit.beta,
+        "beta_low": low,
+        "beta_high": high,
+        "note": note,
+    }
 
 
 def _cloud_betas(x: np.ndarray, y: np.ndarray, resamples: np.ndarray) -> np.ndarray:

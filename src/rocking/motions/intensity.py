@@ -21,7 +21,19 @@ form                          unit   what
 ``cav``                       m/s    cumulative absolute velocity, ∫abs(a) dt over the whole
                                      record (no threshold: not the "standardized" CAV of EPRI 1991)
 ``pgv/pga``                   s      PGV [m/s] over PGA [m/s²]
+``pga/gtana``                 ``-``  per body: PGA [m/s²] over the body's uplift acceleration
+                                     g·tan α
+``pgv*p/gtana``               ``-``  per body: PGV·p/(g·tan α), p the body's frequency
+                                     parameter [rad/s]
+``omega``                     ``-``  per body: Ω = ω_p/p, ω_p = 2π/T_p with T_p the motion's
+                                     pulse period (:func:`rocking.pulse_period`, Shahi & Baker
+                                     2014, whether or not the motion is pulse-like)
 ============================  =====  ============================================================
+
+The last three are the dimensionless measures of rocking (Makris & Konstantinidis 2003,
+Dimitrakopoulos & DeJong 2012): they need the body (``intensity_measures(..., body=block)``).
+For one body, PGA/(g·tan α) and PGV·p/(g·tan α) are PGA and PGV times a constant; they differ
+from them only when bodies are compared or pooled (:func:`rocking.im_efficiency`).
 
 A name may carry its unit in brackets, which must then be the one above (``"pgv [m/s]"``); the
 columns of :func:`intensity_measures` and the headers of hazard files are written that way.
@@ -39,7 +51,7 @@ record with a drifting baseline has a PGD that means nothing; see
 frequency 1/T.
 
 Scaling a motion by λ > 0 scales an IM by λ^k (:func:`im_scaling_exponent`): k = 1 for all but
-Arias intensity (k = 2) and PGV/PGA (k = 0, so it cannot serve as the scaled IM of an
+Arias intensity (k = 2) and PGV/PGA and Ω (k = 0, so they cannot serve as the scaled IM of an
 incremental dynamic analysis).
 """
 
@@ -56,9 +68,11 @@ import pandas as pd
 from ..core import portable
 from ..core.checks import count
 from ..defaults import IM_DAMPING, IM_SYNTAX, SAAVG_PERIODS, G
+from ..dynamics.body import Block
 from ..errors import InputError
 from .ensemble import Ensemble
 from .response import check_nyquist, response_spectrum
+from .wavelets import pulse_period
 
 #: kind → (unit, label without parameters, scaling exponent k in IM(λ·a) = λ^k·IM(a)).
 _KINDS = {
@@ -71,7 +85,12 @@ _KINDS = {
     "arias": ("m/s", "Arias intensity", 2),
     "cav": ("m/s", "CAV", 1),
     "pgv/pga": ("s", "PGV/PGA", 0),
+    "pga/gtana": ("-", "PGA/(g tan α)", 1),
+    "pgv*p/gtana": ("-", "PGV·p/(g tan α)", 1),
+    "omega": ("-", "Ω = ω_p/p", 0),
 }
+#: per-body kind → the IM it is a constant multiple of for one body (None: none).
+_PER_BODY = {"pga/gtana": "pga", "pgv*p/gtana": "pgv", "omega": None}
 _NUM = r"([^,:()]+)"
 _SPECTRAL = re.compile(rf"(sa|psv)\({_NUM}(?:,{_NUM})?\)")
 _SAAVG = re.compile(rf"saavg\({_NUM}:{_NUM}(?::{_NUM})?(?:,{_NUM})?\)")
@@ -86,7 +105,7 @@ class IntensityMeasure:
     ----------
     kind : str
         ``"pga"``, ``"pgv"``, ``"pgd"``, ``"sa"``, ``"psv"``, ``"saavg"``, ``"arias"``,
-        ``"cav"`` or ``"pgv/pga"``.
+        ``"cav"``, ``"pgv/pga"``, or per body ``"pga/gtana"``, ``"pgv*p/gtana"``, ``"omega"``.
     periods : tuple of float
         Sa and PSV: (T,); Sa_avg: (T1, T2) [s]; others: ().
     n_periods : int
@@ -102,8 +121,19 @@ class IntensityMeasure:
 
     @property
     def unit(self) -> str:
-        """Unit of the values: ``"g"``, ``"m/s"``, ``"m"`` or ``"s"``."""
+        """Unit of the values: ``"g"``, ``"m/s"``, ``"m"``, ``"s"`` or ``"-"``."""
         return _KINDS[self.kind][0]
+
+    @property
+    def per_body(self) -> bool:
+        """True for the dimensionless IMs, whose value depends on the body (α, p)."""
+        return self.kind in _PER_BODY
+
+    @property
+    def dimensional(self) -> str | None:
+        """The IM of which this per-body IM is a constant multiple for one body (``"pga"``,
+        ``"pgv"``; so its fragility has that IM's β), None for the others."""
+        return _PER_BODY.get(self.kind)
 
     @property
     def scaling_exponent(self) -> int:
@@ -241,8 +271,9 @@ def _count(text: str, im: str) -> int:
 def im_scaling_exponent(im: str | IntensityMeasure) -> int:
     """k in IM(λ·a) = λ^k·IM(a) for a motion a scaled by λ > 0.
 
-    1 for PGA, PGV, PGD, Sa, PSV, Sa_avg and CAV; 2 for Arias intensity; 0 for PGV/PGA, which
-    scaling does not change (it cannot be the IM of an incremental dynamic analysis).
+    1 for PGA, PGV, PGD, Sa, PSV, Sa_avg, CAV, PGA/(g tan α) and PGV·p/(g tan α); 2 for Arias
+    intensity; 0 for PGV/PGA and Ω, which scaling does not change (they cannot be the IM of an
+    incremental dynamic analysis).
 
     Parameters
     ----------
@@ -257,7 +288,11 @@ def im_scaling_exponent(im: str | IntensityMeasure) -> int:
 
 
 def intensity_measures(
-    ensemble: Ensemble, ims: str | IntensityMeasure | Iterable[str | IntensityMeasure]
+    ensemble: Ensemble,
+    ims: str | IntensityMeasure | Iterable[str | IntensityMeasure],
+    *,
+    body: Block | None = None,
+    g: float = G,
 ) -> pd.DataFrame:
     """Intensity measures of every motion of an ensemble.
 
@@ -268,6 +303,12 @@ def intensity_measures(
     ims : str, IntensityMeasure or sequence of them
         The IMs (forms in the module notes), e.g. ``["pga", "pgv", "sa(1.0)"]``; each at most
         once.
+    body : Block, optional
+        The body of the per-body IMs (``pga/gtana``, ``pgv*p/gtana``, ``omega``), which are
+        refused without it.
+    g : float
+        Gravity of the body's g·tan α and p [m/s²] (PGA [m/s²] is PGA [g] times standard
+        gravity, whatever ``g``).
 
     Returns
     -------
@@ -291,13 +332,24 @@ def intensity_measures(
         if im in seen:
             raise InputError(f"ims names {im.name} twice ({seen[im]!r} and {text!r})")
         seen[im] = str(text)
+    if body is None:
+        needy = [im.name for im in parsed if im.per_body]
+        if needy:
+            raise InputError(
+                f"ims {', '.join(needy)} are per body (they divide by its g·tan α): give "
+                "body=rocking.Block(R, gamma)"
+            )
+    elif not isinstance(body, Block):
+        raise InputError(f"body must be a rocking.Block, got {type(body).__name__}")
     return pd.DataFrame(
-        dict(zip((im.column for im in parsed), _values(ensemble, parsed))),
+        dict(zip((im.column for im in parsed), _values(ensemble, parsed, body, g))),
         index=pd.Index(ensemble.labels, name="motion"),
     )
 
 
-def _values(ens: Ensemble, ims: list[IntensityMeasure]) -> list[np.ndarray]:
+def _values(
+    ens: Ensemble, ims: list[IntensityMeasure], body: Block | None, g: float
+) -> list[np.ndarray]:
     # on first use: scipy.integrate takes 0.5 s to import, which the commands' refusals (they
     # parse IM names with this module) must not wait for
     from scipy.integrate import cumulative_trapezoid
@@ -309,6 +361,8 @@ def _values(ens: Ensemble, ims: list[IntensityMeasure]) -> list[np.ndarray]:
     d = cumulative_trapezoid(v, dx=dt, axis=1, initial=0.0) - dt**2 / 12.0 * (a - a[:, :1])
     sa = _spectral_accelerations(a, dt, ims)
     a0, a1 = a[:, :-1], a[:, 1:]
+    if body is not None:  # the body's uplift acceleration g·tan α [m/s²] and p [rad/s]
+        uplift, p = body.uplift_acceleration_at(g), body.p_at(g)
     out = []
     for im in ims:
         k = im.kind
@@ -316,6 +370,13 @@ def _values(ens: Ensemble, ims: list[IntensityMeasure]) -> list[np.ndarray]:
             out.append(ens.pga)
         elif k == "pgv":
             out.append(np.abs(v).max(axis=1))
+        elif k == "pga/gtana":
+            out.append(ens.pga * G / uplift)
+        elif k == "pgv*p/gtana":
+            out.append(np.abs(v).max(axis=1) * p / uplift)
+        elif k == "omega":  # Ω = ω_p/p, ω_p = 2π/T_p
+            periods = np.array([pulse_period(row, dt).period for row in a])
+            out.append(2.0 * math.pi / (periods * p))
         elif k == "pgd":
             out.append(np.abs(d).max(axis=1))
         elif k == "pgv/pga":
