@@ -18,7 +18,6 @@ PGA, PGV and the two dimensionless measures.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -31,7 +30,7 @@ from ..dynamics.batch import block_list
 from ..dynamics.body import Block
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
-from ..motions.intensity import intensity_measures
+from ..motions.intensity import intensity_measures, omega_ratio
 from ..motions.wavelets import pulse_period
 from .fragility import POOLED, im_efficiency
 
@@ -71,7 +70,7 @@ def dimensionless_intensities(
                     "pgv_p_over_uplift": ims.iloc[:, 1].to_numpy(),
                     "pulse_period": t_p,
                     "pulse_like": [p.pulse_like for p in pulses],
-                    "omega_ratio": 2.0 * math.pi / (t_p * b.p_at(g)),  # Ω = ω_p/p
+                    "omega_ratio": omega_ratio(t_p, b.p_at(g)),
                 }
             )
         )

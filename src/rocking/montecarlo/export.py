@@ -335,7 +335,9 @@ def _nrml(
         assetCategory="buildings",
         lossCategory=loss_category,
     )
-    ET.SubElement(model, f"{{{NRML}}}description").text = (
+    ET.SubElement(
+        model, f"{{{NRML}}}description"
+    ).text = (
         f"{title}: lognormal curves against {imt} [{unit}] fitted by rocking (maximum likelihood)"
     )
     ET.SubElement(model, f"{{{NRML}}}limitStates").text = " ".join(states)

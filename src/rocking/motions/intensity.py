@@ -64,6 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike
 
 from ..core import portable
 from ..core.checks import count
@@ -347,6 +348,12 @@ def intensity_measures(
     )
 
 
+def omega_ratio(pulse_period: ArrayLike, p: float) -> np.ndarray:
+    """Ω = ω_p/p [-] of pulse periods ``pulse_period`` T_p [s] for a body of frequency
+    parameter ``p`` [rad/s], with ω_p = 2π/T_p (Zhang & Makris 2001)."""
+    return 2.0 * math.pi / (np.asarray(pulse_period, dtype=float) * p)
+
+
 def _values(
     ens: Ensemble, ims: list[IntensityMeasure], body: Block | None, g: float
 ) -> list[np.ndarray]:
@@ -376,7 +383,7 @@ def _values(
             out.append(np.abs(v).max(axis=1) * p / uplift)
         elif k == "omega":  # Ω = ω_p/p, ω_p = 2π/T_p
             periods = np.array([pulse_period(row, dt).period for row in a])
-            out.append(2.0 * math.pi / (periods * p))
+            out.append(omega_ratio(periods, p))
         elif k == "pgd":
             out.append(np.abs(d).max(axis=1))
         elif k == "pgv/pga":
