@@ -63,6 +63,8 @@ _ALIASES = {
     "friction": "mu",
     "restitution": "e",
 }
+#: What an item on a floor without a frame is told (the way out follows the list of rows once).
+NEEDS_FRAME = "needs a frame"
 _LOCATION = re.compile(r"\s*(?:(ground)|floor\s*(\d+))\s*", re.IGNORECASE)
 
 
@@ -209,11 +211,17 @@ def read_inventory(
             seen[item.name] = where
             items.append(item)
         except InputError as exc:
-            msg = str(exc)
-            errors.append(msg if msg.startswith(str(path)) else f"{path}: {where}: {msg}")
+            msg = str(exc).removeprefix(f"{path}: ")  # the file is named once, below
+            errors.append(msg if msg.startswith(where) else f"{where}: {msg}")
     if errors:
-        s = "" if len(errors) == 1 else "s"
-        raise InputError(f"{len(errors)} malformed item{s} in {path}:\n" + "\n".join(errors))
+        n = len(errors)
+        s = "" if n == 1 else "s"
+        if any(NEEDS_FRAME in e for e in errors):  # the way out, said once
+            errors.append(
+                "an item on a floor needs a frame: fill the frame column or give a default "
+                "frame (--frame NAME on the command line, frame= in Python)"
+            )
+        raise InputError(f"{n} malformed item{s} in {path}:\n" + ";\n".join(errors))
     if not items:
         raise InputError(f"{path}: no items")
     _check_frame_names(items, path)
@@ -407,9 +415,7 @@ def _location(fields: dict, frames: _Frames, default: ShearFrame | None, where: 
     if floor == 0:
         return 0, None
     if frame is None:
-        raise InputError(
-            f"location {text!r} needs a frame: fill the frame column or give a default frame"
-        )
+        raise InputError(f"location {text!r} {NEEDS_FRAME}")
     if floor > frame.n_stories:
         raise InputError(f"unknown floor {floor}: {frame.name} has floors 1 to {frame.n_stories}")
     return floor, frame
