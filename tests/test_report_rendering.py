@@ -31,6 +31,8 @@ from rocking.studies import reproduce
 #: "[unit]" ("[-]" for a ratio or probability).
 UNITLESS = {
     "#",
+    "limit state",
+    "overturns above",
     "item",
     "body",
     "location",
@@ -260,6 +262,26 @@ def test_risk_report_says_the_result_in_words_with_units(fragility):
     # squat's median is extrapolated beyond the fragility's levels (above): the risk resting
     # on it says so too
     assert "> **Warning.** The fitted median of squat" in md
+
+
+def test_limit_states_report_reads_at_a_glance(fragility, tmp_path):
+    # issue 44's report (a figure per body, one curve per limit state) meets the same rules
+    out, _ = fragility
+    suite = out.parent / "suite.nc"
+    bodies = out.parent / "bodies.csv"
+    args = ["fragility", "--bodies", bodies, "--motions", suite, "--agx", "0.1:1.0:0.3"]
+    args += ["--limit-states", "uplift, theta/alpha>=0.5, overturn", "--n-boot", 0]
+    result = _run([*args, "--out", tmp_path / "states", "--quiet"])
+    assert result.exit_code == 0, result.output
+    _check_page(tmp_path / "states")
+
+
+def test_pulse_spectrum_report_reads_at_a_glance(tmp_path):
+    # issue 46's report meets the same rules
+    args = ["pulse-spectrum", "--R", 1, "--gamma", 4, "--shape", "one-sine"]
+    result = _run([*args, "--periods", "0.5:2:0.5", "--out", tmp_path / "pulse", "--quiet"])
+    assert result.exit_code == 0, result.output
+    _check_page(tmp_path / "pulse")
 
 
 # --------------------------------------------------------------------------- reproduction

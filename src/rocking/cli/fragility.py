@@ -635,7 +635,7 @@ def _write_limit_states(run, ds: xr.Dataset, measure, efficiency, ensemble: Ense
         run.write_figure(name, figure)
         report.figure(figure, name[:-4], f"{body}: probability of each limit state.")
     report.table(
-        fit_table,
+        fit_page_table(fit_table, measure.unit),
         "Fitted median and β of each limit state with their bootstrap 95 % intervals.",
         "fit",
     )
@@ -658,10 +658,12 @@ def extrapolation_warning(medians: dict[str, float], tested: tuple[float, float]
 
 
 def fit_page_table(fit_table: pd.DataFrame, unit: str) -> pd.DataFrame:
-    """The fitted curves (lognormal.csv's columns) with the headers of a report: names and
-    units (``unit``: the IM's)."""
-    return fit_table[["body", "R", "gamma", *_FIT_COLUMNS]].rename(
+    """The fitted curves (lognormal.csv's columns; with their limit state where there are
+    several) with the headers of a report: names and units (``unit``: the IM's)."""
+    states = ["limit_state"] if "limit_state" in fit_table else []
+    return fit_table[["body", *states, "R", "gamma", *_FIT_COLUMNS]].rename(
         columns={
+            "limit_state": "limit state",
             "R": "R [m]",
             "gamma": "γ [-]",
             "median": f"median [{unit}]",

@@ -184,11 +184,24 @@ def _report(run, ds: xr.Dataset, switches: pd.DataFrame) -> None:
         "amplitude-period",
         "The same in physical units for this block: pulse amplitude a_p [g] against T_p [s].",
     )
+    page = switches.rename(
+        columns={
+            "period_s": "T_p [s]",
+            "omega_ratio": "Ω [-]",
+            "switch": "switch [-]",
+            "kappa": "κ [-]",
+            "amplitude_g": "a_p [g]",
+            "overturns_above": "overturns above",
+            "impacts_before_overturning": "impacts before overturning [-]",
+            "overturning_time_s": "time of overturning [s]",
+        }
+    ).reset_index(drop=True)
     report.table(
-        switches,
+        page,
         "Every amplitude at which the outcome switches, with the outcome above it and the mode "
         "(impacts before overturning) of overturning branches.",
         "switches",
+        csv=switches,
     )
     report.write()
     for name in report.files:
