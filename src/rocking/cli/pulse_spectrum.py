@@ -196,6 +196,8 @@ def _report(run, ds: xr.Dataset, switches: pd.DataFrame) -> None:
             "overturning_time_s": "time of overturning [s]",
         }
     ).reset_index(drop=True)
+    impacts = page["impacts before overturning [-]"]  # -1 in the CSV: a safe branch
+    page["impacts before overturning [-]"] = impacts.astype(object).where(impacts >= 0, "-")
     report.table(
         page,
         "Every amplitude at which the outcome switches, with the outcome above it and the mode "
