@@ -86,12 +86,13 @@ QUANTITIES = {
 }
 
 
-def empty_outcome(n: int) -> Outcome:
-    """An :class:`Outcome` of ``n`` cases, every quantity zero (False)."""
+def empty_outcome(n: int, alloc=np.zeros) -> Outcome:
+    """An :class:`Outcome` of ``n`` cases, every quantity zero (False); ``alloc=np.empty``
+    leaves them unset, for a kernel that writes every case."""
     return Outcome._make(
         [
-            *(np.zeros(n, dtype) for dtype, _unit, _meaning in QUANTITIES.values()),
-            np.zeros(n, np.int64),
+            *(alloc(n, dtype) for dtype, _unit, _meaning in QUANTITIES.values()),
+            alloc(n, np.int64),
         ]
     )
 

@@ -731,13 +731,16 @@ def im_efficiency(
         raise InputError(f"names: {POOLED!r} names the rows of the pooled fit, not a body")
     if not (isinstance(n_boot, int) and n_boot >= 0):
         raise InputError(f"n_boot must be an integer >= 0, got {n_boot!r}")
-    ida = fragility_analysis(
-        blocks, ensemble, im=scale_im, method="ida", levels=levels, n_boot=1, **options
-    )
+    with warnings.catch_warnings():  # of the fits below, which are not used: only the runs
+        warnings.simplefilter("ignore", ExtrapolationWarning)
+        ida = fragility_analysis(
+            blocks, ensemble, im=scale_im, method="ida", levels=levels, n_boot=0, **options
+        )
     g = as_physics(options.get("physics"), g=options.get("g", FROM_PHYSICS)).g
-    base = AnalysisIM.parse(scale_im).of_motions(ensemble)
+    scaled_by = AnalysisIM.parse(scale_im)
+    base = scaled_by.of_motions(ensemble)
     factors = ida["level"].values[:, None] / base[None, :]  # (level, motion)
-    if AnalysisIM.parse(scale_im).exponent == 2:
+    if scaled_by.exponent == 2:
         factors = np.sqrt(factors)
     resamples = _bootstrap_resamples(seed, n_boot, ensemble.n)
     y = ida["overturned"].values  # (body, level, motion)
