@@ -260,3 +260,21 @@ def test_risk_reads_the_lognormal_csv_of_earlier_runs(fragility, tmp_path):
         assert result.exit_code == 0, result.output
         rates.append(pd.read_csv(out / "risk.csv")["annual_rate"].tolist())
     assert rates[0] == rates[1]
+
+
+def test_a_body_without_a_fit_is_not_called_an_extrapolation(fragility, tmp_path):
+    # A body that never (or always) overturned has no fitted curve: median and beta empty in
+    # lognormal.csv. The risk report's check of medians outside the levels tested read its NaN
+    # as "outside" and warned "The fitted median of <body> (nan m/s) ...".
+    folder = tmp_path / "frag"
+    shutil.copytree(fragility, folder)
+    fits = pd.read_csv(folder / "lognormal.csv")
+    unfitted = fits["body"].iloc[0]
+    fits.loc[0, ["median", "median_low", "median_high", "beta", "beta_low", "beta_high"]] = None
+    fits.to_csv(folder / "lognormal.csv", index=False)
+    out = tmp_path / "risk"
+    result = _run(["risk", "--fragility", folder, "--hazard", "example", "--out", out])
+    assert result.exit_code == 0, result.output
+    report = (out / "report.md").read_text()
+    assert "(nan " not in report
+    assert f"{unfitted} (" not in report.split("Warning.**")[-1].split("\n\n")[0]

@@ -36,8 +36,6 @@ import numpy as np
 from ..errors import InputError
 from ..motions.intensity import IntensityMeasure, parse_im
 
-#: The formats :func:`detect_format` tells apart.
-FORMATS = ("csv", "openquake", "usgs")
 _OQ_TIME = re.compile(r"investigation_time\s*=\s*([^,\s\"']+)")
 _OQ_IMT = re.compile(r"imt\s*=\s*'([^']*)'")
 _OQ_SA = re.compile(r"^SA\(\s*([0-9.eE+-]+)\s*\)$")

@@ -11,6 +11,7 @@ import click
 from ..defaults import PULSE_KAPPA_MAX, PULSE_N_SCAN, PULSE_SHAPES, G
 from ._options import (
     R_option,
+    count,
     e_option,
     gamma_option,
     overwrite_option,
@@ -51,7 +52,7 @@ if TYPE_CHECKING:
 )
 @click.option(
     "--n-scan",
-    type=click.IntRange(2),
+    type=count("levels", 2),
     default=PULSE_N_SCAN,
     show_default=True,
     help="Amplitudes scanned per period before the switches are narrowed: bands narrower "

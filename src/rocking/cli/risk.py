@@ -61,7 +61,6 @@ def _read_fits(path: Path, im: str) -> list[tuple[str, LognormalFit | None]]:
     error names the file and the row."""
     import pandas as pd
 
-    from ..errors import InputError
     from ..montecarlo.statistics import LognormalFit
     from ..motions.intensity import parse_im
 
@@ -301,7 +300,7 @@ def _report(run, folder: Path, params: dict, table, figure, hazard, years: float
     if isinstance(tested, list) and tested:
         lo, hi = min(tested), max(tested)
         medians = dict(zip(table["body"].astype(str), table.get("median", [])))
-        outside = {b: m for b, m in medians.items() if not lo < m < hi}
+        outside = {b: m for b, m in medians.items() if math.isfinite(m) and not lo < m < hi}
         warning = extrapolation_warning(outside, (lo, hi), hazard.im.unit)
         if warning:
             report.warning(warning)
@@ -369,7 +368,6 @@ def _report(run, folder: Path, params: dict, table, figure, hazard, years: float
 
 def _sentence(row, years: float) -> str:
     """One line of Markdown: a body's result in words (``row``: a row of risk.csv)."""
-    import math
 
     rate = row["annual_rate"]
     if not math.isfinite(rate):
