@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.files import read_text
 from ..errors import InputError
 from ..motions.intensity import IntensityMeasure, parse_im
 
@@ -75,12 +76,7 @@ def detect_format(path: str | os.PathLike[str]) -> str:
     """``"usgs"`` (a JSON file: ``.json`` or starting with ``{``), ``"openquake"`` (a first
     line starting with ``#`` that holds ``investigation_time``) or ``"csv"`` (the two-column
     hazard CSV of :class:`rocking.HazardCurve`)."""
-    try:
-        with open(path, encoding="utf-8-sig") as fh:
-            head = fh.read(4096)
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or exc
-        raise InputError(f"{path}: cannot read the hazard file ({reason})") from None
+    head = read_text(path, "hazard file")[:4096]
     if Path(path).suffix.lower() == ".json" or head.lstrip().startswith("{"):
         return "usgs"
     first = head.lstrip().split("\n", 1)[0]
@@ -122,12 +118,7 @@ def read_openquake(path: str | os.PathLike[str], site: int | None = None) -> Eng
         The site: its row among the data rows, 0 for the first (the engine's site order);
         may be left out when the file has one site.
     """
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            lines = fh.read().splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or exc
-        raise InputError(f"{path}: cannot read the hazard file ({reason})") from None
+    lines = read_text(path, "hazard file").splitlines()
     comment = lines[0] if lines else ""
     found = {}
     for key, pattern in (("investigation_time", _OQ_TIME), ("imt", _OQ_IMT)):
@@ -210,11 +201,7 @@ def read_usgs(path: str | os.PathLike[str], im: str | None = None) -> EngineCurv
         IMTs; may be left out when it holds one.
     """
     try:
-        with open(path, encoding="utf-8-sig") as fh:
-            doc = json.load(fh)
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = getattr(exc, "strerror", None) or exc
-        raise InputError(f"{path}: cannot read the hazard file ({reason})") from None
+        doc = json.loads(read_text(path, "hazard file"))
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}: line {exc.lineno}: not valid JSON ({exc.msg})") from None
     responses = doc.get("response") if isinstance(doc, dict) else None

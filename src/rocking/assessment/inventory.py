@@ -63,8 +63,12 @@ _ALIASES = {
     "friction": "mu",
     "restitution": "e",
 }
-#: What an item on a floor without a frame is told (the way out follows the list of rows once).
-NEEDS_FRAME = "needs a frame"
+
+
+class _NoFrame(InputError):
+    """An item on a floor without a frame (the way out follows the list of rows, once)."""
+
+
 _LOCATION = re.compile(r"\s*(?:(ground)|floor\s*(\d+))\s*", re.IGNORECASE)
 
 
@@ -203,6 +207,7 @@ def read_inventory(
     items: list[Item] = []
     errors: list[str] = []
     seen: dict[str, str] = {}
+    no_frame = False
     for where, fields in rows:
         try:
             item = _item(fields, f"{path}: {where}", frames, default_frame)
@@ -211,12 +216,13 @@ def read_inventory(
             seen[item.name] = where
             items.append(item)
         except InputError as exc:
+            no_frame = no_frame or isinstance(exc, _NoFrame)
             msg = str(exc).removeprefix(f"{path}: ")  # the file is named once, below
             errors.append(msg if msg.startswith(where) else f"{where}: {msg}")
     if errors:
         n = len(errors)
         s = "" if n == 1 else "s"
-        if any(NEEDS_FRAME in e for e in errors):  # the way out, said once
+        if no_frame:  # the way out, said once
             errors.append(
                 "an item on a floor needs a frame: fill the frame column or give a default "
                 "frame (--frame NAME on the command line, frame= in Python)"
@@ -244,7 +250,7 @@ def _frame_or_error(frames: _Frames, name: str, where: str) -> ShearFrame:
     try:
         return frames.get(name)
     except InputError as exc:
-        raise InputError(f"{where}: {exc}") from None
+        raise type(exc)(f"{where}: {exc}") from None
 
 
 def _check_frame_names(items: list[Item], path: Path) -> None:
@@ -349,13 +355,13 @@ def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None)
     name = str(fields.get("name", "")).strip()
     if not name:
         raise InputError("missing name")
-    problems = []
+    problems: list[InputError] = []
 
     def check(fn, *args):
         try:
             return fn(*args)
         except InputError as exc:
-            problems.append(str(exc))
+            problems.append(exc)
             return None
 
     block = check(_block, fields)
@@ -363,7 +369,8 @@ def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None)
     e = check(_restitution, fields.get("e"), block) if block is not None else None
     mu = check(_optional_positive, "mu", fields.get("mu"))
     if problems or block is None or floor is None or e is None:
-        raise InputError(f"item {name!r}: " + "; ".join(problems))
+        kind = _NoFrame if any(isinstance(p, _NoFrame) for p in problems) else InputError
+        raise kind(f"item {name!r}: " + "; ".join(map(str, problems)))
     return Item(name, block, floor, frame, e, mu, where)
 
 
@@ -415,7 +422,7 @@ def _location(fields: dict, frames: _Frames, default: ShearFrame | None, where: 
     if floor == 0:
         return 0, None
     if frame is None:
-        raise InputError(f"location {text!r} {NEEDS_FRAME}")
+        raise _NoFrame(f"location {text!r} needs a frame")
     if floor > frame.n_stories:
         raise InputError(f"unknown floor {floor}: {frame.name} has floors 1 to {frame.n_stories}")
     return floor, frame
