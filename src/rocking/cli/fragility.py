@@ -603,9 +603,10 @@ def _write_limit_states(run, ds: xr.Dataset, measure, efficiency, ensemble: Ense
     report.text(
         f"{ensemble.n} motions ({where}) from `{ds.attrs['motions']}`, method "
         f"{ds.attrs['method'].upper()}, restitution e = {e}, limit states {names}. Lognormal "
-        "fragility curves fitted by maximum likelihood (Baker 2015), nested limit states "
-        "jointly with one β, so that their curves do not cross (an ordinal model); "
-        "intervals: Wilson 95 % for the probabilities, bootstrap over motions "
+        "fragility curves fitted by maximum likelihood (Baker 2015), each limit state alone; "
+        "nested limit states whose curves crossed inside the levels (the severer the "
+        "likelier by more than 1e-3) refitted together so that they do not "
+        "(fit_constrained); intervals: Wilson 95 % for the probabilities, bootstrap over motions "
         f"({ds.attrs['n_boot']} resamples, seed {ds.attrs['seed']}) for the median and β."
     )
     for i, body in enumerate(ds["body"].values):
