@@ -350,18 +350,25 @@ def test_screen_gives_the_probability_of_each_limit_state_at_the_design_level():
     assert np.array_equal(table["P(uplift) [-]"].values, p.values[:, 0])
 
 
-def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensemble, tmp_path):
-    import pandas as pd
-
+def _fragility_command(ensemble, tmp_path, agx: str):
+    """``rocking fragility --limit-states`` of BLOCKS (named slim and stocky) under the
+    ensemble at the A_gx levels ``agx``: its output folder."""
     motions = tmp_path / "m.nc"
     ensemble.save(motions)
     bodies = tmp_path / "bodies.csv"
     bodies.write_text("name,R,gamma\nslim,0.5,5\nstocky,1.0,4\n")
     out = tmp_path / "out"
-    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", "0.1:0.9:0.2"]
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", agx]
     args += ["--limit-states", STATES, "--n-boot", "20", "--out", out]
     result = CliRunner().invoke(main, [str(a) for a in args])
     assert result.exit_code == 0, result.output
+    return out
+
+
+def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensemble, tmp_path):
+    import pandas as pd
+
+    out = _fragility_command(ensemble, tmp_path, "0.1:0.9:0.2")
     probabilities = pd.read_csv(out / "probabilities.csv")
     assert list(probabilities["limit_state"].unique()) == ["uplift", "theta/alpha>=0.5", "overturn"]
     assert len(probabilities) == 2 * 5 * 3  # bodies × levels × limit states
@@ -376,3 +383,23 @@ def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensembl
                 assert ours[(body, agx, state)] == int(api["count"][b, a, s])
     assert (out / "fragility-slim.png").stat().st_size > 0
     assert (out / "fragility-stocky.png").stat().st_size > 0
+
+
+def test_the_limit_state_report_warns_of_extrapolated_medians(ensemble, tmp_path):
+    # levels 0.1-0.5 g: the stocky body's θ/α ≥ 0.5 and overturning medians fall at or beyond
+    # 0.5 g (2 and 4 of 8 motions at 0.5 g): extrapolations, which the report of a limit-state
+    # run must say as the report of overturning alone does (it said nothing before)
+    import pandas as pd
+
+    out = _fragility_command(ensemble, tmp_path, "0.1:0.5:0.2")
+    fits = pd.read_csv(out / "lognormal.csv")
+    flagged = fits[fits["median_extrapolated"]]
+    assert {(b, s) for b, s in zip(flagged["body"], flagged["limit_state"])} == {
+        ("stocky", "theta/alpha>=0.5"),
+        ("stocky", "overturn"),
+    }
+    report = (out / "report.html").read_text()
+    for state in ("theta/alpha&gt;=0.5", "overturn"):
+        assert f"stocky ({state}" in report
+    assert "it is an extrapolation of the lognormal fit" in report
+    assert {"fit_constrained", "crossing_excess"} <= set(fits.columns)
