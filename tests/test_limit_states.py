@@ -1,11 +1,11 @@
 """Limit states on the response, the Physics record and the kernel's Outcome record (issue 44)."""
 
 import dataclasses
-import math
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from scipy.stats import norm
 
 import rocking
 from rocking.cli import main
@@ -20,7 +20,12 @@ from rocking.errors import InputError
 from rocking.montecarlo.engine import Engine
 from rocking.montecarlo.fragility import fragility_analysis
 from rocking.montecarlo.probability import overturning_probability
-from rocking.montecarlo.statistics import _fit_rows, _ordinal_rows, _probit_loglik
+from rocking.montecarlo.statistics import (
+    CROSSING_TOLERANCE,
+    _probit_loglik,
+    bootstrap_limit_states,
+    fit_lognormal,
+)
 from rocking.motions.synthesis import generate
 
 BLOCKS = [Block(0.5, 5.0), Block(1.0, 4.0)]
@@ -93,49 +98,124 @@ def test_theta_thresholds_give_monotone_probabilities(ensemble):
     assert np.any(np.diff(count, axis=-1) < 0)  # the thresholds do tell the cases apart
 
 
-def test_nested_limit_states_are_fitted_jointly_and_do_not_cross(ensemble):
+def _no_crossing(medians, betas, lo, hi, tolerance=1e-9):
+    """Whether each curve (in order of severity) is nowhere above the milder one before it by
+    more than ``tolerance`` on 2001 intensities from lo to hi (default 1e-9: the rounding of Φ
+    near the touching point of a constrained fit, whose curves meet there)."""
+    x = np.geomspace(lo, hi, 2001)
+    p = np.array([norm.cdf(np.log(x / m) / b) for m, b in zip(medians, betas)])
+    return bool(np.all(np.diff(p, axis=0) <= tolerance))
+
+
+def test_nested_limit_states_are_fitted_each_alone_and_do_not_cross(ensemble):
     ds = fragility_analysis(BLOCKS, ensemble, levels=AGX, limit_states=STATES, n_boot=20)
-    assert ds.attrs["fits"].startswith("joint")
+    assert ds.attrs["fits"].startswith("each limit state alone; nested")
+    assert ds["fit_constrained"].dims == ("body", "limit_state")
     for b in range(len(BLOCKS)):
         medians, betas = ds["median"].values[b], ds["beta"].values[b]
         ok = np.isfinite(medians)
         assert ok.sum() >= 2
-        # one β, medians in the order of the states: P(uplift) ≥ P(θ/α ≥ 0.5) ≥ P(overturn)
-        # at every intensity, so the curves never cross
-        assert np.all(betas[ok] == betas[ok][0])
+        # medians in the order of the states, and P(uplift) ≥ P(θ/α ≥ 0.5) ≥ P(overturn) at
+        # every intensity tested: the curves do not cross inside the levels
         assert np.all(np.diff(medians[ok]) >= 0)
+        assert _no_crossing(medians[ok], betas[ok], min(AGX), max(AGX), CROSSING_TOLERANCE)
+        # bootstrap intervals per state, around the state's own point fit
+        for name in ("median", "beta"):
+            low, high = ds[f"{name}_low"].values[b, ok], ds[f"{name}_high"].values[b, ok]
+            point = ds[name].values[b, ok]
+            assert np.all(low <= point * (1 + 1e-9)) and np.all(point <= high * (1 + 1e-9))
 
 
-def test_the_joint_fit_is_the_maximum_of_the_joint_likelihood():
-    # reference: SciPy's Nelder-Mead on the same ordinal probit likelihood (K medians, one β);
-    # counts of three nested states drawn from capacities with medians 0.3, 0.5, 0.8 g and
-    # β = 0.35 (the joint fit must find the likelihood's maximum: to 1e-4 of the reference's
-    # parameters, which Nelder-Mead reaches at xatol 1e-9)
-    from scipy.optimize import minimize
+def _shelving():
+    """Counts like the README's library shelving: uplift goes 0 → 50 of 50 motions between
+    0.1 and 0.2 g (separated), θ/α ≥ 0.5 and overturning rise over 0.2-0.7 g from lognormal
+    capacities (medians 0.25 and 0.42 g, β 0.3), nested."""
+    levels = np.round(np.arange(0.1, 1.51, 0.1), 2)
+    rng = np.random.default_rng(1)
+    cap = np.exp(np.log(0.42) + 0.3 * rng.standard_normal(50))
+    caps = np.array([np.full(50, 0.15), 0.6 * cap, cap])
+    y = levels[None, :, None] >= caps[:, None, :]  # (state, level, motion), nested
+    return levels, y
 
-    rng = np.random.default_rng(2)
-    x = np.log(np.linspace(0.1, 1.5, 12))
-    cap = rng.normal(0.0, 0.35, 40)
-    y = x[None, :, None] >= (np.log([0.3, 0.5, 0.8])[:, None, None] + cap[None, None, :])
+
+def test_a_separated_state_does_not_drag_the_betas_of_the_others():
+    # the defect of issue 44: one β for all states collapsed to ~0.003 with the separated
+    # uplift, and turned the overturning curve into a step that contradicts its data
+    levels, y = _shelving()
+    counts = y.sum(axis=2)
+    assert list(counts[0, :2]) == [0, 50] and 0 < counts[2, 2] < counts[2, 4] < 50
+    result = bootstrap_limit_states(levels, y, n_boot=50, confidence=0.95, seed=0)
+    own = [fit_lognormal(levels, counts[i], 50) for i in range(3)]
+    uplift, large, over = result.fits
+    # the own fits cross: the step of uplift at 0.141 g (the middle of its gap) below the
+    # θ/α ≥ 0.5 curve, which is ~0.7 % there (the test sees the case it is about)
+    (cross,) = result.crossings
+    assert (cross.milder, cross.severer) == (0, 1) and 0.1 < cross.at < 0.2
+    assert cross.excess > 0.005 > CROSSING_TOLERANCE
+    assert not _no_crossing([f.median for f in own], [f.beta for f in own], 0.1, 1.5)
+    # refitted without crossing: the uplift step moves within its gap, where its likelihood
+    # is flat, and the severer states keep their own maximum-likelihood curve (fit_lognormal):
+    # the touching point is at 0.1 g, where θ/α's curve is ~1e-3, so its likelihood moves by
+    # ~0.05 of ~60; 1e-2 relative bounds that shift, a tenth of the bootstrap's spread of β
+    assert result.constrained == [True, True, False]
+    assert over.beta == own[2].beta and over.median == own[2].median  # not in the pair
+    assert large.beta == pytest.approx(own[1].beta, rel=1e-2)
+    assert large.median == pytest.approx(own[1].median, rel=1e-2)
+    for fit in (large, over):
+        assert 0.15 < fit.beta < 0.6  # not a step
+    assert over.probability(0.3) == pytest.approx(counts[2, 2] / 50, abs=0.15)
+    assert 0.1 < uplift.median < 0.2 and uplift.beta < 0.01
+    assert _no_crossing([f.median for f in result.fits], [f.beta for f in result.fits], 0.1, 1.5)
+    # bootstrap intervals per state: each around its point fit
+    for fit in (large, over):
+        assert fit.beta_ci.low < fit.beta < fit.beta_ci.high
+        assert fit.median_ci.low < fit.median < fit.median_ci.high
+
+
+def test_the_constrained_fit_is_the_maximum_of_the_likelihood_under_the_constraint():
+    # two nested states whose own fits cross inside the range (β 0.2 and 0.6): the refit must
+    # be the maximum of the summed binomial likelihood with the milder curve nowhere below the
+    # severer on [0.1, 1.5]. Reference: SciPy's trust-constr on the same likelihood and
+    # constraint from another start (its optimum to 1e-4 of the parameters, and no feasible
+    # point better than ours by more than the 1e-6 of its stop on ℓ ~ 100)
+    from scipy.optimize import LinearConstraint, minimize
+
+    rng = np.random.default_rng(3)
+    levels = np.geomspace(0.1, 1.5, 10)
+    x = np.log(levels)
+    cap = rng.standard_normal(40)
+    y = np.array(
+        [
+            x[:, None] >= np.log(0.5) + 0.2 * cap[None, :],
+            x[:, None] >= np.log(0.6) + 0.6 * cap[None, :],
+        ]
+    )
+    y[0] |= y[1]
+    result = bootstrap_limit_states(levels, y, n_boot=0, confidence=0.95, seed=0)
+    assert result.crossings[0].excess > CROSSING_TOLERANCE and all(result.constrained)
     k = y.sum(axis=2).astype(float)
-    m = np.full(x.size, 40.0)
-    medians, beta = _ordinal_rows(x[None], k[None], m[None])
+    m = np.full((2, x.size), 40.0)
+
+    xx = np.tile(x, (2, 1))
 
     def nll(p):
-        c, s = p[:3], math.exp(p[3])
-        ll, _, _ = _probit_loglik(np.tile(x, (3, 1)), k, np.tile(m, (3, 1)), c, np.full(3, s))
-        return -ll.sum()
+        ll, g, _ = _probit_loglik(xx, k, m, p[:2], p[2:])
+        return -ll.sum(), -np.r_[g.sum(axis=1), np.sum(g * xx, axis=1)]
 
-    s0 = 1.0 / beta[0]
-    start = np.r_[-s0 * np.log(medians[0]) + 0.1, math.log(s0) - 0.1]
-    ref = minimize(nll, start, method="Nelder-Mead", options={"xatol": 1e-9, "fatol": 1e-12})
-    s_ref = math.exp(ref.x[3])
-    assert beta[0] == pytest.approx(1.0 / s_ref, rel=1e-4)
-    np.testing.assert_allclose(medians[0], np.exp(-ref.x[:3] / s_ref), rtol=1e-4)
-    # one state alone: the usual fit of one curve
-    one, b1 = _ordinal_rows(x[None], k[None, :1], m[None])
-    med, bet, _ = _fit_rows(x[None], k[None, 0], m[None])
-    assert one[0, 0] == pytest.approx(med[0], rel=1e-9) and b1[0] == pytest.approx(bet[0], rel=1e-9)
+    rows = [[1, -1, e, -e] for e in (x[0], x[-1])]  # z_mild − z_severe ≥ 0 at both ends
+    ref = minimize(
+        nll,
+        np.array([0.0, 0.0, 2.0, 2.0]),
+        jac=True,
+        method="trust-constr",
+        constraints=[LinearConstraint(np.array(rows, float), 0.0, np.inf)],
+        options={"xtol": 1e-12, "gtol": 1e-10, "maxiter": 5000},
+    )
+    s = 1.0 / np.array([f.beta for f in result.fits])
+    c = -s * np.log([f.median for f in result.fits])
+    assert nll(np.r_[c, s])[0] <= ref.fun + 1e-6
+    np.testing.assert_allclose(np.r_[c, s], ref.x, rtol=1e-4, atol=1e-4)
+    assert _no_crossing([f.median for f in result.fits], 1.0 / s, 0.1, 1.5)
 
 
 def test_limit_state_text_form():
@@ -270,18 +350,25 @@ def test_screen_gives_the_probability_of_each_limit_state_at_the_design_level():
     assert np.array_equal(table["P(uplift) [-]"].values, p.values[:, 0])
 
 
-def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensemble, tmp_path):
-    import pandas as pd
-
+def _fragility_command(ensemble, tmp_path, agx: str):
+    """``rocking fragility --limit-states`` of BLOCKS (named slim and stocky) under the
+    ensemble at the A_gx levels ``agx``: its output folder."""
     motions = tmp_path / "m.nc"
     ensemble.save(motions)
     bodies = tmp_path / "bodies.csv"
     bodies.write_text("name,R,gamma\nslim,0.5,5\nstocky,1.0,4\n")
     out = tmp_path / "out"
-    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", "0.1:0.9:0.2"]
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--agx", agx]
     args += ["--limit-states", STATES, "--n-boot", "20", "--out", out]
     result = CliRunner().invoke(main, [str(a) for a in args])
     assert result.exit_code == 0, result.output
+    return out
+
+
+def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensemble, tmp_path):
+    import pandas as pd
+
+    out = _fragility_command(ensemble, tmp_path, "0.1:0.9:0.2")
     probabilities = pd.read_csv(out / "probabilities.csv")
     assert list(probabilities["limit_state"].unique()) == ["uplift", "theta/alpha>=0.5", "overturn"]
     assert len(probabilities) == 2 * 5 * 3  # bodies × levels × limit states
@@ -296,3 +383,23 @@ def test_the_command_writes_one_table_of_each_kind_and_a_figure_per_body(ensembl
                 assert ours[(body, agx, state)] == int(api["count"][b, a, s])
     assert (out / "fragility-slim.png").stat().st_size > 0
     assert (out / "fragility-stocky.png").stat().st_size > 0
+
+
+def test_the_limit_state_report_warns_of_extrapolated_medians(ensemble, tmp_path):
+    # levels 0.1-0.5 g: the stocky body's θ/α ≥ 0.5 and overturning medians fall at or beyond
+    # 0.5 g (2 and 4 of 8 motions at 0.5 g): extrapolations, which the report of a limit-state
+    # run must say as the report of overturning alone does (it said nothing before)
+    import pandas as pd
+
+    out = _fragility_command(ensemble, tmp_path, "0.1:0.5:0.2")
+    fits = pd.read_csv(out / "lognormal.csv")
+    flagged = fits[fits["median_extrapolated"]]
+    assert {(b, s) for b, s in zip(flagged["body"], flagged["limit_state"])} == {
+        ("stocky", "theta/alpha>=0.5"),
+        ("stocky", "overturn"),
+    }
+    report = (out / "report.html").read_text()
+    for state in ("theta/alpha&gt;=0.5", "overturn"):
+        assert f"stocky ({state}" in report
+    assert "it is an extrapolation of the lognormal fit" in report
+    assert {"fit_constrained", "crossing_excess"} <= set(fits.columns)

@@ -44,6 +44,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .montecarlo.probability import agx_50, member_outcomes, overturning_probability
     from .montecarlo.pulse_spectrum import overturning_spectrum
     from .montecarlo.statistics import (
+        CrossingWarning,
         ExtrapolationWarning,
         FragilityFit,
         LognormalFit,

@@ -304,7 +304,7 @@ def fragility_cmd(
     from ..core.runs import RunFolder
     from ..dynamics.physics import Physics
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
-    from ..montecarlo.statistics import ExtrapolationWarning
+    from ..montecarlo.statistics import CrossingWarning, ExtrapolationWarning
 
     blocks = [b.block for b in bodies]
     physics = Physics(e=e)  # the physics of every simulation of the run
@@ -340,8 +340,10 @@ def fragility_cmd(
             f"({ensemble.meta.get('location', 'ground')})"
         )
         with backend, warnings.catch_warnings():
-            # an extrapolated median is said in one line below the table (_print_fits)
+            # an extrapolated median and a refit of crossing limit states are said in one line
+            # each below the table (_print_fits)
             warnings.simplefilter("ignore", ExtrapolationWarning)
+            warnings.simplefilter("ignore", CrossingWarning)
             ds = fragility_analysis(
                 blocks,
                 ensemble,
@@ -376,10 +378,7 @@ def fragility_cmd(
             )
         ds = _names(ds, bodies)
         ds.attrs.update(_describe(ensemble), e=str(e), motions=str(motions_path))
-        if states is None:
-            _write_fragility(run, ds, measure, efficiency, ensemble, e)
-        else:
-            _write_limit_states(run, ds, measure, efficiency, ensemble, e)
+        _write_fragility(run, ds, measure, efficiency, ensemble, e)
         _export(run, ds, exports)
     _print_fits(ds, measure)
     for name in run.outputs:
@@ -388,7 +387,8 @@ def fragility_cmd(
 
 def _print_fits(ds: xr.Dataset, measure) -> None:
     """Per body: the fitted median with its bootstrap interval and β, aligned, units in the
-    header; then one warning line per body whose median is an extrapolation."""
+    header; then one warning line per body whose median is an extrapolation, and one per body
+    whose fits of nested limit states were refitted not to cross."""
     import numpy as np
 
     from ._options import print_table
@@ -411,16 +411,23 @@ def _print_fits(ds: xr.Dataset, measure) -> None:
             rows.append((*first, f"{median:.3g}", interval, f"{beta:.3g}", ""))
     head = ("body",) if states == [None] else ("body", "limit state")
     print_table((*head, f"median [{measure.unit}]", f"{pct} interval", "beta [-]", ""), rows)
-    if states != [None]:
-        flagged = ds["median_extrapolated"].values  # (body, limit state)
-        for b, j in zip(*np.nonzero(flagged)):
-            medians = {f"{ds['body'].values[b]} ({states[j]})": float(ds["median"][b, j])}
-            warning = extrapolation_warning(medians, _tested(ds), measure.unit)
-            click.echo(f"warning: {warning}", err=True)
-        return
     for body, median in _extrapolated(ds).items():
         warning = extrapolation_warning({body: median}, _tested(ds), measure.unit)
         click.echo(f"warning: {warning}", err=True)
+    if "fit_constrained" in ds:
+        from ..montecarlo.statistics import CROSSING_TOLERANCE
+
+        for body in ds["body"].values:
+            b = ds.sel(body=body)
+            refitted = [str(s) for s in b["limit_state"].values[b["fit_constrained"].values]]
+            if refitted:
+                excess = float(b["crossing_excess"].max())
+                click.echo(
+                    f"warning: {body}: the fits of {', '.join(refitted)}, each alone, crossed "
+                    f"inside the levels (a severer state the likelier by up to {excess:.2g} > "
+                    f"{CROSSING_TOLERANCE:g}): refitted so that they do not (fit_constrained)",
+                    err=True,
+                )
 
 
 def _tested(ds: xr.Dataset) -> tuple[float, float]:
@@ -430,9 +437,17 @@ def _tested(ds: xr.Dataset) -> tuple[float, float]:
 
 
 def _extrapolated(ds: xr.Dataset) -> dict[str, float]:
-    """The bodies whose fitted median is an extrapolation (``median_extrapolated``), with it."""
-    flagged = ds["median_extrapolated"].values
-    return {str(b): float(ds["median"].sel(body=b)) for b in ds["body"].values[flagged]}
+    """The bodies (``"body (limit state)"`` with --limit-states) whose fitted median is an
+    extrapolation (``median_extrapolated``), with it."""
+    if "limit_state" not in ds.dims:
+        flagged = ds["median_extrapolated"].values
+        return {str(b): float(ds["median"].sel(body=b)) for b in ds["body"].values[flagged]}
+    table = ds[["median", "median_extrapolated"]].to_dataframe().reset_index()
+    table = table[table["median_extrapolated"]]
+    return {
+        f"{body} ({state})": float(median)
+        for body, state, median in zip(table["body"], table["limit_state"], table["median"])
+    }
 
 
 def _levels(
@@ -480,59 +495,97 @@ def _im_list(text: str) -> list[str]:
 
 
 def _write_fragility(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensemble, e) -> None:
-    """probabilities.csv/.nc, lognormal.csv, fragility.png, im_efficiency.csv and report.html
-    of a fragility run."""
+    """probabilities.csv/.nc, lognormal.csv, the figures, im_efficiency.csv and report.html of
+    a fragility run: fragility.png with one curve per body, or, with --limit-states (a
+    ``limit_state`` dimension), a ``limit_state`` column in both tables and a figure per body
+    with one curve per limit state (fragility-<body>.png)."""
     import numpy as np
-    import pandas as pd
 
-    from ..montecarlo.statistics import LognormalFit
+    from ..montecarlo.statistics import CROSSING_TOLERANCE, LognormalFit
     from ..plots.fragility import plot_fragility
-    from ..report import Report
+    from ..report import Report, slug
 
+    limit_states = "limit_state" in ds.dims
     agx = measure.name == AGX
     column = "agx" if agx else f"{measure.name} [{measure.unit}]"
-    curves = ds[["probability", "count", "n", "ci_low", "ci_high"]].rename(level="agx")
-    tidy = curves.to_dataframe().reset_index()
-    tidy = tidy[["body", "R", "gamma", "agx", "probability", "count", "n", "ci_low", "ci_high"]]
+    states = ["limit_state", "quantity", "threshold"] if limit_states else []
+    counted = ["probability", "count", "n", "ci_low", "ci_high"]
+    curves = ds[counted].rename(level="agx")
+    tidy = curves.to_dataframe().reset_index()[["body", "R", "gamma", *states, "agx", *counted]]
     run.write_csv("probabilities.csv", tidy.rename(columns={"agx": column}))
     run.write_netcdf("probabilities.nc", ds.rename(level="agx") if agx else ds)
-    fits: dict[Hashable, LognormalFit] = {
-        str(body): LognormalFit(float(m), float(b), im=measure.name, unit=measure.unit)
-        for body, m, b in zip(ds["body"].values, ds["median"].values, ds["beta"].values)
-        if np.isfinite(m)
-    }
-    fit_table = pd.DataFrame(
-        {
-            "body": ds["body"].values,
-            "R": ds["R"].values,
-            "gamma": ds["gamma"].values,
-            "im": measure.name,
-            "unit": measure.unit,
-            **{name: ds[name].values for name in _FIT_COLUMNS},
-            "median_extrapolated": ds["median_extrapolated"].values,
-        }
-    )
+    flags = ["median_extrapolated", *(["fit_constrained", "crossing_excess"] * limit_states)]
+    fits = ds[[*_FIT_COLUMNS, *flags]].to_dataframe().reset_index()
+    fits["im"], fits["unit"] = measure.name, measure.unit
+    fit_table = fits[["body", "R", "gamma", *states, "im", "unit", *_FIT_COLUMNS, *flags]]
     run.write_csv("lognormal.csv", fit_table)
+
+    def fitted(names, medians, betas) -> dict[Hashable, LognormalFit]:
+        return {
+            str(name): LognormalFit(float(m), float(b), im=measure.name, unit=measure.unit)
+            for name, m, b in zip(names, medians, betas)
+            if np.isfinite(m)
+        }
+
     where = ensemble.meta.get("location", "ground")
-    title = f"{ensemble.n} motions, {where}, e = {e}, {ds.attrs['method'].upper()}"
-    figure = plot_fragility(curves, fits=fits, title=title, xlabel=measure.label)
-    run.write_figure("fragility.png", figure)
-    report = Report(f"Fragility of {ds.sizes['body']} bodies against {measure.label}", run.path)
-    report.text(
-        f"{ensemble.n} motions ({where}) from `{ds.attrs['motions']}`, method "
-        f"{ds.attrs['method'].upper()}, restitution e = {e}. Lognormal fragility fitted by "
-        "maximum likelihood (Baker 2015); intervals: Wilson 95 % for the probabilities, "
-        f"bootstrap over motions ({ds.attrs['n_boot']} resamples, seed {ds.attrs['seed']}) "
-        "for the median and β (NaN: none drawn, or nothing to fit)."
+    method = ds.attrs["method"].upper()
+    intervals = (
+        "intervals: Wilson 95 % for the probabilities, bootstrap over motions "
+        f"({ds.attrs['n_boot']} resamples, seed {ds.attrs['seed']}) for the median and β "
+        "(NaN: none drawn, or nothing to fit)."
     )
-    report.figure(figure, "fragility", f"Overturning probability against {measure.label}.")
     lo, hi = _tested(ds)
+    if limit_states:
+        report = Report(
+            f"Limit states of {ds.sizes['body']} bodies against {measure.label}", run.path
+        )
+        names = ", ".join(str(s) for s in ds["limit_state"].values)
+        report.text(
+            f"{ensemble.n} motions ({where}) from `{ds.attrs['motions']}`, method {method}, "
+            f"restitution e = {e}, limit states {names}. Lognormal fragility curves fitted by "
+            "maximum likelihood (Baker 2015), each limit state alone; nested limit states whose "
+            "curves crossed inside the levels (the severer the likelier by more than "
+            f"{CROSSING_TOLERANCE:g}: crossing_excess) refitted together so that they do not "
+            f"(fit_constrained); {intervals}"
+        )
+        for i, body in enumerate(ds["body"].values):
+            one = curves.isel(body=i, drop=True).rename(limit_state="body")
+            one = one.drop_vars(["quantity", "threshold"]).transpose("body", "agx")
+            one.attrs = dict(ds.attrs)
+            b = ds.isel(body=i)
+            figure = plot_fragility(
+                one,
+                fits=fitted(b["limit_state"].values, b["median"].values, b["beta"].values),
+                title=f"{body}: {ensemble.n} motions, {where}, e = {e}, {method}",
+                xlabel=measure.label,
+                ylabel="probability of exceeding the limit state [-]",
+            )
+            name = f"fragility-{slug(str(body))}.png"
+            run.write_figure(name, figure)
+            report.figure(figure, name[:-4], f"{body}: probability of each limit state.")
+        what = "of each limit state "
+    else:
+        figure = plot_fragility(
+            curves,
+            fits=fitted(ds["body"].values, ds["median"].values, ds["beta"].values),
+            title=f"{ensemble.n} motions, {where}, e = {e}, {method}",
+            xlabel=measure.label,
+        )
+        run.write_figure("fragility.png", figure)
+        report = Report(f"Fragility of {ds.sizes['body']} bodies against {measure.label}", run.path)
+        report.text(
+            f"{ensemble.n} motions ({where}) from `{ds.attrs['motions']}`, method {method}, "
+            f"restitution e = {e}. Lognormal fragility fitted by maximum likelihood (Baker "
+            f"2015); {intervals}"
+        )
+        report.figure(figure, "fragility", f"Overturning probability against {measure.label}.")
+        what = ""
     warning = extrapolation_warning(_extrapolated(ds), (lo, hi), measure.unit)
     if warning:
         report.warning(warning)
     report.table(
         fit_page_table(fit_table, measure.unit),
-        f"Fitted median and β with their bootstrap 95 % intervals (intensities tested "
+        f"Fitted median and β {what}with their bootstrap 95 % intervals (intensities tested "
         f"{lo:g} to {hi:g} {measure.unit}).",
         "fit",
     )
@@ -562,81 +615,6 @@ def _export(run, ds: xr.Dataset, exports: tuple[str, ...]) -> None:
 _FIT_COLUMNS = ("median", "median_low", "median_high", "beta", "beta_low", "beta_high")
 
 
-def _write_limit_states(run, ds: xr.Dataset, measure, efficiency, ensemble: Ensemble, e) -> None:
-    """probabilities.csv/.nc and lognormal.csv with a ``limit_state`` column, a figure per body
-    with one curve per limit state (fragility-<body>.png), im_efficiency.csv and report.html of
-    a fragility run with --limit-states."""
-    import numpy as np
-
-    from ..montecarlo.statistics import LognormalFit
-    from ..plots.fragility import plot_fragility
-    from ..report import Report, slug
-
-    agx = measure.name == AGX
-    column = "agx" if agx else f"{measure.name} [{measure.unit}]"
-    states = ["limit_state", "quantity", "threshold"]
-    curves = ds[["probability", "count", "n", "ci_low", "ci_high"]].rename(level="agx")
-    tidy = curves.to_dataframe().reset_index()
-    tidy = tidy[
-        ["body", "R", "gamma", *states, "agx", "probability", "count", "n", "ci_low", "ci_high"]
-    ]
-    run.write_csv("probabilities.csv", tidy.rename(columns={"agx": column}))
-    run.write_netcdf("probabilities.nc", ds.rename(level="agx") if agx else ds)
-    fits = ds[[*_FIT_COLUMNS, "median_extrapolated"]].to_dataframe().reset_index()
-    fits["im"], fits["unit"] = measure.name, measure.unit
-    fit_table = fits[
-        [
-            "body",
-            "R",
-            "gamma",
-            *states,
-            "im",
-            "unit",
-            *_FIT_COLUMNS,
-            "median_extrapolated",
-        ]
-    ]
-    run.write_csv("lognormal.csv", fit_table)
-    where = ensemble.meta.get("location", "ground")
-    report = Report(f"Limit states of {ds.sizes['body']} bodies against {measure.label}", run.path)
-    names = ", ".join(str(s) for s in ds["limit_state"].values)
-    report.text(
-        f"{ensemble.n} motions ({where}) from `{ds.attrs['motions']}`, method "
-        f"{ds.attrs['method'].upper()}, restitution e = {e}, limit states {names}. Lognormal "
-        "fragility curves fitted by maximum likelihood (Baker 2015), nested limit states "
-        "jointly with one β, so that their curves do not cross (an ordinal model); "
-        "intervals: Wilson 95 % for the probabilities, bootstrap over motions "
-        f"({ds.attrs['n_boot']} resamples, seed {ds.attrs['seed']}) for the median and β."
-    )
-    for i, body in enumerate(ds["body"].values):
-        one = curves.isel(body=i, drop=True).rename(limit_state="body")
-        one = one.drop_vars(["quantity", "threshold"]).transpose("body", "agx")
-        one.attrs = dict(ds.attrs)
-        b = ds.isel(body=i)
-        fitted: dict[Hashable, LognormalFit] = {
-            str(state): LognormalFit(float(m), float(beta), im=measure.name, unit=measure.unit)
-            for state, m, beta in zip(b["limit_state"].values, b["median"].values, b["beta"].values)
-            if np.isfinite(m)
-        }
-        title = f"{body}: {ensemble.n} motions, {where}, e = {e}, {ds.attrs['method'].upper()}"
-        figure = plot_fragility(
-            one,
-            fits=fitted,
-            title=title,
-            xlabel=measure.label,
-            ylabel="probability of exceeding the limit state [-]",
-        )
-        name = f"fragility-{slug(str(body))}.png"
-        run.write_figure(name, figure)
-        report.figure(figure, name[:-4], f"{body}: probability of each limit state.")
-    report.table(
-        fit_page_table(fit_table, measure.unit),
-        "Fitted median and β of each limit state with their bootstrap 95 % intervals.",
-        "fit",
-    )
-    _finish_report(run, report, efficiency)
-
-
 def extrapolation_warning(medians: dict[str, float], tested: tuple[float, float], unit: str) -> str:
     """The warning for the bodies whose fitted median (``medians``: by body, in ``unit``) lies
     at or outside the intensities tested (``tested``: lowest and highest, in ``unit``): an
@@ -656,7 +634,8 @@ def fit_page_table(fit_table: pd.DataFrame, unit: str) -> pd.DataFrame:
     """The fitted curves (lognormal.csv's columns; with their limit state where there are
     several) with the headers of a report: names and units (``unit``: the IM's)."""
     states = ["limit_state"] if "limit_state" in fit_table else []
-    return fit_table[["body", *states, "R", "gamma", *_FIT_COLUMNS]].rename(
+    crossings = [c for c in ("fit_constrained", "crossing_excess") if c in fit_table]
+    return fit_table[["body", *states, "R", "gamma", *_FIT_COLUMNS, *crossings]].rename(
         columns={
             "limit_state": "limit state",
             "R": "R [m]",
@@ -667,6 +646,8 @@ def fit_page_table(fit_table: pd.DataFrame, unit: str) -> pd.DataFrame:
             "beta": "β [-]",
             "beta_low": "β, 95 % low [-]",
             "beta_high": "β, 95 % high [-]",
+            "fit_constrained": "refitted not to cross",
+            "crossing_excess": "crossing of the own fits [-]",
         }
     )
 

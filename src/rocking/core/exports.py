@@ -49,6 +49,7 @@ PUBLIC = {
     "RockingError": "errors",
     "LognormalFit": "montecarlo.statistics",
     "ExtrapolationWarning": "montecarlo.statistics",
+    "CrossingWarning": "montecarlo.statistics",
     "FragilityFit": "montecarlo.statistics",
     "bootstrap_fragility": "montecarlo.statistics",
     "export_fragility": "montecarlo.export",

@@ -11,10 +11,13 @@ states: pelicun draws one capacity per component for all its limit states (perfe
 correlated, pelicun 3.10 ``model/damage_model.py``) and puts the component in the highest
 limit state its demand exceeds; OpenQuake takes the probability of damage state n as the
 difference of the curves of limit states n and n+1. So P(DS ≥ n) is the curve of limit state n
-only if the states are nested and their medians θ₁ < θ₂ < … increase with severity (with one
-β, the joint fit of nested states, the curves then never cross). States that are not nested
-(fitted one by one), or a body whose medians do not increase (two states exceeded in the same
-cases have the same median: a damage state that never occurs), are refused, naming them; one
+only if the states are nested and their medians θ₁ < θ₂ < … increase with severity. Each limit
+state is written with its own β (both formats take one per limit state: pelicun's
+``LSn-Theta_1``, OpenQuake's ``stddev``). The fits of nested states do not cross inside the
+intensities tested (:func:`~rocking.montecarlo.statistics.bootstrap_limit_states`); curves of
+different β still cross once outside that range, where both are extrapolations. States that
+are not nested, or a body whose medians do not increase (two states exceeded in the same cases
+have the same median: a damage state that never occurs), are refused, naming them; one
 state at a time can still be exported (``result.sel(limit_state=[name])``).
 
 * ``pelicun`` — the damage-model CSV of pelicun 3.x (``damage_DB_…csv``): one row per component,
@@ -217,7 +220,7 @@ def _curves(result: Any) -> tuple[Curves, str]:
         states, fits = _limit_state_fits(result)
         title = (
             "Limit states of free-standing rigid blocks by increasing severity "
-            f"({', '.join(states)}), nested, one beta per block"
+            f"({', '.join(states)}), nested, a beta per limit state"
         )
     elif hasattr(result, "data_vars"):  # the Dataset of fragility_analysis
         fits = {

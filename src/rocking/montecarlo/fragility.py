@@ -40,6 +40,9 @@ from ..motions.intensity import IntensityMeasure, intensity_measures, parse_im
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
 from .statistics import (
     _FIT_BLOCK_ELEMENTS,
+    CROSSING_TOLERANCE,
+    Crossing,
+    CrossingWarning,
     ExtrapolationWarning,
     FragilityFit,
     Interval,
@@ -247,15 +250,18 @@ def fragility_analysis(
         ``"uplift, theta/alpha>=0.5, overturn"``), each with its probabilities and fit from the
         same simulations, along a last dimension ``limit_state`` (coordinates ``quantity``,
         ``threshold``); the variables ``overturned`` / ``overturned_motion`` are then named
-        ``exceeded`` / ``exceeded_motion``.  Nested limit states (each exceeded in every case
-        a severer one is: uplift, θ/α ≥ x and overturning always are) are fitted jointly, with
-        one β and a median each (an ordinal probit model,
-        :func:`~rocking.montecarlo.statistics.bootstrap_limit_states`), so that their curves
-        never cross: curves of different β fitted one by one cross once, and did inside the
-        intensities tested for every body of the README's example (the nearly deterministic
-        uplift, β = 0.001–0.11 alone, against 0.17–0.29 of the others).  The overturning curve of
-        such an analysis therefore differs from that of overturning alone (its own β).
-        States that are not nested are fitted one by one (attribute ``fits``).  None
+        ``exceeded`` / ``exceeded_motion``.  Each limit state is fitted alone (its own median and
+        β, as overturning alone is); where the curves of two nested limit states (each
+        exceeded in every case a severer one is: uplift, θ/α ≥ x and overturning always are)
+        cross inside the intensities tested, the severer the likelier by more than 1e-3
+        (:data:`~rocking.montecarlo.statistics.CROSSING_TOLERANCE`), they are refitted
+        together under the constraint that they do not
+        (:func:`~rocking.montecarlo.statistics.bootstrap_limit_states`), flagged in
+        ``fit_constrained`` (per body and limit state).  Every crossing of the own fits is
+        reported by a :class:`~rocking.montecarlo.statistics.CrossingWarning` naming body and
+        states, and in ``crossing_excess`` (of the severer state).  A state that the
+        intensity separates (uplift, nearly a step) keeps a β near its lower bound without
+        changing the others' β.  Whether the states are nested: attribute ``fits``.  None
         (default): overturning alone, without that dimension.
 
     Returns
@@ -358,16 +364,7 @@ def _limit_states(
     parts: list[xr.Dataset], states, fit: tuple[str, AnalysisIM, int, float, int]
 ) -> xr.Dataset:
     """The datasets of each limit state along a last dimension ``limit_state``, with their
-    fitted curves: jointly, with one β (:func:`~rocking.montecarlo.statistics
-    .bootstrap_limit_states`), when every exceedance of each state is one of the states that
-    are exceeded more often (nested, as uplift, θ/α ≥ x and overturning are), else one by one
-    (:func:`_add_fits`)."""
-    key = "overturned_motion" if "overturned_motion" in parts[0] else "overturned"
-    flags = np.array([part[key].values for part in parts])  # (state, body, ...)
-    nested = not severity_order(flags)[1]
-    if not nested:
-        for part, ls in zip(parts, states):
-            _add_fits(part, *fit, f" ({ls.name})")
+    fitted curves (:func:`_add_fits`)."""
     names = {"overturned": "exceeded", "overturned_motion": "exceeded_motion"}
     ds = xr.concat(parts, dim="limit_state", data_vars="all", coords="minimal", compat="override")
     ds = ds.rename({k: v for k, v in names.items() if k in ds}).assign_coords(
@@ -375,31 +372,42 @@ def _limit_states(
     )
     if "im_value" in ds:  # the motions' intensities: the same for every limit state
         ds["im_value"] = ds["im_value"].isel(limit_state=0, drop=True)
-    if nested:
-        _add_joint_fits(ds, flags, states, *fit)
-    ds.attrs["fits"] = "joint, one beta (nested limit states)" if nested else "one by one"
+    _add_fits(ds, *fit, states=states)
     return ds.transpose(..., "limit_state")
 
 
-def _add_joint_fits(
+def _add_fits(
     ds: xr.Dataset,
-    flags: np.ndarray,
-    states,
     method: str,
     measure: AnalysisIM,
     n_boot: int,
     confidence: float,
     seed: int,
+    states: Sequence[LimitState] | None = None,
 ) -> None:
-    """The joint fits of nested limit states (``flags``: (state, body, level, motion), or
-    (state, body, motion) for a cloud) as :func:`_add_fits` adds one state's, per (body,
-    limit state); one warning per extrapolated median."""
-    nb, ns = ds.sizes["body"], len(states)
+    """The lognormal fit of each body (``median``, ``beta``, their bootstrap intervals,
+    ``n_unfitted``, ``median_extrapolated``), and of each limit state if ``states`` are given
+    (dimensions (limit_state, body), and ``fit_constrained``): one by one
+    (:func:`_fit_one`), or, for nested limit states, each alone unless two cross inside the
+    intensities tested (:func:`~rocking.montecarlo.statistics.bootstrap_limit_states`).  One
+    warning per extrapolated median and per crossing refitted."""
+    key = "overturned_motion" if method == "cloud" else "overturned"
+    if states is None:
+        flags = ds[key].values[None]  # (state, body, ...)
+    else:
+        flags = ds[key.replace("overturned", "exceeded")].transpose("limit_state", ...).values
+    nested = states is not None and not severity_order(flags)[1]
+    ns, nb = flags.shape[0], ds.sizes["body"]
+    labels = [""] if states is None else [f" ({ls.name})" for ls in states]
+    depth = 3 if states is None else 4  # the warnings point at the caller of fragility_analysis
     names = ("median", "beta", "median_low", "median_high", "beta_low", "beta_high")
     table = np.full((ns, nb, len(names)), np.nan)
     unfitted = np.zeros((ns, nb), dtype=np.int64)
     extrapolated = np.zeros((ns, nb), dtype=bool)
+    constrained = np.zeros((ns, nb), dtype=bool)
+    excess = np.zeros((ns, nb))
     for b in range(nb):
+        body = ds["body"].values[b]
         if method == "cloud":
             x = ds["im_value"].values
             keep = x > 0.0  # (a motion of zero intensity has no logarithm; it cannot overturn)
@@ -408,40 +416,96 @@ def _add_joint_fits(
             x, y = ds["level"].values, flags[:, b]
         if np.unique(x).size < 2:
             continue
-        fits = bootstrap_limit_states(
-            x,
-            y,
-            n_boot=n_boot,
-            confidence=confidence,
-            seed=seed,
-            measure=measure.name,
-            unit=measure.unit,
-        )
-        for i, f in enumerate(fits):
-            if f is None:
+        if nested:
+            joint = bootstrap_limit_states(
+                x,
+                y,
+                n_boot=n_boot,
+                confidence=confidence,
+                seed=seed,
+                measure=measure.name,
+                unit=measure.unit,
+            )
+            fits, constrained[:, b] = joint.fits, joint.constrained
+            for cross in joint.crossings:
+                excess[cross.severer, b] = cross.excess
+                text = _crossing_text(body, states, cross, measure.unit)
+                warnings.warn(text, CrossingWarning, stacklevel=depth)
+        else:
+            fits = [_fit_one(x, one, measure, n_boot, confidence, seed) for one in y]
+        for i, fit in enumerate(fits):
+            if fit is None:
                 continue
-            table[i, b] = (f.median, f.beta, *f.median_ci, *f.beta_ci)
-            unfitted[i, b] = f.n_unfitted
-            extrapolated[i, b] = f.extrapolated
-            if f.extrapolated and f.fit.im_range is not None:
-                lo, hi = f.fit.im_range
+            table[i, b] = (fit.median, fit.beta, *fit.median_ci, *fit.beta_ci)
+            unfitted[i, b] = fit.n_unfitted
+            extrapolated[i, b] = fit.extrapolated
+            if fit.extrapolated and fit.fit.im_range is not None:
+                lo, hi = fit.fit.im_range
                 warnings.warn(
-                    f"body {ds['body'].values[b]} ({states[i].name}): the fitted median "
-                    f"{f.median:.3g} {measure.unit} lies at or outside the intensities tested "
-                    f"({lo:.3g} to {hi:.3g} {measure.unit}), an extrapolation: extend the "
-                    "levels",
+                    f"body {body}{labels[i]}: the fitted median {fit.median:.3g} "
+                    f"{measure.unit} lies at or outside the intensities tested ({lo:.3g} to "
+                    f"{hi:.3g} {measure.unit}), an extrapolation: extend the levels",
                     ExtrapolationWarning,
-                    stacklevel=4,
+                    stacklevel=depth,
                 )
-    dims = ("limit_state", "body")
+    dims: tuple[str, ...] = ("body",) if states is None else ("limit_state", "body")
+    part = (lambda a: a[0]) if states is None else (lambda a: a)
     for j, name in enumerate(names):
         unit = "1" if name.startswith("beta") else measure.unit
-        ds[name] = (dims, table[:, :, j], {"units": unit})
-    ds["n_unfitted"] = (dims, unfitted, {"long_name": "bootstrap resamples with nothing to fit"})
+        ds[name] = (dims, part(table[:, :, j]), {"units": unit})
+    ds["n_unfitted"] = (
+        dims,
+        part(unfitted),
+        {"long_name": "bootstrap resamples with nothing to fit"},
+    )
     ds["median_extrapolated"] = (
         dims,
-        extrapolated,
+        part(extrapolated),
         {"long_name": "median at or outside the intensities tested (an extrapolation)"},
+    )
+    if states is not None:
+        ds["fit_constrained"] = (
+            dims,
+            constrained,
+            {
+                "long_name": "fitted under the constraint that nested curves do not cross "
+                "inside the intensities tested (its own fit crossed a neighbour's)"
+            },
+        )
+        ds["crossing_excess"] = (
+            dims,
+            excess,
+            {
+                "units": "1",
+                "long_name": "largest excess of the state's own fit over its milder "
+                "neighbour's inside the intensities tested (0: no crossing)",
+            },
+        )
+        ds.attrs["fits"] = (
+            "each limit state alone; nested curves that crossed refitted without crossing"
+            if nested
+            else "each limit state alone (not nested)"
+        )
+
+
+def _crossing_text(body, states, cross: Crossing, unit: str) -> str:
+    """The warning of a crossing of two limit states' own fits: refitted without it, or kept
+    (below :data:`~rocking.montecarlo.statistics.CROSSING_TOLERANCE`)."""
+    milder, severer = states[cross.milder].name, states[cross.severer].name
+    where = (
+        f"cross at {cross.at:.3g} {unit}, inside the intensities tested"
+        if math.isfinite(cross.at)
+        else "lie reversed across the intensities tested"
+    )
+    done = (
+        "refitted under the constraint that they do not cross there (fit_constrained)"
+        if cross.excess > CROSSING_TOLERANCE
+        else f"kept, as this is below the data's resolution ({CROSSING_TOLERANCE:g})"
+    )
+    return (
+        f"body {body}: the curves of {severer} and of the milder {milder}, each fitted alone, "
+        f"{where} ({severer} the likelier by up to {cross.excess:.2g}, which nested data "
+        f"cannot be): {done}"
     )
 
 
@@ -583,56 +647,12 @@ def _cloud_dataset(blocks, ensemble, measure: AnalysisIM, engine, values, flags)
     )
 
 
-def _add_fits(
-    ds: xr.Dataset,
-    method: str,
-    measure: AnalysisIM,
-    n_boot: int,
-    confidence: float,
-    seed: int,
-    what: str = "",
-) -> None:
-    names = ("median", "beta", "median_low", "median_high", "beta_low", "beta_high")
-    table = np.full((ds.sizes["body"], len(names)), np.nan)
-    unfitted = np.zeros(ds.sizes["body"], dtype=np.int64)
-    extrapolated = np.zeros(ds.sizes["body"], dtype=bool)
-    for b in range(ds.sizes["body"]):
-        fit = _fit_one(ds, b, method, measure, n_boot, confidence, seed)
-        if fit is not None:
-            table[b] = (fit.median, fit.beta, *fit.median_ci, *fit.beta_ci)
-            unfitted[b] = fit.n_unfitted
-            extrapolated[b] = fit.extrapolated
-        if fit is not None and fit.extrapolated and fit.fit.im_range is not None:
-            lo, hi = fit.fit.im_range
-            warnings.warn(
-                f"body {ds['body'].values[b]}{what}: the fitted median {fit.median:.3g} "
-                f"{measure.unit} lies at or outside the intensities tested ({lo:.3g} to "
-                f"{hi:.3g} {measure.unit}), an extrapolation: extend the levels",
-                ExtrapolationWarning,
-                stacklevel=3,
-            )
-    for j, name in enumerate(names):
-        unit = "1" if name.startswith("beta") else measure.unit
-        ds[name] = ("body", table[:, j], {"units": unit})
-    ds["n_unfitted"] = ("body", unfitted, {"long_name": "bootstrap resamples with nothing to fit"})
-    ds["median_extrapolated"] = (
-        "body",
-        extrapolated,
-        {"long_name": "median at or outside the intensities tested (an extrapolation)"},
-    )
-
-
 def _fit_one(
-    ds, b: int, method: str, measure: AnalysisIM, n_boot, confidence, seed
+    x: np.ndarray, y: np.ndarray, measure: AnalysisIM, n_boot: int, confidence: float, seed: int
 ) -> FragilityFit | None:
-    """The bootstrap fit of body ``b``, or None when the outcomes hold no information on the
-    median (no motion or every motion overturned)."""
-    if method == "cloud":
-        x, y = ds["im_value"].values, ds["overturned_motion"].values[b]
-        keep = x > 0.0  # (a motion of zero intensity has no logarithm; it cannot overturn)
-        x, y = x[keep], y[keep]
-    else:
-        x, y = ds["level"].values, ds["overturned"].values[b]
+    """The bootstrap fit of outcomes ``y`` (levels × motions, or one per motion of a cloud) at
+    intensities ``x`` [the IM's unit], or None when they hold no information on the median
+    (never or always exceeded)."""
     if not y.any() or y.all() or np.unique(x).size < 2:
         return None
     if n_boot == 0:  # the point fit only

@@ -275,6 +275,11 @@ _FIT_BLOCK_ELEMENTS = 1 << 20
 _S_LO, _S_HI = 1.0 / BETA_BOUNDS[1], 1.0 / BETA_BOUNDS[0]
 
 
+def _betas(s: np.ndarray) -> np.ndarray:
+    """β = 1/s, exactly at a bound of :data:`BETA_BOUNDS` where s is at one of its bounds."""
+    return np.where(s >= _S_HI, BETA_BOUNDS[0], np.where(s <= _S_LO, BETA_BOUNDS[1], 1.0 / s))
+
+
 def _bootstrap_resamples(seed: int, n_boot: int, n: int) -> np.ndarray:
     """``n_boot`` resamples with replacement of ``n`` motions, drawn from NumPy's default
     generator seeded with ``seed``: their indices, shape (n_boot, n)."""
@@ -384,7 +389,7 @@ def _fit_rows(
         s[moved] = _s_after(so, ds, t, t_bound, bound, np.flatnonzero(gain))
         on, ll, g, h = moved, ll_new[gain], g_new[gain], h_new[gain]
     median[rows] = portable.exp(-c / s)
-    beta[rows] = np.where(s >= s_hi, BETA_BOUNDS[0], np.where(s <= s_lo, BETA_BOUNDS[1], 1.0 / s))
+    beta[rows] = _betas(s)
     return median, beta, separated
 
 
@@ -401,93 +406,6 @@ def _mle(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> LognormalFit:
     checked, not all 0, not all m): :func:`_fit_rows` of one row."""
     median, beta, _ = _fit_rows(x[None, :], k[None, :], m[None, :])
     return LognormalFit(median=float(median[0]), beta=float(beta[0]))
-
-
-def _ordinal_rows(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Joint maximum-likelihood fits of nested limit states, one per row: K lognormal curves
-    with one β and a median each (an ordinal probit model: z_i = c_i + s·x, s = 1/β), so that
-    the curves never cross.  x = ln(IM) and m trials of shape (B, n), k of shape (B, K, n)
-    (k[:, i] the exceedances of limit state i).  Returns (medians (B, K), βs (B,)); a limit
-    state all 0 or all m in a row has no information on its median (NaN), and a row with no
-    such state is NaN throughout.
-
-    Newton's method on (c_1 … c_K, s), whose Hessian is an arrowhead (c_i meets only s), solved
-    through its Schur complement; from the one-by-one fits (:func:`_fit_rows`), s at the mean
-    of their slopes.  A step that would take s beyond its bounds (:data:`BETA_BOUNDS`) is
-    shortened to end on the bound (or, from the bound outward, moves the c alone); a step is
-    halved until the likelihood does not decrease; a fit ends when the gain its step predicts
-    is below the rounding of ℓ (the likelihood is concave: a probit model)."""
-    B, K, n = k.shape
-    mm = np.broadcast_to(m[:, None, :], k.shape)
-    informed = np.any(k > 0, axis=2) & np.any(k < mm, axis=2)  # (B, K)
-    flat = informed.ravel()
-    rows = np.flatnonzero(flat)
-    xk = np.broadcast_to(x[:, None, :], k.shape).reshape(B * K, n)
-    med1, _beta1, _sep = _fit_rows(
-        np.ascontiguousarray(xk[rows]), k.reshape(B * K, n)[rows], mm.reshape(B * K, n)[rows]
-    )
-    slope = np.zeros(B * K)
-    slope[rows] = 1.0 / _beta1
-    lnmed = np.zeros(B * K)
-    lnmed[rows] = portable.log(med1)
-    used = informed.sum(axis=1)
-    s = np.clip(slope.reshape(B, K).sum(axis=1) / np.maximum(used, 1), _S_LO, _S_HI)
-    c = -s[:, None] * lnmed.reshape(B, K)
-    w = informed.astype(float)[:, :, None]  # states without information weigh nothing
-    kw, mw = k * w, mm * w
-
-    def loglik(c, s, on):
-        ll, g, h = _probit_loglik(
-            xk.reshape(B, K, n)[on].reshape(-1, n),
-            kw[on].reshape(-1, n),
-            mw[on].reshape(-1, n),
-            c[on].ravel(),
-            np.repeat(s[on], K),
-        )
-        shape = (on.size, K, n)
-        return ll.reshape(on.size, K).sum(axis=1), g.reshape(shape), h.reshape(shape)
-
-    on = np.flatnonzero(used > 0)
-    ll, g, h = loglik(c, s, on)
-    for _ in range(_NEWTON_MAX):
-        if on.size == 0:
-            break
-        xo, co, so, inf = x[on][:, None, :], c[on], s[on], informed[on]
-        gc, gs = g.sum(axis=2), np.sum(g * xo, axis=(1, 2))
-        d = np.where(inf, h.sum(axis=2), -1.0)  # -1: a state without information stays put
-        b = np.sum(h * xo, axis=2)
-        a = np.sum(h * xo * xo, axis=(1, 2))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            schur = a - np.sum(b * b / d, axis=1)
-            ds = (-gs + np.sum(b * gc / d, axis=1)) / schur
-            ds = np.where(np.isfinite(ds), ds, 0.0)
-            outward = ((so >= _S_HI) & (ds > 0.0)) | ((so <= _S_LO) & (ds < 0.0))
-            ds = np.where(outward, 0.0, ds)
-            dc = (-gc - b * ds[:, None]) / d
-            bound = np.where(so + ds > _S_HI, _S_HI, np.where(so + ds < _S_LO, _S_LO, np.nan))
-            t = np.where(np.isnan(bound), 1.0, (bound - so) / ds)
-        rounding = 8.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(ll))
-        gain = 0.5 * t * (np.sum(gc * dc, axis=1) + gs * ds)
-        last = gain <= rounding
-        trial = np.flatnonzero(~last)
-        ll_new, g_new, h_new = ll.copy(), g.copy(), h.copy()
-        while trial.size:
-            c_try, s_try = c.copy(), s.copy()
-            c_try[on[trial]] = co[trial] + t[trial, None] * dc[trial]
-            s_try[on[trial]] = np.clip(so[trial] + t[trial] * ds[trial], _S_LO, _S_HI)
-            ll_t, g_t, h_t = loglik(c_try, s_try, on[trial])
-            ok = ll_t >= ll[trial] - rounding[trial]
-            ll_new[trial[ok]], g_new[trial[ok]], h_new[trial[ok]] = ll_t[ok], g_t[ok], h_t[ok]
-            c[on[trial[ok]]] = c_try[on[trial[ok]]]
-            s[on[trial[ok]]] = s_try[on[trial[ok]]]
-            t[trial[~ok]] *= 0.5
-            trial = trial[~ok & (t[trial] >= 1e-12)]
-        moved = ~last & (ll_new > ll + rounding)  # still gaining: another step
-        on, ll, g, h = on[moved], ll_new[moved], g_new[moved], h_new[moved]
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        medians = np.where(informed, portable.exp(-c / s[:, None]), np.nan)
-    beta = np.where(used > 0, 1.0 / s, np.nan)
-    return medians, beta
 
 
 class Interval(NamedTuple):
@@ -685,6 +603,172 @@ def severity_order(flags: np.ndarray) -> tuple[list[int], list[tuple[int, int]]]
     return order, loose
 
 
+class CrossingWarning(UserWarning):
+    """The maximum-likelihood curves of two nested limit states, each fitted alone, cross inside
+    the intensities tested (the severer state the likelier at some of them, which no data of
+    nested states can be): the states were refitted together under the constraint that their
+    curves do not cross there (:func:`bootstrap_limit_states`; the flag ``fit_constrained`` of
+    :func:`rocking.fragility_analysis`)."""
+
+
+class Crossing(NamedTuple):
+    """Where the curves of two nested limit states, each fitted alone, cross inside the
+    intensities tested (:func:`bootstrap_limit_states`)."""
+
+    milder: int
+    severer: int
+    #: The intensity where they cross [the IM's unit].
+    at: float
+    #: The largest excess of the severer state's probability over the milder's there [-].
+    excess: float
+
+
+class LimitStateFits(NamedTuple):
+    """The fits of :func:`bootstrap_limit_states`, one per limit state as given."""
+
+    #: The curve of each state, None for a state never or always exceeded (nothing to fit).
+    fits: list[FragilityFit | None]
+    #: Whether a state's point fit is the constrained one, not its own maximum likelihood (its
+    #: curve touches a neighbour's at an end of the intensities tested).
+    constrained: list[bool]
+    #: The crossings of the states' own fits that the constraint removed.
+    crossings: list[Crossing]
+
+
+def _own_rows(x: np.ndarray, k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Probit coefficients (c, s) of each limit state fitted alone (:func:`_fit_rows`), z = c +
+    s·ln(IM), s = 1/β: x = ln(IM), m of shape (B, n), k of shape (B, K, n); NaN for a state
+    never or always exceeded in its row (nothing to fit). Shapes (B, K)."""
+    B, K, n = k.shape
+    mm = np.broadcast_to(m[:, None, :], k.shape).reshape(B * K, n)
+    kk = k.reshape(B * K, n)
+    rows = np.flatnonzero(np.any(kk > 0, axis=1) & np.any(kk < mm, axis=1))
+    xk = np.broadcast_to(x[:, None, :], k.shape).reshape(B * K, n)
+    c, s = np.full(B * K, np.nan), np.full(B * K, np.nan)
+    if rows.size:
+        median, beta, _ = _fit_rows(np.ascontiguousarray(xk[rows]), kk[rows], mm[rows])
+        s[rows] = 1.0 / beta
+        c[rows] = -s[rows] * portable.log(median)
+    return c.reshape(B, K), s.reshape(B, K)
+
+
+#: The largest excess of a severer limit state's curve over a milder one's [-] that a crossing
+#: of their own fits may have and be kept (reported, not refitted): below the resolution of
+#: any probability here (the Wilson 95 % interval of a proportion from up to 1000 motions
+#: is wider than 3.8e-3 at any count), where refitting to remove it would move the curves
+#: where the data are (curves of different β cross once, often far in their tails).
+CROSSING_TOLERANCE = 1e-3
+
+
+def _constrained_fit(
+    x: np.ndarray,
+    k: np.ndarray,
+    m: np.ndarray,
+    c0: np.ndarray,
+    s0: np.ndarray,
+    pairs: list[tuple[int, int]],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Maximum likelihood of nested limit states (x = ln(IM), m of shape (n,), k of shape
+    (K, n); c0, s0: their own fits, z = c + s·x, NaN for a state without a fit) under the
+    constraint that in each of ``pairs`` (milder, severer) the severer curve lies nowhere above
+    the milder inside the intensities tested. z_milder − z_severer is linear in x, so the
+    constraint is that it is ≥ 0 at the two ends of the range: linear in (c, s); the
+    log-likelihood (the sum of the states' binomial probit likelihoods) is concave in (c, s):
+    one maximum, found by SciPy's SLSQP from the own fits (coefficients centred on the middle
+    of the range, s within :data:`BETA_BOUNDS`). States in no pair keep their own fits (the
+    likelihood is a sum over the states). Returns (c, s, touching), touching saying which
+    states meet a neighbour's curve at an end of the range (an active constraint)."""
+    from scipy.optimize import LinearConstraint, minimize  # on first use (see wilson_interval)
+
+    free = sorted({i for pair in pairs for i in pair})
+    at = {state: p for p, state in enumerate(free)}
+    K = len(free)
+    ends = np.array([x.min(), x.max()])
+    mid = 0.5 * (ends[0] + ends[1])
+    xx = np.broadcast_to(x - mid, (K, x.size))
+    kk, mm = k[free], np.broadcast_to(m, (K, x.size))
+
+    def loss(p: np.ndarray) -> tuple[float, np.ndarray]:
+        ll, g, _h = _probit_loglik(xx, kk, mm, p[:K], p[K:])
+        return -float(ll.sum()), -np.concatenate([g.sum(axis=1), np.sum(g * xx, axis=1)])
+
+    rows = np.zeros((2 * len(pairs), 2 * K))
+    for r, ((i, j), end) in enumerate(itertools.product(pairs, ends - mid)):
+        rows[r, [at[i], at[j], K + at[i], K + at[j]]] = 1.0, -1.0, end, -end
+    s_start = s0[free]
+    result = minimize(
+        loss,
+        np.concatenate([c0[free] + s_start * mid, s_start]),
+        jac=True,
+        method="SLSQP",
+        bounds=[(None, None)] * K + [(_S_LO, _S_HI)] * K,
+        constraints=[LinearConstraint(rows, 0.0, np.inf)],
+        options={"ftol": 1e-12, "maxiter": 500},
+    )
+    a, s = result.x[:K], np.clip(result.x[K:], _S_LO, _S_HI)
+    c, slope = c0.copy(), s0.copy()
+    c[free], slope[free] = a - s * mid, s
+    p = np.concatenate([a, s])
+    gap = rows @ p
+    active = (gap <= 1e-6 * np.maximum(1.0, np.abs(rows) @ np.abs(p))).reshape(len(pairs), 2)
+    touching = np.zeros(c0.shape, dtype=bool)
+    for (i, j), on in zip(pairs, active):
+        if on.any():
+            touching[[i, j]] = True
+    return c, slope, touching
+
+
+def _without_crossing(
+    x: np.ndarray, k: np.ndarray, m: np.ndarray, order: list[int]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Fits of nested limit states, one set per row (x = ln(IM), m of shape (B, n), k of shape
+    (B, K, n); ``order``: mildest first): each state's own (:func:`_own_rows`), and where two
+    neighbours' own curves cross inside the intensities tested by more than
+    :data:`CROSSING_TOLERANCE`, the constrained fit of :func:`_constrained_fit` of those pairs
+    (and of any pair that its refit makes cross so). Returns c, s (B, K; NaN: no fit),
+    touching (B, K), and the own fits' c, s (B, K)."""
+    c_own, s_own = _own_rows(x, k, m)
+    c, s = c_own.copy(), s_own.copy()
+    touching = np.zeros(c.shape, dtype=bool)
+    for b in range(x.shape[0]):
+        pairs: list[tuple[int, int]] = []
+        while True:
+            more = [
+                (cross.milder, cross.severer)
+                for cross in _crossings(c[b], s[b], order, x[b])
+                if cross.excess > CROSSING_TOLERANCE and (cross.milder, cross.severer) not in pairs
+            ]
+            if not more:
+                break
+            pairs += more
+            c[b], s[b], touching[b] = _constrained_fit(
+                x[b], k[b], m[b], c_own[b], s_own[b], sorted(pairs)
+            )
+    return c, s, touching, c_own, s_own
+
+
+def _crossings(c: np.ndarray, s: np.ndarray, order: list[int], log_x: np.ndarray) -> list[Crossing]:
+    """The neighbouring pairs whose curves (c, s: shape (K,)) cross inside the intensities
+    ``log_x`` (ln(IM)): where, and by how much the severer curve exceeds the milder at most
+    (on 1025 points of the range). ``at`` is NaN where the severer curve lies above the milder
+    across the whole range (reversed medians, not a crossing inside it)."""
+    import scipy.special  # on first use (see wilson_interval)
+
+    lo, hi = float(log_x.min()), float(log_x.max())
+    grid = np.linspace(lo, hi, 1025)
+    found = []
+    fitted = [i for i in order if np.isfinite(c[i])]
+    for i, j in itertools.pairwise(fitted):
+        gap_lo, gap_hi = (c[i] + s[i] * e - c[j] - s[j] * e for e in (lo, hi))
+        if gap_lo >= 0.0 and gap_hi >= 0.0:
+            continue
+        inside = (gap_lo < 0.0) != (gap_hi < 0.0)
+        at = math.exp((c[j] - c[i]) / (s[i] - s[j])) if inside else math.nan
+        excess = scipy.special.ndtr(c[j] + s[j] * grid) - scipy.special.ndtr(c[i] + s[i] * grid)
+        found.append(Crossing(i, j, at, float(np.max(excess))))
+    return found
+
+
 def bootstrap_limit_states(
     im: np.ndarray,
     outcomes: np.ndarray,
@@ -694,29 +778,49 @@ def bootstrap_limit_states(
     seed: int,
     measure: str | None = None,
     unit: str | None = None,
-) -> list[FragilityFit | None]:
-    """Lognormal curves of nested limit states fitted jointly, with one β (:func:`_ordinal_rows`:
-    an ordinal probit model, so that the curves never cross; e.g. Nguyen & Lallemant 2022,
-    "Order matters: the benefits of ordinal fragility curves for damage and loss estimation",
-    Risk Analysis 42(5)), with bootstrap intervals over the motions as
-    :func:`bootstrap_fragility` draws them (the same resamples for the same seed).
+) -> LimitStateFits:
+    """Lognormal curves of nested limit states that do not cross inside the intensities tested,
+    with bootstrap intervals over the motions as :func:`bootstrap_fragility` draws them (the
+    same resamples for the same seed).
+
+    Each limit state is fitted alone, by the maximum likelihood of :func:`fit_lognormal`: its
+    own median and β.  Curves of different β cross once; where two nested states' curves cross
+    inside the intensities tested, the severer state is the likelier at some of them, which
+    their data cannot be (every case that exceeds it exceeds the milder).  Where it is the
+    likelier by more than :data:`CROSSING_TOLERANCE`, the pair is refitted together: the
+    maximum of the sum of their likelihoods under the constraint that the severer curve lies
+    nowhere above the milder inside the range (:func:`_constrained_fit`: linear constraints
+    on the probit coefficients, a concave likelihood, so one maximum); a state whose refitted
+    curve touches its neighbour's at an end of the range is flagged
+    (:attr:`LimitStateFits.constrained`).  A smaller crossing, below the resolution of the
+    data (typically far in the tails, at probabilities of 1e-5 and less), is kept: removing it
+    would bend the curves where the data are.  Every crossing of the own fits is reported
+    (:attr:`LimitStateFits.crossings`); every other state keeps its own maximum.
+
+    Not one β for all states (an ordinal probit model, e.g. Nguyen & Lallemant 2022, Risk
+    Analysis 42(5)): a state that the intensity separates (uplift, nearly a step: never, then
+    always exceeded) has no finite maximum, β → 0 (:func:`fit_lognormal`), and a common β
+    collapses with it, turning the curves of the other states into steps that contradict their
+    data.  Here such a state's β stays at its bound, or grows only as much as a material
+    crossing requires, and the others keep their own β.  Each bootstrap resample is fitted
+    the same way, so that the intervals are those of the curves reported.
 
     ``im`` [the IM's unit, > 0] and ``outcomes`` (bool) of limit state i in ``outcomes[i]``,
     laid out as for :func:`bootstrap_fragility` (levels × motions, or one per motion for a
-    cloud, where im holds each motion's IM); every exceedance of a state is one of the states
-    before it or after it (nested: :func:`severity_order`, checked by the caller).  Returns one
-    :class:`FragilityFit` per limit state (its β and β interval those of all), None for a
-    state without information (never or always exceeded).  ``n_boot`` 0: the point fit only,
-    intervals NaN."""
+    cloud, where im holds each motion's IM); nested (every exceedance of a state is one of
+    the states exceeded more often: :func:`severity_order`, checked by the caller).  A state
+    without information (never or always exceeded) has the fit None.  ``n_boot`` 0: the point
+    fits only, intervals NaN."""
     log_x = portable.log(im)
     K, n_motions = outcomes.shape[0], outcomes.shape[-1]
+    order = severity_order(outcomes)[0]
     if outcomes.ndim == 3:
         k = outcomes.sum(axis=2).astype(float)[None]
         m = np.full((1, im.size), float(n_motions))
     else:
         k, m = outcomes.astype(float)[None], np.ones((1, im.size))
-    medians, beta = _ordinal_rows(log_x[None], k, m)
-    parts_m, parts_b = [np.empty((0, K))], [np.empty(0)]
+    c, s, touching, c_own, s_own = _without_crossing(log_x[None], k, m, order)
+    parts_c, parts_s = [np.empty((0, K))], [np.empty((0, K))]
     resamples = _bootstrap_resamples(seed, n_boot, n_motions)
     step = max(1, _FIT_BLOCK_ELEMENTS // (K * max(im.size, n_motions)))
     for idx in (resamples[i : i + step] for i in range(0, n_boot, step)):
@@ -727,44 +831,44 @@ def bootstrap_limit_states(
         else:
             kb = np.transpose(outcomes[:, idx], (1, 0, 2)).astype(float)
             xb, mb = log_x[idx], np.ones(idx.shape)
-        med_b, beta_b = _ordinal_rows(np.ascontiguousarray(xb), kb, mb)
-        parts_m.append(med_b)
-        parts_b.append(beta_b)
-    boot_m, boot_b = np.concatenate(parts_m), np.concatenate(parts_b)
+        cb, sb, _, _, _ = _without_crossing(np.ascontiguousarray(xb), kb, mb, order)
+        parts_c.append(cb)
+        parts_s.append(sb)
+    boot_s = np.concatenate(parts_s)
+    with np.errstate(invalid="ignore"):
+        boot_m = portable.exp(-np.concatenate(parts_c) / boot_s)
     q = [(1.0 - confidence) / 2.0, (1.0 + confidence) / 2.0]
-    ok_b = boot_b[np.isfinite(boot_b)]
-    beta_ci = (
-        Interval(*map(float, np.quantile(ok_b, q))) if ok_b.size else Interval(math.nan, math.nan)
-    )
     fits: list[FragilityFit | None] = []
     for i in range(K):
-        if not np.isfinite(medians[0, i]):
+        if not np.isfinite(c[0, i]):
             fits.append(None)
             continue
         point = LognormalFit(
-            float(medians[0, i]),
-            float(beta[0]),
+            float(portable.exp(-c[0, i] / s[0, i])),
+            float(_betas(s[0, i])),
             im=measure,
             unit=unit,
             im_range=(float(im.min()), float(im.max())),
         )
-        ok = boot_m[np.isfinite(boot_m[:, i]), i]
-        med_ci = (
-            Interval(*map(float, np.quantile(ok, q))) if ok.size else Interval(math.nan, math.nan)
-        )
+        ok = np.isfinite(boot_m[:, i])
+        nan = Interval(math.nan, math.nan)
         fits.append(
             FragilityFit(
                 fit=point,
-                median_ci=med_ci,
-                beta_ci=beta_ci if n_boot else Interval(math.nan, math.nan),
+                median_ci=Interval(*map(float, np.quantile(boot_m[ok, i], q))) if ok.any() else nan,
+                beta_ci=Interval(*map(float, np.quantile(_betas(boot_s[ok, i]), q)))
+                if ok.any()
+                else nan,
                 confidence=confidence,
                 n_boot=int(n_boot),
                 seed=int(seed),
-                n_unfitted=int(n_boot - ok.size),
-                n_separated=int(np.sum(boot_b == BETA_BOUNDS[0])),
+                n_unfitted=int(n_boot - ok.sum()),
+                n_separated=int(np.sum(boot_s[ok, i] >= _S_HI)),
             )
         )
-    return fits
+    return LimitStateFits(
+        fits, [bool(t) for t in touching[0]], _crossings(c_own[0], s_own[0], order, log_x)
+    )
 
 
 def _outcomes(outcomes, n_im: int) -> np.ndarray:
