@@ -106,7 +106,8 @@ def _engine(ensemble, out=None):
 
 def _outcome(overturned, peak):
     """The engine's record of motions that overturned or reached ``peak`` = max|θ|/α."""
-    return Outcome(overturned, peak, peak > 0.0, np.zeros(peak.size, np.int64))
+    zero = np.zeros(peak.size)  # no slip, no lift: infinite friction
+    return Outcome(overturned, peak, peak > 0.0, zero, zero, zero, np.zeros(peak.size, np.int64))
 
 
 def test_decision_order_puts_the_motions_likeliest_to_decide_first(ensemble):
@@ -197,3 +198,43 @@ def test_chunks_with_every_motion_of_a_pair_still_load(ensemble, tmp_path):
     resumed = overturning_probability(BLOCKS[:1], ensemble, [agx], members=True, out=tmp_path)
     assert resumed.attrs["chunks_loaded"] == 1 and resumed.attrs["chunks_computed"] == 0
     _bytes_equal(ref, resumed)
+
+
+def test_chunks_written_before_friction_still_load(ensemble, tmp_path):
+    # chunks written before issue 45 hold the Outcome record without the slip and lift
+    # quantities: a frictionless run (the only kind they can belong to, friction being in the
+    # fingerprint) resumes from them, with no slip and no lift, and simulates nothing
+    agx = 0.6
+    ref = overturning_probability(
+        BLOCKS[:1], ensemble, [agx], members=True, limit_states="uplift, slip>=0.001, overturn"
+    )
+    engine = _engine(ensemble)
+    with engine:
+        engine.run([(0, 0, level_key(agx))])
+    outcome = engine.results[(0, 0, level_key(agx))]
+    old = _engine(ensemble, out=tmp_path)
+    with old:
+        old.store.save(
+            "before-friction",
+            case=np.int64(0),
+            body=np.zeros(ensemble.n, np.int64),
+            level=np.full(ensemble.n, level_key(agx)),
+            motion=np.arange(ensemble.n, dtype=np.int64),
+            overturned=outcome.overturned,
+            peak_theta_ratio=outcome.peak_theta_ratio,
+            uplift=outcome.uplift,
+            steps=outcome.steps,
+        )
+    resumed = overturning_probability(
+        BLOCKS[:1],
+        ensemble,
+        [agx],
+        members=True,
+        limit_states="uplift, slip>=0.001, overturn",
+        out=tmp_path,
+    )
+    assert resumed.attrs["chunks_loaded"] == 1 and resumed.attrs["chunks_computed"] == 0
+    _bytes_equal(ref, resumed)
+    # no slip without friction: the slip limit state is never exceeded, uplift sometimes is
+    counts = resumed["count"].sel(limit_state="slip>=0.001").values
+    assert counts.sum() == 0 and resumed["count"].sel(limit_state="uplift").values.sum() > 0

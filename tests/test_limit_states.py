@@ -229,6 +229,13 @@ def test_limit_state_text_form():
     assert large.threshold == 0.5 and large.name == "theta/alpha>=0.5"
     (named,) = parse_limit_states("large rocking=theta/alpha>=0.8")
     assert named == LimitState("large rocking", "peak_theta_ratio", 0.8)
+    # issue 45's quantities: slip and lift in metres, the residual slip by its own name
+    slip, residual, lift = parse_limit_states("slip>=0.05, residual_slip>=0.02, lift>=0.01")
+    assert (slip.quantity, slip.threshold, slip.name) == ("peak_slip", 0.05, "slip>=0.05")
+    assert (residual.quantity, lift.quantity) == ("residual_slip", "peak_lift")
+    assert lift.threshold == 0.01
+    with pytest.raises(InputError, match="needs a threshold"):
+        parse_limit_states("slip")
     # the kernel's quantities, the Outcome's fields and the names the text form knows agree
     assert set(QUANTITIES) == {f for f in Outcome._fields if f != "steps"}
     assert tuple(QUANTITIES) == RESPONSE_QUANTITIES

@@ -32,14 +32,30 @@ IMPACT_SCHEMES = ("located", "step-end")
 OVERTURN_ANGLE = math.pi / 2
 #: The response quantities the batched kernel records per case
 #: (:class:`rocking.dynamics.batch.Outcome`), on which a :class:`rocking.LimitState` is defined:
-#: overturned (yes/no), max abs(θ)/α [-], uplift (the block left rest at all, yes/no).
-RESPONSE_QUANTITIES = ("overturned", "peak_theta_ratio", "uplift")
+#: overturned (yes/no), max abs(θ)/α [-], uplift (the block left rest at all, yes/no), and
+#: with friction (issue 45) the largest and the final abs(slip) [m] and the largest lift of
+#: the base above the ground [m].
+RESPONSE_QUANTITIES = (
+    "overturned",
+    "peak_theta_ratio",
+    "uplift",
+    "peak_slip",
+    "residual_slip",
+    "peak_lift",
+)
 #: Names of the response quantities in the text form of limit states (``--limit-states``).
-QUANTITY_ALIASES = {"overturn": "overturned", "theta/alpha": "peak_theta_ratio"}
+QUANTITY_ALIASES = {
+    "overturn": "overturned",
+    "theta/alpha": "peak_theta_ratio",
+    "slip": "peak_slip",
+    "lift": "peak_lift",
+}
 #: The text form of a list of limit states (:func:`rocking.dynamics.limits.parse_limit_states`).
 LIMIT_STATE_SYNTAX = (
-    "limit states separated by commas, each 'uplift', 'overturn' or 'theta/alpha>=X' "
-    "(X > 0; also any quantity of " + ", ".join(RESPONSE_QUANTITIES) + " as QUANTITY>=X), "
+    "limit states separated by commas, each 'uplift', 'overturn', 'theta/alpha>=X' [-], "
+    "'slip>=X' [m] or 'lift>=X' [m] (X > 0; also any quantity of "
+    + ", ".join(RESPONSE_QUANTITIES)
+    + " as QUANTITY>=X), "
     "optionally named NAME=…, e.g. 'uplift, theta/alpha>=0.5, overturn'"
 )
 #: The paper's band of the available pseudo-velocity S_v [Hz] (Section 8).

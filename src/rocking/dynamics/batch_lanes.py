@@ -639,6 +639,15 @@ def _repeat_interval(lanes, j, vert):
 
 
 @kernel(inline="always")
+def _no_slip(out, i):
+    """Case i's slip and lift: none, with infinite friction (the block rocks on a corner that
+    stays on the ground)."""
+    out.peak_slip[i] = 0.0
+    out.residual_slip[i] = 0.0
+    out.peak_lift[i] = 0.0
+
+
+@kernel(inline="always")
 def _finish(lanes, j, overturned, k, blocks, cases, out):
     """The results of lane j's case, which ended after k intervals (overturned or not)."""
     L = _LANES
@@ -649,6 +658,7 @@ def _finish(lanes, j, overturned, k, blocks, cases, out):
     alpha = blocks.alpha[cases.body[i]]
     out.peak_theta_ratio[i] = (W[_OV * L + j] if overturned else W[_PK * L + j]) / alpha
     out.uplift[i] = steps > 0  # an interval not at rest throughout: rocking at its end
+    _no_slip(out, i)
     out.steps[i] = steps
 
 
@@ -669,6 +679,7 @@ def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
         out.overturned[i] = False
         out.peak_theta_ratio[i] = 0.0
         out.uplift[i] = False
+        _no_slip(out, i)
         out.steps[i] = 0
 
 

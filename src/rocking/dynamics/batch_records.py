@@ -74,6 +74,9 @@ class Outcome(NamedTuple):
     overturned: np.ndarray  #: whether the block overturned (bool)
     peak_theta_ratio: np.ndarray  #: max abs(θ)/α at the samples [-] (θ_ov/α if overturned)
     uplift: np.ndarray  #: whether the block left rest at all: rocking at some sample (bool)
+    peak_slip: np.ndarray  #: max abs(slip) at the samples [m] (0 without friction)
+    residual_slip: np.ndarray  #: abs(slip) at the end [m] (0 without friction)
+    peak_lift: np.ndarray  #: max lift of the base's lowest corner [m] (0 without friction)
     steps: np.ndarray  #: integrated steps (int64; see :func:`run_cases`), not a quantity
 
 
@@ -83,6 +86,9 @@ QUANTITIES = {
     "overturned": (np.bool_, "", "the block overturned"),
     "peak_theta_ratio": (np.float64, "1", "max |theta| / alpha"),
     "uplift": (np.bool_, "", "the block left rest (rocked) at all"),
+    "peak_slip": (np.float64, "m", "max |slip|"),
+    "residual_slip": (np.float64, "m", "|slip| at the end"),
+    "peak_lift": (np.float64, "m", "max lift of the base above the ground"),
 }
 
 

@@ -2,7 +2,8 @@
 
 A limit state is exceeded in a case when a response quantity that the batched kernel records
 (:class:`rocking.dynamics.batch.Outcome`: ``overturned``, ``peak_theta_ratio`` = max abs(θ)/α,
-``uplift``) reaches a threshold.  Loss assessment grades damage this way (FEMA P-58's damage
+``uplift``, and with friction ``peak_slip``, ``residual_slip``, ``peak_lift`` [m]) reaches a
+threshold.  Loss assessment grades damage this way (FEMA P-58's damage
 states of unanchored equipment), and the rocking literature grades the response by the peak
 rotation ratio: uplift, large rocking (θ/α ≥ 0.5, say), overturning.
 
@@ -36,7 +37,9 @@ class LimitState:
     quantity : str
         One of :data:`rocking.defaults.RESPONSE_QUANTITIES`: ``"overturned"``,
         ``"peak_theta_ratio"`` (max abs(θ)/α [-]; θ_ov/α once overturned, so an overturned
-        block exceeds every threshold up to θ_ov/α) or ``"uplift"`` (the block left rest).
+        block exceeds every threshold up to θ_ov/α), ``"uplift"`` (the block left rest),
+        ``"peak_slip"``, ``"residual_slip"`` (max and final abs(slip) [m]) or ``"peak_lift"``
+        (max lift of the base [m]); 0 without friction (issue 45).
     threshold : float
         The threshold, > 0, in the quantity's unit; 1 (True) for a yes/no quantity.
     """

@@ -125,15 +125,15 @@ def _chunk_simulations(a: dict, cases: list[Ensemble]):
     """(case, body, level key, motion, Outcome), flat with one entry per simulation, of a stored
     chunk (one array per field of :class:`~rocking.dynamics.batch.Outcome`, by its name); None
     if the chunk cannot be one of this run.  Chunks without ``motion`` (written before motions
-    were simulated in parts) hold every motion of each (body, level); chunks of flags and
-    ``peak`` only (written before the Outcome record), see :func:`_legacy_outcome`."""
+    were simulated in parts) hold every motion of each (body, level); for chunks written before
+    the Outcome record or before friction, see :func:`_stored_outcome`."""
     try:
         c = int(a["case"])
         if not 0 <= c < len(cases):
             return None
         n = cases[c].n
         body, level = a["body"], a["level"]
-        outcome = _legacy_outcome(a) if "peak" in a else Outcome(*(a[f] for f in Outcome._fields))
+        outcome = _stored_outcome(a)
         if "motion" not in a:  # every motion of each (body, level) pair
             if outcome.overturned.shape != (body.size, n) or level.shape != body.shape:
                 return None
@@ -154,13 +154,27 @@ def _chunk_simulations(a: dict, cases: list[Ensemble]):
     return c, body, level, motion, outcome
 
 
-def _legacy_outcome(a: dict) -> Outcome:
-    """The Outcome of a chunk that holds ``overturned`` and ``peak`` (max abs(θ)/α) only: uplift
-    is overturned or a peak above 0 (the kernel's uplift, rocking at some sample, but for a
-    block rocking at θ = 0 exactly at every sample it rocks at), steps −1 (not recorded)."""
-    overturned, peak = a["overturned"], a["peak"]
-    uplift = overturned | (peak > 0.0)
-    return Outcome(overturned, peak, uplift, np.full(overturned.shape, -1, np.int64))
+#: The quantities of :class:`~rocking.dynamics.batch.Outcome` added with friction (issue 45).
+_FRICTION_QUANTITIES = ("peak_slip", "residual_slip", "peak_lift")
+
+
+def _stored_outcome(a: dict) -> Outcome:
+    """The Outcome of a stored chunk (raises KeyError if it has none).
+
+    Chunks written before the Outcome record hold ``overturned`` and ``peak`` (max abs(θ)/α)
+    only: uplift is then overturned or a peak above 0 (the kernel's uplift, rocking at some
+    sample, but for a block rocking at θ = 0 exactly at every sample it rocks at), steps −1
+    (not recorded).  Chunks written before friction (issue 45) lack the slip and lift
+    quantities, which are 0 in the frictionless runs they can only belong to (friction is in
+    the run's fingerprint)."""
+    fields = dict(a)
+    if "peak" in a:
+        fields["peak_theta_ratio"] = a["peak"]
+        fields["uplift"] = a["overturned"] | (a["peak"] > 0.0)
+        fields["steps"] = np.full(a["overturned"].shape, -1, np.int64)
+    for name in _FRICTION_QUANTITIES:
+        fields.setdefault(name, np.zeros(fields["overturned"].shape))
+    return Outcome(*(fields[f] for f in Outcome._fields))
 
 
 class Engine:
