@@ -54,7 +54,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -206,42 +205,6 @@ def _flight(rhs, t_cur: float, t_next: float, y, side: float, t_seg: float, th_o
         ((turn_back, lambda yy: side * yy[0] < 0.0),),
         tol,
     )
-
-
-@overload
-def simulate_reference(
-    block: Block,
-    ag: ArrayLike,
-    dt: float,
-    *,
-    e: float | str = DEFAULT_E,
-    overturn_angle: float | str = OVERTURN_ANGLE,
-    g: float = G,
-    av: ArrayLike | None = None,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    max_step: float | None = None,
-    mu: None = None,
-    mu_k: None = None,
-) -> RockingResponse: ...
-
-
-@overload
-def simulate_reference(
-    block: Block,
-    ag: ArrayLike,
-    dt: float,
-    *,
-    e: float | str = DEFAULT_E,
-    overturn_angle: float | str = OVERTURN_ANGLE,
-    g: float = G,
-    av: ArrayLike | None = None,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    max_step: float | None = None,
-    mu: float,
-    mu_k: float | None = None,
-) -> ReferenceResponse: ...
 
 
 def simulate_reference(
