@@ -40,11 +40,13 @@ ground, exert none), no change of position during it.  (1) Stick: the corner com
 accepted where P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y.  (2) Otherwise a sliding impact: P_x = −σ·μ_k·P_y
 with σ the sign of the corner's slip velocity before (taken not to reverse during the impact) and
 P_y plastic (the corner's vertical velocity 0 after); where that P_y would be negative (a
-Painlevé jam) the corner sticks by (1) without the cone.  (3) Both corners at once (a flat
-landing, or an impact after which the body would turn into the ground): y' and θ' → 0 (plastic),
-tangential stick where abs(x') ≤ μ_s·P_y/m, else a Coulomb impulse.  Kinetic energy (ground's
-frame) never increases with e ≤ 1.  A bounce shorter than :data:`REST_FLIGHT_TIME` ends in
-contact on both corners (rest, or slide at the base's slip rate).
+Painlevé jam) or the slip would reverse (it stops during the impact, and a reversed slip under
+the same impulse would gain energy), the corner sticks, plastic: ω⁺ = ω_L, outside the cone.
+(3) Both corners at once (a flat landing, or an impact after which the body would turn into the
+ground): y' and θ' → 0 (plastic), tangential stick where abs(x') ≤ μ_s·P_y/m, else a Coulomb
+impulse.  Kinetic energy (ground's frame) never increases with e ≤ 1.  A bounce shorter than
+:data:`REST_FLIGHT_TIME` ends in contact on both corners (rest, or slide at the centre of mass's
+horizontal velocity).
 
 Slow-but-exact: rtol 1e-10, atol 1e-12 by default; about 0.2 s per 4 s of rocking at 1/100 s
 and 0.4 s for 1.25 s of sliding at 1/1000 s (2026, one core); for the tests only.
@@ -687,30 +689,33 @@ class _Modes:
         th, vx, vy, om = z[2], z[3], z[4], z[5]
         rx, ry = body.corner(c, th)
         # 1. stick: the corner at rest after; ω_L conserves the angular momentum about it
-        w = (body.i_cm * om + rx * vy - ry * vx) / body.i_0
-        w *= body.e / body.e_h if body.e_h > 0.0 else 1.0
+        w_l = (body.i_cm * om + rx * vy - ry * vx) / body.i_0
+        w = w_l * (body.e / body.e_h if body.e_h > 0.0 else 1.0)
         cap = body.e * math.sqrt(2.0 * ke / body.i_0)  # no more than e² of the energy
         w = max(-cap, min(cap, w))
         p_x, p_y = -ry * w - vx, rx * w - vy
+        sigma = 0.0
         if p_y >= 0.0 and abs(p_x) <= body.mu_s * p_y:
-            kind, z[3], z[4], z[5] = "stick impact", -ry * w, rx * w, w
-            sigma = 0.0
+            kind = "stick impact"
         else:
             # 2. sliding: P_x = −σ·μ_k·P_y, P_y such that the corner's y' is 0 after
             vcx, vcy = vx + ry * om, vy - rx * om
             sigma = _sign(vcx) if vcx != 0.0 else -_sign(p_x)
             den = 1.0 + rx * (rx + sigma * body.mu_k * ry) / body.i_cm
             q_y = -vcy / den if den > 0.0 else -1.0
-            if q_y >= 0.0:
-                q_x = -sigma * body.mu_k * q_y
+            q_x = -sigma * body.mu_k * q_y
+            w_s = om + (ry * q_x - rx * q_y) / body.i_cm
+            vcx_after = vx + q_x + ry * w_s
+            if q_y >= 0.0 and sigma * vcx_after >= 0.0:
                 kind = "sliding impact"
-                z[3], z[4] = vx + q_x, vy + q_y
-                z[5] = om + (ry * q_x - rx * q_y) / body.i_cm
-                vcx_after = z[3] + ry * z[5]
-                sigma = 0.0 if vcx_after == 0.0 else _sign(vcx_after)
-            else:  # a jam (the Coulomb impulse would pull the corner down): it sticks
-                kind, z[3], z[4], z[5] = "jam impact", -ry * w, rx * w, w
-                sigma = 0.0
+                z[3], z[4], z[5] = vx + q_x, vy + q_y, w_s
+                sigma = 0.0 if vcx_after == 0.0 else sigma
+            else:
+                # a jam (the Coulomb impulse would pull the corner down), or a slip that
+                # stops during the impact: the corner sticks, plastic (ω_L)
+                kind, w, sigma = "plastic impact", w_l, 0.0
+        if sigma == 0.0 and kind != "sliding impact":
+            z[3], z[4], z[5] = -ry * w, rx * w, w
         if at_zero and c * z[5] <= 0.0:  # no rotation onto corner c: both corners down
             ph, z = self.flat(j, t, z)
             return ph, z, kind
@@ -718,8 +723,9 @@ class _Modes:
         if at_zero and ph.mode in (_ROCK, _SLIDE_ROCK):
             acc = self.forces(ph, j, t, z)[0][2]
             if acc * z[5] < 0.0 and 2.0 * abs(z[5]) / abs(acc) < REST_FLIGHT_TIME:
-                # a bounce too short to follow ends the sequence: the base keeps its slip rate
-                ph, z = self.settle(j, t, z, 0.0 if sigma == 0.0 else z[3] + ry * z[5])
+                # a bounce too short to follow ends the sequence, on both corners: the tiny
+                # rotation stops, the centre of mass keeps its horizontal velocity if slipping
+                ph, z = self.settle(j, t, z, 0.0 if sigma == 0.0 else z[3])
         return ph, z, kind
 
     def transition(
