@@ -182,6 +182,13 @@ def test_large_friction_is_todays_rocking():
         np.testing.assert_allclose(ours.omega, ref.omega, rtol=0, atol=1e-9)
         assert set(ours.mode.tolist()) == {0, 2}  # rest and rock
         assert np.max(np.abs(ours.slip)) < 1e-12 and np.all(ours.lift == 0.0)
+    # a general body (issue 16) too: Eq. (1) with I_0 = m·(r_g² + R²)
+    body = rocking.Block.from_mass_properties(0.8, 0.2, radius_of_gyration=0.35)
+    ag = 0.3 * G * np.sin(2 * np.pi * 1.5 * t) * (t < 2)
+    ours = simulate_reference(body, ag, dt, mu=1e6)
+    ref = simulate_reference(body, ag, dt)
+    assert ours.n_impacts == ref.n_impacts > 5
+    np.testing.assert_allclose(ours.theta, ref.theta, rtol=0, atol=1e-10)
     # rocking.simulate is RK4 at dt with located impacts: its error falls as dt⁴; at dt =
     # 1/500 s it is 9e-11 rad here (5.6e-8 at 1/100 s), so 1e-8 rad holds with margin.
     dt = 0.002

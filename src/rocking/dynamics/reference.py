@@ -48,8 +48,9 @@ impulse.  Kinetic energy (ground's frame) never increases with e ≤ 1.  A bounc
 :data:`REST_FLIGHT_TIME` ends in contact on both corners (rest, or slide at the centre of mass's
 horizontal velocity).
 
-Slow-but-exact: rtol 1e-10, atol 1e-12 by default; about 0.2 s per 4 s of rocking at 1/100 s
-and 0.4 s for 1.25 s of sliding at 1/1000 s (2026, one core); for the tests only.
+Slow-but-exact: rtol 1e-10, atol 1e-12 by default; about 0.2 s per 4 s of rocking at 1/100 s,
+0.4 s for 1.25 s of sliding at 1/1000 s, 0.1–2 s for 5 s of random motion through every mode at
+1/100 s (one core of a shared 2-core machine); for the tests only.
 """
 
 from __future__ import annotations
