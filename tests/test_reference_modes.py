@@ -147,6 +147,23 @@ def test_flight_under_vertical_acceleration_below_minus_g_is_ballistic():
     assert np.all(r.lift[t > landing[0]] == 0.0)
 
 
+@pytest.mark.parametrize(("mu", "after"), [(0.2, "slide"), (0.5, "slide-rock")])
+def test_sliding_tips_onto_its_leading_corner_when_mu_k_h_exceeds_b(mu, after):
+    # After the flat landing of the flight above the block slides at 1.4 m/s (more than μ_s
+    # times the vertical impulse).  MODES.md: both corners stay down while μ_k·h ≤ b, i.e.
+    # μ_k ≤ tan α = B/H = 0.25; above, the friction's moment lifts the trailing corner and
+    # the block slide-rocks on the leading one (here −x: it slides to −x, θ < 0).
+    block = rocking.Block.from_dimensions(2.0, 0.5)
+    av = np.full(101, -1.5 * G)
+    av[31:] = 0.0
+    r = simulate_reference(block, np.full(101, 0.2 * G), 0.01, mu=mu, av=av)
+    t_land, what, _, _ = next(e for e in r.events if "landing" in e[1])
+    assert what == f"flat landing -> {after}"
+    k = int(np.searchsorted(r.t, t_land))
+    assert r.slip[k + 1] < r.slip[k] < 0.0
+    assert (r.theta[k] < 0.0) if after == "slide-rock" else (r.theta[k] == 0.0)
+
+
 def test_rotating_body_in_flight_keeps_its_angular_velocity():
     # No contact, no moment: θ' is constant in flight and θ linear (to the integrator's 1e-9).
     rng = np.random.default_rng(5)
