@@ -169,7 +169,7 @@ def test_the_command_writes_a_row_per_body_and_limit_state(ensemble, tmp_path):
     motions = tmp_path / "m.nc"
     ensemble.save(motions)
     bodies = tmp_path / "bodies.csv"
-    bodies.write_text("name,R,gamma\nslim,0.5,5\nstocky,1.0,4\n")
+    bodies.write_text("name,R,gamma\nslim,0.5,5\nstocky,0.5,3\n")  # a 1 x 2 grid
     out = tmp_path / "out"
     args = ["agx50", "--bodies", bodies, "--motions", motions, "--resolution", RESOLUTION]
     args += ["--agx-max", 1.0, "--limit-states", STATES, "--quiet", "--out", out]
@@ -179,7 +179,8 @@ def test_the_command_writes_a_row_per_body_and_limit_state(ensemble, tmp_path):
     assert list(table["body"]) == ["slim"] * 3 + ["stocky"] * 3
     assert list(table["limit_state"]) == ["uplift", "theta/alpha>=0.5", "overturn"] * 2
     # the A_gx50 of the API on the same motions (the CSV keeps 6 significant digits)
-    api = agx_50(BLOCKS[:2], ensemble, resolution=RESOLUTION, agx_max=1.0, limit_states=STATES)
+    blocks = [Block(0.5, 5.0), Block(0.5, 3.0)]
+    api = agx_50(blocks, ensemble, resolution=RESOLUTION, agx_max=1.0, limit_states=STATES)
     np.testing.assert_allclose(table["agx50_g"], api["agx50"].values.ravel(), rtol=1e-6)
     # S_v1 at each limit state's A_gx50, the required S_v the body's
     ok = np.isfinite(table["agx50_g"])
@@ -191,5 +192,11 @@ def test_the_command_writes_a_row_per_body_and_limit_state(ensemble, tmp_path):
         assert ds["agx50"].dims == ("body", "limit_state")
         assert ds["sv_required"].dims == ("body",)
         assert list(ds["threshold"].values) == [1.0, 0.5, 1.0]
+    # the paper's Tables 2-3 once per limit state (Table 1, the required S_v, once)
+    sv1 = pd.read_csv(out / "table2_sv1_cm_s-theta_alpha_0.5.csv", index_col=0)
+    mine = table[table["limit_state"] == "theta/alpha>=0.5"].set_index("gamma")["sv1_cm_s"]
+    np.testing.assert_allclose(sv1.loc[0.5, ["3", "5"]], mine[[3.0, 5.0]], rtol=1e-3)
+    for name in ("table1_sv_required_cm_s", "table3_ratio-uplift", "table3_ratio-overturn"):
+        assert (out / f"{name}.csv").stat().st_size > 0
     assert (out / "sv_agx.png").stat().st_size > 0
     assert "(uplift)" in result.output and "(overturn)" in result.output

@@ -496,11 +496,11 @@ def agx_50(
     # reproduce, where the soundness section searches Section 8's ground motions again), a case
     # searched before is not searched again
     settings = (*engine.table.arrays(), K, resolution)  # the kernel's constants, the grid
-    what = tuple((ls.quantity, ls.threshold) for ls in searched)
+    graded = tuple((ls.quantity, ls.threshold) for ls in searched)  # what is counted
     reuse = [
         None
         if members
-        else key_of("agx_50", (ens.sha256, *settings, coarse, engine.physics.fingerprint, what))
+        else key_of("agx_50", (ens.sha256, *settings, coarse, engine.physics.fingerprint, graded))
         for ens in cases
     ]
     known = {c: found for c, rk in enumerate(reuse) if (found := recall(rk)) is not None}
@@ -545,12 +545,12 @@ def agx_50(
     if states is None:  # overturning alone: no limit_state dimension
         agx50, p_at, p_below = (a[..., 0].copy() for a in (agx50, p_at, p_below))
         dims: tuple[str, ...] = ("body",)
-        what_p = "A_gx of 50 % overturning probability"
+        long_name = "A_gx of 50 % overturning probability"
     else:
         dims = ("body", "limit_state")
-        what_p = "A_gx of 50 % probability of the limit state"
+        long_name = "A_gx of 50 % probability of the limit state"
     data_vars: dict[str, tuple] = {
-        "agx50": (dims, agx50, {"units": "g", "long_name": what_p}),
+        "agx50": (dims, agx50, {"units": "g", "long_name": long_name}),
         "probability": (dims, p_at, {"units": "1", "long_name": "probability at agx50"}),
         "probability_below": (
             dims,
