@@ -22,3 +22,19 @@ def _matches_reference(ours, ref, case) -> None:
 def matches_reference():
     """The check :func:`_matches_reference`."""
     return _matches_reference
+
+
+@pytest.fixture
+def simulations(monkeypatch):
+    """Counts the simulations handed to the batched kernel (by the Monte Carlo engine)."""
+    import rocking.montecarlo.engine as engine_module
+
+    count = [0]
+    run_cases = engine_module.run_cases
+
+    def counting(table, acc, amax, dt, body, *args, **kwargs):
+        count[0] += body.size
+        return run_cases(table, acc, amax, dt, body, *args, **kwargs)
+
+    monkeypatch.setattr(engine_module, "run_cases", counting)
+    return count

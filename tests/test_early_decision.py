@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import rocking.montecarlo.engine as engine_module
 from rocking.defaults import DEFAULT_E, G
 from rocking.dynamics.batch import Outcome
 from rocking.dynamics.body import Block
@@ -37,20 +36,6 @@ def _bytes_equal(a, b):
     xr.testing.assert_identical(_science(a), _science(b))
     for name in a.data_vars:
         assert a[name].values.tobytes() == b[name].values.tobytes(), name
-
-
-@pytest.fixture
-def simulations(monkeypatch):
-    """Counts the simulations handed to the batched kernel."""
-    count = [0]
-    run_cases = engine_module.run_cases
-
-    def counting(table, acc, amax, dt, body, *args, **kwargs):
-        count[0] += body.size
-        return run_cases(table, acc, amax, dt, body, *args, **kwargs)
-
-    monkeypatch.setattr(engine_module, "run_cases", counting)
-    return count
 
 
 def _decided(n, overturned, safe):

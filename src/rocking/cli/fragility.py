@@ -147,6 +147,21 @@ _out_option = click.option(
     help="Output folder (created); finished chunks are kept in it, so the same command resumes "
     "an interrupted run. A folder of another run is refused (see --overwrite).",
 )
+
+
+def _limit_states_option(effect: str):
+    """The --limit-states option, its help ending with ``effect`` (what it does to the run)."""
+    return click.option(
+        "--limit-states",
+        "limit_states_text",
+        default=None,
+        metavar="LIST",
+        help="Limit states on the response instead of overturning alone, e.g. 'uplift, "
+        "theta/alpha>=0.5, overturn' (uplift: the body rocks at all; theta/alpha>=X: its peak "
+        f"rotation reaches X times alpha; overturn). {effect}",
+    )
+
+
 _run_options = options(
     bodies_option,
     _motions_option,
@@ -214,15 +229,8 @@ _run_options = options(
     help="Bootstrap resamples of the motions for the intervals of median and beta (0: none).",
 )
 @click.option("--seed", type=SEED, default=0, show_default=True, help="Bootstrap seed.")
-@click.option(
-    "--limit-states",
-    "limit_states_text",
-    default=None,
-    metavar="LIST",
-    help="Limit states on the response instead of overturning alone, e.g. 'uplift, "
-    "theta/alpha>=0.5, overturn' (uplift: the body rocks at all; theta/alpha>=X: its peak "
-    "rotation reaches X times alpha; overturn). The tables gain a limit_state column, and "
-    "each body a figure with one curve per limit state.",
+@_limit_states_option(
+    "The tables gain a limit_state column, and each body a figure with one curve per limit state."
 )
 @click.option(
     "--im-efficiency",
@@ -739,6 +747,10 @@ def dimensionless_verdict(efficiency: pd.DataFrame) -> str:
     help="Largest A_gx searched [g], at most 10; beyond it A_gx50 is NaN.",
 )
 @band_option
+@_limit_states_option(
+    "The A_gx of 50 % probability of each: the tables gain a limit_state column, sv_agx.png a "
+    "series of points per limit state."
+)
 def agx50_cmd(
     bodies_spec: str,
     motions_path: str,
@@ -753,6 +765,7 @@ def agx50_cmd(
     resolution: float,
     agx_max: float,
     band_text: str,
+    limit_states_text: str | None,
 ) -> None:
     """A_gx of 50 % overturning probability per body and Housner's energy balance (Section 8).
 
@@ -760,15 +773,20 @@ def agx50_cmd(
     in the CSV, their ratio), the paper's Tables 1-3 as R x gamma grids when the bodies form
     one (table1_sv_required_cm_s.csv, table2_sv1_cm_s.csv, table3_ratio.csv), sv_agx.png
     (required S_v against A_gx50 with a least-squares line, paper Figs. 15-16) and run.json.
+    With --limit-states: the A_gx50 of every limit state (a limit_state column in agx50.csv,
+    S_v1 and the ratio at each one's A_gx50; Tables 2-3 once per limit state, named
+    table2_sv1_cm_s-<state>.csv, ...) and one series of points per limit state in sv_agx.png.
     """
+    from ..dynamics.limits import parse_limit_states
+
+    states = None if limit_states_text is None else parse_limit_states(limit_states_text)
     band = parse_band(band_text)
     bodies, ensemble, e, backend = _prepare(
         bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
     )
     import numpy as np
-    import pandas as pd
 
-    from ..assessment.energy import energy_balance, forms_grid, grid_table
+    from ..assessment.energy import forms_grid, grid_table
     from ..core.runs import RunFolder
     from ..dynamics.physics import Physics
     from ..montecarlo.probability import agx_50
@@ -788,6 +806,7 @@ def agx50_cmd(
         resolution_g=resolution,
         agx_max_g=agx_max,
         band_hz=list(band),
+        **({} if states is None else {"limit_states": [ls.name for ls in states]}),
     )
     reads = {"--motions": motions_path}
     with (
@@ -808,47 +827,94 @@ def agx50_cmd(
                 backend=backend,
                 out=run.chunks / "agx50",
                 progress=progress,
+                limit_states=states,
             )
-        energy = _names(energy_balance(blocks, ensemble, a50, band_hz=band), bodies)
+        energy = _names(_energy(blocks, ensemble, a50, band), bodies)
         ds = _names(a50, bodies).merge(energy, compat="override")
         ds.attrs.update(
             {**energy.attrs, **_describe(ensemble)}, e=str(e), motions=str(motions_path)
         )
         run.write_netcdf("agx50.nc", ds)
-        table = pd.DataFrame(
-            {
-                "body": ds["body"].values,
-                "R": ds["R"].values,
-                "gamma": ds["gamma"].values,
-                "agx50_g": ds["agx50"].values,
-                "sv_required_cm_s": 100.0 * ds["sv_required"].values,
-                "sv1_cm_s": 100.0 * ds["sv1"].values,
-                "ratio": ds["ratio"].values,
-            }
-        )
+        # a row per body (and limit state)
+        table = ds[["agx50", "sv_required", "sv1", "ratio"]].to_dataframe().reset_index()
+        table = table.rename(columns={"agx50": "agx50_g"})
+        for column in ("sv_required", "sv1"):
+            table[f"{column}_cm_s"] = 100.0 * table.pop(column)
+        state = [] if states is None else ["limit_state", "quantity", "threshold"]
+        columns = ["body", "R", "gamma", *state, "agx50_g", "sv_required_cm_s", "sv1_cm_s"]
+        table = table[[*columns, "ratio"]]
         run.write_csv("agx50.csv", table, float_format="%.6g")
         if forms_grid(energy):
             for var, (name, fmt) in _TABLES.items():
-                grid = grid_table(energy, var)
-                # float_format would also cut R and gamma: write them as text (R to 0.1 mm)
-                grid = grid.rename(index=lambda r: f"{r:.4f}", columns=lambda g: f"{g:g}")
-                # the header says what the rows and the columns are
-                run.write_csv(
-                    name, grid, float_format=fmt, index=True, index_label="R [m] \\ gamma [-]"
-                )
+                for suffix, one in _per_state(energy, var):
+                    grid = grid_table(one, var)
+                    # float_format would also cut R and gamma: write them as text (R to 0.1 mm)
+                    grid = grid.rename(index=lambda r: f"{r:.4f}", columns=lambda g: f"{g:g}")
+                    # the header says what the rows and the columns are
+                    run.write_csv(
+                        name.replace(".csv", f"{suffix}.csv"),
+                        grid,
+                        float_format=fmt,
+                        index=True,
+                        index_label="R [m] \\ gamma [-]",
+                    )
         title = f"{ensemble.n} motions, {ensemble.meta.get('location', 'ground')}, e = {e}"
         run.write_figure("sv_agx.png", plot_sv_agx(energy, title=title))
         found = np.isfinite(energy["ratio"].values)
-        summary = (
-            f"; mean S_v1/S_v {np.mean(energy['ratio'].values[found]):.3f}" if found.any() else ""
-        )
+        if states is None:
+            summary = f"for {int(found.sum())}" + (
+                f"; mean S_v1/S_v {np.mean(energy['ratio'].values[found]):.3f}"
+                if found.any()
+                else ""
+            )
+        else:
+            summary = "for " + ", ".join(
+                f"{n} ({ls.name})" for n, ls in zip(found.sum(axis=0).tolist(), states)
+            )
     click.echo(
         f"{len(blocks)} bodies, {ensemble.n} motions "
         f"({ensemble.meta.get('location', 'ground')}): A_gx50 found below {agx_max:g} g "
-        f"for {int(found.sum())}{summary}"
+        f"{summary}"
     )
     for name in run.outputs:
         click.echo(f"wrote {run.path / name}")
+
+
+def _energy(blocks, ensemble: Ensemble, a50: xr.Dataset, band) -> xr.Dataset:
+    """Housner's energy balance (:func:`rocking.energy_balance`) at the A_gx50 of ``a50``: per
+    body, or with a ``limit_state`` dimension at each limit state's A_gx50 (S_v1 and the ratio
+    per limit state, the required S_v per body; one spectrum of the motions for all)."""
+    import xarray as xr
+
+    from ..assessment.energy import energy_balance
+
+    if "limit_state" not in a50.dims:
+        return energy_balance(blocks, ensemble, a50, band_hz=band)
+    nb, ns = a50.sizes["body"], a50.sizes["limit_state"]
+    per_state = a50["agx50"].transpose("limit_state", "body").values.ravel()
+    flat = energy_balance(blocks * ns, ensemble, per_state, band_hz=band)
+    parts = [flat.isel(body=slice(s * nb, (s + 1) * nb)) for s in range(ns)]
+    energy = xr.concat(
+        parts,
+        dim="limit_state",
+        data_vars=["agx50", "sv1", "ratio"],
+        coords="minimal",
+        compat="override",
+    )
+    states = a50[["limit_state", "quantity", "threshold"]].coords
+    return energy.assign_coords(states).transpose("body", "limit_state")
+
+
+def _per_state(energy: xr.Dataset, var: str):
+    """(file name suffix, dataset) of each limit state's ``var`` (one, without suffix, when
+    ``var`` has no ``limit_state`` dimension)."""
+    from ..report import slug
+
+    if "limit_state" not in energy[var].dims:
+        yield "", energy
+        return
+    for state in energy["limit_state"].values:
+        yield f"-{slug(str(state))}", energy.sel(limit_state=state)
 
 
 @click.command("assess")

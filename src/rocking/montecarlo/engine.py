@@ -40,7 +40,7 @@ from ..dynamics.batch import (
     run_cases,
     take,
 )
-from ..dynamics.limits import LimitState
+from ..dynamics.limits import OVERTURN, LimitState
 from ..dynamics.physics import FROM_PHYSICS, Physics, as_physics
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
@@ -384,10 +384,14 @@ class Engine:
             self._handle = self.backend.scatter(data)
         return self._handle
 
-    def outcomes(self, key: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray]:
-        """(overturned, simulated) masks over the motions of ``key`` = (case, body, level key)."""
+    def outcomes(
+        self, key: tuple[int, int, int], state: LimitState = OVERTURN
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(exceeded, simulated) masks over the motions of ``key`` = (case, body, level key):
+        where the limit state ``state`` (default: overturning) is exceeded (False where not
+        simulated) and which motions are simulated."""
         outcome, simulated = self._known(key)
-        return outcome.overturned, simulated
+        return state.exceeded(outcome) & simulated, simulated
 
     def _known(self, key: tuple[int, int, int]) -> tuple[Outcome, np.ndarray]:
         """(Outcome, simulated) over the motions of ``key`` (none simulated: zeros)."""
@@ -400,53 +404,56 @@ class Engine:
             return empty_outcome(n), np.zeros(n, np.bool_)
         return part
 
-    def decision_order(self, key: tuple[int, int, int]) -> np.ndarray:
+    def decision_order(self, key: tuple[int, int, int], state: LimitState = OVERTURN) -> np.ndarray:
         """The motions of ``key`` = (case, body, level key) in the order :meth:`at_least_half`
-        simulates them: first those most likely to decide the comparison with n/2, predicted
-        from the outcomes known at the body's other levels.
+        simulates them for the limit state ``state`` (default: overturning): first those most
+        likely to decide the comparison with n/2, predicted from the outcomes known at the
+        body's other levels.
 
-        A motion that overturned the body at a lower level is taken as likely to overturn it
-        here, one that it survived at a higher level as likely not to (overturning is nearly
-        monotone in the scale of one motion, not exactly); otherwise the peak rotation
-        max|θ|/α of the nearest lower level it survived ranks it, and a motion overturning
-        only at a higher level counts as slightly likely.  If the motions likely to overturn
-        make half or more, the likeliest come first (a decision "at least half" needs
-        ⌈n/2⌉ overturns, and overturning simulations stop early), else the least likely (a
-        decision "below" needs ⌊n/2⌋ + 1 safe motions).  Ties keep the ensemble's order, which
+        A motion that exceeded the state (e.g. overturned the body) at a lower level is taken
+        as likely to exceed it here, one that did not at a higher level as likely not to (the
+        response is nearly monotone in the scale of one motion, not exactly); otherwise the
+        peak rotation max|θ|/α of the nearest lower level where it did not exceed the state
+        (over the state's threshold for a state on max|θ|/α) ranks it, and a motion exceeding
+        it only at a higher level counts as slightly likely.  If the motions likely to exceed
+        it make half or more, the likeliest come first (a decision "at least half" needs
+        ⌈n/2⌉ exceedances, and overturning simulations stop early), else the least likely (a
+        decision "below" needs ⌊n/2⌋ + 1 others).  Ties keep the ensemble's order, which
         is the whole order where nothing is known.  With :attr:`same_motions`, a motion's
         outcome at this level in another case decides its rank before all of this.  Only which
         motions are simulated depends on it, never an answer: the comparisons are exact.
         """
         c, b, k = key
         n = self.cases[c].n
-        over_here = np.zeros(n, np.bool_)  # overturned at this level in another case
+        # the peak max|θ|/α in units of the state's threshold (overturning: of α)
+        unit = state.threshold if state.quantity == "peak_theta_ratio" else 1.0
+        over_here = np.zeros(n, np.bool_)  # exceeded at this level in another case
         safe_here = np.zeros(n, np.bool_)
         if self.same_motions:
             for other_case in range(len(self.cases)):
                 if other_case != c and k in self._levels.get((other_case, b), ()):
-                    known, sim = self._known((other_case, b, k))
-                    ov = known.overturned
-                    over_here |= sim & ov
+                    ov, sim = self.outcomes((other_case, b, k), state)
+                    over_here |= ov
                     safe_here |= sim & ~ov
-        over_below = np.zeros(n, np.bool_)  # overturned at some lower level
-        safe_above = np.zeros(n, np.bool_)  # survived at some higher level
+        over_below = np.zeros(n, np.bool_)  # exceeded at some lower level
+        safe_above = np.zeros(n, np.bool_)  # not exceeded at some higher level
         over_above = np.zeros(n, np.bool_)
-        peak = np.full(n, np.nan)  # max|θ|/α at the nearest lower level survived
+        peak = np.full(n, np.nan)  # max|θ|/α at the nearest lower level not exceeded
         nearest = np.full(n, -1, np.int64)
         for other in self._levels.get((c, b), ()):  # any order: "nearest" compares levels
             if other == k:
                 continue
             known, sim = self._known((c, b, other))
-            ov, pk = known.overturned, known.peak_theta_ratio
+            ov, pk = state.exceeded(known), known.peak_theta_ratio
             if other < k:
                 over_below |= sim & ov
                 survived = sim & ~ov & (other > nearest)
-                peak[survived] = pk[survived]
+                peak[survived] = pk[survived] / unit
                 nearest[survived] = other
             else:
                 safe_above |= sim & ~ov
                 over_above |= sim & ov
-        # score: 3 likely overturning, -3 likely safe, in [-1, 1) by the peak, else 0.5 or 0
+        # score: 3 likely exceeded, -3 likely not, in [-1, 1) by the peak, else 0.5 or 0
         score = np.zeros(n)
         unclear = over_below == safe_above
         score[over_below & ~safe_above] = 3.0
@@ -525,44 +532,50 @@ class Engine:
             self.chunks_computed += 1
             self._stage.update(motion.size)
 
-    def at_least_half(self, keys: list[tuple[int, int, int]]) -> dict[tuple[int, int, int], bool]:
-        """Whether at least half the motions of the case overturn the body, for every (case,
-        body, level key) of ``keys`` (2·count ≥ n, exactly in integers).
+    def at_least_half(
+        self, keys: list[tuple[int, int, int]], state: LimitState = OVERTURN
+    ) -> dict[tuple[int, int, int], bool]:
+        """Whether at least half the motions of the case exceed the limit state ``state``
+        (default: overturn the body), for every (case, body, level key) of ``keys`` (2·count ≥
+        n, exactly in integers).
 
         The motions are simulated in the order of :meth:`decision_order` (fixed for the call),
         in rounds, each key asking for the fewest further motions that could decide it
         (:func:`rocking.montecarlo.search.motions_to_decide`; after its first round at least the
         fraction :data:`DECIDE_STEP` of the motions), until every key is decided: the answers
-        are those of the full counts, without most motions that cannot change them.  With
+        are those of the full counts, without most motions that cannot change them.  Motions
+        already simulated (for any limit state) count without being simulated again.  With
         :attr:`same_motions` the cases are decided one after the other, in their order, so that
         each reads the outcomes of those before it.  Which motions are simulated depends only on
         the outcomes, never on the backend or chunks.
         """
         keys = list(dict.fromkeys(keys))
         if not self.same_motions:
-            return self._decide(keys)
+            return self._decide(keys, state)
         answer: dict[tuple[int, int, int], bool] = {}
         for c in sorted({key[0] for key in keys}):
-            answer.update(self._decide([key for key in keys if key[0] == c]))
+            answer.update(self._decide([key for key in keys if key[0] == c], state))
         return answer
 
-    def _decide(self, keys: list[tuple[int, int, int]]) -> dict[tuple[int, int, int], bool]:
+    def _decide(
+        self, keys: list[tuple[int, int, int]], state: LimitState
+    ) -> dict[tuple[int, int, int], bool]:
         """:meth:`at_least_half` of ``keys`` (distinct), decided together."""
         answer: dict[tuple[int, int, int], bool] = {}
         order: dict[tuple[int, int, int], np.ndarray] = {}
         while True:
             requests = {}
             for key in keys:
-                overturned, simulated = self.outcomes(key)
-                n = overturned.size
-                count = int(np.count_nonzero(overturned))
+                exceeded, simulated = self.outcomes(key, state)
+                n = exceeded.size
+                count = int(np.count_nonzero(exceeded))
                 m = int(np.count_nonzero(simulated))
                 need = motions_to_decide(n, count, m - count)
                 if need:
                     if m:
                         need = max(need, math.ceil(n * DECIDE_STEP))
                     if key not in order:
-                        order[key] = self.decision_order(key)
+                        order[key] = self.decision_order(key, state)
                     first = order[key]
                     requests[key] = first[~simulated[first]][:need]
                 else:
@@ -574,10 +587,6 @@ class Engine:
     def expect(self, simulations: int) -> None:
         """Announce about ``simulations`` simulations to come (the size of the progress stage)."""
         self._stage.expect(simulations)
-
-    def count(self, c: int, b: int, k: int) -> int:
-        """Motions of case ``c`` that overturn body ``b`` at level key ``k``."""
-        return int(np.count_nonzero(self.results[(c, b, k)].overturned))
 
     def counts(self, key: tuple[int, int, int], states: Sequence[LimitState]) -> list[int]:
         """Motions of ``key`` = (case, body, level key) that exceed each of ``states``."""

@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 from ..core.checks import finite_array, in_range, positive
 from ..core.reuse import key_of, recall, remember
 from ..dynamics.batch import BlockTable, block_list
-from ..dynamics.limits import LimitState, limit_state_coords, parse_limit_states
+from ..dynamics.limits import OVERTURN, LimitState, limit_state_coords, parse_limit_states
 from ..dynamics.physics import FROM_PHYSICS, Physics
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
@@ -329,17 +329,15 @@ def _probability_vars(
     """``probability``, ``count``, ``n`` and the Wilson interval at every (case, body, level) of
     ``keys`` (nested [case][body][level]), from the engine's full counts: of overturning, or,
     with ``states``, of each limit state along a last dimension ``limit_state``."""
+    count = np.array(
+        [[[engine.counts(k, states or (OVERTURN,)) for k in pb] for pb in pc] for pc in keys],
+        dtype=np.int64,
+    )
     if states is None:
-        count = np.array(
-            [[[engine.count(*k) for k in per_body] for per_body in per_case] for per_case in keys],
-            dtype=np.int64,
-        )
+        count = count[..., 0]
         dims: tuple[str, ...] = ("body", "agx")
         what = "overturning probability", "motions that overturn the body"
     else:
-        count = np.array(
-            [[[engine.counts(k, states) for k in pb] for pb in pc] for pc in keys], dtype=np.int64
-        )
         dims = ("body", "agx", "limit_state")
         what = "probability of the limit state", "motions that exceed the limit state"
     n = np.broadcast_to(
@@ -389,8 +387,10 @@ def agx_50(
     exhaustive: bool = False,
     same_motions: bool = False,
     members: bool = False,
+    limit_states: str | Sequence[str | LimitState] | None = None,
 ) -> xr.Dataset:
-    """A_gx at which each body overturns with 50 % probability, by an adaptive grid search.
+    """A_gx at which each body overturns (or exceeds each of ``limit_states``) with 50 %
+    probability, by an adaptive grid search.
 
     The search runs on the grid A_k = k·resolution (k = 1 … K, K = ⌊agx_max/resolution⌋, values
     rounded to 12 decimals) with P(A_0 = 0) = 0.  With the counts of a finite ensemble, P(A) need
@@ -441,15 +441,27 @@ def agx_50(
         Also return whether each motion overturns the body at agx50 (the simulations the
         search made there; those of :func:`member_outcomes` at agx50, bit for bit).  Needs
         ensembles of the same number of motions.
+    limit_states : str or sequence of str or LimitState, optional
+        Limit states on the response (:class:`~rocking.LimitState`, or their text form, e.g.
+        ``"uplift, theta/alpha>=0.5, overturn"``): the search above for each of them, P being
+        the fraction of the motions that exceed it, along a last dimension ``limit_state``
+        (coordinates ``quantity``, ``threshold``); with ``members``, ``overturned`` is then
+        named ``exceeded`` (each state at its own agx50).  The states share their simulations:
+        a motion simulated at a level for one state counts for every state there.  Of nested
+        states (uplift, θ/α ≥ x, overturning) on the same motions, the less severe has the
+        lower or equal agx50 (P of the less severe is at least P of the severer at every
+        level, so its search brackets and bisects no later).  None (default): overturning,
+        without that dimension.
 
     Returns
     -------
     xarray.Dataset
-        Dimension ([case,] body): ``agx50`` [g] (NaN if not reached), ``probability`` at agx50
-        and ``probability_below`` at agx50 − resolution [-]; coordinates as for
-        :func:`overturning_probability`; attributes ``resolution``, ``agx_max`` [g].  With
-        ``members``, ``overturned`` (bool, dimensions ([case,] body, member); False where agx50
-        is NaN) and the ``member`` coordinate as :func:`member_outcomes` gives them.
+        Dimension ([case,] body[, limit_state]): ``agx50`` [g] (NaN if not reached),
+        ``probability`` at agx50 and ``probability_below`` at agx50 − resolution [-];
+        coordinates as for :func:`overturning_probability`; attributes ``resolution``,
+        ``agx_max`` [g].  With ``members``, ``overturned`` (bool, dimensions ([case,] body,
+        member); False where agx50 is NaN) and the ``member`` coordinate as
+        :func:`member_outcomes` gives them.
     """
     labels, cases = _cases(ensemble)
     resolution = in_range("resolution", resolution, 1e-6, math.inf, unit="g")
@@ -457,6 +469,9 @@ def agx_50(
     K = math.floor(agx_max / resolution * (1.0 + 1e-12))
     if K < 1:
         raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
+    states = None if limit_states is None else parse_limit_states(limit_states)
+    searched = (OVERTURN,) if states is None else states
+    ns = len(searched)
     if members:
         _same_size(cases, "agx_50(members=True)")
     blocks = block_list(blocks)  # one Block is a list of one
@@ -481,46 +496,61 @@ def agx_50(
     # reproduce, where the soundness section searches Section 8's ground motions again), a case
     # searched before is not searched again
     settings = (*engine.table.arrays(), K, resolution)  # the kernel's constants, the grid
+    graded = tuple((ls.quantity, ls.threshold) for ls in searched)  # what is counted
     reuse = [
         None
         if members
-        else key_of("agx_50", (ens.sha256, *settings, coarse, engine.physics.fingerprint))
+        else key_of("agx_50", (ens.sha256, *settings, coarse, engine.physics.fingerprint, graded))
         for ens in cases
     ]
     known = {c: found for c, rk in enumerate(reuse) if (found := recall(rk)) is not None}
     todo = [c for c in range(len(cases)) if c not in known]
-    search = CrossingSearch([(c, b) for c in todo for b in range(nb)], K, coarse)
+    # one search per (case, body, limit state)
+    items = [(c, b, s) for c in todo for b in range(nb) for s in range(ns)]
+    search = CrossingSearch(items, K, coarse)
 
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
         return (c, b, level_key(round(k * resolution, 12)))
 
-    engine.require_memory(nb * search.max_levels, "resolution")
+    engine.require_memory(nb * ns * search.max_levels, "resolution")
     with engine:
         engine.expect(search.typical_rounds * nb * sum(cases[c].n for c in todo))
-        while level := search.pending():  # one batch of simulations per round
-            keys = {item: key(*item, k) for item, k in level.items()}
+        while level := search.pending():  # one batch of simulations per round and state
+            keys = {item: key(item[0], item[1], k) for item, k in level.items()}
             if exhaustive:
                 engine.run(list(keys.values()))
-            above = engine.at_least_half(list(keys.values()))  # P(A_k) >= 0.5
-            search.update({item: above[k] for item, k in keys.items()})
+            above: dict = {}
+            for s, state in enumerate(searched):  # P(A_k) >= 0.5
+                mine = {item: k for item, k in keys.items() if item[2] == s}
+                decided = engine.at_least_half(list(mine.values()), state)
+                above.update({item: decided[k] for item, k in mine.items()})
+            search.update(above)
         hi = search.crossings()
         # the probabilities returned: every motion at the crossing and the level below it
-        engine.run([key(c, b, k - j) for (c, b), k in hi.items() for j in (0, 1) if k - j > 0])
-    shape = (len(cases), nb)
+        engine.run([key(c, b, k - j) for (c, b, _s), k in hi.items() for j in (0, 1) if k - j > 0])
+    shape = (len(cases), nb, ns)
     agx50 = np.full(shape, np.nan)
     p_at = np.full(shape, np.nan)
     p_below = np.full(shape, np.nan)
-    for (c, b), k in hi.items():
-        agx50[c, b] = level_agx(key(c, b, k)[2])
-        p_at[c, b] = engine.count(*key(c, b, k)) / cases[c].n
-        p_below[c, b] = engine.count(*key(c, b, k - 1)) / cases[c].n if k > 1 else 0.0
+    for (c, b, s), k in hi.items():
+        agx50[c, b, s] = level_agx(key(c, b, k)[2])
+        p_at[c, b, s] = engine.counts(key(c, b, k), [searched[s]])[0] / cases[c].n
+        p_below[c, b, s] = (
+            engine.counts(key(c, b, k - 1), [searched[s]])[0] / cases[c].n if k > 1 else 0.0
+        )
     for c in todo:
         remember(reuse[c], (agx50[c], p_at[c], p_below[c]))
     for c, (a50, at, below) in known.items():
         agx50[c], p_at[c], p_below[c] = a50, at, below
-    dims: tuple[str, ...] = ("body",)
+    if states is None:  # overturning alone: no limit_state dimension
+        agx50, p_at, p_below = (a[..., 0].copy() for a in (agx50, p_at, p_below))
+        dims: tuple[str, ...] = ("body",)
+        long_name = "A_gx of 50 % overturning probability"
+    else:
+        dims = ("body", "limit_state")
+        long_name = "A_gx of 50 % probability of the limit state"
     data_vars: dict[str, tuple] = {
-        "agx50": (dims, agx50, {"units": "g", "long_name": "A_gx of 50 % overturning probability"}),
+        "agx50": (dims, agx50, {"units": "g", "long_name": long_name}),
         "probability": (dims, p_at, {"units": "1", "long_name": "probability at agx50"}),
         "probability_below": (
             dims,
@@ -528,16 +558,23 @@ def agx_50(
             {"units": "1", "long_name": "probability at agx50 - resolution"},
         ),
     }
-    coords: dict[str, Any] = {}
+    coords: dict[str, Any] = {} if states is None else limit_state_coords(states)
     if members:
-        overturned = np.zeros((*shape, cases[0].n), np.bool_)
-        for (c, b), k in hi.items():
-            overturned[c, b] = engine.outcomes(key(c, b, k))[0]
-        data_vars["overturned"] = (
-            ("body", "member"),
-            overturned,
-            {"long_name": "the motion overturns the body at agx50"},
-        )
+        flags = np.zeros((*shape, cases[0].n), np.bool_)
+        for (c, b, s), k in hi.items():
+            flags[c, b, s] = engine.outcomes(key(c, b, k), searched[s])[0]
+        if states is None:
+            data_vars["overturned"] = (
+                ("body", "member"),
+                flags[:, :, 0],
+                {"long_name": "the motion overturns the body at agx50"},
+            )
+        else:
+            data_vars["exceeded"] = (
+                ("body", "member", "limit_state"),
+                np.moveaxis(flags, 2, -1),
+                {"long_name": "the motion exceeds the limit state at its agx50"},
+            )
         coords["member"] = _member_coord(labels, cases)
     return _dataset(
         blocks,

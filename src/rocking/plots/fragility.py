@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from collections.abc import Hashable, Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -208,36 +208,50 @@ def plot_sv_agx(energy_ds: xr.Dataset, *, title: str = "") -> Figure:
     ----------
     energy_ds : xarray.Dataset
         Result of :func:`rocking.assessment.energy.energy_balance` (``sv_required`` and ``sv1``
-        [m/s], ``agx50`` [g]); bodies with NaN A_gx50 are left out.
+        [m/s], ``agx50`` [g]); bodies with NaN A_gx50 are left out.  With a ``limit_state``
+        dimension (``agx50`` and ``sv1`` per limit state), one series of points and its line
+        per limit state.
     title : str
         Figure title.
     """
-    x = energy_ds["agx50"].values
-    y = 100.0 * energy_ds["sv_required"].values
-    ok = np.isfinite(x) & np.isfinite(y)
+    states = list(energy_ds["limit_state"].values) if "limit_state" in energy_ds.dims else [None]
     fig = new_figure(figsize=(6.0, 4.8), layout="constrained")
     ax = fig.add_subplot()
-    ax.plot(x[ok], y[ok], "o", ms=4, label=f"{int(ok.sum())} bodies")
-    xs = np.array([0.0, (x[ok].max() if ok.any() else 1.0) * 1.05])
-    if ok.sum() >= 2 and np.ptp(x[ok]) > 0:
-        slope, intercept = np.polyfit(x[ok], y[ok], 1)
-        r2 = np.corrcoef(x[ok], y[ok])[0, 1] ** 2
-        ax.plot(
-            xs,
-            intercept + slope * xs,
-            "k-",
-            lw=1.2,
-            label=f"least squares: S_v = {slope:.1f}·A_gx {'+' if intercept >= 0 else '−'} "
-            f"{abs(intercept):.1f} (R² = {r2:.3f})",
-        )
-    if ok.any():
+    every = energy_ds["agx50"].values
+    top = np.nanmax(every) if np.isfinite(every).any() else 1.0
+    xs = np.array([0.0, top * 1.05])
+    for i, state in enumerate(states):
+        one = energy_ds if state is None else energy_ds.sel(limit_state=state)
+        x = one["agx50"].values
+        y = 100.0 * one["sv_required"].values
+        ok = np.isfinite(x) & np.isfinite(y)
+        # overturning alone: the paper's black line; limit states: a colour each (not C3, the
+        # S_v1 line's)
+        color: dict[str, Any] = {} if state is None else {"color": f"C{i + (i >= 3)}"}
+        label = f"{int(ok.sum())} bodies" + ("" if state is None else f" ({state})")
+        ax.plot(x[ok], y[ok], "o", ms=4, label=label, **color)
+        if ok.sum() >= 2 and np.ptp(x[ok]) > 0:
+            slope, intercept = np.polyfit(x[ok], y[ok], 1)
+            r2 = np.corrcoef(x[ok], y[ok])[0, 1] ** 2
+            ax.plot(
+                xs,
+                intercept + slope * xs,
+                "-",
+                color=color.get("color", "k"),
+                lw=1.2,
+                label=f"least squares: S_v = {slope:.1f}·A_gx {'+' if intercept >= 0 else '−'} "
+                f"{abs(intercept):.1f} (R² = {r2:.3f})",
+            )
+    found = np.isfinite(every)
+    if found.any():
         # S_v1 is proportional to A_gx (spectra scale with the motions): sv1/agx50 is the same
         # for every body; on this line S_v1 equals the required S_v.
-        per_g = 100.0 * float(np.mean(energy_ds["sv1"].values[ok] / x[ok]))
+        per_g = 100.0 * float(np.mean(energy_ds["sv1"].values[found] / every[found]))
         ax.plot(
             xs, per_g * xs, "--", color="C3", lw=1.0, label=f"S_v1 = {per_g:.1f}·A_gx (ratio 1)"
         )
-    ax.set_xlabel("A_gx at 50 % overturning probability [g]")
+    what = "overturning probability" if states == [None] else "probability of the limit state"
+    ax.set_xlabel(f"A_gx at 50 % {what} [g]")
     ax.set_ylabel("required S_v, Eq. (11) [cm/s]")
     ax.grid(True, lw=0.4, alpha=0.5)
     ax.legend(fontsize="small")
