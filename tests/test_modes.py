@@ -4,6 +4,7 @@ rocking-only kernel)."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -14,7 +15,7 @@ import rocking
 from rocking import Block, InputError, Physics, simulate
 from rocking.defaults import G
 from rocking.dynamics.impacts import Body
-from rocking.dynamics.modes import Contact, _strike
+from rocking.dynamics.modes import Contact, _strike, modes_case
 
 DT = 1.0 / 400.0
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT = range(5)
@@ -266,9 +267,55 @@ def test_flight_under_a_falling_ground_is_ballistic():
     np.testing.assert_allclose(r.lift, 0.5 * 0.5 * G * t**2, rtol=1e-12, atol=1e-15)
     assert np.all(r.mode[1:] == FLIGHT) and not r.theta.any() and not r.slip.any()
     assert r.max_lift == pytest.approx(0.25 * G * t[-1] ** 2, rel=1e-12)
+    # the ground stops falling at 0.1 s: the block lands flat (plastic, nothing slides) and rests.
+    # Reference: the lift integrated exactly in the test (a_v linear between samples: per
+    # interval y += v·h + h²·(2a₀ + a₁)/6, v += h·(a₀ + a₁)/2 with a = −g − a_v).
+    av[t >= 0.1] = 0.0
+    r = simulate(Block.from_dimensions(H=1.0, B=0.3), np.zeros(t.size), DT, mu=0.5, av=av)
+    acc = -G - av
+    y, v, ref = 0.0, 0.0, [0.0]
+    for a0, a1 in itertools.pairwise(acc):
+        y, v = y + v * DT + DT**2 * (2 * a0 + a1) / 6, v + DT * (a0 + a1) / 2
+        ref.append(y)
+    landed = int(np.argmax(np.array(ref[1:]) < 0.0)) + 1
+    assert 40 < landed < t.size - 10
+    np.testing.assert_allclose(r.lift[:landed], ref[:landed], rtol=1e-12, atol=1e-15)
+    assert not r.lift[landed:].any() and np.all(r.mode[landed:] == REST)
+    assert np.all(r.mode[1:landed] == FLIGHT) and not r.slip.any() and not r.theta.any()
     # rocking-only refuses it, and says what to give instead
     with pytest.raises(InputError, match=r"av.*\bmu\b"):
         simulate(Block.from_dimensions(H=1.0, B=0.3), np.zeros(t.size), DT, av=av)
+
+
+def test_one_case_entry_point_gives_the_summaries_of_simulate():
+    # Reference: rocking.simulate's response of the same case (the entry point for batched
+    # loops runs the same kernel without the time history: the same numbers).
+    block = Block.from_dimensions(H=1.5, B=0.45)
+    ag = _noise(11, 3000, 0.7)
+    av = _noise(12, 3000, 1.2)
+    r = simulate(block, ag, DT, mu=0.3, av=av)
+    body = Body(
+        block.p_squared(),
+        math.sin(block.alpha),
+        math.cos(block.alpha),
+        1 / block.gamma,
+        0.925,
+        math.pi / 2,
+    )
+    got = modes_case(
+        ag / G, 1 + av / G, DT, body, Contact.of(block, 0.925, 0.3, None, G), True, 0.0, 0.0, None
+    )
+    overturned, t_ov, n_imp, peak, uplift, peak_slip, residual, peak_lift, demand = got
+    assert r.max_lift > 0.0 and r.max_abs_slip > 0.0
+    np.testing.assert_array_equal(t_ov, r.t_overturn)  # NaN equals NaN here
+    assert (overturned, n_imp, peak, uplift) == (
+        r.overturned,
+        r.n_impacts,
+        r.max_abs_theta,
+        r.uplift,
+    )
+    assert (peak_slip, residual, peak_lift) == (r.max_abs_slip, r.residual_slip, r.max_lift)
+    assert 0.0 < demand <= 0.3
 
 
 def test_friction_settings_are_checked_and_part_of_the_physics():

@@ -80,7 +80,7 @@ Pure compiled functions on scalars and arrays; no I/O, no state.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from ..core.compile import kernel
 from ..defaults import MODES
@@ -94,6 +94,9 @@ from .impacts import (
     _advance,
     _initial,
 )
+
+if TYPE_CHECKING:
+    from .body import Block
 
 __all__ = ["MODES", "Contact", "modes_case", "stick_impact_demand"]
 
@@ -117,9 +120,22 @@ class Contact(NamedTuple):
     mu_s: float  #: static friction coefficient [-]
     mu_k: float  #: kinetic friction coefficient [-]
     e_ratio: float  #: e/e_H: the stick impact's factor on the momentum law [-]
-    impact_ok: (
-        bool  #: the rule θ'⁺ = e·θ'⁻ from rock stays in the friction cone (stick_impact_demand)
-    )
+    impact_ok: bool  #: θ'⁺ = e·θ'⁻ from rock is in the friction cone (stick_impact_demand)
+
+    @classmethod
+    def of(cls, block: Block, e: float, mu: float, mu_k: float | None, g: float) -> Contact:
+        """The contact of ``block`` with restitution e [-] (a number), friction μ_s = ``mu`` and
+        μ_k = ``mu_k`` (None: μ_s) [-] under gravity g [m/s²]."""
+        e_h = block.housner_e()  # ≤ 0 for a squat body: it cannot rock on after a stick impact
+        return cls(
+            g,
+            block.R,
+            block.radius_of_gyration**2,
+            mu,
+            mu if mu_k is None else mu_k,
+            e / e_h if e_h > 0.0 else 0.0,
+            stick_impact_demand(e, math.tan(block.alpha)) <= mu,
+        )
 
 
 def stick_impact_demand(e: float, tan_a: float) -> float:

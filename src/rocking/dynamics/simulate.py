@@ -19,7 +19,7 @@ from ..defaults import DEFAULT_E, OVERTURN_ANGLE
 from ..errors import InputError
 from .body import Block
 from .impacts import _OVERTURNED, Body, Interval, _advance, _initial, resolve_impacts
-from .modes import REST, ROCK, Contact, modes_case, stick_impact_demand
+from .modes import REST, ROCK, Contact, modes_case
 from .physics import FROM_PHYSICS, Physics, as_physics
 
 
@@ -278,17 +278,7 @@ def simulate(
         slip, lift, max_slip, residual, max_lift = zeros, zeros.copy(), 0.0, 0.0, 0.0
     else:
         out = np.empty((5, ag.size))
-        mu_k_val = physics.mu if physics.mu_k is None else physics.mu_k
-        e_h = block.housner_e()  # ≤ 0 for a squat body: no rocking on after a stick impact
-        contact = Contact(
-            g,
-            block.R,
-            block.radius_of_gyration**2,
-            physics.mu,
-            mu_k_val,
-            e_val / e_h if e_h > 0.0 else 0.0,
-            stick_impact_demand(e_val, math.tan(alpha)) <= physics.mu,
-        )
+        contact = Contact.of(block, e_val, physics.mu, physics.mu_k, g)
         overturned, t_ov, n_imp, peak, _up, max_slip, residual, max_lift, _demand = modes_case(
             ag / g, gv, dt, body, contact, located, theta0, omega0, out
         )
