@@ -336,3 +336,8 @@ def test_friction_settings_are_checked_and_part_of_the_physics():
     # mu=None is "not given": the physics' field decides
     r = simulate(block, np.full(50, 0.5 * G), DT, physics=Physics(mu=0.2))
     assert r.mu == 0.2 and r.max_abs_slip > 0.0
+    summary = r.summary()
+    assert (summary["mu"], summary["mu_k"]) == (0.2, 0.2)
+    assert summary["residual_slip_m"] == r.residual_slip < 0.0  # a_g > 0 slides it to −x
+    # without friction the summary is today's (the command line's JSON unchanged)
+    assert "mu" not in simulate(block, np.full(50, 0.5 * G), DT).summary()

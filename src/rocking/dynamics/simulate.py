@@ -138,8 +138,9 @@ class RockingResponse:
         return self.theta / self.block.alpha
 
     def summary(self) -> dict:
-        """Plain-number summary (JSON-friendly)."""
-        return {
+        """Plain-number summary (JSON-friendly); with friction also μ_s, μ_k [-], the largest
+        and the residual slip [m] and the largest lift [m]."""
+        out = {
             "R_m": self.block.R,
             "gamma": self.block.gamma,
             "alpha_rad": self.block.alpha,
@@ -149,12 +150,16 @@ class RockingResponse:
             "n_impacts": int(self.n_impacts),
             "max_abs_theta_rad": float(self.max_abs_theta),
             "max_abs_theta_over_alpha": float(self.max_abs_theta / self.block.alpha),
-            "mu": self.mu,
-            "mu_k": self.mu_k,
-            "max_abs_slip_m": float(self.max_abs_slip),
-            "residual_slip_m": float(self.residual_slip),
-            "max_lift_m": float(self.max_lift),
         }
+        if self.mu is not None:  # with friction (issue 45): its settings and results
+            out.update(
+                mu=self.mu,
+                mu_k=self.mu if self.mu_k is None else self.mu_k,
+                max_abs_slip_m=float(self.max_abs_slip),
+                residual_slip_m=float(self.residual_slip),
+                max_lift_m=float(self.max_lift),
+            )
+        return out
 
 
 def _vertical_factor(av, n_t: int, g: float, flight: bool) -> np.ndarray:
