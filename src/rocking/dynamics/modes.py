@@ -566,6 +566,12 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
             )
             n_imp += ni
             overturned = tev >= 0.0
+            if mode == REST:
+                demand = max(demand, abs(u1) / gf1)
+            elif mode == ROCK and not overturned:
+                F, N = _rock_forces(st[0], st[1], s, u1, gf1, body, c)
+                if N > 0.0:
+                    demand = max(demand, abs(F) / N)
         slip, lift = _slip_lift(mode, st, body, c)
         if overturned:
             t_ov = k * dt + tev
