@@ -15,7 +15,7 @@ import rocking
 from rocking import Block, InputError, Physics, simulate
 from rocking.defaults import G
 from rocking.dynamics.impacts import Body
-from rocking.dynamics.modes import Contact, _strike, modes_case
+from rocking.dynamics.modes import Contact, _rock_forces, _slide_rock, _strike, modes_case
 
 DT = 1.0 / 400.0
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT = range(5)
@@ -205,6 +205,37 @@ def test_mirror_symmetry(mu):
     np.testing.assert_allclose(m.theta, -r.theta, rtol=0, atol=1e-12)
     np.testing.assert_allclose(m.slip, -r.slip, rtol=0, atol=1e-12)
     np.testing.assert_array_equal(m.mode, r.mode)
+
+
+def test_contact_equations_against_newton_euler_solved_numerically():
+    # Reference: Newton-Euler for the body on one corner written here in another form (the
+    # centre of mass as the corner plus the rotated vector (−s·b, h), the unknowns solved as a
+    # 3x3 linear system by NumPy): stick (θ'', F, N) and slip with F = −σ·μ·N (θ'', the
+    # corner's x'', N), against the closed forms of rocking.dynamics.modes, at random states.
+    # Tolerance 1e-12 relative: round-off of either.
+    rng = np.random.default_rng(0)
+    block = Block.from_mass_properties(0.8, 0.3, radius_of_gyration=0.4)
+    a, rg2, b, h = block.alpha, block.radius_of_gyration**2, block.b, block.h_cg
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.9, math.pi / 2)
+    for _ in range(100):
+        mu = float(rng.uniform(0.1, 0.8))
+        c = Contact.of(block, 0.9, mu, None, G)
+        th, om, u = float(rng.uniform(-1, 1)), float(rng.normal()), float(rng.normal())
+        gv, sig = 1 + 0.3 * float(rng.normal()), float(rng.choice([-1.0, 1.0]))
+        s = 1.0 if th > 0 else -1.0
+        dx = -s * b * math.cos(th) + h * math.sin(th)  # centre of mass from the corner
+        dy = s * b * math.sin(th) + h * math.cos(th)
+        # X'' = x_c'' + θ''·dy − θ'²·dx = F − a_g;  Y'' = −θ''·dx − θ'²·dy = N − G;
+        # −r_g²·θ'' = −dx·N + dy·F (moment about the centre of mass, counter-clockwise)
+        rhs = [om**2 * dx - G * u, om**2 * dy - G * gv, 0.0]
+        slip = np.linalg.solve(
+            [[1, dy, sig * mu], [0, -dx, -1], [0, -rg2, dx + dy * sig * mu]], rhs
+        )
+        stick = np.linalg.solve([[dy, -1, 0], [-dx, 0, -1], [-rg2, -dy, dx]], rhs)
+        acc, qdd, N = _slide_rock(th, om, s, sig, u, gv, body, c)
+        np.testing.assert_allclose([qdd, acc, N], slip, rtol=1e-12, atol=1e-12)
+        F, N = _rock_forces(th, om, s, u, gv, body, c)
+        np.testing.assert_allclose([F, N], stick[1:], rtol=1e-12, atol=1e-12)
 
 
 def test_energy_never_increases_in_free_response():
