@@ -32,7 +32,9 @@ Modes (:data:`MODES`, their index is the kernels' ``mode``) and their equations:
   θ'' = −R·k·(G − R·cos φ·θ'²)/(r_g² + R²·k·sin φ),  N = G + R·sin φ·θ'' − R·cos φ·θ'²,
   q'' = −σ·μ_k·N − a_g − R·cos φ·θ'' − R·sin φ·θ'²   (:func:`_rates`);
   → rock when the slip velocity reaches 0 and the rock mode's abs(F) ≤ μ_s·N (else the slip
-  reverses), → flight when N < 0.
+  reverses), → flight when N < 0.  (The denominator is positive for μ_k below
+  (r_g² + R²·sin²φ)/(R²·sin φ·cos φ), about 1.9 for a uniform block of B/H = 0.2 at θ = 0;
+  beyond, Painlevé's paradox: no solution, which this model does not resolve.)
 * flight: X'' = −a_g, Y'' = −G, θ'' = 0, until a corner lands.
 * overturning: abs(θ) ≥ the overturning angle, in any mode.
 
