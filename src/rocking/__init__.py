@@ -34,6 +34,7 @@ if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .dynamics.batch import overturn_batch, overturn_cases
     from .dynamics.body import FOOT, Block, BodyWarning, G, housner_sv, paper_bodies
     from .dynamics.limits import LimitState
+    from .dynamics.modes import MODES
     from .dynamics.physics import Physics
     from .dynamics.simulate import RockingResponse, simulate
     from .errors import InputError, RockingError

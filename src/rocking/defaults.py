@@ -27,6 +27,14 @@ DT = 1.0 / 400.0
 #: inside the step) and "step-end" (θ = 0 and θ' × e at the end of a step that changes side;
 #: issue 17). :func:`rocking.dynamics.impacts.resolve_impacts` reads them.
 IMPACT_SCHEMES = ("located", "step-end")
+#: Static friction coefficient μ_s [-] of the contact of a body and its base: None is infinite
+#: friction (the paper's "sufficient friction so that no slippage occurs"; issue 45).
+DEFAULT_MU = None
+#: Kinetic friction coefficient μ_k ≤ μ_s [-]: None is μ_s.
+DEFAULT_MU_K = None
+#: The response modes of a free-standing body (issue 45), in the order of their index in the
+#: kernels' ``mode`` (rocking.dynamics.modes).
+MODES = ("rest", "slide", "rock", "slide-rock", "flight")
 #: The angle abs(θ) at which a block counts as overturned (the paper's: the block on its side,
 #: where gravity no longer brings it back for any α < π/2) [rad].
 OVERTURN_ANGLE = math.pi / 2

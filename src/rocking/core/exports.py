@@ -39,6 +39,7 @@ PUBLIC = {
     "design_pga": "motions.design",
     "parse_spectrum": "motions.design",
     "LimitState": "dynamics.limits",
+    "MODES": "dynamics.modes",
     "Physics": "dynamics.physics",
     "RockingResponse": "dynamics.simulate",
     "simulate": "dynamics.simulate",

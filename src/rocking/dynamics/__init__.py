@@ -3,6 +3,8 @@
 * :mod:`~rocking.dynamics.body` — :class:`Block` and Housner's energy balance, Eq. (11);
 * :mod:`~rocking.dynamics.equation` — Eq. (1) and its Runge–Kutta step (compiled, pure);
 * :mod:`~rocking.dynamics.impacts` — impacts, uplift, rest and overturning in one sample interval;
+* :mod:`~rocking.dynamics.modes` — every response mode (rest, slide, rock, slide-rock, flight)
+  of one block with friction (issue 45), compiled;
 * :mod:`~rocking.dynamics.physics` — :class:`Physics`, the physics of a simulation as one record;
 * :mod:`~rocking.dynamics.limits` — :class:`LimitState` on the kernel's response quantities;
 * :mod:`~rocking.dynamics.simulate` — :func:`simulate`, one block under one motion;

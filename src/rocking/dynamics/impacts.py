@@ -378,6 +378,17 @@ def _advance(theta, omega, s, state, iv, body, located):
 
 
 @kernel(inline="always")
+def _initial(theta0, omega0):
+    """(pivot side s, state) of a block that starts at θ0 [rad] with θ'0 [rad/s]: rocking on
+    the side of θ0 (else of θ'0), at rest when both are 0."""
+    if theta0 != 0.0:
+        return (1.0 if theta0 > 0.0 else -1.0), _ROCKING
+    if omega0 != 0.0:
+        return (1.0 if omega0 > 0.0 else -1.0), _ROCKING
+    return 1.0, _REST
+
+
+@kernel(inline="always")
 def _uplift_time(sw, iv, du, dg, body):
     """Local time [s] at which a block at rest at ``sw.tau`` starts to rock within the interval
     (the first where abs(u) exceeds gv·tan α, on a side other than ``sw.false_side``), or −1 if

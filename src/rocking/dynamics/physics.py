@@ -22,7 +22,7 @@ from collections.abc import Iterable, Sequence
 from typing import Any, cast
 
 from ..core.checks import positive, restitution
-from ..defaults import DEFAULT_E, IMPACT_SCHEMES, OVERTURN_ANGLE, G
+from ..defaults import DEFAULT_E, DEFAULT_MU, DEFAULT_MU_K, IMPACT_SCHEMES, OVERTURN_ANGLE, G
 from ..errors import InputError
 from .body import Block, resolve_e, resolve_overturn_angle
 from .impacts import resolve_impacts
@@ -57,15 +57,19 @@ class Physics:
         Gravity [m/s²].
     impacts : {"located", "step-end"}
         Impact handling of the integrator (:func:`rocking.simulate`).
-
-    Issue 45 adds friction (``mu``, ``mu_k``) and flight here, with their defaults in
-    :mod:`rocking.defaults`; a field that changes no result is not added before its physics.
+    mu : float, optional
+        Static friction coefficient μ_s [-] of the base (issue 45; :mod:`rocking.dynamics.modes`):
+        the body may slide, slide-rock and fly.  None (default): infinite friction, rocking only.
+    mu_k : float, optional
+        Kinetic friction coefficient μ_k ≤ μ_s [-]; None (default): μ_s.
     """
 
     e: float | str | tuple = DEFAULT_E
     overturn_angle: float | str | tuple = OVERTURN_ANGLE
     g: float = G
     impacts: str = IMPACT_SCHEMES[0]
+    mu: float | None = DEFAULT_MU
+    mu_k: float | None = DEFAULT_MU_K
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__  # a frozen dataclass: the checked values replace the given
@@ -74,6 +78,17 @@ class Physics:
         set_(self, "g", positive("g", self.g, "m/s²"))
         resolve_impacts(self.impacts)  # refuses an unknown scheme
         set_(self, "impacts", self.impacts.strip().lower())
+        mu = None if self.mu is None else positive("mu", self.mu, "-")
+        mu_k = None if self.mu_k is None else positive("mu_k", self.mu_k, "-")
+        if mu_k is not None:
+            if mu is None:
+                raise InputError("mu_k needs mu: give the static friction coefficient mu as well")
+            if mu_k > mu:
+                raise InputError(
+                    f"mu_k = {mu_k:g} exceeds mu = {mu:g}: kinetic friction is at most the static"
+                )
+        set_(self, "mu", mu)
+        set_(self, "mu_k", mu_k)
 
     def resolve(self, block: Block, i: int = 0) -> tuple[float, float]:
         """(e [-], overturning angle [rad]) of ``block`` (the i-th block of a batch when the

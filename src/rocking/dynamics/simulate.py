@@ -1,7 +1,8 @@
 """Rocking of one rigid block under one ground motion (paper Section 2): :func:`simulate`.
 
 The public wrapper around the compiled kernels of :mod:`rocking.dynamics.equation` (Eq. 1, the
-Runge–Kutta step) and :mod:`rocking.dynamics.impacts` (impacts, uplift, rest, overturning).
+Runge–Kutta step) and :mod:`rocking.dynamics.impacts` (impacts, uplift, rest, overturning), and,
+with friction (``mu``), of :mod:`rocking.dynamics.modes` (slide, slide-rock, flight; issue 45).
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ from ..core.compile import kernel
 from ..defaults import DEFAULT_E, OVERTURN_ANGLE
 from ..errors import InputError
 from .body import Block
-from .impacts import _OVERTURNED, _REST, _ROCKING, Body, Interval, _advance, resolve_impacts
+from .impacts import _OVERTURNED, Body, Interval, _advance, _initial, resolve_impacts
+from .modes import REST, ROCK, Contact, modes_case
 from .physics import FROM_PHYSICS, Physics, as_physics
 
 
@@ -33,15 +35,7 @@ def _simulate_kernel(u, gv, dt, body, located, theta0, omega0, theta_out, omega_
     n = u.shape[0]
     theta = theta0
     omega = omega0
-    if theta0 != 0.0:
-        s = 1.0 if theta0 > 0.0 else -1.0
-        state = _ROCKING
-    elif omega0 != 0.0:
-        s = 1.0 if omega0 > 0.0 else -1.0
-        state = _ROCKING
-    else:
-        s = 1.0
-        state = _REST
+    s, state = _initial(theta0, omega0)
     theta_out[0] = theta
     omega_out[0] = omega
     n_imp = 0
@@ -96,8 +90,20 @@ class RockingResponse:
         impact per flight longer than ``ZENO_TIME_FRACTION·dt``.
     max_abs_theta : float
         Largest abs(θ) [rad] (the overturning angle if the block overturned).
-    block, e, overturn_angle :
-        The inputs that produced the response (e [-], overturn_angle [rad]).
+    slip : ndarray
+        Horizontal displacement of the block relative to the ground due to sliding [m] (the
+        displacement of its contact corner(s); 0 for pure rocking); NaN after overturning.
+    lift : ndarray
+        Height of the base's lowest corner above the ground [m]; NaN after overturning.
+    mode : ndarray of int
+        The response mode at the samples, an index into :data:`rocking.MODES`
+        (rest, slide, rock, slide-rock, flight).
+    max_abs_slip, residual_slip, max_lift : float
+        Largest abs(slip) [m], slip at the end (at overturning if the block overturned) [m],
+        largest lift [m].
+    block, e, overturn_angle, mu, mu_k :
+        The inputs that produced the response (e [-], overturn_angle [rad], the friction
+        coefficients [-], None for infinite friction).
     """
 
     t: np.ndarray
@@ -110,12 +116,21 @@ class RockingResponse:
     block: Block = field(repr=False)
     e: float = DEFAULT_E
     overturn_angle: float = OVERTURN_ANGLE
+    slip: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    lift: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    mode: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int8), repr=False)
+    max_abs_slip: float = 0.0
+    residual_slip: float = 0.0
+    max_lift: float = 0.0
+    mu: float | None = None
+    mu_k: float | None = None
 
     @property
     def uplift(self) -> bool:
         """Whether the block left rest at all: rocking at some sample (θ ≠ 0 at a sample after
-        the first) or overturned; the batched kernel's ``uplift`` for a block starting at rest."""
-        return bool(self.overturned or np.any(self.theta[1:] != 0.0))
+        the first), lifted off (lift > 0) or overturned; the batched kernel's ``uplift`` for a
+        block starting at rest (sliding alone is not uplift)."""
+        return bool(self.overturned or np.any(self.theta[1:] != 0.0) or np.any(self.lift[1:] > 0.0))
 
     @property
     def theta_over_alpha(self) -> np.ndarray:
@@ -123,8 +138,9 @@ class RockingResponse:
         return self.theta / self.block.alpha
 
     def summary(self) -> dict:
-        """Plain-number summary (JSON-friendly)."""
-        return {
+        """Plain-number summary (JSON-friendly); with friction also μ_s, μ_k [-], the largest
+        and the residual slip [m] and the largest lift [m]."""
+        out = {
             "R_m": self.block.R,
             "gamma": self.block.gamma,
             "alpha_rad": self.block.alpha,
@@ -135,19 +151,30 @@ class RockingResponse:
             "max_abs_theta_rad": float(self.max_abs_theta),
             "max_abs_theta_over_alpha": float(self.max_abs_theta / self.block.alpha),
         }
+        if self.mu is not None:  # with friction (issue 45): its settings and results
+            out.update(
+                mu=self.mu,
+                mu_k=self.mu if self.mu_k is None else self.mu_k,
+                max_abs_slip_m=float(self.max_abs_slip),
+                residual_slip_m=float(self.residual_slip),
+                max_lift_m=float(self.max_lift),
+            )
+        return out
 
 
-def _vertical_factor(av, n_t: int, g: float) -> np.ndarray:
+def _vertical_factor(av, n_t: int, g: float, flight: bool) -> np.ndarray:
     """gv = 1 + a_v/g [-] at the samples of the vertical ground acceleration ``av`` [m/s²], after
-    checking that it has ``n_t`` finite samples, all above −g [m/s²]."""
+    checking that it has ``n_t`` finite samples, all above −g [m/s²] unless ``flight`` (the
+    response-modes model, with friction) is modelled."""
     av = finite_array("av", av, ndim=(1,), min_len=1)
     if av.size != n_t:
         raise InputError(f"av has {av.size} samples but ag has {n_t}: give both at the same times")
     low = float(av.min())
-    if low <= -g:
+    if low <= -g and not flight:
         raise InputError(
             f"av reaches {low:g} m/s², at or below -g = {-g:g} m/s²: the block would leave "
-            "the ground, which is not modelled"
+            "the ground, which the rocking-only model (mu=None) does not model; give a "
+            "friction coefficient mu for the model with sliding and flight"
         )
     return 1.0 + av / g
 
@@ -165,6 +192,8 @@ def simulate(
     g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
     impacts: str = FROM_PHYSICS,
+    mu: float | None = None,
+    mu_k: float | None = None,
 ) -> RockingResponse:
     """Rocking response of ``block`` to the ground acceleration history ``ag``.
 
@@ -194,13 +223,22 @@ def simulate(
     av : array_like, shape (n_t,), optional
         Vertical ground acceleration [m/s², up positive] at the samples of ``ag`` (linear in
         between), which adds to gravity: the block lifts from rest when abs(a_g) > (g + a_v)·tan α.
-        Every sample must exceed −g (at −g the block would leave the ground, which is not
-        modelled).  None (default): no vertical motion, exactly as without it.
+        Every sample must exceed −g unless ``mu`` is given (the block then flies where the
+        ground falls faster than gravity).  None (default): no vertical motion, exactly as
+        without it.
     impacts : {"located", "step-end"}
         Impact handling: "located" (default) finds the instant of each impact inside the
         Runge–Kutta step; "step-end", a plain fixed-step scheme kept for comparison (issue 17),
         puts θ = 0 and θ' ← e·θ' at the end of a step that ends on the other side of θ = 0
         (:mod:`rocking.dynamics.impacts`).
+    mu : float, optional
+        Static friction coefficient μ_s [-] of the base: the block may then rest, slide, rock,
+        slide-rock and fly (:mod:`rocking.dynamics.modes`).  None (default): not given, the
+        ``physics``' field (whose default, None, is infinite friction: rocking only, the
+        paper's model).
+    mu_k : float, optional
+        Kinetic friction coefficient μ_k ≤ μ_s [-]; None: the ``physics``' field (μ_s by
+        default).
 
     Returns
     -------
@@ -209,10 +247,18 @@ def simulate(
     if not isinstance(block, Block):
         raise InputError(f"block must be a rocking.Block, got {type(block).__name__}")
     dt = positive("dt", dt, "s")
-    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    physics = as_physics(
+        physics,
+        e=e,
+        overturn_angle=overturn_angle,
+        g=g,
+        impacts=impacts,
+        mu=FROM_PHYSICS if mu is None else mu,
+        mu_k=FROM_PHYSICS if mu_k is None else mu_k,
+    )
     g = physics.g
     ag = finite_array("ag", ag, ndim=(1,), min_len=1)
-    gv = None if av is None else _vertical_factor(av, ag.size, g)
+    gv = None if av is None else _vertical_factor(av, ag.size, g, physics.mu is not None)
     located = resolve_impacts(physics.impacts)
     # e and the overturning angle as numbers, once (for_blocks checks per-block settings)
     e_val, th_ov = physics.for_blocks([block]).resolve(block)
@@ -224,26 +270,25 @@ def simulate(
     if not math.isfinite(omega0):
         raise InputError(f"omega0 must be finite [rad/s], got {omega0!r}")
     alpha = block.alpha
-    theta = np.empty_like(ag)
-    omega = np.empty_like(ag)
-    overturned, t_ov, n_imp, peak = _simulate_kernel(
-        ag / g,
-        gv,
-        dt,
-        Body(
-            block.p_squared(g),
-            math.sin(alpha),
-            math.cos(alpha),
-            math.tan(alpha),
-            e_val,
-            th_ov,
-        ),
-        located,
-        theta0,
-        omega0,
-        theta,
-        omega,
-    )
+    body = Body(block.p_squared(g), math.sin(alpha), math.cos(alpha), math.tan(alpha), e_val, th_ov)
+    if physics.mu is None:
+        theta = np.empty_like(ag)
+        omega = np.empty_like(ag)
+        overturned, t_ov, n_imp, peak = _simulate_kernel(
+            ag / g, gv, dt, body, located, theta0, omega0, theta, omega
+        )
+        moving = (theta != 0.0) | (omega != 0.0)
+        mode = np.where(moving, ROCK, REST).astype(np.int8)
+        zeros = np.where(np.isnan(theta), np.nan, 0.0)
+        slip, lift, max_slip, residual, max_lift = zeros, zeros.copy(), 0.0, 0.0, 0.0
+    else:
+        out = np.empty((5, ag.size))
+        contact = Contact.of(block, e_val, physics.mu, physics.mu_k, g)
+        overturned, t_ov, n_imp, peak, _up, max_slip, residual, max_lift, _demand = modes_case(
+            ag / g, gv, dt, body, contact, located, theta0, omega0, out
+        )
+        theta, omega, slip, lift = out[0], out[1], out[2], out[3]
+        mode = out[4].astype(np.int8)
     return RockingResponse(
         t=np.arange(ag.size) * dt,
         theta=theta,
@@ -255,4 +300,12 @@ def simulate(
         block=block,
         e=e_val,
         overturn_angle=th_ov,
+        slip=slip,
+        lift=lift,
+        mode=mode,
+        max_abs_slip=float(max_slip),
+        residual_slip=float(residual),
+        max_lift=float(max_lift),
+        mu=physics.mu,
+        mu_k=physics.mu_k,
     )

@@ -1,0 +1,598 @@
+"""Every response mode of a free-standing block (issue 45): rest, slide, rock, slide-rock, flight.
+
+The model (the shared specification of issue 45): a planar rigid body (:class:`rocking.Block`,
+general bodies included: centre of mass at h = R·cos α above the base, base corners at b = R·sin α
+either side, radius of gyration r_g) on a rigid horizontal base that moves with a_g(t) and a_v(t)
+(linear between samples), with Coulomb friction of static coefficient μ_s and kinetic μ_k ≤ μ_s.
+Everything is written in the ground's frame (effective gravity G = g + a_v, inertial force −a_g),
+per unit mass.  Signs as :func:`rocking.simulate`: θ > 0 leans the body to +x about its corner
+at +x, φ = s·α − θ for the corner of side s = ±1 (the corner lies at (R·sin φ, −R·cos φ) from the
+centre of mass, for either sign of θ).
+
+Modes (:data:`MODES`, their index is the kernels' ``mode``) and their equations:
+
+* rest: nothing moves while abs(a_g) ≤ μ_s·G and abs(a_g) ≤ G·tan α.  It is left when
+  abs(a_g) first exceeds min(μ_s, tan α)·G (linear in the interval: the instant is exact); then
+  Shenton (1996)'s classification: flight if G ≤ 0, slide if μ_s < tan α, else rock, or
+  slide-rock where the friction that rocking needs at onset exceeds μ_s·N (Shenton, H.W. 1996,
+  "Criteria for initiation of slide, rock, and slide-rock rigid-body modes", J. Eng. Mech.
+  122(7):690–693).
+* slide (θ = 0, both corners down): q'' = −a_g − σ·μ_k·G, σ the sign of the slip velocity
+  (Newmark 1965's rigid sliding block); → rest when the slip velocity reaches 0 (rest then
+  restarts at once if the ground still asks for more than μ_s·G); → flight when G < 0; → slide-rock
+  when μ_k > tan α (the friction's moment tips the body over the leading corner).
+* rock (one corner, sticking): Eq. (1) of :mod:`rocking.dynamics.equation`,
+  θ'' = −(R/(r_g² + R²))·(G·sin φ + a_g·cos φ), with the contact forces from Newton's law for the
+  centre of mass (X = x_c − R·sin φ, Y = R·cos φ):
+  F = a_g + R·cos φ·θ'' + R·sin φ·θ'²,  N = G + R·sin φ·θ'' − R·cos φ·θ'²   (:func:`_rock_forces`);
+  → slide-rock when abs(F) > μ_s·N (the corner slips opposite to F), → flight when N < 0.
+* slide-rock (one corner, slipping at q'): F = −σ·μ_k·N, N from the corner staying on the ground;
+  the moment about the centre of mass, −r_g²·θ'' = R·(sin φ·N + cos φ·F), gives with
+  k = sin φ − σ·μ_k·cos φ
+  θ'' = −R·k·(G − R·cos φ·θ'²)/(r_g² + R²·k·sin φ),  N = G + R·sin φ·θ'' − R·cos φ·θ'²,
+  q'' = −σ·μ_k·N − a_g − R·cos φ·θ'' − R·sin φ·θ'²   (:func:`_rates`);
+  → rock when the slip velocity reaches 0 and the rock mode's abs(F) ≤ μ_s·N (else the slip
+  reverses), → flight when N < 0.  (The denominator is positive for μ_k below
+  (r_g² + R²·sin²φ)/(R²·sin φ·cos φ), about 1.9 for a uniform block of B/H = 0.2 at θ = 0;
+  beyond, Painlevé's paradox: no solution, which this model does not resolve.)
+* flight: X'' = −a_g, Y'' = −G, θ'' = 0, until a corner lands.
+* overturning: abs(θ) ≥ the overturning angle, in any mode.
+
+Impacts (a corner striking during rock or slide-rock, a landing after flight), an
+impulse–momentum law of the Shenton & Jones (1991) type (Shenton, H.W. and Jones, N.P. 1991,
+"Base excitation of rigid bodies. I: Formulation", J. Eng. Mech. 117(10):2286–2306; the same
+distinction as Pompei, Scalia & Sumbatyan 1998 and Taniguchi 2002) with the impulse P at the
+striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·ΔΩ = (r_c × P)_z:
+
+1. stick impact: the striking corner becomes the pivot, at rest after the impact, and turns at
+   θ'⁺ = (e/e_H)·θ'_L, θ'_L the angular velocity that conserves the angular momentum about c
+   (Housner's e_H·θ'⁻ when nothing slipped before), with no more than e² of the kinetic energy
+   before; without slip before it is :mod:`rocking.dynamics.impacts`' rule θ'⁺ = e·θ'⁻ itself.
+   Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y;
+2. otherwise a sliding (Coulomb) impact: P_x = −μ_k·P_y·sign(v_cx⁻), plastic in the normal
+   direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (slide
+   when it would turn back into the ground).  Where that impulse would reverse the slip, the slip
+   stops during the impact instead: plastic in both directions (the corner at rest after it);
+3. a flat landing (both corners at once): plastic normal impulse, stick if abs(V_x) ≤ μ_s·P_y,
+   else Coulomb.
+
+Assumptions: rigid body and base, point contacts at the corners, instantaneous impacts with one
+impulse at the striking corner (the other corner's reaction during the impact is neglected, as in
+Housner's rule), the tangential slip does not reverse during a sliding impact, and the restitution
+e is empirical (e < e_H dissipates what the impulse at one corner cannot).  A bounce whose next
+flight would last less than ``ZENO_TIME_FRACTION·dt`` ends at rest (or sliding), as the chatter
+rule of :mod:`rocking.dynamics.impacts` does.
+
+Integration, designed for bit-identity: an interval that starts at rest or in rock, and at rest
+cannot slip (abs(a_g) ≤ μ_s·G, G > 0 at both ends; linear in between), is advanced by the rocking
+kernel's own step (:func:`rocking.dynamics.impacts._advance`, the same arithmetic), and the
+contact conditions (N ≥ 0, abs(F) ≤ μ_s·N at the step's end; the friction cone of its impacts)
+are checked; only where one fails is the interval done again from its start by the general
+integrator below.  A case that never leaves stick-rock thus gives :func:`rocking.simulate`'s
+results bit for bit.  The general integrator takes one classical Runge–Kutta step over the rest
+of the interval (the paper's scheme) in the current mode; where the step ends with an event (the
+conditions of the mode above) the first instant is located by bisection on the length of a
+partial Runge–Kutta step from the same start (to 1e-13·dt), the transition is applied there and
+the interval goes on.  Events are looked for at the step's ends only (a slip velocity that touches
+0 and turns back inside one step is not seen).
+
+Pure compiled functions on scalars and arrays; no I/O, no state.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+from ..core.compile import kernel
+from ..defaults import MODES
+from .equation import _sin_cos_terms
+from .impacts import (
+    _OVERTURNED,
+    _REST,
+    _ROCKING,
+    ZENO_TIME_FRACTION,
+    Interval,
+    _advance,
+    _initial,
+)
+
+if TYPE_CHECKING:
+    from .body import Block
+
+__all__ = ["MODES", "Contact", "modes_case", "stick_impact_demand"]
+
+
+# Mode codes: the index in MODES.
+REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT = 0, 1, 2, 3, 4
+# Event codes of the general integrator (:func:`_event`).
+_NONE, _CROSS, _STICK, _LIFT, _SLIP, _LAND, _OVER = 0, 1, 2, 3, 4, 5, 6
+#: Events handled in one sample interval at most (a safety cap; a Zeno sequence ends sooner).
+_MAX_EVENTS = 1000
+#: A located event lies within this fraction of the time step after its true instant.
+_LOCATE_TOL = 1e-13
+
+
+class Contact(NamedTuple):
+    """Constants of one body's contact with its base, per unit mass (compiled to registers)."""
+
+    g: float  #: gravity [m/s²]
+    R: float  #: distance centre of mass–corner [m]
+    rg2: float  #: r_g² [m²]
+    mu_s: float  #: static friction coefficient [-]
+    mu_k: float  #: kinetic friction coefficient [-]
+    e_ratio: float  #: e/e_H: the stick impact's factor on the momentum law [-]
+    impact_ok: bool  #: θ'⁺ = e·θ'⁻ from rock is in the friction cone (stick_impact_demand)
+
+    @classmethod
+    def of(cls, block: Block, e: float, mu: float, mu_k: float | None, g: float) -> Contact:
+        """The contact of ``block`` with restitution e [-] (a number), friction μ_s = ``mu`` and
+        μ_k = ``mu_k`` (None: μ_s) [-] under gravity g [m/s²]."""
+        e_h = block.housner_e()  # ≤ 0 for a squat body: it cannot rock on after a stick impact
+        return cls(
+            g,
+            block.R,
+            block.radius_of_gyration**2,
+            mu,
+            mu if mu_k is None else mu_k,
+            e / e_h if e_h > 0.0 else 0.0,
+            stick_impact_demand(e, math.tan(block.alpha)) <= mu,
+        )
+
+
+def stick_impact_demand(e: float, tan_a: float) -> float:
+    """abs(P_x)/P_y [-] of the impulse of the rule θ'⁺ = e·θ'⁻ at an impact from rock without
+    slip (the same for every θ'⁻): (1 − e)/((1 + e)·tan α).
+
+    Just before, the centre of mass moves at θ'⁻·(h, s·b) about the old corner; just after, at
+    e·θ'⁻·(h, −s·b) about the new one; P/m is the difference, (h·θ'⁻·(e − 1), −s·b·θ'⁻·(1 + e)).
+    """
+    return (1.0 - e) / ((1.0 + e) * tan_a)
+
+
+@kernel(inline="always")
+def _sign(x):
+    return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
+
+
+@kernel(inline="always")
+def _rock_forces(th, om, s, u, gv, body, c):
+    """(F, N) [m/s²] of the sticking corner s during rock (the module docstring), with
+    u = a_g/g and gv = 1 + a_v/g."""
+    S, C = _sin_cos_terms(th, s, body.sa, body.ca)
+    acc = -body.p2 * (gv * S + u * C)  # Eq. (1)
+    w2 = om * om
+    F = c.g * u + c.R * (C * acc + S * w2)
+    N = c.g * gv + c.R * (S * acc - C * w2)
+    return F, N
+
+
+@kernel(inline="always")
+def _slide_rock(th, om, s, sig, u, gv, body, c):
+    """(θ'' [rad/s²], q'' [m/s²], N [m/s²]) of slide-rock on corner s slipping in direction sig."""
+    S, C = _sin_cos_terms(th, s, body.sa, body.ca)
+    G = c.g * gv
+    R = c.R
+    w2 = om * om
+    k = S - sig * c.mu_k * C
+    acc = -R * k * (G - R * C * w2) / (c.rg2 + R * R * k * S)
+    N = G + R * (S * acc - C * w2)
+    qdd = -sig * c.mu_k * N - c.g * u - R * (C * acc + S * w2)
+    return acc, qdd, N
+
+
+@kernel(inline="always")
+def _lowest(th, body, c):
+    """(side, height below the centre of mass [m]) of the lower base corner at rotation θ."""
+    s = 1.0 if th >= 0.0 else -1.0
+    _S, C = _sin_cos_terms(th, s, body.sa, body.ca)
+    return s, c.R * C
+
+
+@kernel
+def _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c):
+    """Time derivatives of the state (θ, θ', q, q', y, y') in ``mode``: q is the slip (the corner
+    of side s less s·b) in contact, the centre of mass's X in flight; y, y' its height (flight)."""
+    if mode == SLIDE:
+        return 0.0, 0.0, v, -c.g * (u + sig * c.mu_k * gv), 0.0, 0.0
+    if mode == ROCK:
+        S, C = _sin_cos_terms(th, s, body.sa, body.ca)
+        return om, -body.p2 * (gv * S + u * C), 0.0, 0.0, 0.0, 0.0
+    if mode == SLIDE_ROCK:
+        acc, qdd, _N = _slide_rock(th, om, s, sig, u, gv, body, c)
+        return om, acc, v, qdd, 0.0, 0.0
+    if mode == FLIGHT:
+        return om, 0.0, v, -c.g * u, vy, -c.g * gv
+    return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+
+
+@kernel
+def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
+    """One classical Runge–Kutta step of length h from local time tau of the state tuple ``st``
+    (θ, θ', q, q', y, y'), with u = u0 + du·τ and gv = g0 + dg·τ."""
+    th, om, q, v, y, vy = st
+    ua = u0 + du * tau
+    um = u0 + du * (tau + 0.5 * h)
+    ub = u0 + du * (tau + h)
+    ga = g0 + dg * tau
+    gm = g0 + dg * (tau + 0.5 * h)
+    gb = g0 + dg * (tau + h)
+    a1 = _rates(mode, s, sig, th, om, q, v, y, vy, ua, ga, body, c)
+    x2 = (th + 0.5 * h * a1[0], om + 0.5 * h * a1[1], q + 0.5 * h * a1[2])
+    y2 = (v + 0.5 * h * a1[3], y + 0.5 * h * a1[4], vy + 0.5 * h * a1[5])
+    a2 = _rates(mode, s, sig, x2[0], x2[1], x2[2], y2[0], y2[1], y2[2], um, gm, body, c)
+    x3 = (th + 0.5 * h * a2[0], om + 0.5 * h * a2[1], q + 0.5 * h * a2[2])
+    y3 = (v + 0.5 * h * a2[3], y + 0.5 * h * a2[4], vy + 0.5 * h * a2[5])
+    a3 = _rates(mode, s, sig, x3[0], x3[1], x3[2], y3[0], y3[1], y3[2], um, gm, body, c)
+    x4 = (th + h * a3[0], om + h * a3[1], q + h * a3[2])
+    y4 = (v + h * a3[3], y + h * a3[4], vy + h * a3[5])
+    a4 = _rates(mode, s, sig, x4[0], x4[1], x4[2], y4[0], y4[1], y4[2], ub, gb, body, c)
+    h6 = h / 6.0
+    return (
+        th + h6 * (a1[0] + 2.0 * a2[0] + 2.0 * a3[0] + a4[0]),
+        om + h6 * (a1[1] + 2.0 * a2[1] + 2.0 * a3[1] + a4[1]),
+        q + h6 * (a1[2] + 2.0 * a2[2] + 2.0 * a3[2] + a4[2]),
+        v + h6 * (a1[3] + 2.0 * a2[3] + 2.0 * a3[3] + a4[3]),
+        y + h6 * (a1[4] + 2.0 * a2[4] + 2.0 * a3[4] + a4[4]),
+        vy + h6 * (a1[5] + 2.0 * a2[5] + 2.0 * a3[5] + a4[5]),
+    )
+
+
+@kernel
+def _event(mode, s, sig, st, u, gv, body, c):
+    """The event that the state tuple ``st`` shows in ``mode`` (the module docstring), or
+    _NONE: the first of overturning, a corner through the ground, the slip velocity through 0,
+    lift-off, slip of the sticking corner, landing."""
+    th, om, _q, v, y, _vy = st
+    if mode != SLIDE and abs(th) >= body.th_ov:
+        return _OVER
+    if mode == SLIDE:
+        if sig * v < 0.0:
+            return _STICK
+        if gv < 0.0:
+            return _LIFT
+        return _NONE
+    if mode in (ROCK, SLIDE_ROCK):
+        if s * th < 0.0 or (th == 0.0 and s * om < 0.0):
+            return _CROSS
+        if mode == SLIDE_ROCK:
+            if sig * v < 0.0:
+                return _STICK
+            _acc, _qdd, N = _slide_rock(th, om, s, sig, u, gv, body, c)
+            return _LIFT if N < 0.0 else _NONE
+        F, N = _rock_forces(th, om, s, u, gv, body, c)
+        if N < 0.0:
+            return _LIFT
+        if abs(F) > c.mu_s * N:
+            return _SLIP
+        return _NONE
+    if mode == FLIGHT:
+        _sl, low = _lowest(th, body, c)
+        if y - low < 0.0:
+            return _LAND
+    return _NONE
+
+
+@kernel
+def _leave_rest(tau, u0, du, g0, dg, dt, tan_a, mu_s):
+    """Local time [s] in [tau, dt] at which a body at rest starts to move (abs(u) first exceeds
+    min(μ_s, tan α)·gv; u and gv linear), or −1 if it stays at rest."""
+    thr = min(mu_s, tan_a)
+    best = -1.0
+    for sg in (1.0, -1.0):
+        a = sg * u0 - thr * g0  # f(τ) = a + b·τ
+        b = sg * du - thr * dg
+        if a + b * tau > 0.0:
+            return tau
+        if a + b * dt > 0.0:
+            t = -a / b
+            t = tau if t < tau else t
+            if best < 0.0 or t < best:
+                best = t
+    return best
+
+
+@kernel
+def _start(u, gv, body, c):
+    """The mode in which a body at rest starts to move (Shenton 1996's classification): returns
+    (mode, s, σ)."""
+    if gv <= 0.0:
+        return FLIGHT, 1.0, 0.0
+    if c.mu_s < body.tan_a:
+        return SLIDE, 1.0, -_sign(u)
+    s = -1.0 if u > 0.0 else 1.0
+    F, N = _rock_forces(0.0, 0.0, s, u, gv, body, c)
+    if abs(F) <= c.mu_s * N:
+        return ROCK, s, 0.0
+    return SLIDE_ROCK, s, -_sign(F)
+
+
+@kernel
+def _strike(th, sc, om, VX, VY, switch, body, c):
+    """Impact of the corner of side ``sc`` at rotation θ, the centre of mass moving at
+    (VX, VY) [m/s] and the body turning at θ' = ``om`` [rad/s] (rules 1 and 2 of the module
+    docstring; ``switch``: a pivot change at θ = 0, where a body that would turn back into the
+    ground comes down on both corners).  Returns (mode, θ', corner's slip velocity [m/s], σ)."""
+    S, C = _sin_cos_terms(th, sc, body.sa, body.ca)
+    R = c.R
+    rcx = R * S  # centre of mass → striking corner
+    rcy = -R * C
+    Om = -om  # counter-clockwise angular velocity
+    i0 = c.rg2 + R * R
+    # 1. stick: angular momentum about the corner conserved, times e/e_H, capped at e²·KE
+    OmL = (c.rg2 * Om - rcx * VY + rcy * VX) / i0
+    Omp = c.e_ratio * OmL
+    cap = body.e * math.sqrt((VX * VX + VY * VY + c.rg2 * om * om) / i0)
+    if abs(Omp) > cap:
+        Omp = math.copysign(cap, Omp)
+    if switch and sc * -Omp <= 0.0:
+        Omp = 0.0
+    Px = Omp * rcy - VX
+    Py = -Omp * rcx - VY
+    if Py >= 0.0 and abs(Px) <= c.mu_s * Py:
+        return (ROCK if Omp != 0.0 else REST), -Omp, 0.0, 0.0
+    # 2. sliding impact: Coulomb tangential impulse, plastic normal
+    vcx = VX - Om * rcy
+    vcy = VY + Om * rcx
+    lam = -c.mu_k * _sign(vcx)
+    Py = -vcy / (1.0 + rcx * (rcx - lam * rcy) / c.rg2)
+    Px = lam * Py
+    Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
+    v = VX + Px - Om2 * rcy
+    if v * vcx < 0.0:  # the slip would reverse: it stops during the impact (plastic, stuck)
+        kxx = 1.0 + rcy * rcy / c.rg2
+        kyy = 1.0 + rcx * rcx / c.rg2
+        kxy = -rcx * rcy / c.rg2
+        det = kxx * kyy - kxy * kxy
+        Px = -(kyy * vcx - kxy * vcy) / det
+        Py = -(kxx * vcy - kxy * vcx) / det
+        Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
+        v = 0.0
+    if switch and sc * -Om2 <= 0.0:
+        return (SLIDE if v != 0.0 else REST), 0.0, v, _sign(v)
+    return (SLIDE_ROCK if v != 0.0 else ROCK), -Om2, v, _sign(v)
+
+
+@kernel
+def _settle(mode, s, sig, st, u, gv, dt, body, c):
+    """After an impact at θ = 0: a next flight shorter than ZENO_TIME_FRACTION·dt ends the
+    sequence, on both corners (rest, or slide if the base slips).  Returns (mode, θ')."""
+    th, om, q, v, y, vy = st
+    if mode != ROCK and mode != SLIDE_ROCK:
+        return mode, om
+    acc = _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c)[1]
+    if om == 0.0 or (acc * om < 0.0 and 2.0 * abs(om) < ZENO_TIME_FRACTION * dt * abs(acc)):
+        return (SLIDE if v != 0.0 else REST), 0.0
+    return mode, om
+
+
+@kernel
+def _to_flight(mode, s, st, body, c):
+    """The state tuple in flight (X, V_X, Y, V_Y of the centre of mass) from contact on corner s."""
+    th, om, q, v, _y, _vy = st
+    if mode == SLIDE:
+        return (0.0, 0.0, q, v, c.R * body.ca, 0.0)
+    S, C = _sin_cos_terms(th, s, body.sa, body.ca)
+    xc = q + s * c.R * body.sa  # the corner's position
+    return (th, om, xc - c.R * S, v + c.R * C * om, c.R * C, c.R * S * om)
+
+
+@kernel
+def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
+    """Apply the event ``code`` located at the state tuple ``st``: returns (mode, s, σ, state,
+    impacts counted)."""
+    th, om, q, v, _y, vy = st
+    if code == _STICK:
+        if mode == SLIDE:  # rest, which restarts at once if it cannot hold
+            return REST, s, 0.0, (0.0, 0.0, q, 0.0, 0.0, 0.0), 0
+        F, N = _rock_forces(th, om, s, u, gv, body, c)
+        if abs(F) <= c.mu_s * N:
+            return ROCK, s, 0.0, (th, om, q, 0.0, 0.0, 0.0), 0
+        return SLIDE_ROCK, s, -_sign(F), (th, om, q, 0.0, 0.0, 0.0), 0
+    if code == _SLIP:
+        F, _N = _rock_forces(th, om, s, u, gv, body, c)
+        return SLIDE_ROCK, s, -_sign(F), st, 0
+    if code == _LIFT:
+        return FLIGHT, s, 0.0, _to_flight(mode, s, st, body, c), 0
+    if code == _CROSS:
+        if mode == ROCK and c.impact_ok:  # rule 1 without slip: θ'⁺ = e·θ'⁻
+            new = (0.0, body.e * om, q, 0.0, 0.0, 0.0)
+            m2, om2 = _settle(ROCK, -s, 0.0, new, u, gv, dt, body, c)
+            return m2, -s, 0.0, (0.0, om2, q, 0.0, 0.0, 0.0), 1
+        fl = _to_flight(mode, s, (0.0, om, q, v, 0.0, 0.0), body, c)
+        m2, om2, v2, sg2 = _strike(0.0, -s, om, fl[3], fl[5], True, body, c)
+        m2, om2 = _settle(m2, -s, sg2, (0.0, om2, q, v2, 0.0, 0.0), u, gv, dt, body, c)
+        return m2, -s, sg2, (0.0, om2, q, v2 if m2 != REST else 0.0, 0.0, 0.0), 1
+    if code == _LAND:
+        X = q
+        sl, _low = _lowest(th, body, c)
+        if th == 0.0 and om == 0.0:  # 3. flat landing: plastic normal, then stick or Coulomb
+            Py = -vy
+            if abs(v) <= c.mu_s * Py:
+                return REST, s, 0.0, (0.0, 0.0, X, 0.0, 0.0, 0.0), 1
+            v2 = v - _sign(v) * c.mu_k * Py
+            return SLIDE, s, _sign(v2), (0.0, 0.0, X, v2, 0.0, 0.0), 1
+        S, _C = _sin_cos_terms(th, sl, body.sa, body.ca)
+        qc = X + c.R * S - sl * c.R * body.sa  # the slip of the landing corner
+        m2, om2, v2, sg2 = _strike(th, sl, om, v, vy, False, body, c)
+        return m2, sl, sg2, (th, om2, qc, v2 if m2 != REST else 0.0, 0.0, 0.0), 1
+    return mode, s, sig, st, 0
+
+
+@kernel
+def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
+    """The general integrator over the local times [tau, dt] of a sample interval (the module
+    docstring).  Returns (mode, s, σ, state, impacts counted, local time of overturning [s] or
+    −1)."""
+    n_imp = 0
+    for _ in range(_MAX_EVENTS):
+        if tau >= dt:
+            break
+        if mode == REST:
+            t = _leave_rest(tau, u0, du, g0, dg, dt, body.tan_a, c.mu_s)
+            if t < 0.0:
+                break
+            tau = t
+            mode, s, sig = _start(u0 + du * t, g0 + dg * t, body, c)
+            q = st[2]
+            if mode == FLIGHT:
+                st = (0.0, 0.0, q, 0.0, c.R * body.ca, 0.0)
+            continue
+        if mode == SLIDE and c.mu_k > body.tan_a:  # the friction's moment tips the body
+            mode = SLIDE_ROCK
+            s = sig
+        h = dt - tau
+        end = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c)
+        code = _event(mode, s, sig, end, u0 + du * dt, g0 + dg * dt, body, c)
+        if code == _NONE:
+            st = end
+            break
+        lo = 0.0
+        hi = h
+        while hi - lo > _LOCATE_TOL * dt:
+            mid = 0.5 * (lo + hi)
+            sm = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, mid, body, c)
+            if _event(mode, s, sig, sm, u0 + du * (tau + mid), g0 + dg * (tau + mid), body, c):
+                hi = mid
+                end = sm
+            else:
+                lo = mid
+        tau += hi
+        ut = u0 + du * tau
+        gt = g0 + dg * tau
+        code = _event(mode, s, sig, end, ut, gt, body, c)
+        if code == _OVER:
+            th = body.th_ov if end[0] > 0.0 else -body.th_ov
+            return mode, s, sig, (th, end[1], end[2], end[3], end[4], end[5]), n_imp, tau
+        mode, s, sig, st, n = _transition(code, mode, s, sig, end, ut, gt, dt, body, c)
+        n_imp += n
+    return mode, s, sig, st, n_imp, -1.0
+
+
+@kernel(inline="always")
+def _slip_lift(mode, st, body, c):
+    """(slip [m], lift [m]) of the state tuple ``st`` in ``mode`` (module docstring)."""
+    if mode != FLIGHT:
+        return st[2], 0.0
+    sl, low = _lowest(st[0], body, c)
+    S, _C = _sin_cos_terms(st[0], sl, body.sa, body.ca)
+    return st[2] + c.R * S - sl * c.R * body.sa, st[4] - low
+
+
+@kernel
+def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
+    """One body (``body``: :class:`~rocking.dynamics.impacts.Body`, ``c``: :class:`Contact`) under
+    one motion, every response mode: ``u`` = a_g/g [-] and ``gv`` = 1 + a_v/g [-] (None: no
+    vertical motion; it may be ≤ 0 here, flight) at samples dt [s] apart; ``located``: the impact
+    scheme of the rocking steps (:func:`rocking.dynamics.impacts.resolve_impacts`); θ0 [rad], θ'0
+    [rad/s] the initial state (rest when both are 0).
+
+    ``out``: None, or an array (5, n) that receives θ [rad], θ' [rad/s], slip [m], lift [m] and
+    the mode (index into :data:`MODES`) at every sample (NaN after overturning, the mode there
+    kept).  Returns the summaries (overturned, t_overturn [s] or NaN, n_impacts, max abs(θ) [rad]
+    (the overturning angle if overturned), uplift (the body rocked or lifted at a sample, or
+    overturned), max abs(slip) [m], residual slip [m] (at the end, or at overturning), max lift
+    [m], friction demand [-] (the largest abs(F)/N at the samples where the base sticks)).
+    """
+    n = u.shape[0]
+    th = theta0
+    om = omega0
+    s, state0 = _initial(theta0, omega0)
+    mode = ROCK if state0 == _ROCKING else REST
+    sig = 0.0
+    st = (th, om, 0.0, 0.0, 0.0, 0.0)
+    overturned = abs(th) >= body.th_ov
+    t_ov = 0.0 if overturned else math.nan
+    peak = body.th_ov if overturned else abs(th)
+    n_imp = 0
+    uplift = overturned
+    peak_slip = 0.0
+    peak_lift = 0.0
+    demand = 0.0
+    slip = 0.0
+    if out is not None:
+        out[0, 0] = th
+        out[1, 0] = om
+        out[2, 0] = 0.0
+        out[3, 0] = 0.0
+        out[4, 0] = mode
+    for k in range(n - 1):
+        if overturned:
+            if out is not None:
+                for r in range(4):
+                    out[r, k + 1] = math.nan
+                out[4, k + 1] = mode
+            continue
+        u0 = u[k]
+        u1 = u[k + 1]
+        g0 = None if gv is None else gv[k]
+        g1 = None if gv is None else gv[k + 1]
+        gf0 = 1.0 if gv is None else gv[k]
+        gf1 = 1.0 if gv is None else gv[k + 1]
+        done = False
+        tev = -1.0
+        if mode == ROCK or (
+            mode == REST
+            and gf0 > 0.0
+            and gf1 > 0.0
+            and abs(u0) <= c.mu_s * gf0
+            and abs(u1) <= c.mu_s * gf1
+        ):
+            state = _ROCKING if mode == ROCK else _REST
+            th1, om1, s1, st1, ni, tev = _advance(
+                st[0], st[1], s, state, Interval(u0, u1, g0, g1, dt), body, located
+            )
+            if st1 == _OVERTURNED:
+                done = True
+            elif st1 == _REST:
+                done = True
+                demand = max(demand, abs(u1) / gf1)
+            else:
+                F, N = _rock_forces(th1, om1, s1, u1, gf1, body, c)
+                if N >= 0.0 and abs(F) <= c.mu_s * N and (ni == 0 or c.impact_ok):
+                    done = True
+                    if N > 0.0:
+                        demand = max(demand, abs(F) / N)
+            if done:
+                n_imp += ni
+                s = s1
+                st = (th1, om1, st[2], 0.0, 0.0, 0.0)
+                mode = ROCK if st1 != _REST else REST
+                if st1 == _OVERTURNED:
+                    overturned = True
+        if not done:
+            du = (u1 - u0) / dt
+            dg = (gf1 - gf0) / dt
+            mode, s, sig, st, ni, tev = _general(
+                mode, s, sig, st, 0.0, u0, du, gf0, dg, dt, body, c
+            )
+            n_imp += ni
+            overturned = tev >= 0.0
+            if mode == REST:
+                demand = max(demand, abs(u1) / gf1)
+            elif mode == ROCK and not overturned:
+                F, N = _rock_forces(st[0], st[1], s, u1, gf1, body, c)
+                if N > 0.0:
+                    demand = max(demand, abs(F) / N)
+        slip, lift = _slip_lift(mode, st, body, c)
+        if overturned:
+            t_ov = k * dt + tev
+            peak = body.th_ov
+            uplift = True
+            if out is not None:
+                for r in range(4):
+                    out[r, k + 1] = math.nan
+                out[4, k + 1] = mode
+            continue
+        th = st[0]
+        if out is not None:
+            out[0, k + 1] = th
+            out[1, k + 1] = st[1]
+            out[2, k + 1] = slip
+            out[3, k + 1] = lift
+            out[4, k + 1] = mode
+        peak = max(peak, abs(th))
+        peak_slip = max(peak_slip, abs(slip))
+        peak_lift = max(peak_lift, lift)
+        uplift = uplift or th != 0.0 or lift > 0.0
+    return overturned, t_ov, n_imp, peak, uplift, peak_slip, slip, peak_lift, demand

@@ -1,0 +1,398 @@
+"""Every response mode of a free-standing block (issue 45): rocking.simulate with friction, each
+check against an independent reference (closed forms, Shenton's criteria, SciPy's solve_ivp, the
+rocking-only kernel)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import rocking
+from rocking import Block, InputError, Physics, simulate
+from rocking.defaults import G
+from rocking.dynamics.impacts import Body
+from rocking.dynamics.modes import Contact, _rock_forces, _slide_rock, _strike, modes_case
+
+DT = 1.0 / 400.0
+REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT = range(5)
+
+
+def newmark_slip(A: float, t_d: float, mu: float, g: float = G) -> float:
+    """Newmark (1965)'s rigid sliding block under a rectangular pulse A [m/s²] lasting t_d [s]:
+    the residual slip A·(A − μg)·t_d²/(2μg) [m] (the pulse drives it to (A − μg)·t_d, friction
+    μg stops it)."""
+    return A * (A - mu * g) * t_d**2 / (2.0 * mu * g)
+
+
+def test_modes_are_public_and_named_as_the_issue():
+    assert rocking.MODES == ("rest", "slide", "rock", "slide-rock", "flight")
+
+
+@pytest.mark.parametrize("g_eff", [1.0, 0.7])
+def test_newmark_rectangular_pulse(g_eff):
+    # Reference: Newmark's closed form (the issue's example: A = 0.5 g, t_d = 0.5 s, μ = 0.2
+    # gives 0.919 m), with g + a_v for a constant vertical acceleration (g_eff = 0.7: a_v =
+    # −0.3 g).  A square block (B/H = 1 > μ) slides and never rocks.  The sampled pulse is A up
+    # to t_d and falls to 0 linearly over the next sample interval, so its slip lies between
+    # the closed form at t_d and at t_d + dt (the bracket is the tolerance; the slide is
+    # integrated exactly, a_g being linear between samples).
+    A, t_d, mu, dt = 0.5 * G, 0.5, 0.2, 1.0 / 4000.0
+    if g_eff == 1.0:
+        assert newmark_slip(A, t_d, mu) == pytest.approx(0.919, abs=5e-4)
+    t = np.arange(0.0, 3.0, dt)
+    ag = np.where(t <= t_d + 1e-12, A, 0.0)
+    av = None if g_eff == 1.0 else np.full(t.size, (g_eff - 1.0) * G)
+    r = simulate(Block.from_dimensions(H=1.0, B=1.0), ag, dt, mu=mu, av=av)
+    lo = newmark_slip(A, t_d, mu, g_eff * G)
+    hi = newmark_slip(A, t_d + dt, mu, g_eff * G)
+    assert lo < -r.residual_slip < hi  # a positive a_g slides the block to −x
+    assert r.max_abs_slip == pytest.approx(-r.residual_slip, rel=1e-12)
+    assert set(np.unique(r.mode)) == {REST, SLIDE}
+    assert r.mode[-1] == REST and r.max_abs_theta == 0.0 and r.max_lift == 0.0
+    assert not r.uplift
+
+
+def _sliding_reference(t_s, ag_s, mu_s, mu_k, g=G):
+    """Slip [m] at the samples t_s of a rigid block on a base with friction (μ_s, μ_k) under
+    a_g linear between the samples ag_s [m/s²], by solve_ivp with events: at rest while
+    abs(a_g) ≤ μ_s·g, sliding with x'' = −a_g − sign(x')·μ_k·g, stick at x' = 0 if the friction
+    can hold it.  Written here, independently of the kernel."""
+
+    def ag(t):
+        return np.interp(t, t_s, ag_s)
+
+    x = np.zeros(t_s.size)
+    t0, x0 = 0.0, 0.0
+    end = t_s[-1]
+    while t0 < end:
+        # at rest from t0 to the first sample interval where abs(a_g) > μ_s·g (then the exact
+        # crossing, a_g being linear between samples)
+        k = np.searchsorted(t_s, t0, side="right")
+        above = np.nonzero(np.abs(ag_s[k:]) > mu_s * g)[0]
+        x[t_s >= t0] = x0
+        if above.size == 0:
+            break
+        j = k + above[0]
+        a0, a1 = ag_s[j - 1], ag_s[j]
+        thr = math.copysign(mu_s * g, a1)
+        t_start = max(t0, t_s[j - 1] + (thr - a0) / (a1 - a0) * (t_s[j] - t_s[j - 1]))
+        sign = -math.copysign(1.0, a1)  # the slip's direction
+
+        def rhs(t, y, sign=sign):
+            return [y[1], -ag(t) - sign * mu_k * g]
+
+        def stick(t, y, sign=sign, t_start=t_start):
+            return y[1] if t > t_start else sign
+
+        stick.terminal = True  # type: ignore[attr-defined]
+        sol = solve_ivp(
+            rhs,
+            (t_start, end),
+            [x0, 0.0],
+            events=stick,
+            dense_output=True,
+            rtol=1e-12,
+            atol=1e-14,
+            max_step=(t_s[1] - t_s[0]) / 4.0,
+        )
+        t1 = sol.t[-1]
+        inside = (t_s >= t_start) & (t_s <= t1)
+        x[inside] = sol.sol(t_s[inside])[0]
+        t0, x0 = t1, float(sol.y[0, -1])
+        x[t_s > t1] = x0
+        if abs(ag(t1)) > mu_s * g:  # it cannot stick: slides on, reversed
+            raise AssertionError("reference: reversal not needed for these pulses")
+    return x
+
+
+def test_half_sine_pulse_against_solve_ivp():
+    # Reference: the sliding equation integrated by solve_ivp (rtol 1e-12) with the same input
+    # (a_g linear between samples), events at stick.  Tolerance 1e-8 m: the kernel integrates
+    # the slide exactly (RK4 of a cubic) and locates start (exactly) and stick (to 1e-13·dt),
+    # so what is left is solve_ivp's error.
+    t = np.arange(0.0, 2.0, DT)
+    A, t_d = 0.6 * G, 0.4
+    ag = np.where(t < t_d, A * np.sin(np.pi * t / t_d), 0.0)
+    r = simulate(Block.from_dimensions(H=1.0, B=1.0), ag, DT, mu=0.3, mu_k=0.25)
+    ref = _sliding_reference(t, ag, 0.3, 0.25)
+    assert abs(ref[-1]) > 0.05  # it slides, by centimetres
+    np.testing.assert_allclose(r.slip, ref, rtol=0, atol=1e-8)
+    assert r.residual_slip == pytest.approx(ref[-1], abs=1e-8)
+
+
+def mu_cr(a: float, beta: float) -> float:
+    """The friction that rocking from rest needs at onset, for a uniform rectangle under a
+    sustained a_g = a·g (the issue's formula; Shenton 1996)."""
+    return (a * (1 + 4 * beta**2) + 3 * beta) / (4 + beta**2 + 3 * a * beta)
+
+
+def shenton(a: float, mu: float, beta: float) -> int:
+    """Shenton (1996)'s onset classification from rest (MODES.md)."""
+    if a <= min(mu, beta):
+        return REST
+    if mu < beta:
+        return SLIDE
+    return ROCK if mu >= mu_cr(a, beta) else SLIDE_ROCK
+
+
+def test_onset_follows_shenton_on_a_grid():
+    # Reference: Shenton, H.W. (1996), J. Eng. Mech. 122(7):690-693 (MODES.md).  A sustained
+    # a_g = −a·g from rest; the mode at the first sample after the start (1 ms later: too
+    # early for a rock to become a slide-rock, so points within 0.02 of the μ_cr boundary or
+    # 1e-3 of a threshold are left out) is the classification, exactly.
+    seen = set()
+    for beta in (0.2, 0.35, 0.6):
+        for mu in (0.1, 0.25, 0.4, 0.7, 1.0):
+            for a in (0.15, 0.3, 0.5, 0.8, 1.0, 1.5):
+                if min(abs(a - mu), abs(a - beta)) < 1e-3 or abs(mu - mu_cr(a, beta)) < 0.02:
+                    continue
+                block = Block.from_dimensions(H=1.0, B=beta)
+                r = simulate(block, np.full(4, -a * G), 1e-3, mu=mu)
+                want = shenton(a, mu, beta)
+                assert r.mode[1] == want, (a, mu, beta)
+                seen.add(want)
+    assert seen == {REST, SLIDE, ROCK, SLIDE_ROCK}
+    # the issue's cabinet: B/H = 0.25 and μ = 0.35 slide-rocks at 1 g
+    r = simulate(Block.from_dimensions(H=1.0, B=0.25), np.full(4, -G), 1e-3, mu=0.35)
+    assert r.mode[1] == SLIDE_ROCK
+
+
+def _noise(seed: int, n: int, peak: float) -> np.ndarray:
+    w = np.random.default_rng(seed).standard_normal(n)
+    f = np.convolve(w, np.hanning(60), mode="same")
+    return f * (peak * G / np.abs(f).max())
+
+
+CASES = [
+    (Block.from_dimensions(H=2.0, B=0.5), 0, 0.35, None, 0.925),
+    (Block.from_dimensions(H=10.0, B=2.0), 1, 0.4, 0.3, "housner"),
+    (Block.from_mass_properties(1.0, 0.3, radius_of_gyration=0.5), 2, 0.4, None, 0.9),
+]
+
+
+@pytest.mark.parametrize(("block", "seed", "peak", "vertical", "e"), CASES)
+def test_infinite_friction_is_todays_rocking_bit_for_bit(block, seed, peak, vertical, e):
+    # Reference: today's rocking kernel (mu=None).  With μ = 1e6 the contact never slips while
+    # rocking and every impact stays in the friction cone, so the modes kernel takes the
+    # rocking kernel's own steps: the same bits.  (A block falling over may not: close to
+    # overturning N → 0, and the rocking model then asks the ground to pull; these cases do not
+    # overturn.)
+    ag = _noise(seed, 6000, peak)
+    av = None if vertical is None else _noise(seed + 10, 6000, vertical)
+    r0 = simulate(block, ag, DT, av=av, e=e)
+    r1 = simulate(block, ag, DT, av=av, e=e, mu=1e6)
+    assert not r0.overturned and r0.n_impacts > 5 and r0.max_abs_theta > 0.01
+    assert np.array_equal(r0.theta, r1.theta) and np.array_equal(r0.omega, r1.omega)
+    assert (r0.n_impacts, r0.max_abs_theta) == (r1.n_impacts, r1.max_abs_theta)
+    assert not r1.slip.any() and not r1.lift.any()
+    np.testing.assert_array_equal(r0.mode, r1.mode)
+    assert set(np.unique(r1.mode)) == {REST, ROCK}
+
+
+@pytest.mark.parametrize("mu", [0.15, 0.3])
+def test_mirror_symmetry(mu):
+    # Reference: the mirror image of the motion gives the mirror image of the response (the
+    # model has no preferred side); the kernel's arithmetic is symmetric up to round-off.
+    block = Block.from_dimensions(H=1.5, B=0.45)
+    ag = _noise(5, 3000, 0.6)
+    r = simulate(block, ag, DT, mu=mu)
+    m = simulate(block, -ag, DT, mu=mu)
+    assert r.max_abs_slip > 1e-3 and set(np.unique(r.mode)) - {REST, ROCK}
+    np.testing.assert_allclose(m.theta, -r.theta, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(m.slip, -r.slip, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(m.mode, r.mode)
+
+
+def test_contact_equations_against_newton_euler_solved_numerically():
+    # Reference: Newton-Euler for the body on one corner written here in another form (the
+    # centre of mass as the corner plus the rotated vector (−s·b, h), the unknowns solved as a
+    # 3x3 linear system by NumPy): stick (θ'', F, N) and slip with F = −σ·μ·N (θ'', the
+    # corner's x'', N), against the closed forms of rocking.dynamics.modes, at random states.
+    # Tolerance 1e-12 relative: round-off of either.
+    rng = np.random.default_rng(0)
+    block = Block.from_mass_properties(0.8, 0.3, radius_of_gyration=0.4)
+    a, rg2, b, h = block.alpha, block.radius_of_gyration**2, block.b, block.h_cg
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.9, math.pi / 2)
+    for _ in range(100):
+        mu = float(rng.uniform(0.1, 0.8))
+        c = Contact.of(block, 0.9, mu, None, G)
+        th, om, u = float(rng.uniform(-1, 1)), float(rng.normal()), float(rng.normal())
+        gv, sig = 1 + 0.3 * float(rng.normal()), float(rng.choice([-1.0, 1.0]))
+        s = 1.0 if th > 0 else -1.0
+        dx = -s * b * math.cos(th) + h * math.sin(th)  # centre of mass from the corner
+        dy = s * b * math.sin(th) + h * math.cos(th)
+        # X'' = x_c'' + θ''·dy − θ'²·dx = F − a_g;  Y'' = −θ''·dx − θ'²·dy = N − G;
+        # −r_g²·θ'' = −dx·N + dy·F (moment about the centre of mass, counter-clockwise)
+        rhs = [om**2 * dx - G * u, om**2 * dy - G * gv, 0.0]
+        slip = np.linalg.solve(
+            [[1, dy, sig * mu], [0, -dx, -1], [0, -rg2, dx + dy * sig * mu]], rhs
+        )
+        stick = np.linalg.solve([[dy, -1, 0], [-dx, 0, -1], [-rg2, -dy, dx]], rhs)
+        acc, qdd, N = _slide_rock(th, om, s, sig, u, gv, body, c)
+        np.testing.assert_allclose([qdd, acc, N], slip, rtol=1e-12, atol=1e-12)
+        F, N = _rock_forces(th, om, s, u, gv, body, c)
+        np.testing.assert_allclose([F, N], stick[1:], rtol=1e-12, atol=1e-12)
+
+
+def test_energy_never_increases_in_free_response():
+    # Reference: with e ≤ 1 neither the impacts (capped at e² of the kinetic energy) nor
+    # Coulomb friction add energy.  The motion stops at 2 s; from then on the total mechanical
+    # energy in the ground frame, ½·I_0·θ'² + g·(height of the centre of mass), at the samples
+    # where the block rests or rocks (where θ' gives the whole kinetic energy) never grows by
+    # more than the Runge–Kutta step's error (1e-9 relative).
+    block = Block.from_dimensions(H=1.5, B=0.45)
+    ag = _noise(7, 2400, 0.7)
+    ag[800:] = 0.0
+    for e in (0.925, 1.0):
+        r = simulate(block, ag, DT, mu=0.3, e=e)
+        assert not r.overturned and set(np.unique(r.mode[:800])) - {REST, ROCK}
+        R, a = block.R, block.alpha
+        i0 = block.radius_of_gyration**2 + R**2
+        s = np.where(r.theta >= 0.0, 1.0, -1.0)
+        energy = 0.5 * i0 * r.omega**2 + G * (R * np.cos(s * a - r.theta) - R * np.cos(a))
+        free = np.nonzero((np.arange(ag.size) >= 800) & np.isin(r.mode, (REST, ROCK)))[0]
+        assert free.size > 100
+        E = energy[free]
+        assert np.all(np.diff(E) <= 1e-9 * E[0])
+
+
+def test_energy_never_increases_across_an_impact():
+    # Reference: the kinetic energy after the impact law (stick or sliding impact, rules 1-2 of
+    # rocking.dynamics.modes), computed here from the state it returns, is at most the energy
+    # before, for random states before the impact and friction coefficients.
+    rng = np.random.default_rng(3)
+    modes = set()
+    block = Block.from_dimensions(H=1.2, B=0.5)
+    R, a, rg2 = block.R, block.alpha, block.radius_of_gyration**2
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.9, math.pi / 2)
+    n_cases = 0
+    for _ in range(600):
+        mu = float(rng.uniform(0.05, 1.0))
+        c = Contact(G, R, rg2, mu, mu * float(rng.uniform(0.3, 1.0)), 0.9 / block.housner_e(), True)
+        th = float(rng.uniform(-0.3, 0.3))
+        sc = 1.0 if th > 0 else -1.0
+        om, vx, vy = rng.normal(size=3)
+        S, C = math.sin(sc * a - th), math.cos(sc * a - th)
+        if vy - om * R * S >= 0.0:  # the corner moves up: no impact
+            continue
+        mode, om2, v2, _sig = _strike(th, sc, om, vx, vy, False, body, c)
+        before = 0.5 * (vx**2 + vy**2 + rg2 * om**2)
+        n_cases += 1
+        after = 0.5 * ((v2 + R * C * om2) ** 2 + (R * S * om2) ** 2 + rg2 * om2**2)
+        assert after <= before * (1 + 1e-12), (mode, th, om, vx, vy, mu)
+        modes.add(mode)
+    assert n_cases > 200 and {ROCK, SLIDE_ROCK} <= modes
+
+
+def test_flight_under_a_falling_ground_is_ballistic():
+    # Reference: from rest under a constant a_v < −g and no a_g both corners leave together and
+    # the block moves freely: lift(t) = ½·(−g − a_v)·t² relative to the ground, θ = 0, no slip
+    # (exact: the flight's equations are polynomial in t, which RK4 integrates exactly).
+    t = np.arange(0.0, 0.3, DT)
+    av = np.full(t.size, -1.5 * G)
+    r = simulate(Block.from_dimensions(H=1.0, B=0.3), np.zeros(t.size), DT, mu=0.5, av=av)
+    np.testing.assert_allclose(r.lift, 0.5 * 0.5 * G * t**2, rtol=1e-12, atol=1e-15)
+    assert np.all(r.mode[1:] == FLIGHT) and not r.theta.any() and not r.slip.any()
+    assert r.max_lift == pytest.approx(0.25 * G * t[-1] ** 2, rel=1e-12)
+    # the ground stops falling at 0.1 s: the block lands flat (plastic, nothing slides) and rests.
+    # Reference: the lift integrated exactly in the test (a_v linear between samples: per
+    # interval y += v·h + h²·(2a₀ + a₁)/6, v += h·(a₀ + a₁)/2 with a = −g − a_v).
+    av[t >= 0.1] = 0.0
+    r = simulate(Block.from_dimensions(H=1.0, B=0.3), np.zeros(t.size), DT, mu=0.5, av=av)
+    acc = -G - av
+    y, v, ref = 0.0, 0.0, [0.0]
+    for a0, a1 in itertools.pairwise(acc):
+        y, v = y + v * DT + DT**2 * (2 * a0 + a1) / 6, v + DT * (a0 + a1) / 2
+        ref.append(y)
+    landed = int(np.argmax(np.array(ref[1:]) < 0.0)) + 1
+    assert 40 < landed < t.size - 10
+    np.testing.assert_allclose(r.lift[:landed], ref[:landed], rtol=1e-12, atol=1e-15)
+    assert not r.lift[landed:].any() and np.all(r.mode[landed:] == REST)
+    assert np.all(r.mode[1:landed] == FLIGHT) and not r.slip.any() and not r.theta.any()
+    # rocking-only refuses it, and says what to give instead
+    with pytest.raises(InputError, match=r"av.*\bmu\b"):
+        simulate(Block.from_dimensions(H=1.0, B=0.3), np.zeros(t.size), DT, av=av)
+
+
+def test_one_case_entry_point_gives_the_summaries_of_simulate():
+    # Reference: rocking.simulate's response of the same case (the entry point for batched
+    # loops runs the same kernel without the time history: the same numbers).
+    block = Block.from_dimensions(H=1.5, B=0.45)
+    ag = _noise(11, 3000, 0.7)
+    av = _noise(12, 3000, 1.2)
+    r = simulate(block, ag, DT, mu=0.3, av=av)
+    body = Body(
+        block.p_squared(),
+        math.sin(block.alpha),
+        math.cos(block.alpha),
+        1 / block.gamma,
+        0.925,
+        math.pi / 2,
+    )
+    got = modes_case(
+        ag / G, 1 + av / G, DT, body, Contact.of(block, 0.925, 0.3, None, G), True, 0.0, 0.0, None
+    )
+    overturned, t_ov, n_imp, peak, uplift, peak_slip, residual, peak_lift, demand = got
+    assert r.max_lift > 0.0 and r.max_abs_slip > 0.0
+    np.testing.assert_array_equal(t_ov, r.t_overturn)  # NaN equals NaN here
+    assert (overturned, n_imp, peak, uplift) == (
+        r.overturned,
+        r.n_impacts,
+        r.max_abs_theta,
+        r.uplift,
+    )
+    assert (peak_slip, residual, peak_lift) == (r.max_abs_slip, r.residual_slip, r.max_lift)
+    assert 0.0 < demand <= 0.3
+
+
+def test_fourth_order_convergence_through_every_transition():
+    # Reference: the exact solution, approached by refining the step (the same input: a_g and
+    # a_v linear between the coarse samples).  Classical RK4 with every transition located
+    # (to 1e-13·dt) converges as dt⁴: the difference between dt and dt/4 shrinks about 256-fold
+    # between dt/4 and dt/16 (50-fold asserted: a located event costs a little order), through
+    # rock, slide-rock and flight.
+    rng = np.random.default_rng(2)
+    w = rng.standard_normal(1200)
+    ag = np.convolve(w, np.hanning(60), mode="same")
+    ag *= 0.6 * G / np.abs(ag).max()
+    av = 2.2 * ag[::-1]
+    t = np.arange(ag.size) * DT
+    block = Block.from_dimensions(H=2.0, B=0.5)
+    runs = []
+    for k in (1, 4, 16):
+        tk = np.arange((ag.size - 1) * k + 1) * DT / k
+        r = simulate(block, np.interp(tk, t, ag), DT / k, mu=0.4, av=np.interp(tk, t, av))
+        runs.append(np.r_[r.theta[::k], r.slip[::k], r.lift[::k]])
+    assert {ROCK, SLIDE_ROCK, FLIGHT} <= set(np.unique(r.mode))
+    coarse = np.abs(runs[0] - runs[1]).max()
+    fine = np.abs(runs[1] - runs[2]).max()
+    assert 0.0 < fine < coarse / 50 and coarse < 1e-7
+
+
+def test_friction_settings_are_checked_and_part_of_the_physics():
+    assert Physics().mu is None and Physics().mu_k is None
+    p = Physics(mu=0.4, mu_k=0.3)
+    assert p.params()["mu"] == 0.4 and p.params()["mu_k"] == 0.3
+    assert p.fingerprint != Physics(mu=0.4).fingerprint != Physics().fingerprint
+    for kw, words in (
+        ({"mu_k": 0.3}, "mu_k needs mu"),
+        ({"mu": 0.3, "mu_k": 0.4}, "mu_k = 0.4 exceeds mu"),
+        ({"mu": 0.0}, "mu must be"),
+        ({"mu": math.inf}, "mu must be"),
+        ({"mu": 0.5, "mu_k": -1.0}, "mu_k must be"),
+    ):
+        with pytest.raises(InputError, match=words):
+            Physics(**kw)
+    block = Block.from_dimensions(H=1.0, B=0.3)
+    # mu=None is "not given": the physics' field decides
+    r = simulate(block, np.full(50, 0.5 * G), DT, physics=Physics(mu=0.2))
+    assert r.mu == 0.2 and r.max_abs_slip > 0.0
+    summary = r.summary()
+    assert (summary["mu"], summary["mu_k"]) == (0.2, 0.2)
+    assert summary["residual_slip_m"] == r.residual_slip < 0.0  # a_g > 0 slides it to −x
+    # without friction the summary is today's (the command line's JSON unchanged)
+    assert "mu" not in simulate(block, np.full(50, 0.5 * G), DT).summary()
