@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from ..core import checks
-from ..defaults import BAND_HZ, DEFAULT_E, FIGURE_FORMATS, FRAME_PRESETS
+from ..defaults import BAND_HZ, DEFAULT_E, FIGURE_FORMATS, FRAME_PRESETS, OVERTURN_ANGLE
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -327,6 +327,7 @@ def option_group(
     parameter ``name``: ``build`` of their values, in the order of ``opts``, then of the
     options named ``reads`` (declared elsewhere on the command).  Built when the command runs,
     before its own code: a bad value is refused before any work."""
+
     def probe() -> None: ...
 
     names = [p.name for p in getattr(options(*opts)(probe), "__click_params__", [])]
@@ -343,18 +344,33 @@ def option_group(
     return apply
 
 
-def _physics(e_text: str | None = None) -> Physics:
+#: --overturn-angle's choices: the paper's π/2 [rad], or the critical angle α.
+OVERTURN_CHOICES: dict[str, float | str] = {"pi2": OVERTURN_ANGLE, "alpha": "alpha"}
+
+
+def _physics(e_text: str | None = None, overturn: str | None = None) -> Physics:
     from ..dynamics.physics import Physics
 
-    return Physics() if e_text is None else Physics(e=parse_e(e_text))
+    fields: dict[str, Any] = {}
+    if e_text is not None:
+        fields["e"] = parse_e(e_text)
+    if overturn is not None:
+        fields["overturn_angle"] = OVERTURN_CHOICES[overturn]
+    return Physics(**fields)
 
 
-def physics_options(restitution: bool = True) -> Decorator:
+def physics_options(restitution: bool = True, overturn_angle: bool = False) -> Decorator:
     """The options of the physics of a command's simulations, as one parameter ``physics`` (a
     :class:`rocking.Physics`): --e, unless the command's bodies carry their own restitution
-    (``restitution=False``).  An option of the physics is added here, for every command that
-    simulates."""
-    return option_group("physics", _physics, *([e_option] if restitution else []))
+    (``restitution=False``), and with ``overturn_angle`` the command's --overturn-angle
+    (parameter ``overturn``, one of :data:`OVERTURN_CHOICES`, listed where the command lists
+    it).  An option of the physics is added here, for every command that simulates."""
+    return option_group(
+        "physics",
+        _physics,
+        *([e_option] if restitution else []),
+        reads=("overturn",) if overturn_angle else (),
+    )
 
 
 def _compute(scheduler: str | None, connect_timeout: float | None, quiet: bool) -> Compute:
