@@ -15,7 +15,7 @@ import os
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 from ..errors import InputError
 from .files import read_text
@@ -204,8 +204,9 @@ def record(kind: type[R], value: R | None, options: dict[str, Any], name: str) -
         value = kind()
     elif not isinstance(value, kind):
         raise InputError(f"{name} must be a rocking.{kind.__name__}, got {type(value).__name__}")
-    names = [f.name for f in dataclasses.fields(value) if f.name in options]  # type: ignore[arg-type]
-    return dataclasses.replace(value, **{n: options.pop(n) for n in names}) if names else value  # type: ignore[type-var]
+    fields = dataclasses.fields(cast(Any, value))
+    given = {f.name: options.pop(f.name) for f in fields if f.name in options}
+    return cast(R, dataclasses.replace(cast(Any, value), **given)) if given else value
 
 
 def unexpected(options: Mapping[str, Any]) -> None:
