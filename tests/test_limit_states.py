@@ -420,3 +420,50 @@ def test_the_limit_state_report_warns_of_extrapolated_medians(ensemble, tmp_path
         assert f"stocky ({state}" in report
     assert "it is an extrapolation of the lognormal fit" in report
     assert {"fit_constrained", "crossing_excess"} <= set(fits.columns)
+
+
+def test_the_records_take_their_old_keywords_and_any_other_keyword_is_refused(ensemble):
+    # Issue 44, part 4: the execution settings (Compute), the A_gx50 search (Agx50Search), the
+    # synthesis method (Synthesis) and the pulse scan (SpectrumScan) are records; the keywords
+    # they replaced stay their shorthands, with the same results bit for bit
+    block = BLOCKS[1]
+    old = rocking.agx_50(
+        block, ensemble, resolution=0.05, agx_max=2.0, coarse=4, e=0.8, progress=False, chunk_size=5
+    )
+    new = rocking.agx_50(
+        block,
+        ensemble,
+        search=rocking.Agx50Search(resolution=0.05, agx_max=2.0, coarse=4),
+        physics=Physics(e=0.8),
+        compute=rocking.Compute(progress=False, chunk_size=5),
+    )
+    assert old["agx50"].values.tobytes() == new["agx50"].values.tobytes()
+    assert np.isfinite(old["agx50"].values).all()  # a crossing was found: the search ran
+    short = generate(2, duration=2.0, seed=1, n_freq=30, fmax=20.0)
+    full = generate(2, duration=2.0, seed=1, synthesis=rocking.Synthesis(n_freq=30, fmax=20.0))
+    assert short.acc.tobytes() == full.acc.tobytes() and short.meta["n_freq"] == 30
+    spectra = [
+        rocking.overturning_spectrum(block, "one-sine", [0.5], kappa_max=3.0, n_scan=20),
+        rocking.overturning_spectrum(
+            block, "one-sine", [0.5], scan=rocking.SpectrumScan(kappa_max=3.0, n_scan=20)
+        ),
+    ]
+    assert spectra[0]["kappa"].values.tobytes() == spectra[1]["kappa"].values.tobytes()
+    # a keyword that is neither a parameter nor a shorthand: an InputError naming it, as
+    # Python's TypeError did, before any simulation
+    for call, name in [
+        (lambda: rocking.overturning_probability(block, ensemble, [0.3], chunksize=5), "chunksize"),
+        (lambda: rocking.agx_50(block, ensemble, resolutoin=0.1), "resolutoin"),
+        (
+            lambda: rocking.overturn_cases(
+                block, ensemble.acc, ensemble.dt, [0], [0], [1.0], restitution=0.3
+            ),
+            "restitution",
+        ),
+        (lambda: generate(2, nfreq=30), "nfreq"),
+        (lambda: rocking.screen("example.csv", "asce7:SDS=1,SD1=0.6,TL=8", e=0.8), "e"),
+    ]:
+        with pytest.raises(InputError, match=f"unexpected keyword argument '{name}'"):
+            call()
+    with pytest.raises(InputError, match="compute must be a rocking.Compute"):
+        rocking.overturning_probability(block, ensemble, [0.3], compute={"progress": False})

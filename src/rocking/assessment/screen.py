@@ -38,17 +38,17 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..core import portable
-from ..core.checks import positive
-from ..core.progress import Reporter
+from ..core.checks import positive, record, unexpected
 from ..core.reuse import reusing
 from ..defaults import DT
 from ..dynamics.body import Block
 from ..dynamics.limits import LimitState, limit_state_coords, parse_limit_states
 from ..dynamics.physics import Physics
 from ..errors import InputError
-from ..montecarlo.backends import Backend
+from ..montecarlo.backends import Compute
 from ..montecarlo.fragility import fragility_analysis
 from ..montecarlo.probability import agx_50, overturning_probability
+from ..montecarlo.search import Agx50Search
 from ..montecarlo.statistics import LognormalFit
 from ..motions.design import design_pga, parse_spectrum
 from ..motions.ensemble import Ensemble
@@ -90,11 +90,9 @@ VERDICT_RULE = (
 class _MonteCarlo:
     """Settings of the Monte Carlo runs of a screening (see :func:`screen`)."""
 
-    resolution: float  # of the A_gx50 search [g]
-    agx_max: float  # upper end of the A_gx50 search [g]
+    search: Agx50Search  # the A_gx50 search (resolution, upper end [g])
     confidence: float  # of the Wilson interval [-]
-    backend: Backend | None
-    progress: Reporter | bool | None
+    compute: Compute
     physics: Physics | None = None  # e: the items' own
     limit_states: tuple[LimitState, ...] | None = None  # their probabilities besides
 
@@ -121,27 +119,31 @@ class _Location:
     ratio: float
 
 
+#: The keyword settings of :func:`screen` and their defaults.
+_SCREEN_OPTIONS: dict[str, Any] = {
+    "n": 200,
+    "seed": 0,
+    "duration": 20.0,
+    "dt": DT,
+    "band_hz": BAND_HZ,
+    "confidence": 0.95,
+    "floor_motions": "building",
+    "years": 50.0,
+}
+
+
 def screen(
     inventory: Inventory | Sequence[Item] | str | os.PathLike[str],
     spectrum: TargetSpectrum | str,
     *,
     frame: str | ShearFrame | None = None,
-    n: int = 200,
-    seed: int = 0,
-    duration: float = 20.0,
-    dt: float = DT,
     ensemble: Ensemble | None = None,
-    band_hz: Sequence[float] = BAND_HZ,
-    resolution: float = 0.01,
-    agx_max: float = 5.0,
-    confidence: float = 0.95,
-    floor_motions: str = "building",
-    backend: Backend | None = None,
-    progress: Reporter | bool | None = None,
     hazard: HazardCurve | str | os.PathLike[str] | None = None,
-    years: float = 50.0,
     physics: Physics | None = None,
+    compute: Compute | None = None,
+    search: Agx50Search | None = None,
     limit_states: str | Sequence[str | LimitState] | None = None,
+    **options: Any,
 ) -> xr.Dataset:
     """Screen every item of an inventory against a design spectrum.
 
@@ -155,32 +157,9 @@ def screen(
         Its zero-period acceleration is the design A_gx [g].
     frame : str or ShearFrame, optional
         Default frame of ``floor N`` items without one (only when ``inventory`` is a file).
-    n : int
-        Number of motions to generate (when ``ensemble`` is not given).
-    seed : int
-        Seed of the generated motions.
-    duration, dt : float
-        Duration [s] and time step [s] of the generated motions (compound intensity function).
     ensemble : Ensemble, optional
         Ground motions to use instead of generating them (any scale; they are scaled to the
         design A_gx). They should be compatible with ``spectrum``.
-    band_hz : (float, float)
-        Band of the available S_v [Hz] (paper: 0.04–0.6 Hz).
-    resolution : float
-        Resolution of the A_gx50 search [g].
-    agx_max : float
-        Largest A_gx of the A_gx50 search [g]; A_gx50 is NaN above it.
-    confidence : float
-        Confidence level of the Wilson interval [-].
-    floor_motions : {"building", "paper"}
-        Floor motions as the building's response to the design-level ground motions
-        ("building", default), or rescaled to the ground's A_gx (the paper's Section 7
-        convention); see the module docstring.
-    backend : optional
-        Backend of the Monte Carlo runs (:func:`rocking.montecarlo.backends.get_backend`); default
-        local.
-    progress : optional
-        Passed on to :func:`rocking.montecarlo.probability.overturning_probability` and ``agx_50``.
     hazard : HazardCurve, str or Path, optional
         A site hazard curve (:class:`rocking.HazardCurve`, a CSV file of one, or ``"example"``):
         then every item also gets a fragility curve against the hazard's IM of the *ground*
@@ -188,15 +167,42 @@ def screen(
         floor, the floor's response to each ground motion scaled to the level, exact for the
         linear frame) and its mean annual rate of overturning (:func:`rocking.annual_rate`).
         Needs ``floor_motions="building"``.
-    years : float
-        Exposure time [yr] of the probability of at least one overturning (Poisson), > 0.
     physics : Physics, optional
         The physics of the simulations (:class:`~rocking.Physics`: overturning angle, g, impact
         scheme); the restitution is each item's own.
+    compute : Compute, optional
+        How the Monte Carlo runs are computed (:class:`~rocking.montecarlo.backends.Compute`:
+        backend, default local; progress; chunk size); a screening keeps no chunk folder
+        (``out``).
+    search : Agx50Search, optional
+        The A_gx50 search (:class:`~rocking.montecarlo.search.Agx50Search`: ``resolution`` and
+        ``agx_max`` [g], default 0.01 and 5 g; A_gx50 is NaN above ``agx_max``).
     limit_states : str or sequence of str or LimitState, optional
         Limit states on the response (e.g. ``"uplift, theta/alpha>=0.5, overturn"``): their
         probability at the design A_gx per item, ``limit_state_probability`` (item,
         limit_state), from the simulations of ``probability``.
+    **options
+        The keyword settings below; ``resolution``, ``agx_max``: shorthands for search's
+        fields; ``backend``, ``progress``, ``chunk_size``: for compute's.  Any other keyword
+        is an InputError.
+    n : int
+        Keyword (default 200): number of motions to generate (when ``ensemble`` is not given).
+    seed : int
+        Keyword (default 0): seed of the generated motions.
+    duration, dt : float
+        Keywords (default 20 s and :data:`rocking.defaults.DT`): duration [s] and time step
+        [s] of the generated motions (compound intensity function).
+    band_hz : (float, float)
+        Keyword: band of the available S_v [Hz] (default the paper's 0.04–0.6 Hz).
+    confidence : float
+        Keyword (default 0.95): confidence level of the Wilson interval [-].
+    floor_motions : {"building", "paper"}
+        Keyword: floor motions as the building's response to the design-level ground motions
+        ("building", default), or rescaled to the ground's A_gx (the paper's Section 7
+        convention); see the module docstring.
+    years : float
+        Keyword (default 50): exposure time [yr] of the probability of at least one
+        overturning (Poisson), > 0.
 
     Returns
     -------
@@ -216,6 +222,14 @@ def screen(
         ``spectrum``, ``design_agx`` [g], the settings and the ensemble's generation
         parameters.
     """
+    n, seed, duration, dt, band_hz, confidence, floor_motions, years = (
+        options.pop(name, default) for name, default in _SCREEN_OPTIONS.items()
+    )
+    search = record(Agx50Search, search, options, "search")
+    compute = record(Compute, compute, options, "compute")
+    unexpected(options)
+    if compute.out is not None:
+        raise InputError("compute.out: a screening keeps no chunk folder (its runs are many)")
     if floor_motions not in FLOOR_MOTIONS:
         raise InputError(
             f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got {floor_motions!r}"
@@ -235,7 +249,7 @@ def screen(
     agx = design_pga(spectrum)
     ground = ensemble.scaled(agx)
     states = None if limit_states is None else parse_limit_states(limit_states)
-    settings = _MonteCarlo(resolution, agx_max, confidence, backend, progress, physics, states)
+    settings = _MonteCarlo(search, confidence, compute, physics, states)
     risk = None if hazard is None else _risk(hazard, years, ground)
     parts = [
         _screen_location(location, band_hz, settings, risk)
@@ -248,8 +262,8 @@ def screen(
         band_hz=[float(b) for b in band_hz],
         damping=spectrum.damping,
         confidence=confidence,
-        resolution=resolution,
-        agx_max=agx_max,
+        resolution=search.resolution,
+        agx_max=search.agx_max,
         floor_motions=floor_motions,
         n_motions=ensemble.n,
         years=years,
@@ -434,14 +448,13 @@ def _monte_carlo_variables(
     ground A_gx.
     """
     motions, ratio = location.motions, location.ratio
-    options: dict[str, Any] = dict(physics=settings.physics, e=e, backend=settings.backend)
+    options: dict[str, Any] = dict(physics=settings.physics, e=e, compute=settings.compute)
 
     def at_design(limit_states) -> xr.Dataset:
         return overturning_probability(
             blocks,
             motions,
             [motions.agx],
-            progress=settings.progress,
             confidence=settings.confidence,
             limit_states=limit_states,
             **options,
@@ -454,9 +467,9 @@ def _monte_carlo_variables(
             agx_50(
                 blocks,
                 motions,
-                resolution=settings.resolution * ratio,
-                agx_max=settings.agx_max * ratio,
-                progress=settings.progress,
+                resolution=settings.search.resolution * ratio,
+                agx_max=settings.search.agx_max * ratio,
+                search=settings.search,
                 **options,
             )["agx50"].values
             / ratio
@@ -499,8 +512,7 @@ def _annual_rates(
         im_values=risk.ground_im,
         physics=settings.physics,
         e=e,
-        backend=settings.backend,
-        progress=settings.progress,
+        compute=settings.compute,
         n_boot=0,
     )
     rate = np.full(len(blocks), np.nan)

@@ -12,16 +12,18 @@ option; every figure file is checked by :func:`figure_file`; all of it before an
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
 from ..core import checks
-from ..defaults import BAND_HZ, DEFAULT_E, FIGURE_FORMATS, FRAME_PRESETS
+from ..defaults import BAND_HZ, DEFAULT_E, FIGURE_FORMATS, FRAME_PRESETS, OVERTURN_ANGLE
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -29,10 +31,15 @@ if TYPE_CHECKING:
 
     from ..assessment.bodies import NamedBody
     from ..core.progress import Reporter
+    from ..core.runs import RunFolder
+    from ..dynamics.physics import Physics
+    from ..montecarlo.backends import Compute
     from ..structures.frames import ShearFrame
 
 #: A click command callback (what the option decorators take and return).
 F = TypeVar("F", bound=Callable[..., Any])
+#: An option decorator of this module (an option or a group of options).
+Decorator = Callable[[Callable[..., Any]], Callable[..., Any]]
 
 #: The paper's band of the available S_v (Section 8) as the --band text.
 BAND_TEXT = f"{BAND_HZ[0]:g}:{BAND_HZ[1]:g}"
@@ -308,3 +315,102 @@ def options(*opts: Callable[[F], F]) -> Callable[[F], F]:
         return func
 
     return apply
+
+
+# --------------------------------------------------------------------------- option groups
+
+
+def option_group(
+    name: str, build: Callable[..., Any], *opts: Decorator, reads: Sequence[str] = ()
+) -> Decorator:
+    """Options ``opts`` (listed in --help where the group is) that reach the command as one
+    parameter ``name``: ``build`` of their values, in the order of ``opts``, then of the
+    options named ``reads`` (declared elsewhere on the command).  Built when the command runs,
+    before its own code: a bad value is refused before any work."""
+
+    def probe() -> None: ...
+
+    names = [p.name for p in getattr(options(*opts)(probe), "__click_params__", [])]
+    names = [*reversed(names), *reads]  # click keeps the declarations last first
+
+    def apply(func: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(func)
+        def command(*args: Any, **kwargs: Any) -> Any:
+            kwargs[name] = build(*(kwargs.pop(n) for n in names))
+            return func(*args, **kwargs)
+
+        return options(*opts)(command)
+
+    return apply
+
+
+#: --overturn-angle's choices: the paper's π/2 [rad], or the critical angle α.
+OVERTURN_CHOICES: dict[str, float | str] = {"pi2": OVERTURN_ANGLE, "alpha": "alpha"}
+
+
+def _physics(e_text: str | None = None, overturn: str | None = None) -> Physics:
+    from ..dynamics.physics import Physics
+
+    fields: dict[str, Any] = {}
+    if e_text is not None:
+        fields["e"] = parse_e(e_text)
+    if overturn is not None:
+        fields["overturn_angle"] = OVERTURN_CHOICES[overturn]
+    return Physics(**fields)
+
+
+def physics_options(restitution: bool = True, overturn_angle: bool = False) -> Decorator:
+    """The options of the physics of a command's simulations, as one parameter ``physics`` (a
+    :class:`rocking.Physics`): --e, unless the command's bodies carry their own restitution
+    (``restitution=False``), and with ``overturn_angle`` the command's --overturn-angle
+    (parameter ``overturn``, one of :data:`OVERTURN_CHOICES`, listed where the command lists
+    it).  An option of the physics is added here, for every command that simulates."""
+    return option_group(
+        "physics",
+        _physics,
+        *([e_option] if restitution else []),
+        reads=("overturn",) if overturn_angle else (),
+    )
+
+
+def _compute(scheduler: str | None, connect_timeout: float | None, quiet: bool) -> Compute:
+    from ..montecarlo.backends import Compute, get_backend
+
+    return Compute(backend=get_backend(scheduler, connect_timeout), progress=reporter(quiet))
+
+
+def compute_options(scheduler: Decorator | None = None) -> Decorator:
+    """--scheduler (the command's own ``scheduler`` option, default :data:`scheduler_option`)
+    and --connect-timeout, with --quiet (listed where the command lists it), as one parameter
+    ``compute`` (a :class:`rocking.montecarlo.backends.Compute`: the backend, not yet
+    connected, and the progress reporter)."""
+    return option_group(
+        "compute",
+        _compute,
+        scheduler or scheduler_option,
+        connect_timeout_option,
+        reads=("quiet",),
+    )
+
+
+@dataclass(frozen=True)
+class OutFolder:
+    """--out and --overwrite of a command: the folder its run writes."""
+
+    path: str
+    overwrite: bool = False
+
+    def claim(self, command: str, params: dict, **more: Any) -> RunFolder:
+        """The run folder (:class:`rocking.core.runs.RunFolder`) of ``command`` with its
+        ``params`` (``more``: its other arguments, e.g. ``reads``)."""
+        from ..core.runs import RunFolder
+
+        return RunFolder(
+            self.path, command=command, params=params, overwrite=self.overwrite, **more
+        )
+
+
+def run_folder_options(out: Decorator) -> Decorator:
+    """The command's own --out option ``out`` and --overwrite, as one parameter ``folder`` (an
+    :class:`OutFolder`)."""
+    return option_group("folder", OutFolder, out, overwrite_option)

@@ -13,8 +13,9 @@ import json
 import math
 import warnings
 from collections.abc import Hashable
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import click
 
@@ -24,22 +25,22 @@ from ._options import (
     BAND_TEXT,
     G_LEVEL,
     SEED,
+    OutFolder,
     band_option,
     bodies_option,
-    connect_timeout_option,
+    compute_options,
     count,
-    e_option,
     frame_and_floor,
     frame_option,
     load_bodies,
+    option_group,
     options,
-    overwrite_option,
     parse_band,
-    parse_e,
     parse_range,
+    physics_options,
     quiet_option,
     reporter,
-    scheduler_option,
+    run_folder_options,
 )
 
 if TYPE_CHECKING:
@@ -48,7 +49,10 @@ if TYPE_CHECKING:
     import xarray as xr
 
     from ..assessment.bodies import NamedBody
-    from ..montecarlo.backends import Backend
+    from ..core.progress import Reporter
+    from ..dynamics.physics import Physics
+    from ..montecarlo.backends import Backend, Compute
+    from ..montecarlo.fragility import AnalysisIM
     from ..motions.ensemble import Ensemble
     from ..motions.targets import TargetSpectrum
     from ..report import Report
@@ -70,29 +74,29 @@ def _location(ensemble: Ensemble, frame: ShearFrame | None, floor: int) -> Ensem
     return ensemble if frame is None else frame.floor_ensemble(ensemble, floor)
 
 
-def _prepare(
-    bodies_spec: str,
-    motions_path: str,
-    floor: int | None,
-    frame_name: str | None,
-    e_text: str,
-    scheduler: str | None,
-    connect_timeout: float | None = None,
-) -> tuple[list[NamedBody], Ensemble, float | str, Backend]:
-    """Check every input, then load the motions (at the bodies' location).
+@dataclass(frozen=True)
+class _Inputs:
+    """--bodies, --motions, --floor and --frame of a run."""
 
-    Returns the bodies, the ensemble, e and the backend (connected to a remote scheduler; a local
-    Dask cluster is only started when the run starts)."""
-    from ..montecarlo.backends import get_backend
+    bodies_spec: str
+    motions_path: str
+    floor: int | None
+    frame_name: str | None
+
+
+def _prepare(inputs: _Inputs, compute: Compute) -> tuple[list[NamedBody], Ensemble]:
+    """Check every input, then load the motions (at the bodies' location) and connect the
+    backend to a remote scheduler (a local Dask cluster is only started when the run starts).
+
+    Returns the bodies and the ensemble."""
     from ..motions.ensemble import Ensemble
 
-    bodies = load_bodies(bodies_spec)
-    frame, level = frame_and_floor(frame_name, floor)
-    e = parse_e(e_text)
-    backend = get_backend(scheduler, connect_timeout)
-    ensemble = _location(Ensemble.load(motions_path), frame, level)
-    backend.connect()  # an unreachable scheduler is refused before the run folder is made
-    return bodies, ensemble, e, backend
+    bodies = load_bodies(inputs.bodies_spec)
+    frame, level = frame_and_floor(inputs.frame_name, inputs.floor)
+    ensemble = _location(Ensemble.load(inputs.motions_path), frame, level)
+    assert compute.backend is not None  # made by compute_options
+    compute.backend.connect()  # an unreachable scheduler is refused before the run folder is made
+    return bodies, ensemble
 
 
 def _names(ds: xr.Dataset, bodies: list[NamedBody]) -> xr.Dataset:
@@ -163,16 +167,86 @@ def _limit_states_option(effect: str):
 
 
 _run_options = options(
-    bodies_option,
-    _motions_option,
-    _floor_option,
-    frame_option,
-    _out_option,
-    overwrite_option,
-    scheduler_option,
-    connect_timeout_option,
-    e_option,
+    option_group("inputs", _Inputs, bodies_option, _motions_option, _floor_option, frame_option),
+    run_folder_options(_out_option),
+    compute_options(),
+    physics_options(),
     quiet_option,
+)
+
+
+@dataclass(frozen=True)
+class _Analysis:
+    """--agx, --im, --method, --levels and --stripes of ``rocking fragility``, parsed: the IM,
+    the method and its levels (None for msa and cloud) or stripes file."""
+
+    measure: AnalysisIM
+    method: str
+    levels: np.ndarray | None
+    stripes_path: str | None
+
+
+def _analysis(
+    agx_text: str | None,
+    im_text: str,
+    method: str,
+    levels_text: str | None,
+    stripes_path: str | None,
+) -> _Analysis:
+    # a range too long or too strong is refused at once: the IMs' module takes a second to load
+    for option, text in (("--agx", agx_text), ("--levels", levels_text)):
+        if text is not None:
+            parse_range(text, option, unit="g" if option == "--agx" else "of the IM's unit")
+    from ..montecarlo.fragility import AnalysisIM
+
+    measure = AnalysisIM.parse(im_text)
+    levels = _levels(measure.name, method, agx_text, levels_text, stripes_path, measure.unit)
+    return _Analysis(measure, method, levels, stripes_path)
+
+
+_analysis_options = option_group(
+    "analysis",
+    _analysis,
+    click.option(
+        "--agx",
+        "agx_text",
+        default=None,
+        metavar="START:STOP:STEP",
+        help="A_gx levels [g] (ensemble mean PGA) as start:stop:step, stop included "
+        "[default: 0.1:1.5:0.05 when --im is agx and no --levels].",
+    ),
+    click.option(
+        "--im",
+        "im_text",
+        default=AGX,
+        show_default=True,
+        help="Intensity measure of the levels: agx (the paper's ensemble mean PGA [g]) or pga [g], "
+        "pgv [m/s], pgd [m], sa(T[,zeta]) [g], psv(T[,zeta]) [m/s], saavg(T1:T2[:N]) [g], "
+        "arias [m/s], cav [m/s], pgv/pga [s].",
+    ),
+    click.option(
+        "--method",
+        type=click.Choice(["ida", "msa", "cloud"]),
+        default="ida",
+        show_default=True,
+        help="ida: every motion scaled to each level of --im; msa: the stripes of --stripes; "
+        "cloud: the motions as they are, each against its own IM.",
+    ),
+    click.option(
+        "--levels",
+        "levels_text",
+        default=None,
+        metavar="START:STOP:STEP",
+        help="IDA levels of --im [its unit] as start:stop:step, stop included.",
+    ),
+    click.option(
+        "--stripes",
+        "stripes_path",
+        default=None,
+        type=click.Path(dir_okay=False),
+        help="MSA stripes: CSV with columns level (of --im), motion (label or position in "
+        "--motions), scale (factor of that motion in that stripe).",
+    ),
 )
 
 
@@ -181,46 +255,7 @@ _run_options = options(
 
 @click.command("fragility")
 @_run_options
-@click.option(
-    "--agx",
-    "agx_text",
-    default=None,
-    metavar="START:STOP:STEP",
-    help="A_gx levels [g] (ensemble mean PGA) as start:stop:step, stop included "
-    "[default: 0.1:1.5:0.05 when --im is agx and no --levels].",
-)
-@click.option(
-    "--im",
-    "im_text",
-    default=AGX,
-    show_default=True,
-    help="Intensity measure of the levels: agx (the paper's ensemble mean PGA [g]) or pga [g], "
-    "pgv [m/s], pgd [m], sa(T[,zeta]) [g], psv(T[,zeta]) [m/s], saavg(T1:T2[:N]) [g], "
-    "arias [m/s], cav [m/s], pgv/pga [s].",
-)
-@click.option(
-    "--method",
-    type=click.Choice(["ida", "msa", "cloud"]),
-    default="ida",
-    show_default=True,
-    help="ida: every motion scaled to each level of --im; msa: the stripes of --stripes; "
-    "cloud: the motions as they are, each against its own IM.",
-)
-@click.option(
-    "--levels",
-    "levels_text",
-    default=None,
-    metavar="START:STOP:STEP",
-    help="IDA levels of --im [its unit] as start:stop:step, stop included.",
-)
-@click.option(
-    "--stripes",
-    "stripes_path",
-    default=None,
-    type=click.Path(dir_okay=False),
-    help="MSA stripes: CSV with columns level (of --im), motion (label or position in "
-    "--motions), scale (factor of that motion in that stripe).",
-)
+@_analysis_options
 @click.option(
     "--n-boot",
     type=count("bootstrap resamples", 0),
@@ -251,21 +286,11 @@ _run_options = options(
     "--limit-states: every limit state, by increasing severity (LS1, LS2, ...).",
 )
 def fragility_cmd(
-    bodies_spec: str,
-    motions_path: str,
-    floor: int | None,
-    frame_name: str | None,
-    out: str,
-    overwrite: bool,
-    scheduler: str | None,
-    connect_timeout: float | None,
-    e_text: str,
-    quiet: bool,
-    agx_text: str | None,
-    im_text: str,
-    method: str,
-    levels_text: str | None,
-    stripes_path: str | None,
+    inputs: _Inputs,
+    folder: OutFolder,
+    compute: Compute,
+    physics: Physics,
+    analysis: _Analysis,
     n_boot: int,
     seed: int,
     limit_states_text: str | None,
@@ -285,16 +310,12 @@ def fragility_cmd(
     the probabilities and fits of every limit state (a limit_state column in
     probabilities.csv and lognormal.csv) and fragility-<body>.png per body.
     """
-    # a range too long or too strong is refused at once: the IMs' module takes a second to load
-    for option, text in (("--agx", agx_text), ("--levels", levels_text)):
-        if text is not None:
-            parse_range(text, option, unit="g" if option == "--agx" else "of the IM's unit")
     from ..dynamics.limits import parse_limit_states
-    from ..montecarlo.fragility import AnalysisIM, efficiency_measures
+    from ..montecarlo.fragility import efficiency_measures
 
     states = None if limit_states_text is None else parse_limit_states(limit_states_text)
-    measure = AnalysisIM.parse(im_text)
-    levels = _levels(measure.name, method, agx_text, levels_text, stripes_path, measure.unit)
+    measure, method, levels = analysis.measure, analysis.method, analysis.levels
+    motions_path, stripes_path = inputs.motions_path, analysis.stripes_path
     compare = _im_list(compare_text) if compare_text is not None else None
     if compare is not None and method != "ida":
         raise click.UsageError("--im-efficiency needs --method ida")
@@ -306,17 +327,13 @@ def fragility_cmd(
 
         for fmt in exports:
             check_exportable(measure.name, fmt)
-    bodies, ensemble, e, backend = _prepare(
-        bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
-    )
-    from ..core.runs import RunFolder
-    from ..dynamics.physics import Physics
+    bodies, ensemble = _prepare(inputs, compute)
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
     from ..montecarlo.statistics import CrossingWarning, ExtrapolationWarning
 
     blocks = [b.block for b in bodies]
-    physics = Physics(e=e)  # the physics of every simulation of the run
-    progress = reporter(quiet)
+    e = cast("float | str", physics.e)  # one value, of --e
+    backend, progress = cast("Backend", compute.backend), cast("Reporter", compute.progress)
     params = _run_params(
         bodies,
         motions_path,
@@ -336,7 +353,7 @@ def fragility_cmd(
         params["agx_g"] = params["levels"]
     reads = {"--motions": motions_path, "--stripes": stripes_path}
     with (
-        RunFolder(out, command="fragility", params=params, overwrite=overwrite, reads=reads) as run,
+        folder.claim("fragility", params, reads=reads) as run,
         progress,
     ):
         n_levels = (
@@ -752,16 +769,10 @@ def dimensionless_verdict(efficiency: pd.DataFrame) -> str:
     "series of points per limit state."
 )
 def agx50_cmd(
-    bodies_spec: str,
-    motions_path: str,
-    floor: int | None,
-    frame_name: str | None,
-    out: str,
-    overwrite: bool,
-    scheduler: str | None,
-    connect_timeout: float | None,
-    e_text: str,
-    quiet: bool,
+    inputs: _Inputs,
+    folder: OutFolder,
+    compute: Compute,
+    physics: Physics,
     resolution: float,
     agx_max: float,
     band_text: str,
@@ -781,14 +792,10 @@ def agx50_cmd(
 
     states = None if limit_states_text is None else parse_limit_states(limit_states_text)
     band = parse_band(band_text)
-    bodies, ensemble, e, backend = _prepare(
-        bodies_spec, motions_path, floor, frame_name, e_text, scheduler, connect_timeout
-    )
+    bodies, ensemble = _prepare(inputs, compute)
     import numpy as np
 
     from ..assessment.energy import forms_grid, grid_table
-    from ..core.runs import RunFolder
-    from ..dynamics.physics import Physics
     from ..montecarlo.probability import agx_50
     from ..motions.response import check_nyquist
     from ..plots.fragility import plot_sv_agx
@@ -796,8 +803,9 @@ def agx50_cmd(
     check_nyquist(band[1], ensemble.dt, f"--band {band_text}")  # before the search, not after
 
     blocks = [b.block for b in bodies]
-    physics = Physics(e=e)  # the physics of every simulation of the run
-    progress = reporter(quiet)
+    e = cast("float | str", physics.e)  # one value, of --e
+    backend, progress = cast("Backend", compute.backend), cast("Reporter", compute.progress)
+    motions_path = inputs.motions_path
     params = _run_params(
         bodies,
         motions_path,
@@ -810,7 +818,7 @@ def agx50_cmd(
     )
     reads = {"--motions": motions_path}
     with (
-        RunFolder(out, command="agx50", params=params, overwrite=overwrite, reads=reads) as run,
+        folder.claim("agx50", params, reads=reads) as run,
         progress,
     ):
         progress.write(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import astuple, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -13,11 +14,13 @@ from ..errors import InputError
 from ._options import (
     G_LEVEL,
     SEED,
+    OutFolder,
     count,
-    options,
+    option_group,
     overwrite_option,
     quiet_option,
     reporter,
+    run_folder_options,
     writable_file,
 )
 from .spectrum import calibration_option, checked_units, record_dt_option, units_option
@@ -41,8 +44,23 @@ _target_option = click.option(
     type=click.Path(exists=True, dir_okay=False),
     help="Target spectrum CSV (frequency [Hz] or period [s], PSA [g]); default RG 1.60 at 1 g.",
 )
-#: --n, --duration, --dt and --envelope of a simulated ensemble (in this order in --help).
-_ensemble_options = options(
+
+
+@dataclass(frozen=True)
+class _Suite:
+    """--n, --duration, --dt and --envelope: the motions to simulate."""
+
+    n: int
+    duration: float
+    dt: float
+    envelope: str
+
+
+#: --n, --duration, --dt and --envelope of a simulated ensemble (in this order in --help), as one
+#: parameter ``suite``.
+_ensemble_options = option_group(
+    "suite",
+    _Suite,
     click.option(
         "--n",
         "n",
@@ -118,10 +136,7 @@ def motions() -> None:
 )
 @quiet_option
 def generate_cmd(
-    n: int,
-    duration: float,
-    dt: float,
-    envelope: str,
+    suite: _Suite,
     seed: int,
     baseline: bool,
     iterations: int,
@@ -133,6 +148,7 @@ def generate_cmd(
 ) -> None:
     """Simulate an ensemble and save it as netCDF."""
     _ensemble_out(out)  # before the work, not after
+    n, duration, dt, envelope = astuple(suite)
     from ..motions.synthesis import generate
     from ..motions.targets import TabulatedSpectrum, rg160
 
@@ -325,26 +341,23 @@ def show(
 )
 @_target_option
 @_damping_option
-@click.option(
-    "--out",
-    type=click.Path(file_okay=False, writable=True),
-    required=True,
-    help="Output folder for fit.png and fit.csv.",
+@run_folder_options(
+    click.option(
+        "--out",
+        type=click.Path(file_okay=False, writable=True),
+        required=True,
+        help="Output folder for fit.png and fit.csv.",
+    )
 )
-@overwrite_option
 @quiet_option
 def fit_cmd(
-    n: int,
-    duration: float,
-    dt: float,
-    envelope: str,
+    suite: _Suite,
     seed: int,
     iterations: int,
     per_decade: int,
     target_path: str | None,
     damping: float,
-    out: str,
-    overwrite: bool,
+    folder: OutFolder,
     quiet: bool,
 ) -> None:
     """Mean PSA against the target: the paper's method alone and with the iterative correction.
@@ -356,11 +369,11 @@ def fit_cmd(
     import numpy as np
     import pandas as pd
 
-    from ..core.runs import RunFolder
     from ..motions.synthesis import generate, spectral_fit
     from ..motions.targets import RG160, TabulatedSpectrum
     from ..plots.motions import plot_fit_ratios
 
+    n, duration, dt, envelope = astuple(suite)
     target = (
         RG160(damping) if target_path is None else TabulatedSpectrum.from_csv(target_path, damping)
     )
@@ -381,14 +394,7 @@ def fit_cmd(
     }
     progress = reporter(quiet)
     methods, fits = {}, {}
-    folder = RunFolder(
-        out,
-        command="motions fit",
-        params=params,
-        overwrite=overwrite,
-        reads={"--target": target_path},
-    )
-    with folder as run, progress:
+    with folder.claim("motions fit", params, reads={"--target": target_path}) as run, progress:
         with progress.stage(
             f"motions fit: {n} motions, two ways", total=2 * n, unit="motions"
         ) as stage:

@@ -12,11 +12,10 @@ from ..defaults import PULSE_KAPPA_MAX, PULSE_N_SCAN, PULSE_SHAPES, G
 from ._options import (
     R_option,
     count,
-    e_option,
     gamma_option,
     overwrite_option,
-    parse_e,
     parse_range,
+    physics_options,
     quiet_option,
     reporter,
 )
@@ -24,6 +23,8 @@ from ._options import (
 if TYPE_CHECKING:
     import pandas as pd
     import xarray as xr
+
+    from ..dynamics.physics import Physics
 
 
 @click.command("pulse-spectrum")
@@ -42,7 +43,7 @@ if TYPE_CHECKING:
     metavar="START:STOP:STEP",
     help="Pulse periods T_p [s] (for rectangular, the duration).",
 )
-@e_option
+@physics_options()
 @click.option(
     "--kappa-max",
     type=click.FloatRange(1.0, min_open=True),
@@ -71,7 +72,7 @@ def pulse_spectrum_cmd(
     gamma: float,
     shape: str,
     periods: str,
-    e_text: str,
+    physics: Physics,
     kappa_max: float,
     n_scan: int,
     out: str,
@@ -93,7 +94,7 @@ def pulse_spectrum_cmd(
     block = Block(R, gamma)
     parse_pulse(shape)  # refused before the folder is claimed
     values = parse_range(periods, "--periods", "s")
-    e = parse_e(e_text)
+    e = physics.e
     params = {
         "R_m": R,
         "gamma": gamma,
@@ -107,7 +108,9 @@ def pulse_spectrum_cmd(
         RunFolder(out, command="pulse-spectrum", params=params, overwrite=overwrite) as run,
         reporter(quiet),
     ):
-        ds = overturning_spectrum(block, shape, values, e=e, kappa_max=kappa_max, n_scan=n_scan)
+        ds = overturning_spectrum(
+            block, shape, values, physics=physics, kappa_max=kappa_max, n_scan=n_scan
+        )
         spectrum, switches = tables(ds)
         run.write_csv("spectrum.csv", spectrum)
         run.write_csv("switches.csv", switches)

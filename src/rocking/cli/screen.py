@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import time
 import warnings
+from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import click
 
@@ -14,11 +15,13 @@ from ..defaults import SPECTRUM_SYNTAX
 from ._options import (
     G_LEVEL,
     SEED,
-    connect_timeout_option,
+    OutFolder,
+    compute_options,
     count,
-    overwrite_option,
+    option_group,
+    physics_options,
     quiet_option,
-    reporter,
+    run_folder_options,
 )
 
 if TYPE_CHECKING:
@@ -27,6 +30,10 @@ if TYPE_CHECKING:
 
     from ..assessment.inventory import Inventory
     from ..assessment.risk import HazardCurve
+    from ..core.progress import Reporter
+    from ..dynamics.physics import Physics
+    from ..montecarlo.backends import Backend, Compute
+    from ..montecarlo.search import Agx50Search
     from ..motions.ensemble import Ensemble
     from ..motions.targets import TargetSpectrum
 
@@ -35,61 +42,148 @@ EXAMPLE_INVENTORY = Path(str(files("rocking") / "data" / "example_inventory.csv"
 EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
 
 
-@click.command("screen")
-@click.argument("inventory", metavar="INVENTORY")
-@click.option(
-    "--spectrum",
-    "spectrum_text",
-    required=True,
-    metavar="SPEC",
-    help=f"Design spectrum at the ground: {SPECTRUM_SYNTAX}; or 'example' (the "
-    "shipped site spectrum).",
+@dataclass(frozen=True)
+class _Items:
+    """INVENTORY, --spectrum and --frame."""
+
+    inventory: str
+    spectrum_text: str
+    frame: str | None
+
+
+@dataclass(frozen=True)
+class _Motions:
+    """--n, --seed, --duration and --motions: the motions to generate, or their file."""
+
+    n: int
+    seed: int
+    duration: float
+    path: str | None
+
+
+@dataclass(frozen=True)
+class _SiteHazard:
+    """--hazard and --years."""
+
+    text: str | None
+    years: float
+
+
+def _search(resolution: float, agx_max: float) -> Agx50Search:
+    from ..montecarlo.search import Agx50Search
+
+    return Agx50Search(resolution=resolution, agx_max=agx_max)
+
+
+_items_options = option_group(
+    "items",
+    _Items,
+    click.argument("inventory", metavar="INVENTORY"),
+    click.option(
+        "--spectrum",
+        "spectrum_text",
+        required=True,
+        metavar="SPEC",
+        help=f"Design spectrum at the ground: {SPECTRUM_SYNTAX}; or 'example' (the "
+        "shipped site spectrum).",
+    ),
+    click.option(
+        "--frame",
+        default=None,
+        metavar="FRAME",
+        help="Default frame of 'floor N' items without one: a preset (paper-2.0, "
+        "paper-1.5, paper-1.0, paper-0.5) or a frame TOML file.",
+    ),
 )
-@click.option(
-    "--frame",
-    default=None,
-    metavar="FRAME",
-    help="Default frame of 'floor N' items without one: a preset (paper-2.0, "
-    "paper-1.5, paper-1.0, paper-0.5) or a frame TOML file.",
-)
-@click.option(
+_out_option = click.option(
     "--out",
     "out_dir",
     required=True,
     type=click.Path(file_okay=False, writable=True),
     help="Output folder. A folder of another run is refused (see --overwrite).",
 )
-@overwrite_option
-@click.option(
-    "--n",
-    "n_motions",
-    type=count("motions"),
-    default=200,
-    show_default=True,
-    help="Number of spectrum-compatible motions.",
+_motions_options = option_group(
+    "motions",
+    _Motions,
+    click.option(
+        "--n",
+        "n_motions",
+        type=count("motions"),
+        default=200,
+        show_default=True,
+        help="Number of spectrum-compatible motions.",
+    ),
+    click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the motions."),
+    click.option(
+        "--duration",
+        type=click.FloatRange(0.0, min_open=True),
+        default=20.0,
+        show_default=True,
+        help="Duration of the motions [s].",
+    ),
+    reads=("motions_path",),
 )
-@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the motions.")
-@click.option(
-    "--duration",
-    type=click.FloatRange(0.0, min_open=True),
-    default=20.0,
-    show_default=True,
-    help="Duration of the motions [s].",
+_search_options = option_group(
+    "search",
+    _search,
+    click.option(
+        "--resolution",
+        type=click.FloatRange(1e-6),
+        default=0.01,
+        show_default=True,
+        help="Resolution of the A_gx50 search [g], >= 1e-6 (as agx50's).",
+    ),
+    click.option(
+        "--agx-max",
+        type=G_LEVEL,
+        default=5.0,
+        show_default=True,
+        help="Upper end of the A_gx50 search [g].",
+    ),
 )
-@click.option(
-    "--resolution",
-    type=click.FloatRange(1e-6),
-    default=0.01,
-    show_default=True,
-    help="Resolution of the A_gx50 search [g], >= 1e-6 (as agx50's).",
+_scheduler_option = click.option(
+    "--scheduler",
+    default=None,
+    metavar="SCHED",
+    help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
+    "address tcp://HOST:PORT.",
 )
-@click.option(
-    "--agx-max",
-    type=G_LEVEL,
-    default=5.0,
-    show_default=True,
-    help="Upper end of the A_gx50 search [g].",
+_motions_path_option = click.option(
+    "--motions",
+    "motions_path",
+    default=None,
+    type=click.Path(dir_okay=False, exists=True),
+    help="Ground motions to use instead of generating --n of them: an ensemble file from "
+    "'rocking motions generate' or 'rocking motions import' (with vertical components if it "
+    "has them), scaled to the design A_gx; they should be compatible with --spectrum.",
 )
+_hazard_options = option_group(
+    "site_hazard",
+    _SiteHazard,
+    click.option(
+        "--hazard",
+        "hazard_text",
+        default=None,
+        metavar="FILE",
+        help="Site hazard curve (CSV: 'IM [unit],annual_rate'; 'example': the shipped "
+        "illustrative PGV curve): adds each item's fragility against that IM of the ground "
+        "motion and its mean annual rate of overturning.",
+    ),
+    click.option(
+        "--years",
+        type=click.FloatRange(0.0, min_open=True),
+        default=50.0,
+        show_default=True,
+        help="Exposure time [yr] of the probability of overturning with --hazard.",
+    ),
+)
+
+
+@click.command("screen")
+@_items_options
+@run_folder_options(_out_option)
+@_motions_options
+@_search_options
 @click.option(
     "--floor-motions",
     type=click.Choice(["building", "paper"]),
@@ -99,39 +193,10 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
     "('building'), or rescaled to the ground's A_gx as in the paper's Section 7 "
     "('paper').",
 )
-@click.option(
-    "--scheduler",
-    default=None,
-    metavar="SCHED",
-    help="Where to run: 'local' (default, threads), 'dask-local' or a Dask scheduler "
-    "address tcp://HOST:PORT.",
-)
-@connect_timeout_option
-@click.option(
-    "--motions",
-    "motions_path",
-    default=None,
-    type=click.Path(dir_okay=False, exists=True),
-    help="Ground motions to use instead of generating --n of them: an ensemble file from "
-    "'rocking motions generate' or 'rocking motions import' (with vertical components if it "
-    "has them), scaled to the design A_gx; they should be compatible with --spectrum.",
-)
-@click.option(
-    "--hazard",
-    "hazard_text",
-    default=None,
-    metavar="FILE",
-    help="Site hazard curve (CSV: 'IM [unit],annual_rate'; 'example': the shipped "
-    "illustrative PGV curve): adds each item's fragility against that IM of the ground "
-    "motion and its mean annual rate of overturning.",
-)
-@click.option(
-    "--years",
-    type=click.FloatRange(0.0, min_open=True),
-    default=50.0,
-    show_default=True,
-    help="Exposure time [yr] of the probability of overturning with --hazard.",
-)
+@compute_options(_scheduler_option)
+@physics_options(restitution=False)
+@_motions_path_option
+@_hazard_options
 @click.option(
     "--limit-states",
     "limit_states_text",
@@ -142,24 +207,15 @@ EXAMPLE_SPECTRUM = Path(str(files("rocking") / "data" / "example_spectrum.csv"))
 )
 @quiet_option
 def screen_command(
-    inventory: str,
-    spectrum_text: str,
-    frame: str | None,
-    out_dir: str,
-    overwrite: bool,
-    n_motions: int,
-    seed: int,
-    duration: float,
-    resolution: float,
-    agx_max: float,
+    items: _Items,
+    folder: OutFolder,
+    motions: _Motions,
+    search: Agx50Search,
     floor_motions: str,
-    scheduler: str | None,
-    connect_timeout: float | None,
-    motions_path: str | None,
-    hazard_text: str | None,
-    years: float,
+    compute: Compute,
+    physics: Physics,
+    site_hazard: _SiteHazard,
     limit_states_text: str | None,
-    quiet: bool,
 ) -> None:
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
 
@@ -180,19 +236,20 @@ def screen_command(
         rocking screen example --spectrum asce7:SDS=1.0,SD1=0.6,TL=8 --frame paper-2.0 --out out
     """
     from ..assessment.screen import screen
-    from ..core.runs import RunFolder
     from ..dynamics.limits import parse_limit_states
-    from ..montecarlo.backends import get_backend
     from ..motions.design import design_pga
     from ..report import remove_report
 
     started = time.perf_counter()
-    out = Path(out_dir)
+    out = Path(folder.path)
+    spectrum_text, frame, motions_path = items.spectrum_text, items.frame, motions.path
+    n_motions, resolution, agx_max = motions.n, search.resolution, search.agx_max
     states = None if limit_states_text is None else parse_limit_states(limit_states_text)
-    inv_path, spectrum, inv, notes = _read_inputs(inventory, spectrum_text, frame)
-    hazard = None if hazard_text is None else _read_hazard(hazard_text)
+    inv_path, spectrum, inv, notes = _read_inputs(items.inventory, spectrum_text, frame)
+    hazard = None if site_hazard.text is None else _read_hazard(site_hazard.text)
     ensemble = None if motions_path is None else _read_motions(motions_path)
-    backend = get_backend(scheduler, connect_timeout)
+    backend, progress = compute.backend, cast("Reporter", compute.progress)
+    assert backend is not None  # made by compute_options
     backend.connect()  # an unreachable scheduler is refused before the run folder is made
     params = {
         "inventory": str(inv_path),
@@ -201,26 +258,23 @@ def screen_command(
         "design_agx": design_pga(spectrum),
         "frame": frame,
         "n_motions": n_motions,
-        "seed": seed,
-        "duration": duration,
+        "seed": motions.seed,
+        "duration": motions.duration,
         "resolution": resolution,
         "agx_max": agx_max,
         "floor_motions": floor_motions,
         "motions": motions_path,
         "hazard": None if hazard is None else hazard.source,
-        "years": years,
+        "years": site_hazard.years,
         "limit_states": None if states is None else [ls.name for ls in states],
     }
-    progress = reporter(quiet)
-    folder = RunFolder(
-        out,
-        command="screen",
-        params=params,
-        settings={"scheduler": scheduler or "local"},
-        overwrite=overwrite,
+    run_folder = folder.claim(
+        "screen",
+        params,
+        settings={"scheduler": _scheduler(backend)},
         reads={"INVENTORY": inv_path, "--motions": motions_path, "--frame": frame},
     )
-    with folder as run, progress:
+    with run_folder as run, progress:
         remove_report(out)  # a failed run must not leave an older report looking like its result
         progress.write(
             f"screening {len(inv)} items against {spectrum.name} at the design "
@@ -231,16 +285,15 @@ def screen_command(
                 inv,
                 spectrum,
                 n=n_motions,
-                seed=seed,
-                duration=duration,
-                resolution=resolution,
-                agx_max=agx_max,
+                seed=motions.seed,
+                duration=motions.duration,
+                search=search,
                 floor_motions=floor_motions,
-                backend=backend,
-                progress=progress,
+                compute=compute,
+                physics=physics,
                 ensemble=ensemble,
                 hazard=hazard,
-                years=years,
+                years=site_hazard.years,
                 limit_states=states,
             )
         for name in _write_report(ds, out, inv_path, notes):
@@ -251,6 +304,14 @@ def screen_command(
         f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk; wrote "
         f"{out / 'report.html'} ({wall:.1f} s)"
     )
+
+
+def _scheduler(backend: Backend) -> str:
+    """--scheduler as run.json records it: "local", "dask-local" or the scheduler's address."""
+    from ..montecarlo.backends import LocalBackend
+
+    address = getattr(backend, "address", None)
+    return address or ("local" if isinstance(backend, LocalBackend) else "dask-local")
 
 
 def _read_inputs(

@@ -10,14 +10,23 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from ..defaults import DT, OVERTURN_ANGLE, G
+from ..defaults import DT, G
 from ..errors import InputError
-from ._options import G_LEVEL, R_option, e_option, figure_file, gamma_option, parse_e, reporter
+from ._options import (
+    G_LEVEL,
+    OVERTURN_CHOICES,
+    R_option,
+    figure_file,
+    gamma_option,
+    physics_options,
+    reporter,
+)
 
 if TYPE_CHECKING:
     import numpy as np
 
     from ..dynamics.body import Block
+    from ..dynamics.physics import Physics
     from ..dynamics.simulate import RockingResponse
 
 #: The word that selects the built-in simulated motion for ``--motion``.
@@ -27,8 +36,6 @@ SIMULATED = "simulated"
 #: :data:`rocking.defaults.DT` unless --dt is given.
 SIMULATED_SPEC: dict[str, Any] = {"duration": 20.0, "envelope": "compound", "seed": 0}
 _SIMULATED_NAME = "simulated (RG 1.60 at 1 g, 20 s compound envelope, seed 0)"
-#: --overturn-angle choices: the paper's π/2, or the critical angle α.
-_OVERTURN: dict[str, float | str] = {"pi2": OVERTURN_ANGLE, "alpha": "alpha"}
 
 
 def load_motion(spec: str, dt: float | None) -> tuple[np.ndarray, float, str]:
@@ -136,7 +143,7 @@ def _text(s: dict) -> list[str]:
     help="Scale the motion by one factor so that its peak acceleration (PGA) is this many g, "
     "at most 10 (default: the motion as it is).",
 )
-@e_option
+@physics_options(overturn_angle=True)
 @click.option(
     "--dt",
     type=float,
@@ -147,7 +154,7 @@ def _text(s: dict) -> list[str]:
 @click.option(
     "--overturn-angle",
     "overturn",
-    type=click.Choice(sorted(_OVERTURN)),
+    type=click.Choice(sorted(OVERTURN_CHOICES)),
     default="pi2",
     show_default=True,
     help="Overturned when the rotation theta reaches pi/2 (the paper) or alpha, either way.",
@@ -164,9 +171,8 @@ def simulate_cmd(
     gamma: float,
     motion: str,
     scale_g: float | None,
-    e_text: str,
+    physics: Physics,
     dt: float | None,
-    overturn: str,
     plot_path: str | None,
     as_json: bool,
 ) -> None:
@@ -179,11 +185,9 @@ def simulate_cmd(
     """
     from ..core.checks import positive
     from ..dynamics.body import Block
-    from ..dynamics.physics import Physics
     from ..dynamics.simulate import simulate
 
     block = Block(R, gamma)
-    physics = Physics(e=parse_e(e_text), overturn_angle=_OVERTURN[overturn])
     dt = None if dt is None else positive("--dt", dt, "s")
     figure_file(plot_path, "--plot")
     with reporter():

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import click
@@ -9,7 +10,7 @@ import click
 from ..defaults import G
 from ..errors import InputError
 from ..motions.units import UNITS_TEXT, acceleration_unit
-from ._options import count, figure_file, reporter, writable_file
+from ._options import count, figure_file, option_group, reporter, writable_file
 
 if TYPE_CHECKING:
     import numpy as np
@@ -71,6 +72,50 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
     return np.unique([int(np.argmin(np.abs(portable.log(freqs / f)))) for f in wanted])
 
 
+@dataclass(frozen=True)
+class _Frequencies:
+    """--fmin, --fmax (None: by default) [Hz] and --n of ``rocking spectrum``."""
+
+    fmin: float
+    fmax: float | None
+    n: int
+
+
+def _frequencies(fmin: float, fmax: float | None, n: int) -> _Frequencies:
+    if fmax is not None and not fmin < fmax:
+        raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
+    return _Frequencies(fmin, fmax, n)
+
+
+_frequency_options = option_group(
+    "frequencies",
+    _frequencies,
+    click.option(
+        "--fmin",
+        type=click.FloatRange(0.0, min_open=True),
+        default=0.1,
+        show_default=True,
+        help="Lowest frequency [Hz].",
+    ),
+    click.option(
+        "--fmax",
+        type=click.FloatRange(0.0, min_open=True),
+        default=None,
+        help="Highest frequency [Hz], at most the Nyquist frequency 1/(2 dt) of every "
+        "record  [default: 50 Hz or the lowest Nyquist frequency of the records, "
+        "whichever is lower]",
+    ),
+    click.option(
+        "--n",
+        "n_freq",
+        type=count("frequencies", 2),
+        default=100,
+        show_default=True,
+        help="Number of frequencies, log-spaced from fmin to fmax.",
+    ),
+)
+
+
 @click.command("spectrum")
 @click.argument("files", nargs=-1, required=True, metavar="RECORD...")
 @click.option(
@@ -80,29 +125,7 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
     show_default=True,
     help="Damping ratio [-].",
 )
-@click.option(
-    "--fmin",
-    type=click.FloatRange(0.0, min_open=True),
-    default=0.1,
-    show_default=True,
-    help="Lowest frequency [Hz].",
-)
-@click.option(
-    "--fmax",
-    type=click.FloatRange(0.0, min_open=True),
-    default=None,
-    help="Highest frequency [Hz], at most the Nyquist frequency 1/(2 dt) of every "
-    "record  [default: 50 Hz or the lowest Nyquist frequency of the records, "
-    "whichever is lower]",
-)
-@click.option(
-    "--n",
-    "n_freq",
-    type=count("frequencies", 2),
-    default=100,
-    show_default=True,
-    help="Number of frequencies, log-spaced from fmin to fmax.",
-)
+@_frequency_options
 @units_option
 @calibration_option
 @record_dt_option
@@ -122,9 +145,7 @@ def _table_rows(freqs: np.ndarray) -> np.ndarray:
 def spectrum(
     files: tuple[str, ...],
     damping: float,
-    fmin: float,
-    fmax: float | None,
-    n_freq: int,
+    frequencies: _Frequencies,
     units: str | None,
     calibration: float | None,
     record_dt: float | None,
@@ -139,8 +160,7 @@ def spectrum(
     Prints PSA [g], PSV [cm/s] and SD [cm] at a few frequencies for each record; --csv saves
     all frequencies, --plot draws PSA against frequency.
     """
-    if fmax is not None and not fmin < fmax:
-        raise InputError(f"--fmin ({fmin:g} Hz) must be below --fmax ({fmax:g} Hz)")
+    fmin, fmax, n_freq = frequencies.fmin, frequencies.fmax, frequencies.n
     if old_dt is not None:
         if record_dt is not None:
             raise InputError("--dt is the old name of --record-dt: give --record-dt only")

@@ -8,12 +8,14 @@ options with this module before anything heavy is loaded.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 import os
 import tomllib
+from collections.abc import Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 from ..errors import InputError
 from .files import read_text
@@ -188,6 +190,34 @@ def restitution(value: float | str, name: str = "e") -> Any:
         return in_range(name, value, 0.0, 1.0, lo_open=True, unit="-")
     except InputError:
         raise InputError(f"{name} must be a number in (0, 1] or 'housner', got {value!r}") from None
+
+
+#: A record (frozen dataclass) a function takes with shorthand keyword arguments for its fields.
+R = TypeVar("R")
+
+
+def record(kind: type[R], value: R | None, options: dict[str, Any], name: str) -> R:
+    """The record ``name`` of a call: ``value`` (default ``kind()``) with the entries of
+    ``options`` named like its fields (the function's shorthand keyword arguments) in their
+    place; those entries are taken out of ``options``."""
+    if value is None:
+        value = kind()
+    elif not isinstance(value, kind):
+        raise InputError(f"{name} must be a rocking.{kind.__name__}, got {type(value).__name__}")
+    fields = dataclasses.fields(cast(Any, value))
+    given = {f.name: options.pop(f.name) for f in fields if f.name in options}
+    return cast(R, dataclasses.replace(cast(Any, value), **given)) if given else value
+
+
+def unexpected(options: Mapping[str, Any]) -> None:
+    """Refuse keyword arguments that are neither a parameter of the function nor a shorthand,
+    named as Python names them."""
+    if options:
+        names = ", ".join(repr(name) for name in sorted(options))
+        many = len(options) > 1
+        raise InputError(
+            f"got {'' if many else 'an '}unexpected keyword argument{'s' * many} {names}"
+        )
 
 
 def read_toml(path: str | os.PathLike[str], label: str | None = None) -> dict:

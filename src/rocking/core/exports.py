@@ -16,6 +16,7 @@ from typing import Any
 
 #: Public name → module of the package that defines it (relative to ``rocking``).
 PUBLIC = {
+    "Compute": "montecarlo.backends",
     "DaskBackend": "montecarlo.backends",
     "LocalBackend": "montecarlo.backends",
     "get_backend": "montecarlo.backends",
@@ -60,6 +61,8 @@ PUBLIC = {
     "fit_lognormal": "montecarlo.statistics",
     "overturning_probability": "montecarlo.probability",
     "overturning_spectrum": "montecarlo.pulse_spectrum",
+    "SpectrumScan": "montecarlo.pulse_spectrum",
+    "Agx50Search": "montecarlo.search",
     "dimensionless_intensities": "montecarlo.dimensionless",
     "dimensionless_efficiency": "montecarlo.dimensionless",
     "member_outcomes": "montecarlo.probability",
@@ -75,6 +78,7 @@ PUBLIC = {
     "Ensemble": "motions.ensemble",
     "baseline_correct": "motions.baseline",
     "generate": "motions.synthesis",
+    "Synthesis": "motions.synthesis",
     "regenerate": "motions.synthesis",
     "pulse": "motions.pulses",
     "pulse_period": "motions.wavelets",

@@ -24,6 +24,7 @@ The records are re-exported here (``from rocking.dynamics.batch import BlockTabl
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import Any
 
 import numba
 import numpy as np
@@ -50,7 +51,7 @@ from .batch_records import (
 )
 from .body import Block
 from .impacts import resolve_impacts
-from .physics import FROM_PHYSICS, Physics, as_physics
+from .physics import Physics, as_physics
 
 __all__ = [
     "QUANTITIES",
@@ -184,11 +185,8 @@ def overturn_cases(
     scales: ArrayLike,
     *,
     physics: Physics | None = None,
-    e: PerBlock = FROM_PHYSICS,
-    overturn_angle: PerBlock = FROM_PHYSICS,
-    g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
-    impacts: str = FROM_PHYSICS,
+    **shorthands: Any,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of an explicit list of cases (block, motion, scale), each from rest.
 
@@ -205,19 +203,14 @@ def overturn_cases(
     scales : array_like, shape (n_cases,)
         Factor [-] multiplying the case's motion (negative: mirrored motion).
     physics : Physics, optional
-        The physics (:class:`~rocking.Physics`; default ``Physics()``); ``e``, ``overturn_angle``,
-        ``g`` and ``impacts`` below are shorthands for its fields.
-    e : float, "housner" or sequence
-        Coefficient of restitution [-], one for all blocks or one per block.
-    overturn_angle : float, "alpha" or sequence
-        abs(θ) [rad] that counts as overturning, one for all blocks or one per block.
-    g : float
-        Gravity [m/s²].
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): restitution [-] and
+        overturning angle [rad] one for all blocks or one per block, g [m/s²], impact scheme.
     av : array_like, shape like ``acc``, optional
         Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
         abs(scale) for each case; above −g after scaling.  None: no vertical motion.
-    impacts : {"located", "step-end"}
-        Impact handling, as in :func:`rocking.simulate` ("located" by default).
+    **shorthands
+        ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
+        release.  Any other keyword is an InputError.
 
     Returns
     -------
@@ -225,7 +218,7 @@ def overturn_cases(
     peak : ndarray of float, shape (n_cases,)
         max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
-    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    physics = as_physics(physics, **shorthands)
     table = BlockTable.from_blocks(blocks, physics=physics)
     acc = _acc2d(acc)
     av = _av2d(av, acc)
@@ -258,11 +251,8 @@ def overturn_batch(
     scales: ArrayLike,
     *,
     physics: Physics | None = None,
-    e: PerBlock = FROM_PHYSICS,
-    overturn_angle: PerBlock = FROM_PHYSICS,
-    g: float = FROM_PHYSICS,
     av: ArrayLike | None = None,
-    impacts: str = FROM_PHYSICS,
+    **shorthands: Any,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Overturning of every block under every motion at every scale factor, each from rest.
 
@@ -280,19 +270,14 @@ def overturn_batch(
     scales : array_like, shape (n_scales,)
         Factors [-] multiplying the motions (negative: mirrored motion).
     physics : Physics, optional
-        The physics (:class:`~rocking.Physics`; default ``Physics()``); ``e``, ``overturn_angle``,
-        ``g`` and ``impacts`` below are shorthands for its fields.
-    e : float, "housner" or sequence
-        Coefficient of restitution [-], one for all blocks or one per block.
-    overturn_angle : float, "alpha" or sequence
-        abs(θ) [rad] that counts as overturning (π/2 in the paper), one for all or one per block.
-    g : float
-        Gravity [m/s²].
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): restitution [-] and
+        overturning angle [rad] one for all blocks or one per block, g [m/s²], impact scheme.
     av : array_like, shape like ``acc``, optional
         Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
         abs(scale); above −g after scaling.  None: no vertical motion.
-    impacts : {"located", "step-end"}
-        Impact handling, as in :func:`rocking.simulate` ("located" by default).
+    **shorthands
+        ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
+        release.  Any other keyword is an InputError.
 
     Returns
     -------
@@ -300,7 +285,7 @@ def overturn_batch(
     peak : ndarray of float, shape (n_blocks, n_scales, n_motions)
         max abs(θ)/α over the samples [-] (overturning angle/α when overturned, 0 at rest).
     """
-    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    physics = as_physics(physics, **shorthands)
     table = BlockTable.from_blocks(blocks, physics=physics)
     acc = _acc2d(acc)
     av = _av2d(av, acc)

@@ -21,7 +21,7 @@ import json
 from collections.abc import Iterable, Sequence
 from typing import Any, cast
 
-from ..core.checks import positive, restitution
+from ..core.checks import positive, restitution, unexpected
 from ..defaults import DEFAULT_E, DEFAULT_MU, DEFAULT_MU_K, IMPACT_SCHEMES, OVERTURN_ANGLE, G
 from ..errors import InputError
 from .body import Block, resolve_e, resolve_overturn_angle
@@ -38,6 +38,9 @@ class _FromPhysics:
 
 #: The default of every shorthand argument (None stays a value given, and refused as one).
 FROM_PHYSICS: Any = _FromPhysics()
+#: The keyword arguments that stand for fields of :class:`Physics`: today's four for one
+#: release (issue 44), and friction's (issue 45), whose ``mu=`` reads as the issue writes it.
+SHORTHANDS = ("e", "overturn_angle", "g", "impacts", "mu", "mu_k")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -127,13 +130,14 @@ class Physics:
 
 def as_physics(physics: Physics | None = None, **shorthands: Any) -> Physics:
     """The :class:`Physics` of a call: ``physics`` (default :class:`Physics` ()) with the
-    shorthand keyword arguments given (``e``, ``overturn_angle``, ``g``, ``impacts``; those
-    left at :data:`FROM_PHYSICS` are not) in place of its fields."""
+    shorthand keyword arguments given (:data:`SHORTHANDS`; those left at :data:`FROM_PHYSICS`
+    are not) in place of its fields; any other keyword is an InputError that names it."""
     if physics is None:
         physics = Physics()
     elif not isinstance(physics, Physics):
         raise InputError(f"physics must be a rocking.Physics, got {type(physics).__name__}")
     given = {name: value for name, value in shorthands.items() if value is not FROM_PHYSICS}
+    unexpected({name: given[name] for name in given.keys() - set(SHORTHANDS)})
     return dataclasses.replace(physics, **given) if given else physics
 
 

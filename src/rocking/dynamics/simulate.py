@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -184,16 +185,13 @@ def simulate(
     ag: ArrayLike,
     dt: float,
     *,
-    physics: Physics | None = None,
-    e: float | str = FROM_PHYSICS,
-    overturn_angle: float | str = FROM_PHYSICS,
-    theta0: float = 0.0,
-    omega0: float = 0.0,
-    g: float = FROM_PHYSICS,
-    av: ArrayLike | None = None,
-    impacts: str = FROM_PHYSICS,
     mu: float | None = None,
     mu_k: float | None = None,
+    av: ArrayLike | None = None,
+    physics: Physics | None = None,
+    theta0: float = 0.0,
+    omega0: float = 0.0,
+    **shorthands: Any,
 ) -> RockingResponse:
     """Rocking response of ``block`` to the ground acceleration history ``ag``.
 
@@ -209,28 +207,26 @@ def simulate(
     dt : float
         Sample interval [s]; also the Runge–Kutta step (the paper uses 1/400 s).
     physics : Physics, optional
-        The physics (:class:`~rocking.Physics`; default ``Physics()``): ``e``,
-        ``overturn_angle``, ``g`` and ``impacts`` below are shorthands for its fields.
-    e : float or "housner"
-        Coefficient of restitution θ'⁺/θ'⁻ [-] in (0, 1]; the paper's 0.925 by default;
-        ``"housner"`` gives 1 − 1.5·sin²α (:meth:`Block.housner_e` for a general body).
-    overturn_angle : float or "alpha"
-        abs(θ) [rad] at which the block counts as overturned: π/2 (the paper) or ``"alpha"``.
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): ``mu``, ``mu_k`` and
+        the shorthands below stand for its fields.
     theta0, omega0 : float
         Initial rotation [rad] and angular velocity [rad/s]; rest by default.
-    g : float
-        Gravity [m/s²].
+    **shorthands
+        Shorthands for ``physics``'s fields, one release (issue 44): ``e`` (coefficient of
+        restitution θ'⁺/θ'⁻ [-] in (0, 1], the paper's 0.925 by default, or ``"housner"``:
+        1 − 1.5·sin²α, :meth:`Block.housner_e` for a general body), ``overturn_angle``
+        (abs(θ) [rad] at which the block counts as overturned: π/2, the paper, or
+        ``"alpha"``), ``g`` (gravity [m/s²]) and ``impacts`` ("located", the default, finds the
+        instant of each impact inside the Runge–Kutta step; "step-end", a plain fixed-step
+        scheme kept for comparison, issue 17, puts θ = 0 and θ' ← e·θ' at the end of a step
+        that ends on the other side of θ = 0: :mod:`rocking.dynamics.impacts`).  Any other
+        keyword is an :class:`~rocking.errors.InputError` naming it.
     av : array_like, shape (n_t,), optional
         Vertical ground acceleration [m/s², up positive] at the samples of ``ag`` (linear in
         between), which adds to gravity: the block lifts from rest when abs(a_g) > (g + a_v)·tan α.
         Every sample must exceed −g unless ``mu`` is given (the block then flies where the
         ground falls faster than gravity).  None (default): no vertical motion, exactly as
         without it.
-    impacts : {"located", "step-end"}
-        Impact handling: "located" (default) finds the instant of each impact inside the
-        Runge–Kutta step; "step-end", a plain fixed-step scheme kept for comparison (issue 17),
-        puts θ = 0 and θ' ← e·θ' at the end of a step that ends on the other side of θ = 0
-        (:mod:`rocking.dynamics.impacts`).
     mu : float, optional
         Static friction coefficient μ_s [-] of the base: the block may then rest, slide, rock,
         slide-rock and fly (:mod:`rocking.dynamics.modes`).  None (default): not given, the
@@ -249,10 +245,7 @@ def simulate(
     dt = positive("dt", dt, "s")
     physics = as_physics(
         physics,
-        e=e,
-        overturn_angle=overturn_angle,
-        g=g,
-        impacts=impacts,
+        **shorthands,
         mu=FROM_PHYSICS if mu is None else mu,
         mu_k=FROM_PHYSICS if mu_k is None else mu_k,
     )

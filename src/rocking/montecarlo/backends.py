@@ -23,17 +23,21 @@ worker processes started on demand.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import math
 import os
 import weakref
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numba
 
 from ..errors import BackendError, InputError
+
+if TYPE_CHECKING:
+    from ..core.progress import Reporter
 
 
 def _call(func, threads, handle, task):
@@ -321,3 +325,30 @@ def get_backend(scheduler: str | None = None, connect_timeout: float | None = No
         f"scheduler must be 'local', 'dask-local' or a scheduler address like "
         f"'tcp://host:8786', got {scheduler!r}"
     )
+
+
+@dataclasses.dataclass(frozen=True)
+class Compute:
+    """How a Monte Carlo run is computed (none of it changes a result): the settings that travel
+    together from the command line to the engine (:class:`rocking.montecarlo.engine.Engine`).
+
+    Parameters
+    ----------
+    backend : LocalBackend or DaskBackend, optional
+        Where the chunks run (default: this process, all cores; :func:`get_backend`).
+    out : str or Path, optional
+        Folder of the finished chunks (:class:`rocking.montecarlo.store.ChunkStore`): a later
+        call with the same inputs computes only what the folder lacks; a folder of another run
+        is refused.
+    progress : Reporter or bool, optional
+        Progress bar (default: only if stderr is a terminal).
+    chunk_size : int, optional
+        Largest number of simulations per chunk (default
+        :data:`rocking.montecarlo.engine.CHUNK_SIMULATIONS`; smaller when needed to give each
+        worker of the backend about four).
+    """
+
+    backend: Backend | None = None
+    out: str | os.PathLike[str] | None = None
+    progress: Reporter | bool | None = None
+    chunk_size: int | None = None

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..core import portable
-from ..core.checks import require_memory
+from ..core.checks import record, require_memory
 from ..core.progress import resolve as resolve_progress
 from ..core.reuse import array_digest, digest, shared
 from ..dynamics.batch import (
@@ -41,10 +41,10 @@ from ..dynamics.batch import (
     take,
 )
 from ..dynamics.limits import OVERTURN, LimitState
-from ..dynamics.physics import FROM_PHYSICS, Physics, as_physics
+from ..dynamics.physics import Physics, as_physics
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
-from .backends import Backend, LocalBackend
+from .backends import Backend, Compute, LocalBackend
 from .search import motions_to_decide
 from .store import ChunkStore
 
@@ -180,29 +180,32 @@ def _stored_outcome(a: dict) -> Outcome:
 class Engine:
     """Results of (case, body, A_gx level) triples under all motions of the case, computed in
     chunks on a backend, optionally kept in a resumable folder.  A context manager: the folder
-    is locked and the progress stage open while it is in use."""
+    is locked and the progress stage open while it is in use.
+
+    Made from the bodies, the ensembles (``cases``), the name of its progress stage (``desc``),
+    the :class:`~rocking.Physics` and the :class:`~rocking.montecarlo.backends.Compute` of the
+    run (``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
+    release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's), the intensity of
+    each motion that the levels scale (``basis``, default A_gx; raised to ``exponent``) and
+    whether the cases hold the same motions (``same_motions``)."""
 
     def __init__(
         self,
         blocks,
         cases: list[Ensemble],
         *,
-        backend,
-        out,
-        progress,
-        chunk_size,
-        desc,
+        desc: str,
         physics: Physics | None = None,
-        e=FROM_PHYSICS,
-        overturn_angle=FROM_PHYSICS,
-        g=FROM_PHYSICS,
+        compute: Compute | None = None,
         basis: list[np.ndarray] | None = None,
         exponent: float = 1.0,
-        impacts: str = FROM_PHYSICS,
         same_motions: bool = False,
+        **shorthands: Any,
     ):
         self.blocks = block_list(blocks)
-        physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+        compute = record(Compute, compute, shorthands, "compute")
+        physics = as_physics(physics, **shorthands)
+        backend, chunk_size = compute.backend, compute.chunk_size
         self.table = BlockTable.from_blocks(self.blocks, physics=physics)
         #: The physics resolved for the blocks (numbers per block).
         self.physics = self.table.physics
@@ -248,8 +251,8 @@ class Engine:
             self._book.setdefault("levels", {})
             self._book.setdefault("bytes", 0)
         self._book_keys: dict[tuple[int, int], tuple] = {}
-        self.store = None if out is None else ChunkStore(out, self._params())
-        self.reporter = resolve_progress(progress)
+        self.store = None if compute.out is None else ChunkStore(compute.out, self._params())
+        self.reporter = resolve_progress(compute.progress)
         self.desc = desc
         self._handle: Any = None  # the scattered data, on first use
         self._stage: Any = None  # the progress stage, while open

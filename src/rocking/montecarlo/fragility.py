@@ -29,7 +29,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..core import portable
-from ..core.checks import finite_array, in_range
+from ..core.checks import finite_array, in_range, record
 from ..defaults import AGX, N_BOOT, N_BOOT_EFFICIENCY, G
 from ..dynamics.batch import block_list
 from ..dynamics.limits import OVERTURN, LimitState, limit_state_coords, parse_limit_states
@@ -37,6 +37,7 @@ from ..dynamics.physics import FROM_PHYSICS, Physics, as_physics
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
 from ..motions.intensity import IntensityMeasure, intensity_measures, parse_im
+from .backends import Compute
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
 from .statistics import (
     _FIT_BLOCK_ELEMENTS,
@@ -58,9 +59,7 @@ from .statistics import (
 )
 
 if TYPE_CHECKING:
-    from ..core.progress import Reporter
     from ..dynamics.body import Block
-    from .backends import Backend
 
 #: Methods of :func:`fragility_analysis`.
 METHODS = ("ida", "msa", "cloud")
@@ -188,6 +187,15 @@ def read_stripes(
     return out
 
 
+#: The keyword options of :func:`fragility_analysis` and their defaults.
+_ANALYSIS_OPTIONS: dict[str, Any] = {
+    "confidence": 0.95,
+    "n_boot": N_BOOT,
+    "seed": 0,
+    "im_values": None,
+}
+
+
 def fragility_analysis(
     blocks: Block | Sequence[Block],
     ensemble: Ensemble,
@@ -197,18 +205,9 @@ def fragility_analysis(
     levels: ArrayLike | None = None,
     stripes: pd.DataFrame | str | os.PathLike[str] | None = None,
     physics: Physics | None = None,
-    e: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    overturn_angle: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    g: float = FROM_PHYSICS,
-    backend: Backend | None = None,
-    out: str | os.PathLike[str] | None = None,
-    progress: Reporter | bool | None = None,
-    confidence: float = 0.95,
-    chunk_size: int | None = None,
-    n_boot: int = N_BOOT,
-    seed: int = 0,
-    im_values: ArrayLike | None = None,
+    compute: Compute | None = None,
     limit_states: str | Sequence[str | LimitState] | None = None,
+    **options: Any,
 ) -> xr.Dataset:
     """Fragility curves of bodies against an intensity measure, from IDA, MSA or cloud analysis:
     of overturning, or of each of several limit states on the response.
@@ -230,22 +229,32 @@ def fragility_analysis(
         IDA: IM levels [the IM's unit], > 0.
     stripes : DataFrame, str or Path, optional
         MSA: (level, motion, scale) rows (:func:`read_stripes`).
-    physics, e, overturn_angle, g, backend, out, progress, chunk_size :
+    physics, compute :
         As for :func:`rocking.overturning_probability`.
+    limit_states : str or sequence of str or LimitState, optional
+        Limit states on the response (below).
+    **options
+        Keyword arguments ``confidence``, ``n_boot``, ``seed`` and ``im_values`` (below); and
+        ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
+        release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.  Any other
+        keyword is an InputError.
     confidence : float
+        Keyword (in ``options``; default 0.95).
         Level of the Wilson intervals and of the bootstrap intervals, in (0, 1) [-].
     n_boot : int
-        Bootstrap resamples of the motions for the intervals of median and β (≥ 0; 0: the
-        point fit only, intervals NaN).
+        Keyword (in ``options``; default :data:`rocking.defaults.N_BOOT`): bootstrap resamples
+        of the motions for the intervals of median and β (≥ 0; 0: the point fit only,
+        intervals NaN).
     seed : int
-        Seed of the bootstrap (the simulations draw nothing at random).
+        Keyword (in ``options``; default 0): seed of the bootstrap (the simulations draw
+        nothing at random).
     im_values : array_like, optional
-        IDA and cloud: the IM of each motion as given [the IM's unit], instead of the IM
-        computed from the motions themselves. For floor motions, give the IM of the ground
-        motions they respond to: a linear building's floor motion scales with its ground
-        motion, so the curves are then against the ground's IM (what a site hazard curve
-        gives).
-    limit_states : str or sequence of str or LimitState, optional
+        Keyword (in ``options``).  IDA and cloud: the IM of each motion as given [the IM's
+        unit], instead of the IM computed from the motions themselves. For floor motions,
+        give the IM of the ground motions they respond to: a linear building's floor motion
+        scales with its ground motion, so the curves are then against the ground's IM (what
+        a site hazard curve gives).
+    limit_states
         Limit states on the response (:class:`~rocking.LimitState`, or their text form, e.g.
         ``"uplift, theta/alpha>=0.5, overturn"``), each with its probabilities and fit from the
         same simulations, along a last dimension ``limit_state`` (coordinates ``quantity``,
@@ -284,35 +293,35 @@ def fragility_analysis(
     method = str(method).strip().lower()
     if method not in METHODS:
         raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    confidence, n_boot, seed, im_values = (
+        options.pop(name, default) for name, default in _ANALYSIS_OPTIONS.items()
+    )
     confidence = in_range("confidence", confidence, 0.0, 1.0, lo_open=True, hi_open=True)
     if not (isinstance(n_boot, int) and n_boot >= 0):
         raise InputError(f"n_boot must be an integer >= 0, got {n_boot!r}")
-    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g)
+    compute = record(Compute, compute, options, "compute")
+    physics = as_physics(physics, **options)
     states = None if limit_states is None else parse_limit_states(limit_states)
-    options: dict[str, Any] = dict(
-        physics=physics,
-        backend=backend,
-        out=out,
-        progress=progress,
-        chunk_size=chunk_size,
-    )
+    settings: dict[str, Any] = dict(physics=physics, compute=compute)
     if method == "ida":
         if levels is None:
             raise InputError("method 'ida' needs levels (the IM values to scale the motions to)")
         if stripes is not None:
             raise InputError("stripes belong to method 'msa', not 'ida'")
         own = _im_values(ensemble, measure, im_values)
-        build = _ida(blocks, ensemble, measure, _checked_levels(levels, measure.unit), own, options)
+        levels = _checked_levels(levels, measure.unit)
+        build = _ida(blocks, ensemble, measure, levels, own, settings)
     elif method == "msa":
         if stripes is None:
             raise InputError("method 'msa' needs stripes (level, motion, scale rows)")
         if levels is not None:
             raise InputError("method 'msa' takes its levels from the stripes, not from levels")
-        build = _msa(blocks, ensemble, measure, read_stripes(stripes, ensemble), options)
+        build = _msa(blocks, ensemble, measure, read_stripes(stripes, ensemble), settings)
     else:
         if levels is not None or stripes is not None:
             raise InputError("method 'cloud' uses the motions as they are: no levels or stripes")
-        build = _cloud(blocks, ensemble, measure, _im_values(ensemble, measure, im_values), options)
+        own = _im_values(ensemble, measure, im_values)
+        build = _cloud(blocks, ensemble, measure, own, settings)
 
     def counted(state: LimitState) -> xr.Dataset:
         ds = build(state)

@@ -10,7 +10,6 @@ and :func:`agx_50` searches the A_gx of 50 % probability adaptively (paper Secti
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -18,21 +17,20 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..core.checks import finite_array, in_range, positive
+from ..core.checks import finite_array, in_range, positive, record
 from ..core.reuse import key_of, recall, remember
 from ..dynamics.batch import BlockTable, block_list
 from ..dynamics.limits import OVERTURN, LimitState, limit_state_coords, parse_limit_states
-from ..dynamics.physics import FROM_PHYSICS, Physics
+from ..dynamics.physics import Physics
 from ..errors import InputError
 from ..motions.ensemble import Ensemble
+from .backends import Compute
 from .engine import LEVEL_UNIT, Engine, level_agx, level_key
-from .search import CrossingSearch
+from .search import Agx50Search, CrossingSearch
 from .statistics import wilson_interval
 
 if TYPE_CHECKING:
-    from ..core.progress import Reporter
     from ..dynamics.body import Block
-    from .backends import Backend
 
 
 def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
@@ -85,17 +83,11 @@ def overturning_probability(
     agx: ArrayLike,
     *,
     physics: Physics | None = None,
-    e: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    overturn_angle: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    g: float = FROM_PHYSICS,
-    backend: Backend | None = None,
-    out: str | os.PathLike[str] | None = None,
-    progress: Reporter | bool | None = None,
+    compute: Compute | None = None,
     confidence: float = 0.95,
-    chunk_size: int | None = None,
     members: bool = False,
-    impacts: str = FROM_PHYSICS,
     limit_states: str | Sequence[str | LimitState] | None = None,
+    **shorthands: Any,
 ) -> xr.Dataset:
     """Probability that each body overturns (or exceeds each of ``limit_states``), as a
     function of the ensemble intensity A_gx.
@@ -113,32 +105,16 @@ def overturning_probability(
     agx : array_like
         Intensities A_gx [g], > 0.
     physics : Physics, optional
-        The physics (:class:`~rocking.Physics`; default ``Physics()``): ``e``,
-        ``overturn_angle``, ``g`` and ``impacts`` are shorthands for its fields.
-    e : float, "housner" or sequence
-        Coefficient of restitution [-], one for all bodies or one per body.
-    overturn_angle : float, "alpha" or sequence
-        |θ| [rad] that counts as overturning (π/2 in the paper).
-    g : float
-        Gravity [m/s²].
-    backend : LocalBackend or DaskBackend, optional
-        Where to compute (default: this process, all cores).
-    out : str or Path, optional
-        Folder for finished chunks (:class:`rocking.montecarlo.store.ChunkStore`).  A later call
-        with the
-        same bodies, motions, e, overturning angle and g computes only what the folder lacks
-        (after a kill, or for new A_gx levels); a folder of another run is refused.
-    progress : bool, optional
-        Show a progress bar (default: only if stderr is a terminal).
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): restitution e [-] and
+        overturning angle [rad] (one for all bodies or one per body), g [m/s²], impact scheme.
+    compute : Compute, optional
+        How to compute (:class:`~rocking.montecarlo.backends.Compute`; none of it changes the
+        results): the backend (default: this process, all cores), ``out``, a folder for
+        finished chunks (a later call with the same bodies, motions and physics computes only
+        what the folder lacks, after a kill or for new A_gx levels; a folder of another run is
+        refused), the progress bar and the chunk size (chunks hold whole (body, A_gx) pairs).
     confidence : float
         Level of the Wilson interval, in (0, 1) [-].
-    chunk_size : int, optional
-        Largest number of simulations per chunk (default :data:`CHUNK_SIMULATIONS`; chunks are
-        smaller when needed to give each worker of the backend about four); chunks hold whole
-        (body, A_gx) pairs.  Does not change the results.
-    impacts : {"located", "step-end"}
-        How impacts are handled (:func:`rocking.simulate`): located inside the step (default)
-        or, for studies of the paper's integrator only, at the end of the step.
     members : bool
         Also return ``overturned`` and ``peak`` of every motion (dimension ``member``; for a
         dict, all ensembles must have the same number of motions).
@@ -147,6 +123,10 @@ def overturning_probability(
         ``"uplift, theta/alpha>=0.5, overturn"``): the probability of each, from the same
         simulations, along a last dimension ``limit_state`` (coordinates ``quantity``,
         ``threshold``).  None (default): overturning, without that dimension.
+    **shorthands
+        ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
+        release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.  Any other
+        keyword is an InputError.
 
     Returns
     -------
@@ -172,17 +152,7 @@ def overturning_probability(
         [levels] * nb,
         "P(overturn)",
         nb * len(levels) * (2 if members else 1),
-        dict(
-            physics=physics,
-            e=e,
-            overturn_angle=overturn_angle,
-            g=g,
-            backend=backend,
-            out=out,
-            progress=progress,
-            chunk_size=chunk_size,
-            impacts=impacts,
-        ),
+        dict(physics=physics, compute=compute, **shorthands),
     )
     data_vars = _probability_vars(engine, keys, confidence, states)
     coords: dict[str, Any] = {
@@ -207,14 +177,8 @@ def member_outcomes(
     agx: ArrayLike,
     *,
     physics: Physics | None = None,
-    e: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    overturn_angle: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    g: float = FROM_PHYSICS,
-    backend: Backend | None = None,
-    out: str | os.PathLike[str] | None = None,
-    progress: Reporter | bool | None = None,
-    chunk_size: int | None = None,
-    impacts: str = FROM_PHYSICS,
+    compute: Compute | None = None,
+    **shorthands: Any,
 ) -> xr.Dataset:
     """Whether each motion overturns each body, every body at intensities of its own.
 
@@ -231,8 +195,10 @@ def member_outcomes(
         number of motions).
     agx : array_like, shape (n_bodies,) or (n_bodies, n_levels)
         Intensities A_gx [g], > 0, of each body: one per body, or a row per body.
-    physics, e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
-        As for :func:`overturning_probability`.
+    physics, compute, **shorthands :
+        As for :func:`overturning_probability` (``e``, ``overturn_angle``, ``g``, ``impacts``:
+        shorthands for physics's fields, one release; ``backend``, ``out``, ``progress``,
+        ``chunk_size``: for compute's).
 
     Returns
     -------
@@ -261,17 +227,7 @@ def member_outcomes(
         levels,
         "outcomes",
         values.size * 2,
-        dict(
-            physics=physics,
-            e=e,
-            overturn_angle=overturn_angle,
-            g=g,
-            backend=backend,
-            out=out,
-            progress=progress,
-            chunk_size=chunk_size,
-            impacts=impacts,
-        ),
+        dict(physics=physics, compute=compute, **shorthands),
     )
     coords: dict[str, Any] = {
         "agx": (
@@ -372,22 +328,12 @@ def agx_50(
     blocks: Block | Sequence[Block],
     ensemble: Ensemble | dict[str, Ensemble],
     *,
-    resolution: float = 0.01,
-    agx_max: float = 5.0,
+    search: Agx50Search | None = None,
     physics: Physics | None = None,
-    e: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    overturn_angle: float | str | Sequence[float | str] | np.ndarray = FROM_PHYSICS,
-    g: float = FROM_PHYSICS,
-    backend: Backend | None = None,
-    out: str | os.PathLike[str] | None = None,
-    progress: Reporter | bool | None = None,
-    coarse: int = 10,
-    chunk_size: int | None = None,
-    impacts: str = FROM_PHYSICS,
-    exhaustive: bool = False,
-    same_motions: bool = False,
+    compute: Compute | None = None,
     members: bool = False,
     limit_states: str | Sequence[str | LimitState] | None = None,
+    **shorthands: Any,
 ) -> xr.Dataset:
     """A_gx at which each body overturns (or exceeds each of ``limit_states``) with 50 %
     probability, by an adaptive grid search.
@@ -420,23 +366,14 @@ def agx_50(
         The bodies (one Block: a list of one).
     ensemble : Ensemble or dict of str -> Ensemble
         The motions [m/s²]; a dict gives a leading ``case`` dimension.
-    resolution : float
-        Grid step of A_gx [g] (the paper reads A_gx to 0.01 g).
-    agx_max : float
-        Largest A_gx searched [g], ≥ resolution.
-    physics, e, overturn_angle, g, backend, out, progress, chunk_size, impacts :
+    search : Agx50Search, optional
+        The search (:class:`~rocking.montecarlo.search.Agx50Search`): ``resolution``, the grid
+        step of A_gx [g] (default 0.01 g, as the paper reads it), ``agx_max``, the largest A_gx
+        searched [g] (default 5 g), ``coarse``, the levels of the bracketing round (default
+        10), ``exhaustive`` (every motion at every level visited) and ``same_motions`` (the
+        cases of a dict are the same motions in other forms).
+    physics, compute :
         As for :func:`overturning_probability`.
-    coarse : int
-        Levels of the bracketing round (≥ 1).
-    exhaustive : bool
-        Simulate every motion at every level the search visits (the same result, with more
-        simulations; the chunks in ``out`` then hold every count).
-    same_motions : bool
-        The ensembles of a dict are the same motions in other forms (e.g. sampled at other time
-        steps): the cases are searched one after the other, in the dict's order, and each
-        simulates first the motions whose outcome at a level another case already knows
-        decides the comparison with n/2 (the same result, with fewer simulations when the
-        outcomes mostly agree).  Needs ensembles of the same number of motions.
     members : bool
         Also return whether each motion overturns the body at agx50 (the simulations the
         search made there; those of :func:`member_outcomes` at agx50, bit for bit).  Needs
@@ -452,6 +389,10 @@ def agx_50(
         lower or equal agx50 (P of the less severe is at least P of the severer at every
         level, so its search brackets and bisects no later).  None (default): overturning,
         without that dimension.
+    **shorthands
+        ``resolution``, ``agx_max``, ``coarse``, ``exhaustive``, ``same_motions``: shorthands
+        for search's fields; ``e``, ``overturn_angle``, ``g``, ``impacts``: for physics's, one
+        release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.
 
     Returns
     -------
@@ -464,8 +405,9 @@ def agx_50(
         :func:`member_outcomes` gives them.
     """
     labels, cases = _cases(ensemble)
-    resolution = in_range("resolution", resolution, 1e-6, math.inf, unit="g")
-    agx_max = positive("agx_max", agx_max, "g")
+    search = record(Agx50Search, search, shorthands, "search")
+    resolution = in_range("resolution", search.resolution, 1e-6, math.inf, unit="g")
+    agx_max = positive("agx_max", search.agx_max, "g")
     K = math.floor(agx_max / resolution * (1.0 + 1e-12))
     if K < 1:
         raise InputError(f"agx_max ({agx_max:g} g) must be at least resolution ({resolution:g} g)")
@@ -481,15 +423,9 @@ def agx_50(
         cases,
         desc="A_gx(50%)",
         physics=physics,
-        e=e,
-        overturn_angle=overturn_angle,
-        g=g,
-        backend=backend,
-        out=out,
-        progress=progress,
-        chunk_size=chunk_size,
-        impacts=impacts,
-        same_motions=same_motions,
+        compute=compute,
+        same_motions=search.same_motions,
+        **shorthands,
     )
     # a case's results depend on its own motions and the settings only (the other cases change
     # at most which motions decide first): inside rocking.core.reuse.reusing (e.g. in
@@ -500,32 +436,34 @@ def agx_50(
     reuse = [
         None
         if members
-        else key_of("agx_50", (ens.sha256, *settings, coarse, engine.physics.fingerprint, graded))
+        else key_of(
+            "agx_50", (ens.sha256, *settings, search.coarse, engine.physics.fingerprint, graded)
+        )
         for ens in cases
     ]
     known = {c: found for c, rk in enumerate(reuse) if (found := recall(rk)) is not None}
     todo = [c for c in range(len(cases)) if c not in known]
     # one search per (case, body, limit state)
     items = [(c, b, s) for c in todo for b in range(nb) for s in range(ns)]
-    search = CrossingSearch(items, K, coarse)
+    crossing = CrossingSearch(items, K, search.coarse)
 
     def key(c, b, k):  # the level key of grid level k (A_gx = k·resolution)
         return (c, b, level_key(round(k * resolution, 12)))
 
-    engine.require_memory(nb * ns * search.max_levels, "resolution")
+    engine.require_memory(nb * ns * crossing.max_levels, "resolution")
     with engine:
-        engine.expect(search.typical_rounds * nb * sum(cases[c].n for c in todo))
-        while level := search.pending():  # one batch of simulations per round and state
+        engine.expect(crossing.typical_rounds * nb * sum(cases[c].n for c in todo))
+        while level := crossing.pending():  # one batch of simulations per round and state
             keys = {item: key(item[0], item[1], k) for item, k in level.items()}
-            if exhaustive:
+            if search.exhaustive:
                 engine.run(list(keys.values()))
             above: dict = {}
             for s, state in enumerate(searched):  # P(A_k) >= 0.5
                 mine = {item: k for item, k in keys.items() if item[2] == s}
                 decided = engine.at_least_half(list(mine.values()), state)
                 above.update({item: decided[k] for item, k in mine.items()})
-            search.update(above)
-        hi = search.crossings()
+            crossing.update(above)
+        hi = crossing.crossings()
         # the probabilities returned: every motion at the crossing and the level below it
         engine.run([key(c, b, k - j) for (c, b, _s), k in hi.items() for j in (0, 1) if k - j > 0])
     shape = (len(cases), nb, ns)

@@ -11,18 +11,20 @@ survives the stronger pulse.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from typing import Any
 
 import numba
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..core.checks import finite_array, positive
+from ..core.checks import finite_array, positive, record
 from ..defaults import PULSE_KAPPA_MAX, PULSE_N_SCAN
 from ..dynamics.batch import BlockTable, motion_peaks, motion_suffixes, run_cases
 from ..dynamics.body import Block
-from ..dynamics.physics import FROM_PHYSICS, Physics, as_physics
+from ..dynamics.physics import Physics, as_physics
 from ..dynamics.simulate import simulate
 from ..errors import InputError
 from ..motions.pulses import MP_GAMMA, MP_NU, parse_pulse, pulse
@@ -86,23 +88,50 @@ def _switches(table, unit, dt, amps, rtol, impacts) -> list[tuple[float, bool]]:
     return sorted((hi, at_hi) for _lo, hi, at_hi in done)
 
 
+@dataclasses.dataclass(frozen=True)
+class SpectrumScan:
+    """How :func:`overturning_spectrum` searches the amplitudes of each period.
+
+    Parameters
+    ----------
+    kappa_max : float
+        Upper limit of the search, κ = a_p/(g·tan α) [-], > 1: switches above it are not
+        looked for; a period whose block survives every amplitude up to it has NaN.
+    n_scan : int
+        Amplitudes of the scan (≥ 2).
+    rtol : float
+        Relative width [-] to which each switch is bisected, in (0, 0.1].
+    samples_per_period : int
+        Samples per pulse period, at least (the time step T_p/N [s]), even, ≥ 20.
+    tail : float, optional
+        Free rocking after the pulse [s].  Near a threshold the block may overturn long after
+        the pulse: it creeps towards the upright unstable equilibrium, and the closer the
+        amplitude to the threshold the longer it takes, about (c + ln(1/δ))/p for an amplitude
+        δ (relative) above it.  At the Zhang & Makris (2001) minimum (one-sine pulse,
+        Ω = 7.34, α = 0.25, e = 0.9), 1e-4 above the threshold, it overturns 17.5/p after
+        the pulse (c ≈ 8.3).  Default (12 + ln(1/``rtol``))/p (21.2/p at the default rtol),
+        so that the amplitudes of the last bracket still overturn within the tail; a shorter
+        tail raises the thresholds found.  ``overturning_time`` tells how late each switch
+        overturned.
+    """
+
+    kappa_max: float = PULSE_KAPPA_MAX
+    n_scan: int = PULSE_N_SCAN
+    rtol: float = RTOL
+    samples_per_period: int = SAMPLES_PER_PERIOD
+    tail: float | None = None
+
+
 def overturning_spectrum(
     block: Block,
     shape: str,
     periods: ArrayLike,
     *,
     physics: Physics | None = None,
-    e: float | str = FROM_PHYSICS,
-    kappa_max: float = PULSE_KAPPA_MAX,
-    n_scan: int = PULSE_N_SCAN,
-    rtol: float = RTOL,
-    samples_per_period: int = SAMPLES_PER_PERIOD,
-    tail: float | None = None,
-    overturn_angle: float | str = FROM_PHYSICS,
-    g: float = FROM_PHYSICS,
-    impacts: str = FROM_PHYSICS,
+    scan: SpectrumScan | None = None,
     gamma: float | None = None,
     nu: float | None = None,
+    **shorthands: Any,
 ) -> xr.Dataset:
     """Smallest pulse amplitude that overturns ``block``, and every switch of the outcome above
     it, for pulses of each period.
@@ -135,37 +164,17 @@ def overturning_spectrum(
     periods : array_like of float
         Pulse periods T_p [s], > 0 (for ``rectangular``, the duration t_d).
     physics : Physics, optional
-        The physics (:class:`~rocking.Physics`; default ``Physics()``): ``e``,
-        ``overturn_angle``, ``g`` and ``impacts`` are shorthands for its fields.
-    e : float or "housner"
-        Coefficient of restitution θ'⁺/θ'⁻ [-], as in :func:`rocking.simulate`.
-    kappa_max : float
-        Upper limit of the search, κ = a_p/(g·tan α) [-], > 1: switches above it are not
-        looked for; a period whose block survives every amplitude up to it has NaN.
-    n_scan : int
-        Amplitudes of the scan (≥ 2).
-    rtol : float
-        Relative width [-] to which each switch is bisected, in (0, 0.1].
-    samples_per_period : int
-        Samples per pulse period, at least (the time step T_p/N [s]), even, ≥ 20.
-    tail : float, optional
-        Free rocking after the pulse [s].  Near a threshold the block may overturn long after
-        the pulse: it creeps towards the upright unstable equilibrium, and the closer the
-        amplitude to the threshold the longer it takes, about (c + ln(1/δ))/p for an amplitude
-        δ (relative) above it.  At the Zhang & Makris (2001) minimum (one-sine pulse,
-        Ω = 7.34, α = 0.25, e = 0.9), 1e-4 above the threshold, it overturns 17.5/p after
-        the pulse (c ≈ 8.3).  Default (12 + ln(1/``rtol``))/p (21.2/p at the default rtol),
-        so that the amplitudes of the last bracket still overturn within the tail; a shorter
-        tail raises the thresholds found.  ``overturning_time`` tells how late each switch
-        overturned.
-    overturn_angle : float or "alpha"
-        abs(θ) [rad] that counts as overturning (π/2 by default), as in :func:`rocking.simulate`.
-    g : float
-        Gravity [m/s²].
-    impacts : {"located", "step-end"}
-        Impact handling, as in :func:`rocking.simulate`.
+        The physics (:class:`~rocking.Physics`; default ``Physics()``), as in
+        :func:`rocking.simulate`.
+    scan : SpectrumScan, optional
+        The search (:class:`SpectrumScan`: ``kappa_max``, ``n_scan``, ``rtol``,
+        ``samples_per_period``, ``tail``; defaults of the paper's figures).
     gamma, nu : float, optional
         Parameters γ [-] and ν [rad] of the ``mavroeidis-papageorgiou`` pulse.
+    **shorthands
+        ``kappa_max``, ``n_scan``, ``rtol``, ``samples_per_period``, ``tail``: shorthands for
+        scan's fields; ``e``, ``overturn_angle``, ``g``, ``impacts``: for physics's, one
+        release.  Any other keyword is an InputError.
 
     Returns
     -------
@@ -196,6 +205,8 @@ def overturning_spectrum(
     """
     if not isinstance(block, Block):
         raise InputError(f"block must be a rocking.Block, got {type(block).__name__}")
+    scan = record(SpectrumScan, scan, shorthands, "scan")
+    kappa_max, n_scan, rtol, samples_per_period, tail = dataclasses.astuple(scan)
     name, params = parse_pulse(shape)
     if name != "mavroeidis-papageorgiou" and (gamma is not None or nu is not None):
         raise InputError(
@@ -219,7 +230,7 @@ def overturning_spectrum(
     rtol = positive("rtol", rtol, "-")
     if rtol > 0.1:
         raise InputError(f"rtol must be in (0, 0.1], got {rtol:g}")
-    physics = as_physics(physics, e=e, overturn_angle=overturn_angle, g=g, impacts=impacts)
+    physics = as_physics(physics, **shorthands)
     g = physics.g
     p = block.p_at(g)
     tail = (TAIL_BASE + math.log(1.0 / rtol)) / p if tail is None else float(tail)

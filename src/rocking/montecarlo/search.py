@@ -17,6 +17,7 @@ The result ``hi`` is an upward crossing of 50 % on the grid: P(hi) ≥ 0.5 and P
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Hashable, Iterable, Mapping
 from typing import Generic, TypeVar
@@ -24,6 +25,37 @@ from typing import Generic, TypeVar
 from ..errors import InputError
 
 Item = TypeVar("Item", bound=Hashable)
+
+
+@dataclasses.dataclass(frozen=True)
+class Agx50Search:
+    """The settings of the search for the A_gx of 50 % overturning probability
+    (:func:`rocking.agx_50`, :func:`rocking.screen`).
+
+    Parameters
+    ----------
+    resolution : float
+        Grid step of A_gx [g] (the paper reads A_gx to 0.01 g).
+    agx_max : float
+        Largest A_gx searched [g], ≥ resolution; A_gx50 is NaN above it.
+    coarse : int
+        Levels of the bracketing round (≥ 1).
+    exhaustive : bool
+        Simulate every motion at every level the search visits (the same result, with more
+        simulations; a chunk folder then holds every count).
+    same_motions : bool
+        The ensembles of a dict are the same motions in other forms (e.g. sampled at other time
+        steps): the cases are searched one after the other, in the dict's order, and each
+        simulates first the motions whose outcome at a level another case already knows
+        decides the comparison with n/2 (the same result, with fewer simulations when the
+        outcomes mostly agree).  Needs ensembles of the same number of motions.
+    """
+
+    resolution: float = 0.01
+    agx_max: float = 5.0
+    coarse: int = 10
+    exhaustive: bool = False
+    same_motions: bool = False
 
 
 def motions_to_decide(n: int, overturned: int, safe: int) -> int:

@@ -17,6 +17,7 @@ RG 1.60 at 1 g the ensemble-mean PSA approximates the 1-g spectrum (how closely:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -442,6 +443,42 @@ def spectral_fit(
     return SpectralFit(freqs, psa, psa_target, h)
 
 
+@dataclass(frozen=True)
+class Synthesis:
+    """The settings of the method of :func:`generate` (its defaults: the paper's method).
+
+    Parameters
+    ----------
+    damping : float, optional
+        Damping ratio of the target [-] (default: the target's own, else 0.05).
+    n_freq, fmin, fmax : int, float, float
+        Number of log-spaced frequencies and their range [Hz] (paper: 100, 0.15, 50).
+    iterations : int
+        Number of PSD iterations of the correction (0: the paper's method alone, no peak
+        limiting either).
+    pilot : int
+        Members in the pilot ensemble of the iterations.
+    peak_limit : bool
+        With ``iterations`` > 0, limit each motion's peak to the target's ZPA by re-phasing
+        (:func:`limit_peaks`); False gives the PSD iteration alone.
+    peak_constant : float
+        Constant of the peak factor in Eq. (6) [-] (:func:`rocking.motions.psd.peak_factor`).
+    convention : str
+        ``"one-sided"`` (default): A_j = sqrt(2·p_j), or ``"as-printed"``: A_j = sqrt(4·p_j)
+        (see :func:`rocking.motions.psd.power_spectrum`).
+    """
+
+    damping: float | None = None
+    n_freq: int = 100
+    fmin: float = 0.15
+    fmax: float = 50.0
+    iterations: int = 0
+    pilot: int = 200
+    peak_limit: bool = True
+    peak_constant: float = DEFAULT_PEAK_CONSTANT
+    convention: str = "one-sided"
+
+
 #: Parameters of :func:`generate` stored in the metadata (besides the target and members).
 _GENERATION_KEYS = (
     "duration",
@@ -472,15 +509,8 @@ def generate(
     target: SupportsPsa | Callable[..., ArrayLike] = rg160,
     seed: int = 0,
     baseline: bool = True,
-    damping: float | None = None,
-    n_freq: int = 100,
-    fmin: float = 0.15,
-    fmax: float = 50.0,
-    iterations: int = 0,
-    pilot: int = 200,
-    peak_limit: bool = True,
-    peak_constant: float = DEFAULT_PEAK_CONSTANT,
-    convention: str = "one-sided",
+    synthesis: Synthesis | None = None,
+    **options: Any,
 ) -> Ensemble:
     """Simulate ``n`` ground motions compatible with a target response spectrum.
 
@@ -534,23 +564,14 @@ def generate(
         Root seed, ≥ 0.
     baseline : bool
         Apply the quadratic baseline correction.
-    damping : float, optional
-        Damping ratio of the target [-] (default: the target's own, else 0.05).
-    n_freq, fmin, fmax : int, float, float
-        Number of log-spaced frequencies and their range [Hz] (paper: 100, 0.15, 50).
-    iterations : int
-        Number of PSD iterations of the correction (0: the paper's method alone, no peak
-        limiting either).
-    pilot : int
-        Members in the pilot ensemble of the iterations.
-    peak_limit : bool
-        With ``iterations`` > 0, limit each motion's peak to the target's ZPA by re-phasing
-        (:func:`limit_peaks`); False gives the PSD iteration alone.
-    peak_constant : float
-        Constant of the peak factor in Eq. (6) [-] (:func:`rocking.motions.psd.peak_factor`).
-    convention : str
-        ``"one-sided"`` (default): A_j = sqrt(2·p_j), or ``"as-printed"``: A_j = sqrt(4·p_j)
-        (see :func:`rocking.motions.psd.power_spectrum`).
+    synthesis : Synthesis, optional
+        The settings of the method (:class:`Synthesis`: the target's damping, the frequencies,
+        the iterative correction, the peak factor and the amplitude convention); default the
+        paper's method.
+    **options
+        ``damping``, ``n_freq``, ``fmin``, ``fmax``, ``iterations``, ``pilot``,
+        ``peak_limit``, ``peak_constant``, ``convention``: shorthands for synthesis's fields.
+        Any other keyword is an InputError.
 
     Returns
     -------
@@ -559,6 +580,8 @@ def generate(
         (``envelope_shape``), T_e [s], the frequencies [Hz], the target PSA [g] there, the
         final amplitudes [m/s²] and the member indices.
     """
+    synthesis = checks.record(Synthesis, synthesis, options, "synthesis")
+    checks.unexpected(options)
     return _generate(
         range(checks.count("n", n, "motions")),
         duration=duration,
@@ -568,15 +591,7 @@ def generate(
         target=target,
         seed=seed,
         baseline=baseline,
-        damping=damping,
-        n_freq=n_freq,
-        fmin=fmin,
-        fmax=fmax,
-        iterations=iterations,
-        pilot=pilot,
-        peak_limit=peak_limit,
-        peak_constant=peak_constant,
-        convention=convention,
+        **dataclasses.asdict(synthesis),
     )
 
 
