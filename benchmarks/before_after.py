@@ -16,7 +16,8 @@ the kernel's time to the plain loop's in the same process cancels most of the lo
 host; that ratio's medians are compared (after / before: 1 is unchanged).  Each process also
 gives the SHA-256 of the kernel's flags and peaks (``results_sha256``, as in ``run.py``): equal
 digests, bit-identical results.  The entry goes to ``--out`` (default ``benchmarks/results.json``)
-under ``--key``, beside the entries of ``run.py``.
+under ``--key``, beside the entries of ``run.py``; ``--add`` adds another round's processes to
+those of the entry (same commits and settings) and gives the medians over all.
 """
 
 from __future__ import annotations
@@ -77,8 +78,9 @@ def commit(tree: Path) -> str:
     ).stdout.strip()
 
 
-def measure(a, isa: str, machine: dict, cache_root: Path) -> dict:
-    """Alternated processes of the two checkouts on ``isa``; per process and their medians."""
+def measure(a, isa: str, machine: dict, cache_root: Path) -> tuple[dict | str, dict]:
+    """Alternated processes of the two checkouts on ``isa``: what Numba compiled for and, per
+    checkout, the processes' results."""
     sys.path.insert(0, str(HERE))
     import run
 
@@ -107,20 +109,32 @@ def measure(a, isa: str, machine: dict, cache_root: Path) -> dict:
                 f"{res['median_kernel_vs_plain_loop']:.4f}, load {load_before}",
                 flush=True,
             )
+    return settings or "host", per
+
+
+def summary(numba_cpu: dict | str, per: dict) -> dict:
+    """The processes ``per`` checkout and their medians: of each process's median kernel /
+    plain loop ratio, and of all its pairs (pooled)."""
     medians = {
         label: statistics.median(r["median_kernel_vs_plain_loop"] for r in runs)
         for label, runs in per.items()
     }
+    pooled = {
+        label: statistics.median(x for r in runs for x in r["kernel_vs_plain_loop"])
+        for label, runs in per.items()
+    }
     digests = {r["results_sha256"] for runs in per.values() for r in runs}
     return {
-        "numba_cpu": settings or "host",
+        "numba_cpu": numba_cpu,
         "processes": per,
         "median_kernel_vs_plain_loop": medians,
+        "pooled_median_kernel_vs_plain_loop": pooled,
         "median_kernel_s": {
             label: statistics.median(t for r in runs for t in r["kernel_s"])
             for label, runs in per.items()
         },
         "after_vs_before": medians["after"] / medians["before"],
+        "pooled_after_vs_before": pooled["after"] / pooled["before"],
         "bit_identical": len(digests) == 1,
     }
 
@@ -135,6 +149,11 @@ def main(argv=None) -> int:
     ap.add_argument("--pairs", type=int, default=5, help="kernel / plain loop pairs per process")
     ap.add_argument("--motions", type=int, default=100, help="motions of the workload (run.py's)")
     ap.add_argument("--out", default=str(HERE / "results.json"))
+    ap.add_argument(
+        "--add",
+        action="store_true",
+        help="add the processes to those of --key (same commits and settings): another round",
+    )
     ap.add_argument("--child", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.child:
@@ -146,20 +165,27 @@ def main(argv=None) -> int:
     import run
 
     machine = run.machine_info()
+    # the checkout this script runs from; the commits measured are those of --before and --after
+    machine["driver_commit"] = machine.pop("rocking_commit")
     isas = [x.strip() for x in a.isa.split(",") if x.strip()]
     if "avx512f" not in machine["simd"] and "native" in isas and "avx2" in isas:
         isas.remove("avx2")  # the native run is the AVX2 run on this machine
-    entry = {
-        "commits": {"before": commit(Path(a.before)), "after": commit(Path(a.after))},
-        "machine": machine,
-        "settings": {"motions": a.motions, "processes": a.processes, "pairs": a.pairs},
-        "load_at_start": run.load(),
-    }
-    with tempfile.TemporaryDirectory(prefix="rocking-before-after-") as tmp:
-        entry["isas"] = {isa: measure(a, isa, machine, Path(tmp)) for isa in isas}
-    entry["load_at_end"] = run.load()
+    commits = {"before": commit(Path(a.before)), "after": commit(Path(a.after))}
+    settings = {"motions": a.motions, "pairs": a.pairs}
     out = Path(a.out)
     old = run.read_previous(out)
+    entry = old.get(a.key, {}) if a.add else {}
+    if entry and (entry["commits"] != commits or entry["settings"] != settings):
+        raise SystemExit(f"--add: {a.key} in {out} holds other commits or settings")
+    entry = entry or {"commits": commits, "settings": settings, "rounds": [], "isas": {}}
+    this = {"machine": machine, "processes": a.processes, "load_at_start": run.load()}
+    with tempfile.TemporaryDirectory(prefix="rocking-before-after-") as tmp:
+        measured = {isa: measure(a, isa, machine, Path(tmp)) for isa in isas}
+    this["load_at_end"] = run.load()
+    entry["rounds"].append(this)
+    for isa, (numba_cpu, per) in measured.items():
+        kept = entry["isas"].get(isa, {}).get("processes", {label: [] for label in per})
+        entry["isas"][isa] = summary(numba_cpu, {k: kept[k] + v for k, v in per.items()})
     old[a.key] = entry
     out.write_text(json.dumps(old, indent=2, default=float) + "\n")
     for isa, r in entry["isas"].items():
