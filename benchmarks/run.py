@@ -941,17 +941,29 @@ def run_key(run: dict, machine: dict) -> str:
     return "avx2-on-avx512" if "avx512f" in machine["simd"] else "avx2"
 
 
-def previous_runs(path: Path) -> dict:
-    """The runs already in ``path`` by instruction set, each with its machine (the format of
-    this script, or the older one with a single ``machine`` and runs under ``isas``)."""
+def read_previous(path: Path) -> dict:
+    """The JSON already in ``path`` ({} if there is none)."""
     try:
-        old = json.loads(path.read_text())
+        return json.loads(path.read_text())
     except (OSError, ValueError):
         return {}
+
+
+def previous_runs(old: dict) -> dict:
+    """The runs already in ``old`` (:func:`read_previous`) by instruction set, each with its
+    machine (the format of this script, or the older one with a single ``machine`` and runs
+    under ``isas``)."""
     if "runs" in old:
         return old["runs"]
+    if "machine" not in old:
+        return {}
     m = old["machine"]
     return {run_key(r, m): {"machine": m, **r} for r in old.get("isas", {}).values()}
+
+
+#: Top-level keys this script writes; the file's other entries (the before/after pairs of
+#: ``before_after.py``) are kept as they are.
+OWN_KEYS = ("targets", "runs", "bit_identical", "machine", "isas")
 
 
 def comparable_digests(runs: dict) -> dict:
@@ -1009,7 +1021,8 @@ def main(argv=None) -> int:
         for f in ("--quick", "--with-paper", "--no-end-to-end", "--no-steps")
         if getattr(a, f[2:].replace("-", "_"))
     ]
-    runs = previous_runs(out)
+    old = read_previous(out)
+    runs = previous_runs(old)
     with tempfile.TemporaryDirectory(prefix="rocking-bench-isa-") as tmp:
         for isa in isas:
             env = child_env(isa, machine)
@@ -1022,6 +1035,7 @@ def main(argv=None) -> int:
             runs[run_key(run, machine)] = {"machine": machine, "requested_isa": isa, **run}
             print_rows(summary_rows(run))
     res = {"targets": TARGETS, "runs": runs, "bit_identical": comparable_digests(runs)}
+    res.update({k: v for k, v in old.items() if k not in OWN_KEYS})
     print(f"\nbit-identical across the runs kept in {out.name}: {res['bit_identical']}")
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(res, indent=2, default=float) + "\n")

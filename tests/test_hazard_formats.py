@@ -113,6 +113,26 @@ def test_formats_are_told_apart_by_content(tmp_path):
     assert HazardCurve.from_csv(plain).origin == ""
 
 
+def test_a_hazard_file_is_read_once(tmp_path, monkeypatch):
+    # the format is told from the same text that is parsed: one read per file (before, the
+    # sniff and the parse read it twice, and a file rewritten in between could be taken for one
+    # format and parsed as another)
+    plain = tmp_path / "plain.csv"
+    plain.write_text("pga [g],annual_rate\n0.1,0.01\n0.2,0.002\n")
+    reads = []
+    read_bytes = Path.read_bytes
+
+    def counted(self):
+        reads.append(self.name)
+        return read_bytes(self)
+
+    monkeypatch.setattr(Path, "read_bytes", counted)
+    for path, options in ((OQ, {"site": 0}), (USGS, {"im": "pga"}), (plain, {})):
+        reads.clear()
+        HazardCurve.from_csv(path, **options)
+        assert reads == [path.name]
+
+
 def _fragility_folder(folder: Path, im: str, median: float, beta: float) -> Path:
     """A completed fragility run's record and fits, as rocking risk reads them."""
     folder.mkdir()

@@ -129,6 +129,10 @@ def test_refusals_name_the_parameter():
         ({"kappa_max": 1.0}, "kappa_max"),
         ({"samples_per_period": 201}, "samples_per_period"),
         ({"n_scan": 1}, "n_scan"),
+        ({"n_scan": 2.5}, "n_scan must be an integer"),
+        # the sizes' limits (rocking.core.checks.LIMITS), before any work
+        ({"n_scan": 10**6}, "n_scan 1,000,000 is above the limit of 10,000 levels"),
+        ({"samples_per_period": 10**6}, "samples_per_period 1,000,000 is above the limit"),
         ({"rtol": 0.5}, "rtol"),
         ({"nu": 0.3}, "gamma and nu"),
     ]:

@@ -72,17 +72,22 @@ class EngineCurve:
     origin: str
 
 
-def detect_format(path: str | os.PathLike[str]) -> str:
+def detect_format(path: str | os.PathLike[str], text: str | None = None) -> str:
     """``"usgs"`` (a JSON file: ``.json`` or starting with ``{``), ``"openquake"`` (a first
     line starting with ``#`` that holds ``investigation_time``) or ``"csv"`` (the two-column
-    hazard CSV of :class:`rocking.HazardCurve`)."""
-    head = read_text(path, "hazard file")[:4096]
+    hazard CSV of :class:`rocking.HazardCurve`). ``text``: the file's text, when already read."""
+    head = _text(path, text)[:4096]
     if Path(path).suffix.lower() == ".json" or head.lstrip().startswith("{"):
         return "usgs"
     first = head.lstrip().split("\n", 1)[0]
     if first.startswith("#") and "investigation_time" in first:
         return "openquake"
     return "csv"
+
+
+def _text(path: str | os.PathLike[str], text: str | None) -> str:
+    """``text``, or the hazard file's text read now when it is None."""
+    return read_text(path, "hazard file") if text is None else text
 
 
 def poe_to_rate(poe: np.ndarray, years: float) -> np.ndarray:
@@ -108,7 +113,9 @@ def engine_im(imt: str, where: str) -> tuple[IntensityMeasure, str, float]:
     )
 
 
-def read_openquake(path: str | os.PathLike[str], site: int | None = None) -> EngineCurve:
+def read_openquake(
+    path: str | os.PathLike[str], site: int | None = None, text: str | None = None
+) -> EngineCurve:
     """Read one site's curve of an OpenQuake-engine hazard-curve CSV (module notes).
 
     Parameters
@@ -117,8 +124,10 @@ def read_openquake(path: str | os.PathLike[str], site: int | None = None) -> Eng
     site : int, optional
         The site: its row among the data rows, 0 for the first (the engine's site order);
         may be left out when the file has one site.
+    text : str, optional
+        The file's text, when already read (not read again).
     """
-    lines = read_text(path, "hazard file").splitlines()
+    lines = _text(path, text).splitlines()
     comment = lines[0] if lines else ""
     found = {}
     for key, pattern in (("investigation_time", _OQ_TIME), ("imt", _OQ_IMT)):
@@ -190,7 +199,9 @@ def read_openquake(path: str | os.PathLike[str], site: int | None = None) -> Eng
     )
 
 
-def read_usgs(path: str | os.PathLike[str], im: str | None = None) -> EngineCurve:
+def read_usgs(
+    path: str | os.PathLike[str], im: str | None = None, text: str | None = None
+) -> EngineCurve:
     """Read the total hazard curve of a USGS NSHM hazard web service JSON file (module notes).
 
     Parameters
@@ -199,9 +210,11 @@ def read_usgs(path: str | os.PathLike[str], im: str | None = None) -> EngineCurv
     im : str, optional
         The IM to take (e.g. ``"pga"``, ``"sa(1.0)"``) when the file holds curves of several
         IMTs; may be left out when it holds one.
+    text : str, optional
+        The file's text, when already read (not read again).
     """
     try:
-        doc = json.loads(read_text(path, "hazard file"))
+        doc = json.loads(_text(path, text))
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}: line {exc.lineno}: not valid JSON ({exc.msg})") from None
     responses = doc.get("response") if isinstance(doc, dict) else None

@@ -53,7 +53,7 @@ from numpy.typing import ArrayLike
 
 from ..core import portable
 from ..core.checks import finite_array
-from ..core.files import csv_rows
+from ..core.files import csv_rows, read_text
 from ..defaults import AGX
 from ..errors import InputError
 from ..motions.intensity import IntensityMeasure, parse_im
@@ -193,15 +193,16 @@ class HazardCurve:
         from . import hazard_formats
 
         path = hazard_path(path)
-        kind = hazard_formats.detect_format(path)
+        text = read_text(path, "hazard file")  # once: the format is told from it, then parsed
+        kind = hazard_formats.detect_format(path, text)
         if kind != "csv":
             read = (
-                hazard_formats.read_openquake(path, site)
+                hazard_formats.read_openquake(path, site, text)
                 if kind == "openquake"
-                else hazard_formats.read_usgs(path, im)
+                else hazard_formats.read_usgs(path, im, text)
             )
             return cls(read.im, read.values, read.rates, source=str(path), origin=read.origin)
-        lines = csv_rows(path, "hazard file")
+        lines = csv_rows(path, "hazard file", text)
         if not lines:
             raise InputError(
                 f"{path}: empty hazard file (need a header such as "

@@ -60,6 +60,11 @@ LIMITS: dict[str, tuple[int, str]] = {
         "Sec. 19.3), and each one refits every body",
     ),
     "sample motions": (100, "each one is drawn in the figure"),
+    "samples per period": (
+        10_000,
+        "20 samples per period resolve a pulse (the time step is also kept to p*dt <= 0.05), "
+        "and each sample is a step of every amplitude's simulation",
+    ),
 }
 #: Largest acceleration intensity (PGA, A_gx, PSA, a design spectrum's ZPA) accepted [g]: the
 #: largest peaks ever recorded are about 3-4 g, so a larger value is a mistake of units.

@@ -20,10 +20,12 @@ batched kernel relies on this).  Fused multiply–adds are written explicitly wi
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import os
 import warnings
+from collections.abc import Iterator
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -147,6 +149,21 @@ def parallel_kernel(*args: Any, **kw: Any) -> Any:
 
 
 prange = numba.prange
+
+
+@contextlib.contextmanager
+def numba_threads(n: int | None) -> Iterator[None]:
+    """Run the ``with`` block on at most ``n`` Numba threads (None: as configured), then give
+    back the count it had (results do not depend on it)."""
+    if n is None:
+        yield
+        return
+    before = numba.get_num_threads()
+    numba.set_num_threads(min(n, numba.config.NUMBA_NUM_THREADS))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
 
 
 def readonly(a: np.ndarray) -> np.ndarray:

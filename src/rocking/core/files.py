@@ -167,7 +167,9 @@ def read_text(path: str | os.PathLike[str], what: str) -> str:
         ) from None
 
 
-def csv_rows(path: str | os.PathLike[str], what: str) -> list[tuple[int, list[str]]]:
+def csv_rows(
+    path: str | os.PathLike[str], what: str, text: str | None = None
+) -> list[tuple[int, list[str]]]:
     """The rows of a CSV file as (line number, stripped cells), without blank rows and rows
     whose first cell starts with ``#``.
 
@@ -177,13 +179,16 @@ def csv_rows(path: str | os.PathLike[str], what: str) -> list[tuple[int, list[st
         The file (UTF-8, a byte-order mark allowed).
     what : str
         What the file is, for the error message (e.g. ``"bodies file"``).
+    text : str, optional
+        The file's text, when already read (:func:`read_text`; not read again).
 
     Raises
     ------
     InputError
         When the file cannot be read or is not text, naming it (:func:`read_text`).
     """
-    text = read_text(path, what)
+    if text is None:
+        text = read_text(path, what)
     reader = csv.reader(io.StringIO(text, newline=""))
     rows = [(n, [c.strip() for c in cells]) for n, cells in enumerate(reader, 1)]
     return [(n, cells) for n, cells in rows if any(cells) and not cells[0].startswith("#")]

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 
 import numba
 
+from ..core.compile import numba_threads
 from ..errors import BackendError, InputError
 
 if TYPE_CHECKING:
@@ -42,14 +43,8 @@ if TYPE_CHECKING:
 
 def _call(func, threads, handle, task):
     """``func(handle, task)`` with at most ``threads`` Numba threads (None: as configured)."""
-    if threads is None:
+    with numba_threads(threads):
         return func(handle, task)
-    before = numba.get_num_threads()
-    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    try:
-        return func(handle, task)
-    finally:
-        numba.set_num_threads(before)
 
 
 class Backend(ABC):

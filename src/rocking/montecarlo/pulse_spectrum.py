@@ -15,12 +15,12 @@ import dataclasses
 import math
 from typing import Any
 
-import numba
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ..core.checks import finite_array, positive, record
+from ..core.checks import count, finite_array, positive, record
+from ..core.compile import numba_threads
 from ..defaults import PULSE_KAPPA_MAX, PULSE_N_SCAN
 from ..dynamics.batch import BlockTable, motion_peaks, motion_suffixes, run_cases
 from ..dynamics.body import Block
@@ -220,8 +220,8 @@ def overturning_spectrum(
         raise InputError(
             f"kappa_max must be > 1 (kappa = 1 is the uplift threshold), got {kappa_max:g}"
         )
-    n_scan = _integer("n_scan", n_scan, 2)
-    samples_per_period = _integer("samples_per_period", samples_per_period, 20)
+    n_scan = count("n_scan", n_scan, "levels", 2)
+    samples_per_period = count("samples_per_period", samples_per_period, "samples per period", 20)
     if samples_per_period % 2:
         raise InputError(
             "samples_per_period must be even (the half-sine ends at T_p/2), got "
@@ -246,9 +246,7 @@ def overturning_spectrum(
     # one Numba thread: the kernel calls are small (a few hundred cases), and waking a second
     # thread for each costs more than it brings (100 periods on a loaded 2-core machine:
     # 0.23–0.30 s on one thread, 1.4–3.2 s on two); results do not depend on the threads
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
+    with numba_threads(1):
         for period in periods.tolist():
             n = max(samples_per_period, 2 * math.ceil(p * period / MAX_P_DT / 2))
             dt = period / n
@@ -263,8 +261,6 @@ def overturning_spectrum(
                     mode, t_ov = resp.n_impacts, resp.t_overturn
                 found.append((amp, over, mode, t_ov))
             per_period.append(found)
-    finally:
-        numba.set_num_threads(threads)
     if name == "mavroeidis-papageorgiou":
         name += f":gamma={gamma if gamma is not None else params.get('gamma', MP_GAMMA):g}"
         name += f",nu={nu if nu is not None else params.get('nu', MP_NU):g}"
@@ -285,12 +281,6 @@ def overturning_spectrum(
         "tail": tail,
     }
     return _dataset(periods, np.array(durations), np.array(steps), p, uplift, per_period, attrs)
-
-
-def _integer(name: str, value, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise InputError(f"{name} must be an integer >= {low}, got {value!r}")
-    return int(value)
 
 
 def _dataset(periods, durations, steps, p, uplift, per_period, attrs) -> xr.Dataset:
