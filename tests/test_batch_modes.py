@@ -138,3 +138,21 @@ def test_overturn_cases_take_mu(ensemble):
     for i in range(2):
         r = simulate(blocks[0], scale[i] * ensemble.acc[i], ensemble.dt, mu=0.25)
         assert ov[i] == r.overturned and pk[i] == r.max_abs_theta / blocks[0].alpha
+
+
+def test_per_block_friction_is_checked_block_by_block():
+    physics = Physics(mu=[0.3, None, 0.5], mu_k=[0.2, None, None])
+    assert physics.friction(0) == (0.3, 0.2) and physics.friction(1) == (None, None)
+    assert physics.friction(2) == (0.5, 0.5)
+    with pytest.raises(InputError, match=r"mu_k = 0.6 exceeds mu = 0.5 \(block 1\)"):
+        Physics(mu=[0.3, 0.5], mu_k=[0.2, 0.6])
+    with pytest.raises(InputError, match=r"mu_k needs mu \(block 1\)"):
+        Physics(mu=[0.3, None], mu_k=[0.2, 0.1])
+    with pytest.raises(InputError, match="mu_k has 1 values but mu has 2"):
+        Physics(mu=[0.3, 0.4], mu_k=[0.2])
+    with pytest.raises(InputError, match="mu has 3 values for 2 blocks"):
+        BlockTable.from_blocks([Block(1.0, 3.0), Block(1.0, 4.0)], physics=physics)
+    with pytest.raises(InputError, match="mu"):
+        Physics(mu=[0.3, -1.0])
+    # the fingerprint of the chunk store follows per-block friction
+    assert Physics(mu=[0.3, 0.4]).fingerprint != Physics(mu=[0.4, 0.3]).fingerprint

@@ -10,12 +10,14 @@ from click.testing import CliRunner
 
 from rocking.assessment.bodies import read_bodies_table, with_body_friction
 from rocking.cli import main
-from rocking.dynamics.body import Block
+from rocking.dynamics.body import Block, G
 from rocking.dynamics.limits import parse_limit_states
 from rocking.dynamics.physics import Physics
 from rocking.dynamics.simulate import simulate
+from rocking.errors import InputError
 from rocking.montecarlo.fragility import fragility_analysis
 from rocking.montecarlo.probability import agx_50, overturning_probability
+from rocking.motions.ensemble import Ensemble
 from rocking.motions.synthesis import generate
 
 # a slender block (tan α = 0.2 < μ: it rocks and slide-rocks) and a squat one (tan α = 0.5 > μ:
@@ -146,3 +148,38 @@ def test_simulate_command_reports_slip_lift_and_modes(tmp_path):
     assert "max |slip| =" in text and "modes:" in text
     plain = CliRunner().invoke(main, [str(a) for a in [*args, "--json"]]).output
     assert "max_abs_slip_m" not in json.loads(plain)["response"]  # without friction: as before
+
+
+# lift, slip and overturning are not nested states: their fits may cross, and are kept
+@pytest.mark.filterwarnings("ignore::rocking.montecarlo.statistics.CrossingWarning")
+def test_fragility_with_friction_lets_the_block_fly(ensemble):
+    # vertical components at 3× another motion: scaled to A_gx = 0.8 g they fall below −g (the
+    # ground drops faster than gravity). Refused without friction, pointing to mu; with mu the
+    # block flies, and the counts (lift included) equal simulate(mu=, av=)'s
+    ens = Ensemble(
+        ensemble.acc, ensemble.dt, ensemble.labels, ensemble.meta, 3.0 * ensemble.acc[::-1]
+    )
+    levels = [0.3, 0.8]
+    assert (levels[-1] / ens.agx) * ens.av.min() < -G
+    with pytest.raises(InputError, match="mu"):
+        fragility_analysis(BLOCKS, ens, levels=levels, n_boot=0)
+    states = parse_limit_states("lift>=0.001, slip>=0.01, overturn")
+    f = fragility_analysis(BLOCKS, ens, levels=levels, n_boot=0, limit_states=states, mu=MU)
+    lifted = 0
+    for b, block in enumerate(BLOCKS):
+        for a, agx in enumerate(levels):
+            k = agx / ens.agx
+            rows = []
+            for acc, av in zip(ens.acc, ens.av):
+                r = simulate(block, k * acc, ens.dt, av=k * av, mu=MU)
+                rows.append(
+                    {
+                        "peak_lift": r.max_lift,
+                        "peak_slip": r.max_abs_slip,
+                        "overturned": r.overturned,
+                    }
+                )
+            for s, ls in enumerate(states):
+                assert int(f["count"][b, a, s]) == _count(rows, ls), (b, agx, ls)
+            lifted += _count(rows, states[0])
+    assert lifted > 0

@@ -418,6 +418,14 @@ def physics_options(restitution: bool = True, overturn_angle: bool = False) -> D
     )
 
 
+def friction_params(physics: Physics) -> dict:
+    """What a command's run.json records about friction (``mu``, ``mu_k``: one value or one per
+    body): nothing without it, as before issue 45."""
+    if physics.mu is None and physics.mu_k is None:
+        return {}
+    return {"mu": physics.params()["mu"], "mu_k": physics.params()["mu_k"]}
+
+
 def _compute(scheduler: str | None, connect_timeout: float | None, quiet: bool) -> Compute:
     from ..montecarlo.backends import Compute, get_backend
 

@@ -32,6 +32,7 @@ from ._options import (
     count,
     frame_and_floor,
     frame_option,
+    friction_params,
     load_bodies,
     option_group,
     options,
@@ -132,13 +133,6 @@ def _run_params(
         "e": e,
         **more,
     }
-
-
-def _friction_params(physics: Physics) -> dict:
-    """What run.json records about friction: nothing without it (the runs before issue 45)."""
-    if physics.mu is None and physics.mu_k is None:
-        return {}
-    return {"mu": physics.params()["mu"], "mu_k": physics.params()["mu_k"]}
 
 
 _motions_option = click.option(
@@ -360,7 +354,7 @@ def fragility_cmd(
         seed=seed,
         im_efficiency=compare,
         limit_states=None if states is None else [ls.name for ls in states],
-        **_friction_params(physics),
+        **friction_params(physics),
     )
     if measure.name == AGX:
         params["agx_g"] = params["levels"]
@@ -828,7 +822,7 @@ def agx50_cmd(
         agx_max_g=agx_max,
         band_hz=list(band),
         **({} if states is None else {"limit_states": [ls.name for ls in states]}),
-        **_friction_params(physics),
+        **friction_params(physics),
     )
     reads = {"--motions": motions_path}
     with (

@@ -6,7 +6,10 @@ physics of :func:`rocking.dynamics.simulate` — the same compiled one-interval 
 :class:`~rocking.dynamics.batch_records.Outcome` of each case: whether the block overturned, its
 largest abs(θ)/α and whether it left rest at all.  Split along its seams (issue 44): the records
 in :mod:`rocking.dynamics.batch_records`, the lane machine (how it is fast, issues 6 and 18) in
-:mod:`rocking.dynamics.batch_lanes`, the entry points here.
+:mod:`rocking.dynamics.batch_lanes`, the entry points here.  With friction (issue 45: a finite
+μ_s of the :class:`~rocking.Physics`), the cases that may lift their block or make its base
+slip run through every response mode in :mod:`rocking.dynamics.batch_modes`, and the Outcome
+gains their slip and lift.
 
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
 only its own output slot, so results do not depend on the number of threads, on which machine
@@ -255,14 +258,17 @@ def overturn_cases(
     scales : array_like, shape (n_cases,)
         Factor [-] multiplying the case's motion (negative: mirrored motion).
     physics : Physics, optional
-        The physics (:class:`~rocking.Physics`; default ``Physics()``): restitution [-] and
-        overturning angle [rad] one for all blocks or one per block, g [m/s²], impact scheme.
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): restitution [-],
+        overturning angle [rad] and friction coefficients [-] one for all blocks or one per
+        block, g [m/s²], impact scheme.
     av : array_like, shape like ``acc``, optional
         Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
-        abs(scale) for each case; above −g after scaling.  None: no vertical motion.
+        abs(scale) for each case; above −g after scaling for a block without friction (with
+        ``mu`` it may fly).  None: no vertical motion.
     **shorthands
         ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
-        release.  Any other keyword is an InputError.
+        release; ``mu``, ``mu_k``: friction coefficients [-] (one value or one per block;
+        issue 45).  Any other keyword is an InputError.
 
     Returns
     -------
@@ -322,14 +328,17 @@ def overturn_batch(
     scales : array_like, shape (n_scales,)
         Factors [-] multiplying the motions (negative: mirrored motion).
     physics : Physics, optional
-        The physics (:class:`~rocking.Physics`; default ``Physics()``): restitution [-] and
-        overturning angle [rad] one for all blocks or one per block, g [m/s²], impact scheme.
+        The physics (:class:`~rocking.Physics`; default ``Physics()``): restitution [-],
+        overturning angle [rad] and friction coefficients [-] one for all blocks or one per
+        block, g [m/s²], impact scheme.
     av : array_like, shape like ``acc``, optional
         Vertical ground accelerations [m/s², up positive] at the samples of ``acc``, scaled by
-        abs(scale); above −g after scaling.  None: no vertical motion.
+        abs(scale); above −g after scaling for a block without friction (with ``mu`` it may
+        fly).  None: no vertical motion.
     **shorthands
         ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
-        release.  Any other keyword is an InputError.
+        release; ``mu``, ``mu_k``: friction coefficients [-] (one value or one per block;
+        issue 45).  Any other keyword is an InputError.
 
     Returns
     -------
