@@ -156,3 +156,21 @@ def test_per_block_friction_is_checked_block_by_block():
         Physics(mu=[0.3, -1.0])
     # the fingerprint of the chunk store follows per-block friction
     assert Physics(mu=[0.3, 0.4]).fingerprint != Physics(mu=[0.4, 0.3]).fingerprint
+
+
+def test_friction_with_housner_e_alpha_angle_and_step_end_impacts_equals_simulate(ensemble):
+    rng = np.random.default_rng(24)
+    blocks = [Block(0.5, 4.0), Block(1.2, 3.0)]
+    n = 30
+    body = rng.integers(0, 2, n)
+    motion = rng.integers(0, ensemble.n, n)
+    scale = rng.uniform(-1.2, 1.2, n) / ensemble.agx
+    kw = dict(e="housner", overturn_angle="alpha", impacts="step-end")
+    out = _run(blocks, ensemble, body, motion, scale, Physics(mu=0.45, **kw))
+    for i in range(n):
+        blk = blocks[body[i]]
+        r = simulate(blk, scale[i] * ensemble.acc[motion[i]], ensemble.dt, mu=0.45, **kw)
+        assert out.overturned[i] == r.overturned, i
+        assert out.peak_theta_ratio[i] == r.max_abs_theta / blk.alpha, i
+        assert out.peak_slip[i] == r.max_abs_slip, i
+    assert out.overturned.any() and (out.peak_slip > 0).any()
