@@ -12,6 +12,7 @@ from ..defaults import PULSE_KAPPA_MAX, PULSE_N_SCAN, PULSE_SHAPES, G
 from ._options import (
     R_option,
     count,
+    friction_params,
     gamma_option,
     overwrite_option,
     parse_range,
@@ -103,6 +104,7 @@ def pulse_spectrum_cmd(
         "e": e,
         "kappa_max": kappa_max,
         "n_scan": n_scan,
+        **friction_params(physics),
     }
     with (
         RunFolder(out, command="pulse-spectrum", params=params, overwrite=overwrite) as run,

@@ -236,7 +236,8 @@ def fragility_analysis(
     **options
         Keyword arguments ``confidence``, ``n_boot``, ``seed`` and ``im_values`` (below); and
         ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
-        release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.  Any other
+        release, and ``mu``, ``mu_k`` (friction coefficients [-], one value or one per block;
+        issue 45); ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.  Any other
         keyword is an InputError.
     confidence : float
         Keyword (in ``options``; default 0.95).
@@ -531,10 +532,12 @@ def _im_values(ensemble: Ensemble, measure: AnalysisIM, given) -> np.ndarray | N
     return values
 
 
-def _refuse_lifting(ensemble: Ensemble, factors: np.ndarray, what: str) -> None:
+def _refuse_lifting(ensemble: Ensemble, factors: np.ndarray, what: str, physics: Physics) -> None:
     """InputError when a motion's vertical component, multiplied by its largest scale factor
-    ``factors`` [-] (one per motion), reaches −g: the block would leave the ground."""
-    if ensemble.av is None:
+    ``factors`` [-] (one per motion), reaches −g: the block would leave the ground, which only
+    the model with friction (``physics`` with a μ for every block, issue 45) allows."""
+    mu = physics.mu if isinstance(physics.mu, tuple) else (physics.mu,)
+    if ensemble.av is None or None not in mu:
         return
     low = factors * ensemble.av.min(axis=1) / G
     bad = np.flatnonzero(low <= -1.0)
@@ -543,8 +546,9 @@ def _refuse_lifting(ensemble: Ensemble, factors: np.ndarray, what: str) -> None:
         raise InputError(
             f"{what}: motion {ensemble.labels[i]!r} scaled by {factors[i]:.3g} has a vertical "
             f"acceleration reaching {low[i]:.2f} g ({bad.size} of {ensemble.n} motions reach "
-            "-g): the block would leave the ground, which is not modelled; lower the levels or "
-            "leave the vertical components out (motions import --horizontal-only)"
+            "-g): the block would leave the ground, which is not modelled without friction; "
+            "give a friction coefficient mu (--mu), lower the levels or leave the vertical "
+            "components out (motions import --horizontal-only)"
         )
 
 
@@ -563,7 +567,8 @@ def _ida(
         raise InputError(f"motions with {measure.name} = 0 cannot be scaled: {zero[:5]}")
     base = np.full(ensemble.n, ensemble.agx) if basis is None else basis[0]
     top = (levels.max() / base) ** (1.0 / measure.exponent)
-    _refuse_lifting(ensemble, top, f"{measure.name} = {levels.max():g} {measure.unit}")
+    what = f"{measure.name} = {levels.max():g} {measure.unit}"
+    _refuse_lifting(ensemble, top, what, options["physics"])
     engine = Engine(
         blocks, [ensemble], desc="IDA", basis=basis, exponent=measure.exponent, **options
     )
@@ -583,7 +588,7 @@ def _msa(
     groups = list(stripes.groupby("level", sort=True))
     largest = np.zeros(ensemble.n)
     np.maximum.at(largest, stripes["member"].to_numpy(), stripes["scale"].to_numpy())
-    _refuse_lifting(ensemble, largest, "stripes")
+    _refuse_lifting(ensemble, largest, "stripes", options["physics"])
     cases = [ensemble.subset(rows["member"].to_numpy()) for _, rows in groups]
     # level 1 of a case whose basis is 1/scale gives each motion exactly its factor
     basis = [1.0 / rows["scale"].to_numpy() for _, rows in groups]

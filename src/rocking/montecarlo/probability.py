@@ -125,7 +125,8 @@ def overturning_probability(
         ``threshold``).  None (default): overturning, without that dimension.
     **shorthands
         ``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
-        release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.  Any other
+        release, and ``mu``, ``mu_k`` (friction coefficients [-], one value or one per block;
+        issue 45); ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.  Any other
         keyword is an InputError.
 
     Returns
@@ -196,8 +197,8 @@ def member_outcomes(
     agx : array_like, shape (n_bodies,) or (n_bodies, n_levels)
         Intensities A_gx [g], > 0, of each body: one per body, or a row per body.
     physics, compute, **shorthands :
-        As for :func:`overturning_probability` (``e``, ``overturn_angle``, ``g``, ``impacts``:
-        shorthands for physics's fields, one release; ``backend``, ``out``, ``progress``,
+        As for :func:`overturning_probability` (``e``, ``overturn_angle``, ``g``, ``impacts``,
+        ``mu``, ``mu_k``: shorthands for physics's fields; ``backend``, ``out``, ``progress``,
         ``chunk_size``: for compute's).
 
     Returns
@@ -391,8 +392,8 @@ def agx_50(
         without that dimension.
     **shorthands
         ``resolution``, ``agx_max``, ``coarse``, ``exhaustive``, ``same_motions``: shorthands
-        for search's fields; ``e``, ``overturn_angle``, ``g``, ``impacts``: for physics's, one
-        release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.
+        for search's fields; ``e``, ``overturn_angle``, ``g``, ``impacts``, ``mu``, ``mu_k``:
+        for physics's; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's.
 
     Returns
     -------
