@@ -1,5 +1,6 @@
 """``rocking simulate``: one block under one ground motion (paper Section 2), with a summary, JSON
-and a plot of θ/α and the motion against time."""
+and a plot of θ/α and the motion against time (with friction, ``--mu``, also the slip and the
+response modes, issue 45)."""
 
 from __future__ import annotations
 
@@ -78,7 +79,8 @@ def run_summary(
     block: Block, response: RockingResponse, ag: np.ndarray, dt: float, name: str, factor: float
 ) -> dict:
     """JSON-friendly description of the block, the motion ``ag`` [m/s²] and the response (SI
-    units; g where the key says so)."""
+    units; g where the key says so); with friction also the share of each response mode
+    (``modes``, :func:`mode_shares`)."""
     import numpy as np
 
     return {
@@ -100,7 +102,20 @@ def run_summary(
             "scale_factor": factor,
         },
         "response": {**response.summary(), "overturn_angle_rad": response.overturn_angle},
+        **({} if response.mu is None else {"modes": mode_shares(response)}),
     }
+
+
+def mode_shares(response: RockingResponse) -> dict[str, float]:
+    """The share of the samples before overturning [-] of each response mode
+    (:data:`rocking.MODES`) that occurs in ``response``, in that order."""
+    import numpy as np
+
+    from ..defaults import MODES
+
+    mode = np.asarray(response.mode)[np.isfinite(response.theta)]
+    counts = np.bincount(mode, minlength=len(MODES))
+    return {name: c / mode.size for name, c in zip(MODES, counts.tolist()) if c}
 
 
 def _text(s: dict) -> list[str]:
@@ -110,7 +125,7 @@ def _text(s: dict) -> list[str]:
     else:
         outcome = "did not overturn"
     scaled = f", scaled x{m['scale_factor']:.4g}" if m["scale_factor"] != 1.0 else ""
-    return [
+    lines = [
         f"block:    R = {b['R_m']:.4g} m, gamma = {b['gamma']:.4g} (H = {b['H_m']:.4g} m, "
         f"B = {b['B_m']:.4g} m), alpha = {b['alpha_rad']:.4f} rad "
         f"({math.degrees(b['alpha_rad']):.2f} deg), p = {b['p_rad_s']:.4g} rad/s, "
@@ -121,6 +136,15 @@ def _text(s: dict) -> list[str]:
         f"result:   {outcome}; {r['n_impacts']} impacts; max |theta|/alpha = "
         f"{r['max_abs_theta_over_alpha']:.4g} (max |theta| = {r['max_abs_theta_rad']:.4g} rad)",
     ]
+    if "mu" in r:  # with friction (issue 45)
+        modes = ", ".join(f"{name} {100 * share:.3g} %" for name, share in s["modes"].items())
+        lines += [
+            f"friction: mu_s = {r['mu']:.4g}, mu_k = {r['mu_k']:.4g}; max |slip| = "
+            f"{1e3 * r['max_abs_slip_m']:.4g} mm, residual slip = "
+            f"{1e3 * r['residual_slip_m']:.4g} mm, max lift = {1e3 * r['max_lift_m']:.4g} mm",
+            f"modes:    {modes} of the time before overturning",
+        ]
+    return lines
 
 
 @click.command("simulate")
@@ -181,7 +205,8 @@ def simulate_cmd(
     Integrates the rocking equation with fixed-step Runge-Kutta at the motion's time step (the
     paper's scheme) and prints whether and when the block overturned, the number of impacts and
     the largest rotation theta as a fraction of alpha, with the block's and the motion's
-    properties.
+    properties; with --mu (friction) also the largest and residual slip, the largest lift and
+    the share of the time in each response mode (rest, slide, rock, slide-rock, flight).
     """
     from ..core.checks import positive
     from ..dynamics.body import Block
