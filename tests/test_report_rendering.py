@@ -174,7 +174,7 @@ def test_screen_report_reads_at_a_glance(screened):
     assert set(table["td"][k::n_cols]) <= set(RESPONSES)
     mu = table["td"][table["th"].index("μ [-]") :: n_cols]
     assert sorted(mu) == sorted(["0.35 / 0.3", "∞", "∞", "0.3", "∞"])
-    assert "slip, median / largest [mm]" in table["th"]
+    assert "slip if standing, median / largest [mm]" in table["th"]
     assert any(h.startswith("P(overturn or slip >= 0.05 m)") for h in table["th"])
     md = (out / "report.md").read_text()
     assert "illustrative" in md and "not the hazard of any real site" in md

@@ -36,7 +36,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -244,10 +244,11 @@ def screen(
         response) [-] (the share of the motions of each of :data:`RESPONSES`), ``mode`` (the
         most frequent of them), ``flight_share`` [-] (motions in which the base left the
         ground), ``slip_median`` and ``slip_max`` [m] (median and largest peak slip over the
-        motions), with ``max_slip`` ``slip_probability`` [-] (peak slip ≥ max_slip) and
-        ``failure_probability``, ``failure_ci_low``, ``failure_ci_high`` [-] (overturning or
-        that slip), ``verdict`` (the one verdict: :func:`verdicts`, :data:`VERDICT_RULE`) and
-        ``at_risk`` (verdict "at risk"); with ``hazard``: ``fragility_median`` [the IM's
+        motions that leave it standing; NaN if none does), with ``max_slip``
+        ``slip_probability`` [-] (peak slip ≥ max_slip) and ``failure_probability``,
+        ``failure_ci_low``, ``failure_ci_high`` [-] (overturning or that slip), ``verdict``
+        (the one verdict: :func:`verdicts`, :data:`VERDICT_RULE`) and ``at_risk`` (verdict
+        "at risk"); with ``hazard``: ``fragility_median`` [the IM's
         unit], ``fragility_beta`` [-], ``annual_rate`` [1/yr] (NaN: no overturning up to the
         hazard's largest IM, so below its upper-tail bound) and ``p_years`` [-]. Attributes:
         ``spectrum``, ``design_agx`` [g], the settings and the ensemble's generation
@@ -582,6 +583,13 @@ def responses(overturned: ArrayLike, uplift: ArrayLike, peak_slip: ArrayLike) ->
     return np.where(np.asarray(overturned, dtype=bool), len(RESPONSES) - 1, index)
 
 
+def _standing(statistic: Callable[[np.ndarray], Any], outcome: Outcome) -> float:
+    """``statistic`` of the peak slip [m] over the motions that do not overturn the block (the
+    slip of one that does is that up to its fall); NaN if every motion overturns it."""
+    slip = outcome.peak_slip[~outcome.overturned]
+    return float(statistic(slip)) if slip.size else math.nan
+
+
 def _response_variables(outcomes: list[Outcome], settings: _MonteCarlo) -> _Variables:
     """The response of each item at the design level, from the outcomes of its motions: the
     share of each of :data:`RESPONSES`, the most frequent (the most severe of a tie), the share
@@ -604,14 +612,14 @@ def _response_variables(outcomes: list[Outcome], settings: _MonteCarlo) -> _Vari
             "share of the motions in which the base leaves the ground",
         ),
         "slip_median": (
-            np.array([np.median(o.peak_slip) for o in outcomes]),
+            np.array([_standing(np.median, o) for o in outcomes]),
             "m",
-            "median peak slip over the motions",
+            "median peak slip over the motions that leave the item standing",
         ),
         "slip_max": (
-            np.array([np.max(o.peak_slip) for o in outcomes]),
+            np.array([_standing(np.max, o) for o in outcomes]),
             "m",
-            "largest peak slip over the motions",
+            "largest peak slip over the motions that leave the item standing",
         ),
     }
     if settings.max_slip is None:
@@ -788,8 +796,8 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
     (:data:`VERDICT_RULE`) and the Monte Carlo results first (with ``max_slip``, the probability
     of the verdict after it), the response at the design level (the most frequent of
     :data:`RESPONSES`, the share of each, of flights, and the median and largest peak slip in
-    mm), then Eq. (11) (S_v in cm/s) and whether it agrees with the Monte Carlo
-    (:func:`eq11_vs_monte_carlo`), for CSV files and reports."""
+    mm of the motions that leave the item standing), then Eq. (11) (S_v in cm/s) and whether
+    it agrees with the Monte Carlo (:func:`eq11_vs_monte_carlo`), for CSV files and reports."""
     import pandas as pd
 
     table = pd.DataFrame(
@@ -815,8 +823,8 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
                 for r in RESPONSES[:-1]  # (the last, overturn, is P(overturn))
             },
             "P(flight) [-]": ds["flight_share"].values,
-            "median slip [mm]": 1e3 * ds["slip_median"].values,
-            "max slip [mm]": 1e3 * ds["slip_max"].values,
+            "median slip if standing [mm]": 1e3 * ds["slip_median"].values,
+            "max slip if standing [mm]": 1e3 * ds["slip_max"].values,
             "Sv required [cm/s]": 100.0 * ds["sv_required"].values,
             "Sv available [cm/s]": 100.0 * ds["sv_available"].values,
             "margin [-]": ds["margin"].values,
@@ -837,7 +845,7 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
             "its CI low [-]": ds["failure_ci_low"].values,
             "its CI high [-]": ds["failure_ci_high"].values,
         }
-        at = table.columns.get_loc("verdict") + 1
+        at = list(table.columns).index("verdict") + 1
         for offset, (column, values) in enumerate(failure.items()):
             table.insert(at + offset, column, values)
     if "limit_state_probability" in ds:

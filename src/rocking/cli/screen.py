@@ -317,10 +317,17 @@ def screen_command(
             run.file(name)
         run.update(at_risk=int(ds["at_risk"].sum()))
     wall = time.perf_counter() - started
-    click.echo(
-        f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk; wrote "
-        f"{out / 'report.html'} ({wall:.1f} s)"
-    )
+    click.echo(f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk")
+    for item, mode in zip(ds["item"].values, ds["mode"].values):
+        if mode in ("slide", "slide-rock"):
+            it = ds.sel(item=item)
+            share = float(it["response_share"].sel(response=mode))
+            click.echo(
+                f"  {item}: {mode} in {100 * share:.3g} % of the motions; peak slip median "
+                f"{1e3 * float(it['slip_median']):.3g} mm, largest "
+                f"{1e3 * float(it['slip_max']):.3g} mm"
+            )
+    click.echo(f"wrote {out / 'report.html'} ({wall:.1f} s)")
 
 
 def _scheduler(backend: Backend) -> str:
@@ -436,9 +443,11 @@ def page_table(table: pd.DataFrame) -> pd.DataFrame:
             "μ [-]": [_friction(mu, mu_k) for mu, mu_k in zip(table["mu [-]"], table["mu_k [-]"])],
             "response (most frequent)": table["mode"],
             "responses [% of motions]": [_shares(row) for _, row in table.iterrows()],
-            "slip, median / largest [mm]": [
-                f"{m:.3g} / {x:.3g}"
-                for m, x in zip(table["median slip [mm]"], table["max slip [mm]"])
+            "slip if standing, median / largest [mm]": [
+                "–" if math.isnan(m) else f"{m:.3g} / {x:.3g}"
+                for m, x in zip(
+                    table["median slip if standing [mm]"], table["max slip if standing [mm]"]
+                )
             ],
             "Eq. (11) screen (conservative)": table["Eq. (11) screen"],
             "Eq. (11) margin [-]": table["margin [-]"],
@@ -446,7 +455,7 @@ def page_table(table: pd.DataFrame) -> pd.DataFrame:
     )
     slip = [c for c in table.columns if c.startswith("P(overturn or slip")]
     if slip:
-        page.insert(page.columns.get_loc("verdict") + 1, slip[0], table[slip[0]])
+        page.insert(list(page.columns).index("verdict") + 1, slip[0], table[slip[0]])
     for column in table.columns:
         if column.startswith(("annual rate", "P in ")):
             page[column] = table[column]
@@ -495,15 +504,16 @@ def _modes_summary(ds: xr.Dataset) -> str:
     slipping = [i for i, r in zip(items, mode) if r in ("slide", "slide-rock")]
     if slipping:
         text += f" Sliding mostly: {', '.join(map(str, slipping))}."
-    worst = int(ds["slip_max"].argmax())
-    if ds["slip_max"].values[worst] > 0.0:
+    slip = ds["slip_max"].fillna(0.0).values
+    worst = int(slip.argmax())
+    if slip[worst] > 0.0:
         text += (
-            f" Largest peak slip: {1e3 * ds['slip_max'].values[worst]:.3g} mm "
-            f"({items[worst]}; median over its motions "
+            f" Largest peak slip of an item left standing: {1e3 * slip[worst]:.3g} mm "
+            f"({items[worst]}; median over the motions that leave it standing "
             f"{1e3 * ds['slip_median'].values[worst]:.3g} mm)."
         )
     else:
-        text += " No item slides in any motion."
+        text += " No item left standing slides in any motion."
     return text
 
 

@@ -94,7 +94,7 @@ def plot_response(
             lw=0.8,
             label=f"uplift threshold ±g·tan α = ±{tan_a:.3g} g" if sign > 0 else None,
         )
-    if friction:
+    if response.mu is not None:
         for sign in (1.0, -1.0):
             ax_ag.axhline(
                 sign * response.mu,
