@@ -49,6 +49,7 @@ UNITLESS = {
     "ratio S_v1/S_v",  # row labels of the Table 3 summary
     "n",  # a count of bodies
     "note",  # text: the IM efficiency's note on a per-body dimensionless IM
+    "refitted not to cross",  # yes/no: the limit-state fits refitted together (fragility)
 }
 #: Columns keyed by γ of an R × γ grid (paper Tables 1–3): the quantity and its unit are in the
 #: caption.

@@ -142,7 +142,7 @@ def _text(s: dict) -> list[str]:
             f"friction: mu_s = {r['mu']:.4g}, mu_k = {r['mu_k']:.4g}; max |slip| = "
             f"{1e3 * r['max_abs_slip_m']:.4g} mm, residual slip = "
             f"{1e3 * r['residual_slip_m']:.4g} mm, max lift = {1e3 * r['max_lift_m']:.4g} mm",
-            f"modes:    {modes} of the time before overturning",
+            f"modes:    {modes} of the time{' before overturning' if r['overturned'] else ''}",
         ]
     return lines
 
