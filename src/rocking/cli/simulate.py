@@ -1,6 +1,5 @@
 """``rocking simulate``: one block under one ground motion (paper Section 2), with a summary, JSON
-and a plot of θ/α and the motion against time (with friction, ``--mu``, also the slip and the
-response modes, issue 45)."""
+and a plot of θ/α and the motion against time."""
 
 from __future__ import annotations
 
@@ -79,8 +78,7 @@ def run_summary(
     block: Block, response: RockingResponse, ag: np.ndarray, dt: float, name: str, factor: float
 ) -> dict:
     """JSON-friendly description of the block, the motion ``ag`` [m/s²] and the response (SI
-    units; g where the key says so); with friction also the share of each response mode
-    (``modes``, :func:`mode_shares`)."""
+    units; g where the key says so)."""
     import numpy as np
 
     return {
@@ -101,21 +99,30 @@ def run_summary(
             "pga_g": float(np.abs(ag).max()) / G,
             "scale_factor": factor,
         },
-        "response": {**response.summary(), "overturn_angle_rad": response.overturn_angle},
-        **({} if response.mu is None else {"modes": mode_shares(response)}),
+        "response": {
+            **response.summary(),
+            "overturn_angle_rad": response.overturn_angle,
+            **_modes(response, dt),
+        },
     }
 
 
-def mode_shares(response: RockingResponse) -> dict[str, float]:
-    """The share of the samples before overturning [-] of each response mode
-    (:data:`rocking.MODES`) that occurs in ``response``, in that order."""
+def _modes(response: RockingResponse, dt: float) -> dict:
+    """With friction: the time [s] spent in each response mode (:data:`rocking.MODES`; the
+    samples at which the body is in it, times dt, up to overturning) and the mode at the end
+    (at overturning if it overturned); nothing without friction."""
+    if response.mu is None:
+        return {}
     import numpy as np
 
     from ..defaults import MODES
 
-    mode = np.asarray(response.mode)[np.isfinite(response.theta)]
-    counts = np.bincount(mode, minlength=len(MODES))
-    return {name: c / mode.size for name, c in zip(MODES, counts.tolist()) if c}
+    standing = ~np.isnan(response.theta)
+    counts = np.bincount(response.mode[standing], minlength=len(MODES))
+    return {
+        "time_in_mode_s": {m: float(n * dt) for m, n in zip(MODES, counts)},
+        "final_mode": MODES[int(response.mode[-1])],
+    }
 
 
 def _text(s: dict) -> list[str]:
@@ -125,7 +132,7 @@ def _text(s: dict) -> list[str]:
     else:
         outcome = "did not overturn"
     scaled = f", scaled x{m['scale_factor']:.4g}" if m["scale_factor"] != 1.0 else ""
-    lines = [
+    return [
         f"block:    R = {b['R_m']:.4g} m, gamma = {b['gamma']:.4g} (H = {b['H_m']:.4g} m, "
         f"B = {b['B_m']:.4g} m), alpha = {b['alpha_rad']:.4f} rad "
         f"({math.degrees(b['alpha_rad']):.2f} deg), p = {b['p_rad_s']:.4g} rad/s, "
@@ -135,16 +142,21 @@ def _text(s: dict) -> list[str]:
         f"settings: e = {r['e']:.4g}, overturning at |theta| = {r['overturn_angle_rad']:.4f} rad",
         f"result:   {outcome}; {r['n_impacts']} impacts; max |theta|/alpha = "
         f"{r['max_abs_theta_over_alpha']:.4g} (max |theta| = {r['max_abs_theta_rad']:.4g} rad)",
+        *_friction_text(r),
     ]
-    if "mu" in r:  # with friction (issue 45)
-        modes = ", ".join(f"{name} {100 * share:.3g} %" for name, share in s["modes"].items())
-        lines += [
-            f"friction: mu_s = {r['mu']:.4g}, mu_k = {r['mu_k']:.4g}; max |slip| = "
-            f"{1e3 * r['max_abs_slip_m']:.4g} mm, residual slip = "
-            f"{1e3 * r['residual_slip_m']:.4g} mm, max lift = {1e3 * r['max_lift_m']:.4g} mm",
-            f"modes:    {modes} of the time{' before overturning' if r['overturned'] else ''}",
-        ]
-    return lines
+
+
+def _friction_text(r: dict) -> list[str]:
+    """The lines of the response with friction: slip, lift and the modes (none without)."""
+    if "mu" not in r:
+        return []
+    times = ", ".join(f"{m} {t:.4g} s" for m, t in r["time_in_mode_s"].items() if t > 0.0)
+    return [
+        f"friction: mu = {r['mu']:.4g}, mu_k = {r['mu_k']:.4g}; max |slip| = "
+        f"{r['max_abs_slip_m']:.4g} m, residual slip = {r['residual_slip_m']:.4g} m, "
+        f"max lift = {r['max_lift_m']:.4g} m",
+        f"modes:    {times}; at the end: {r['final_mode']}",
+    ]
 
 
 @click.command("simulate")
@@ -205,8 +217,9 @@ def simulate_cmd(
     Integrates the rocking equation with fixed-step Runge-Kutta at the motion's time step (the
     paper's scheme) and prints whether and when the block overturned, the number of impacts and
     the largest rotation theta as a fraction of alpha, with the block's and the motion's
-    properties; with --mu (friction) also the largest and residual slip, the largest lift and
-    the share of the time in each response mode (rest, slide, rock, slide-rock, flight).
+    properties.  With --mu (friction): also the largest and the residual slip [m], the largest
+    lift [m] of the base, and the time in each response mode (rest, slide, rock, slide-rock,
+    flight) with the mode at the end.
     """
     from ..core.checks import positive
     from ..dynamics.body import Block
