@@ -25,6 +25,7 @@ from rocking.assessment.screen import (
 )
 from rocking.cli import main
 from rocking.dynamics.body import FOOT, G
+from rocking.dynamics.physics import Physics
 from rocking.errors import InputError
 from rocking.motions.design import ASCE7
 from rocking.motions.synthesis import generate
@@ -177,6 +178,17 @@ def test_without_mu_an_item_never_slides_and_its_responses_add_up(result):
     assert np.isnan(rigid["mu"]).all()
     assert (rigid["slip_max"].fillna(0.0) == 0).all()  # (NaN: every motion overturns it)
     assert (rigid["response_share"].sel(response=["slide", "slide-rock"]) == 0).all()
+
+
+def test_physics_mu_is_the_friction_of_the_items_without_their_own(motions, tmp_path):
+    # --mu (physics.mu) fills in the items without a mu column; the squat item keeps its own
+    # 0.6. Per-item friction belongs in the inventory: a per-block physics.mu is refused.
+    ds = screen_inventory(tmp_path, motions, physics=Physics(mu=0.8, mu_k=0.7))
+    assert float(ds["mu"].sel(item="squat")) == 0.6 and float(ds["mu_k"].sel(item="squat")) == 0.6
+    rigid = ds.sel(item=["stocky", "slender", "upstairs", "lower"])
+    assert (rigid["mu"] == 0.8).all() and (rigid["mu_k"] == 0.7).all()
+    with pytest.raises(InputError, match="physics.mu"):
+        screen_inventory(tmp_path, motions, physics=Physics(mu=(0.5, 0.5)))
 
 
 def test_responses_classify_each_motion_by_what_the_kernel_recorded():
