@@ -464,7 +464,7 @@ def page_table(table: pd.DataFrame) -> pd.DataFrame:
 
 def _friction(mu: float, mu_k: float) -> str:
     """μ of a page's row: "∞" (infinite friction), μ_s, or "μ_s / μ_k" where they differ."""
-    if mu != mu:  # NaN: infinite friction
+    if math.isnan(mu):  # infinite friction
         return "∞"
     return f"{mu:.3g}" if mu_k == mu else f"{mu:.3g} / {mu_k:.3g}"
 
