@@ -31,7 +31,7 @@ fig_slide_rock = plot_response(response, ag / rocking.G)
 
 # %%
 # The friction needed to rock without slip grows with the acceleration (Shenton 1996; a uniform
-# block from rest, β = B/H, a = |a_g|/g): μ_cr(a) = [a(1 + 4β²) + 3β]/[4 + β² + 3aβ]. This block
+# block from rest, β = B/H, a = abs(a_g)/g): μ_cr(a) = [a(1 + 4β²) + 3β]/[4 + β² + 3aβ]. This block
 # starts to rock at a = β = 0.29 with μ_cr = β, and needs more than its μ_s = 0.35 from about
 # a = 0.56: above that it slide-rocks.
 beta = block.B / block.H

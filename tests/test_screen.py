@@ -334,6 +334,26 @@ def test_cli_writes_table_figure_and_report(tmp_path):
     assert json.loads((out / "run.json").read_text())["n_motions"] == 8
 
 
+def test_cli_friction_and_max_slip_are_recorded_and_reported(tmp_path):
+    # --mu gives the items without mu their friction, --max-slip enters the verdict: both are
+    # in run.json (a run with other values is another run), the table has the verdict's
+    # probability, and the terminal lists the items that mostly slide, with their slip.
+    out = tmp_path / "out"
+    args = [str(write_inventory(tmp_path)), "--spectrum", "asce7:SDS=1.5,SD1=0.9,TL=8"]
+    args += ["--frame", "paper-2.0", "--out", str(out), "--n", "8", "--duration", "5"]
+    args += ["--resolution", "0.05", "--agx-max", "3", "--mu", "0.5", "--max-slip", "0.01"]
+    res = run(args)
+    assert res.exit_code == 0, res.output
+    params = json.loads((out / "run.json").read_text())
+    assert (params["mu"], params["mu_k"], params["max_slip"]) == (0.5, None, 0.01)
+    table = pd.read_csv(out / "tables" / "screen.csv").set_index("item")
+    assert table.loc["squat", "mu [-]"] == 0.6 and table.loc["stocky", "mu [-]"] == 0.5
+    failure = table["P(overturn or slip >= 0.01 m) [-]"]
+    assert (failure >= table["P(overturn) [-]"]).all()
+    for item in table.index[table["mode"].isin(["slide", "slide-rock"])]:
+        assert f"  {item}: {table.loc[item, 'mode']} in " in res.output
+
+
 def test_cli_report_says_where_eq11_and_monte_carlo_disagree(tmp_path):
     out = tmp_path / "out"
     res = run(
