@@ -19,12 +19,12 @@ from ._options import (
     OutFolder,
     compute_options,
     count,
+    friction_params,
     option_group,
     physics_options,
     quiet_option,
     run_folder_options,
 )
-from .fragility import _friction_params
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -283,7 +283,7 @@ def screen_command(
         "hazard": None if hazard is None else hazard.source,
         "years": site_hazard.years,
         "limit_states": None if states is None else [ls.name for ls in states],
-        **_friction_params(physics),  # --mu, --mu-k (the items' own: in INVENTORY)
+        **friction_params(physics),  # --mu, --mu-k (the items' own: in INVENTORY)
         **({} if max_slip is None else {"max_slip": max_slip}),
     }
     run_folder = folder.claim(
