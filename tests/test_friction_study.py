@@ -47,10 +47,10 @@ def test_shares_count_the_modes_of_single_simulations(study, motions):
     for mu in (0.3, 0.6):
         for level in LEVELS:
             at = study.sel(mu=mu, level=level)
+            # the level: A_gx50 with this μ, or with infinite friction
+            agx50 = at["agx50"] if level == LEVELS[0] else study["agx50"].sel(mu=math.inf)
             for b, block in enumerate(BODIES):
-                agx = float(at["agx50"][b]) if level == LEVELS[0] else float(
-                    study["agx50"].sel(mu=math.inf)[b]
-                )
+                agx = float(agx50[b])
                 if not math.isfinite(agx):
                     assert np.isnan(at["share"][b]).all()
                     continue

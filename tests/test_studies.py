@@ -321,12 +321,13 @@ def test_reproduce_all_quick(quick_run):
         "fig14",
         "fig15",
         "fig16",
+        "friction",
     ):
         assert (out / "figures" / f"{fig}.png").exists(), fig
     assert page.count("data:image/png;base64,") == len(list((out / "figures").iterdir()))
     run = json.loads((out / "run.json").read_text())
     assert run["status"] == "completed" and run["version"] == rocking.__version__
-    assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "total"}
+    assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "friction", "total"}
     assert run["parameters"] == PRESETS["quick"] and not run["modified"]
 
 

@@ -145,8 +145,8 @@ def plot_friction(ds: xr.Dataset, *, title: str = "") -> Figure:
     right.grid(True, axis="y", lw=0.4, alpha=0.5)
     handles, labels = left.get_legend_handles_labels()
     right.legend(
-        handles + kinds,
-        labels + ["slide", "slide-rock"],
+        [*handles, *kinds],
+        [*labels, "slide", "slide-rock"],
         loc="upper left",
         bbox_to_anchor=(1.01, 1.0),
         fontsize="small",

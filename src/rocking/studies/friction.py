@@ -18,14 +18,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ..assessment.energy import energy_balance
+from ..defaults import BAND_HZ
 from ..dynamics.batch import block_list
 from ..dynamics.body import Block
 from ..dynamics.physics import Physics
@@ -57,7 +60,7 @@ class FrictionResult:
 def mode_shares(
     blocks: Block | Sequence[Block],
     ensemble: Ensemble,
-    agx: Sequence[float],
+    agx: ArrayLike,
     *,
     physics: Physics | None = None,
     compute: Compute | None = None,
@@ -119,17 +122,15 @@ def friction_study(
     search: Agx50Search | None = None,
     physics: Physics | None = None,
     compute: Compute | None = None,
-    band_hz: Sequence[float] | None = None,
-    stores: Sequence[object] | None = None,
+    band_hz: Sequence[float] = BAND_HZ,
+    stores: Sequence[str | os.PathLike[str] | None] | None = None,
 ) -> xr.Dataset:
     """A_gx50, Table 3 and the modes of the motions for each friction coefficient.
 
     Parameters
     ----------
-    blocks : Block or sequence of Block
-        The bodies.
-    ensemble : Ensemble
-        The ground motions [m/s²].
+    blocks, ensemble :
+        The bodies and the ground motions [m/s²], as for :func:`mode_shares`.
     mus : sequence of float
         Friction coefficients μ [-] (static = kinetic); infinite friction (``physics.mu`` None,
         the paper's) is added as μ = inf.
@@ -141,7 +142,7 @@ def friction_study(
         How to compute; ``stores`` (one chunk folder per row, infinite friction last) replace
         its ``out``.
     band_hz : (float, float), optional
-        Band of S_v1 [Hz] (default :data:`rocking.defaults.BAND_HZ`).
+        Band of S_v1 [Hz].
 
     Returns
     -------
@@ -166,18 +167,13 @@ def friction_study(
         for ph, c in zip(physics_of, computes)
     ]
     paper = a50[-1]
-    kwargs = {} if band_hz is None else {"band_hz": band_hz}
-    ratio = [energy_balance(blocks, ensemble, a, **kwargs)["ratio"].values for a in a50]
-    at_levels = [
-        xr.concat(
-            [
-                mode_shares(blocks, ensemble, level, physics=ph, compute=c)
-                for level in (a, paper)
-            ],
-            pd.Index(list(LEVELS), name="level"),
-        )
-        for a, ph, c in zip(a50, physics_of, computes)
-    ]
+    ratio = [energy_balance(blocks, ensemble, a, band_hz=band_hz)["ratio"].values for a in a50]
+    at_levels = []
+    for a, ph, c in zip(a50, physics_of, computes):
+        levels: list[xr.Dataset] = [
+            mode_shares(blocks, ensemble, level, physics=ph, compute=c) for level in (a, paper)
+        ]
+        at_levels.append(xr.concat(levels, pd.Index(list(LEVELS), name="level")))
     shares = xr.concat(at_levels, pd.Index(rows, name="mu"))
     a50_arr = np.array(a50)
     ds = shares.assign(
