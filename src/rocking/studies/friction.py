@@ -42,8 +42,11 @@ from ..report import Report
 from .config import RunContext, resolve_bodies
 
 TITLE = "Beyond the paper: friction (A_gx50 and Table 3 for μ = 0.3-0.8, issue 45)"
-#: The modes of a whole motion, by what it did: slid (slip > 0) and rocked (uplift) or not.
-MOTION_MODES = ("rest", "slide", "rock", "slide-rock")
+#: What a whole motion did to the body: overturned it, or else slid it (slip > 0) and rocked it
+#: (uplift) or not.  An overturning body is counted apart: as it falls, the normal force at its
+#: corner vanishes and any friction coefficient is exceeded, so it slips (even with μ = 1000),
+#: whatever it did before.
+MOTION_MODES = ("rest", "slide", "rock", "slide-rock", "overturned")
 #: Where the shares are counted: at the body's A_gx50 with the friction of the row, and at its
 #: A_gx50 with infinite friction (the paper's).
 LEVELS = ("A_gx50(μ)", "A_gx50(∞)")
@@ -82,15 +85,14 @@ def mode_shares(
     -------
     xarray.Dataset
         Dimensions (body, mode) with ``share`` [-], the fraction of the motions whose whole
-        response was each of :data:`MOTION_MODES` ("slide": slip > 0 without uplift,
-        "slide-rock": slip > 0 with uplift, "rock": uplift without slip, "rest": neither); per
-        body ``overturned`` [-] (fraction overturned) and ``max_slip`` [m] (the largest peak
-        slip of any motion).
+        response was each of :data:`MOTION_MODES` ("overturned"; of the others, "slide": slip
+        > 0 without uplift, "slide-rock": slip > 0 with uplift, "rock": uplift without slip,
+        "rest": neither); per body ``max_slip`` [m], the largest peak slip of a motion that
+        did not overturn the body (NaN if every motion did).
     """
     blocks = block_list(blocks)
     agx = np.asarray(agx, dtype=float)
     share = np.full((len(blocks), len(MOTION_MODES)), np.nan)
-    overturned = np.full(len(blocks), np.nan)
     max_slip = np.full(len(blocks), np.nan)
     keys = {b: (0, b, level_key(float(a))) for b, a in enumerate(agx) if math.isfinite(a)}
     if keys:
@@ -99,15 +101,14 @@ def mode_shares(
             engine.run(list(keys.values()))
         for b, key in keys.items():
             out = engine.results[key]
-            slid = out.peak_slip > 0.0
-            modes = (~slid & ~out.uplift, slid & ~out.uplift, ~slid & out.uplift, slid & out.uplift)
+            ov = out.overturned
+            slid, up = (out.peak_slip > 0.0) & ~ov, out.uplift & ~ov
+            modes = (~slid & ~up & ~ov, slid & ~up, ~slid & up, slid & up, ov)
             share[b] = [np.count_nonzero(m) / ensemble.n for m in modes]
-            overturned[b] = np.count_nonzero(out.overturned) / ensemble.n
-            max_slip[b] = float(out.peak_slip.max())
+            max_slip[b] = float(out.peak_slip[~ov].max()) if not ov.all() else np.nan
     return xr.Dataset(
         {
             "share": (("body", "mode"), share, {"units": "1"}),
-            "overturned": ("body", overturned, {"units": "1"}),
             "max_slip": ("body", max_slip, {"units": "m"}),
         },
         coords={"body": [b.label for b in blocks], "mode": list(MOTION_MODES)},
@@ -149,8 +150,8 @@ def friction_study(
     xarray.Dataset
         Dimensions (mu, body[, level, mode]): ``agx50`` [g] (NaN: 50 % not reached by
         ``agx_max``), ``change`` = A_gx50(μ)/A_gx50(∞) − 1 [-], ``ratio`` = S_v1/S_v [-]
-        (Table 3), and at each of :data:`LEVELS` the ``share`` of each mode, ``overturned`` and
-        ``max_slip`` [m] of :func:`mode_shares`.  Coordinate ``mu`` [-] (inf last), body
+        (Table 3), and at each of :data:`LEVELS` the ``share`` of each mode and ``max_slip`` [m]
+        of :func:`mode_shares`.  Coordinate ``mu`` [-] (inf last), body
         coordinates ``R`` [m], ``gamma`` [-], ``b_over_h`` (B/H = tan α [-]).
     """
     blocks = block_list(blocks)
@@ -254,12 +255,12 @@ def _table(ds: xr.Dataset, level: str) -> pd.DataFrame:
                     "A_gx50 [g]": float(one["agx50"]),
                     "change [-]": float(one["change"]),
                     "S_v1/S_v [-]": float(one["ratio"]),
-                    "P(overturn) [-]": float(one["overturned"]),
+                    "P(overturn) [-]": float(one["share"].sel(mode="overturned")),
                     **{
                         f"share {mode} [-]": float(one["share"].sel(mode=mode))
-                        for mode in MOTION_MODES[1:]
+                        for mode in MOTION_MODES[1:4]
                     },
-                    "max peak slip [m]": float(one["max_slip"]),
+                    "max slip, not overturned [m]": float(one["max_slip"]),
                 }
             )
     return pd.DataFrame(rows)
@@ -294,28 +295,32 @@ def summary(ds: xr.Dataset) -> str:
             i = np.unravel_index(np.nanargmax(np.where(both, change, -np.inf)), change.shape)
             parts.append(
                 f"Friction raises A_gx50 most for {ds['body'].values[i[1]]} at μ = "
-                f"{mus[i[0]]:g} ({100 * change[i]:+.1f} %): sliding takes energy out of the "
-                "motion that would rock it (it isolates the body)."
+                f"{mus[i[0]]:g} ({100 * change[i]:+.1f} %), presumably because slipping "
+                "limits the force the ground passes to the body (it isolates it)."
             )
+    paper_level = finite.sel(level=LEVELS[1])
     if int(lost.sum()):
-        which = sorted(
-            {(float(mus[i]), str(ds["body"].values[j])) for i, j in zip(*np.nonzero(lost.values))}
-        )
+        i, j = (int(k[0]) for k in np.nonzero(lost.values))
+        there = paper_level.isel(mu=i, body=j)
+        slid = float(there["share"].sel(mode=["slide", "slide-rock"]).sum())
+        fell = float(there["share"].sel(mode="overturned"))
         parts.append(
             f"In {int(lost.sum())} pairs the body no longer overturns with 50 % probability up "
-            f"to {ds.attrs.get('agx_max', math.nan):g} g: it slides instead (e.g. "
-            f"{which[0][1]} at μ = {which[0][0]:g}, B/H = "
-            f"{float(ds['b_over_h'].sel(body=which[0][1])):.3g})."
+            f"to {ds.attrs.get('agx_max', math.nan):g} g: it slides instead. E.g. "
+            f"{ds['body'].values[j]} (B/H = {float(ds['b_over_h'][j]):.3g}) at μ = {mus[i]:g}: "
+            f"at the paper's A_gx50 it overturns in {100 * fell:.0f} % of the motions, and "
+            f"{100 * slid:.0f} % slide it, by up to "
+            f"{float(there['max_slip']):.3g} m."
         )
     if np.isfinite(moved.values).any():
         j = np.unravel_index(np.nanargmax(moved.values), moved.shape)
         parts.append(
             f"At A_gx50 with friction, up to {100 * float(moved.values[j]):.0f} % of the motions "
-            f"make a body slide or slide-rock ({ds['body'].values[j[1]]} at μ = {mus[j[0]]:g}), "
-            f"with peak slips up to {float(own['max_slip'].max()):.3g} m, a displacement the "
-            "paper's model cannot show."
+            f"make a body slide or slide-rock without overturning it "
+            f"({ds['body'].values[j[1]]} at μ = {mus[j[0]]:g}), with slips up to "
+            f"{float(own['max_slip'].max()):.3g} m, a displacement the paper's model cannot show."
         )
-    at_paper = finite.sel(level=LEVELS[1])["overturned"].values
+    at_paper = paper_level["share"].sel(mode="overturned").values
     if np.isfinite(at_paper).any():
         parts.append(
             "At the paper's A_gx50 (where P = 50 % with infinite friction) the overturning "
