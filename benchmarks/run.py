@@ -30,6 +30,12 @@ run:
   (``ratios_per_step``), and the median per step (also ``ratios.vs_plain_loop_paired``): a slow
   spell of a shared host falls on both calls of a pair, where the best times of the two
   separate series (``ratios.vs_plain_loop``) may come from different spells;
+* ``modes``: the response-modes kernel of friction (issue 45, :mod:`rocking.dynamics.batch_modes`)
+  on the same cases: with μ = 1e6 (they rock as without friction) in ns per step the rocking
+  kernel integrates, and its ratio to the rocking kernel (target ≤ 2×); with μ = 0.2, 0.3 and
+  0.4 (the bodies slide and slide-rock) in ns per interval walked, and its ratio to the plain
+  compiled loop of the same model, ``modes_case`` of every case one after the other on one
+  thread (target ≥ 5×).  ``--modes-only`` runs this entry alone;
 * ``ceiling``: the arithmetic floor of a step on this machine (``peak.py``: the clock measured by
   a chain of dependent FMAs, the FMAs a core starts per cycle measured with the run's own vector
   width, the operations of one plain step), and the kernel's time as a multiple of it;
@@ -78,8 +84,17 @@ import numba
 import numpy as np
 import scipy
 
-from rocking.dynamics.batch import BlockTable, motion_peaks, overturn_batch, run_cases
+from rocking.dynamics.batch import (
+    BlockTable,
+    Cases,
+    empty_outcome,
+    motion_peaks,
+    overturn_batch,
+    run_cases,
+)
+from rocking.dynamics.batch_modes import modes_kernel
 from rocking.dynamics.body import Block, G, paper_bodies
+from rocking.dynamics.physics import Physics
 from rocking.dynamics.reference import simulate_reference
 from rocking.dynamics.simulate import simulate
 from rocking.montecarlo.pulse_spectrum import overturning_spectrum
@@ -106,6 +121,8 @@ TARGETS = {
     "reproduce_quick_s": 5.0,
     "generate_500_s": 0.3,
     "pulse_spectrum_100_s": 2.0,
+    "modes_vs_rocking": 2.0,
+    "modes_vs_plain_loop": 5.0,
 }
 #: Instruction sets the suite runs on: each in a child process with these environment variables
 #: (Numba compiles for the named CPU; a separate cache so that no code of another run is reused).
@@ -302,6 +319,107 @@ def bench_kernel(w: dict, counted: dict, repeats: int) -> dict:
     out.update({f"one_thread_{k}": v for k, v in t1.items()})
     out["ns_per_step_one_thread"] = t1["best_s"] / steps * 1e9
     out["s_per_simulation"] = t["best_s"] / w["body"].size
+    return out
+
+
+# --------------------------------------------------------------------------- friction (issue 45)
+
+#: Friction coefficients of the modes entry: "rocking only" (μ so large that the cases rock as
+#: without friction, through the modes kernel) and three at which the paper's bodies slide and
+#: slide-rock (tan α = 0.17–0.5).
+MODES_MU = {"rock_only": 1e6, "slide": (0.2, 0.3, 0.4)}
+
+
+def _modes_call(w: dict, mu: float | None, cases: slice = slice(None)):
+    """``run_cases`` on the workload ``w``'s cases ``cases`` with friction ``mu`` (None: the
+    rocking kernel)."""
+    acc = np.ascontiguousarray(w["ensemble"].acc)
+    table = BlockTable.from_blocks(w["blocks"], physics=Physics(mu=mu))
+    args = (table, acc, motion_peaks(acc), DT, w["body"][cases], w["motion"][cases])
+    scale = w["scale"][cases]
+    return lambda: run_cases(*args, scale)
+
+
+def _serial_modes(w: dict, mu: float):
+    """The plain compiled loop of the same model: ``modes_case`` of every case (none left to
+    the lanes), one after the other on one thread (:func:`modes_kernel`'s loop, whose ``prange``
+    runs serially on one thread)."""
+    acc = np.ascontiguousarray(w["ensemble"].acc)
+    table = BlockTable.from_blocks(w["blocks"], physics=Physics(mu=mu))
+    order = np.arange(w["body"].size)
+    cases = Cases(w["body"], w["motion"], w["scale"], order)
+    out = empty_outcome(order.size)
+
+    def call():
+        before = numba.get_num_threads()
+        try:
+            numba.set_num_threads(1)
+            modes_kernel(
+                acc.reshape(-1),
+                None,
+                acc.shape[1],
+                DT,
+                table.arrays(),
+                table.contacts,
+                cases,
+                True,
+                out,
+            )
+        finally:
+            numba.set_num_threads(before)
+        return out
+
+    return call
+
+
+def bench_modes(w: dict, repeats: int) -> dict:
+    """The response-modes kernel (issue 45) on the workload ``w``: (a) with μ = 1e6 against the
+    rocking kernel on the same cases, per step the rocking kernel integrates (the same cases
+    and steps: the ratio of wall times); (b) with μ = 0.2, 0.3, 0.4 (slide, slide-rock) against
+    the plain compiled loop of the same model (:func:`_serial_modes`), per interval the modes
+    kernel walks (every interval up to overturning: its ``steps``)."""
+    sample = slice(0, min(200, w["body"].size))
+    rocking = _modes_call(w, None)
+    _modes_call(w, None, sample)()  # compile / load
+    steps = int(rocking().steps.sum())
+    t_rock = timed(rocking, repeats)
+    out: dict = {"cases": int(w["body"].size), "rocking_kernel_steps": steps}
+    out["rocking_kernel"] = {**t_rock, "ns_per_step": t_rock["best_s"] / steps * 1e9}
+    big = _modes_call(w, MODES_MU["rock_only"])
+    _modes_call(w, MODES_MU["rock_only"], sample)()
+    same = big()
+    t_big = timed(big, repeats)
+    out["rock_only"] = {
+        **t_big,
+        "mu": MODES_MU["rock_only"],
+        "ns_per_step": t_big["best_s"] / steps * 1e9,
+        "vs_rocking_kernel": t_big["best_s"] / t_rock["best_s"],
+        "same_flags_and_peaks_as_rocking": bool(
+            np.array_equal(same.overturned, rocking().overturned)
+            and np.array_equal(same.peak_theta_ratio, rocking().peak_theta_ratio)
+        ),
+    }
+    out["slide"] = {}
+    for mu in MODES_MU["slide"]:
+        call = _modes_call(w, mu)
+        res = call()
+        walked = int(res.steps.sum())
+        t = timed(call, repeats)
+        serial = _serial_modes(w, mu)
+        plain = serial()
+        t_plain = timed(serial, max(1, repeats // 3))
+        out["slide"][f"{mu:g}"] = {
+            **t,
+            "intervals": walked,
+            "ns_per_interval": t["best_s"] / walked * 1e9,
+            "plain_loop_best_s": t_plain["best_s"],
+            "plain_loop_ns_per_interval": t_plain["best_s"] / walked * 1e9,
+            "vs_plain_loop": t_plain["best_s"] / t["best_s"],
+            "equals_plain_loop": all(np.array_equal(a, b) for a, b in zip(res[:-1], plain[:-1])),
+            "share_sliding": float((res.peak_slip > 0).mean()),
+            "share_overturned": float(res.overturned.mean()),
+        }
+    out["threads"] = numba.get_num_threads()
     return out
 
 
@@ -712,6 +830,7 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
             f"{TARGETS['vs_scipy']:,.0f}×)",
         )
     )
+    rows += modes_rows(res.get("modes"))
     e = res.get("end_to_end", {})
     if "table2" in e:
         t = e["table2"]
@@ -789,6 +908,31 @@ def summary_rows(res: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def modes_rows(m: dict | None) -> list[tuple[str, str, str]]:
+    """The summary rows of the response-modes entry (none if it did not run)."""
+    if m is None:
+        return []
+    r = m["rock_only"]
+    rows = [
+        (
+            "modes kernel, rocking only [ns/RK4 step]",
+            f"{r['ns_per_step']:.2f}",
+            f"mu = {r['mu']:g}: {r['vs_rocking_kernel']:.1f}× the rocking kernel's "
+            f"{m['rocking_kernel']['ns_per_step']:.2f} (target ≤ {TARGETS['modes_vs_rocking']:g}×)",
+        )
+    ]
+    for mu, x in m["slide"].items():
+        rows.append(
+            (
+                f"modes kernel, mu = {mu} [ns/interval]",
+                f"{x['ns_per_interval']:.1f}",
+                f"{x['vs_plain_loop']:.1f}× the plain loop's {x['plain_loop_ns_per_interval']:.1f} "
+                f"(target ≥ {TARGETS['modes_vs_plain_loop']:g}×); {x['share_sliding']:.0%} slide",
+            )
+        )
+    return rows
+
+
 def parse_args(argv):
     ap = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
@@ -809,6 +953,12 @@ def parse_args(argv):
         action="store_true",
         help="skip counting the integrated steps of the studies (two in-process runs per "
         "fidelity: quick, and paper with --with-paper)",
+    )
+    ap.add_argument(
+        "--modes-only",
+        action="store_true",
+        help="only the response-modes entry (issue 45), here, on this machine's instruction "
+        "set; prints its JSON (and writes it to --out if given)",
     )
     ap.add_argument(
         "--isa",
@@ -880,6 +1030,8 @@ def run_isa(a) -> dict:
     }
     res["ceiling"] = peak.ceiling(numba.get_num_threads())
     res["ceiling"]["kernel_vs_floor"] = k["ns_per_step"] / res["ceiling"]["floor_ns_per_step"]
+    print("response-modes kernel (friction) ...", flush=True)
+    res["modes"] = bench_modes(w, repeats)
     res["load_after_kernel"] = load()
 
     if not a.no_end_to_end:
@@ -992,6 +1144,16 @@ def main(argv=None) -> int:
     if unknown or not isas:
         raise SystemExit(f"--isa: unknown instruction set(s) {unknown}; choose among {list(ISAS)}")
     out = Path(a.out)
+    if a.modes_only:
+        w = rocking_workload(10 if a.quick else 30)
+        res = {"machine": machine_info(), "load_at_start": load()}
+        res["modes"] = bench_modes(w, 3 if a.quick else 5)
+        res["load_at_end"] = load()
+        text = json.dumps(res, indent=2, default=float)
+        print(text)
+        if "--out" in (argv or sys.argv):
+            out.write_text(text + "\n")
+        return 0
     if os.environ.get("ROCKING_BENCH_ISA") in isas and len(isas) == 1:
         # a child: run here, write JSON for the parent
         out.write_text(json.dumps(run_isa(a), indent=2, default=float) + "\n")

@@ -117,6 +117,8 @@ def files(tmp_path_factory):
         "swapped": ("swapped.csv", "name,H,B\nslab,0.6,2.0\n"),
         "slender": ("slender.csv", "name,R,gamma\nneedle,1.0,200\n"),
         "bodies": ("bodies.csv", "name,R,gamma\nslim,0.5,5\n"),
+        # bodies with friction: the second row's kinetic coefficient above its static one
+        "bodies_mu": ("bodies-mu.csv", "name,R,gamma,mu,mu_k\nslim,0.5,5,0.4,\nbox,1,2,0.3,0.5\n"),
     }  # fmt: skip
     for key, (name, text) in texts.items():
         setattr(f, key, d / name)
@@ -280,6 +282,17 @@ CASES = [
          ("--agx", "200 g", "above 10 g")),
     Case("simulate-scale-g-1e200", lambda f: [*SIM, "example", "--scale-g", "1e200"],
          ("--scale-g", "1e+200 g")),
+    # ---- issue 45: friction options, refused before any work
+    Case("simulate-mu-negative", lambda f: [*SIM, "example", "--mu", "-1"],
+         ("--mu", "> 0", "-1")),
+    Case("fragility-mu-k-without-mu", lambda f: _frag_with(f, "--mu-k", "0.5"),
+         ("--mu-k needs --mu",)),
+    Case("agx50-bodies-mu-k-above-mu",
+         lambda f: ["agx50", "--bodies", f.bodies_mu, "--motions", f.ens, "--out", f.tmp / "o"],
+         ("bodies-mu.csv", "row 2", "mu_k = 0.5")),
+    Case("agx50-mu-k-above-mu",
+         lambda f: ["agx50", "--bodies", "example", "--motions", f.ens, "--mu", "0.3",
+                    "--mu-k", "0.4", "--out", f.tmp / "o"], ("--mu-k 0.4", "--mu 0.3")),
     Case("agx50-agx-max-1e9",
          lambda f: ["agx50", "--bodies", "example", "--motions", f.ens, "--agx-max", "1e9",
                     "--out", f.tmp / "o"], ("--agx-max", "1e+09 g")),

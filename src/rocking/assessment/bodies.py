@@ -5,7 +5,9 @@ Format: a header row, then one body per row. Either columns ``R`` [m] and ``gamm
 [m] (height of the centre of mass), ``b`` [m] (horizontal distance from the centre of mass to
 each pivot edge: in a file with ``h_cg``, ``b`` is that distance, not the width) and ``r_g``
 [m] (radius of gyration about the centre of mass; :meth:`rocking.Block.from_mass_properties`);
-an optional ``name`` column. Headers are matched
+an optional ``name`` column; optional ``mu`` and ``mu_k`` columns [-], the static and kinetic
+friction coefficients of each body's base (issue 45; an empty cell: not given, the command's
+``--mu``/``--mu-k`` or infinite friction). Headers are matched
 without regard to case or spaces and may carry a unit in brackets (``R [m]``, ``H (m)``);
 ``γ`` is accepted for ``gamma``. Blank lines and lines starting with ``#`` are skipped. Example::
 
@@ -20,15 +22,18 @@ line).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
 from ..core.files import csv_rows
 from ..dynamics.body import Block
+from ..dynamics.physics import Physics
 from ..errors import InputError
 
 #: Accepted column names (lower case, without units) and the canonical name they stand for.
@@ -42,19 +47,43 @@ _ALIASES = {
     "r_g": "r_g",
     "radius_of_gyration": "r_g",
     "name": "name",
+    "mu": "mu",
+    "μ": "mu",
+    "mu_k": "mu_k",
+    "μ_k": "mu_k",
 }
-_UNITS = {"R": "m", "gamma": "-", "H": "m", "B": "m", "h_cg": "m", "b": "m", "r_g": "m"}
+#: The unit of each numeric column.
+_UNITS = {
+    **{"R": "m", "gamma": "-", "H": "m", "B": "m", "h_cg": "m", "b": "m", "r_g": "m"},
+    **{"mu": "-", "mu_k": "-"},
+}
+#: The optional columns other than the size: the name and the friction coefficients.
+_OPTIONAL = ("name", "mu", "mu_k")
 #: The sets of size columns, one of which a file gives.
 _SIZES = ({"R", "gamma"}, {"H", "B"}, {"h_cg", "b", "r_g"})
 
 
 @dataclass(frozen=True)
 class NamedBody:
-    """A body from a bodies file: its ``name`` (the Block label when the file gives none) and
-    its :class:`~rocking.dynamics.body.Block`."""
+    """A body from a bodies file: its ``name`` (the Block label when the file gives none), its
+    :class:`~rocking.dynamics.body.Block` and the friction coefficients of its base, static
+    ``mu`` and kinetic ``mu_k`` [-] (None: not given)."""
 
     name: str
     block: Block
+    mu: float | None = None
+    mu_k: float | None = None
+
+
+def with_body_friction(physics: Physics, bodies: Sequence[NamedBody]) -> Physics:
+    """``physics`` with the friction of each body that gives one (its ``mu``, ``mu_k``) in place
+    of ``physics``' own (the command's --mu, --mu-k), one value per body; ``physics`` itself when
+    no body gives one."""
+    if all(b.mu is None and b.mu_k is None for b in bodies):
+        return physics
+    mu = [physics.friction()[0] if b.mu is None else b.mu for b in bodies]
+    mu_k = [(physics.mu_k if b.mu is None else None) if b.mu_k is None else b.mu_k for b in bodies]
+    return dataclasses.replace(physics, mu=tuple(mu), mu_k=tuple(mu_k))
 
 
 def example_bodies_path() -> Path:
@@ -82,7 +111,8 @@ def read_bodies_table(path: str | os.PathLike[str]) -> list[NamedBody]:
     Parameters
     ----------
     path : str or Path
-        CSV file with columns R [m] and gamma [-], or H [m] and B [m], and optionally name.
+        CSV file with columns R [m] and gamma [-], or H [m] and B [m], and optionally name,
+        mu [-] and mu_k [-].
     """
     path = Path(path)
     lines = csv_rows(path, "bodies file")
@@ -102,7 +132,13 @@ def read_bodies_table(path: str | os.PathLike[str]) -> list[NamedBody]:
                 f"{where}: {len(cells)} value(s) for {len(columns)} columns ({', '.join(columns)})"
             )
         values = dict(zip(columns, cells))
-        size = {k: _number(where, k, v) for k, v in values.items() if k != "name"}
+        size = {k: _number(where, k, v) for k, v in values.items() if k not in _OPTIONAL}
+        mu, mu_k = (_friction(where, k, values.get(k, "")) for k in ("mu", "mu_k"))
+        if mu_k is not None and (mu is None or mu_k > mu):
+            raise InputError(
+                f"{where}: mu_k = {mu_k:g} needs a mu of at least as much (kinetic friction is "
+                f"at most the static), got mu {'empty' if mu is None else f'= {mu:g}'}"
+            )
         if "R" in size:
             block = Block(size["R"], size["gamma"])
         elif "h_cg" in size:
@@ -115,7 +151,7 @@ def read_bodies_table(path: str | os.PathLike[str]) -> list[NamedBody]:
         if name in seen:
             raise InputError(f"{where}: name {name!r} repeats that of row {seen[name]}")
         seen[name] = row
-        bodies.append(NamedBody(name, block))
+        bodies.append(NamedBody(name, block, mu, mu_k))
     return bodies
 
 
@@ -127,14 +163,14 @@ def _columns(path: Path, lineno: int, header: list[str]) -> list[str]:
         if key not in _ALIASES:
             raise InputError(
                 f"{path}: line {lineno}: unknown column {cell!r} (expected R and "
-                "gamma, or H and B, or h_cg, b and r_g, and optionally name)"
+                "gamma, or H and B, or h_cg, b and r_g, and optionally name, mu and mu_k)"
             )
         if _ALIASES[key] in columns:
             raise InputError(f"{path}: line {lineno}: column {cell!r} appears twice")
         columns.append(_ALIASES[key])
     if "h_cg" in columns:  # with h_cg, b is the distance to the pivot edge, not the width
         columns = ["b" if c == "B" else c for c in columns]
-    sizes = {c for c in columns if c != "name"}
+    sizes = {c for c in columns if c not in _OPTIONAL}
     if sizes not in _SIZES:
         # fewer columns than one whole set and none of another: a set is incomplete
         whole = "R and gamma, or H and B, or h_cg, b and r_g"
@@ -144,6 +180,12 @@ def _columns(path: Path, lineno: int, header: list[str]) -> list[str]:
             problem = f"give {whole}, one of them, not a mix"
         raise InputError(f"{path}: line {lineno}: {problem} (got {', '.join(header)})")
     return columns
+
+
+def _friction(where: str, column: str, text: str) -> float | None:
+    """A friction coefficient of ``column`` [-]: None for an empty cell, else a finite number
+    > 0 (an error naming the row otherwise)."""
+    return _number(where, column, text) if text.strip() else None
 
 
 def _number(where: str, column: str, text: str) -> float:

@@ -249,7 +249,8 @@ bodies_option = click.option(
     "bodies_spec",
     required=True,
     metavar="FILE|paper|example",
-    help="Bodies CSV with columns R [m] and gamma [-], or H [m] and B [m], and optionally name; "
+    help="Bodies CSV with columns R [m] and gamma [-], or H [m] and B [m], and optionally name "
+    "and the friction coefficients mu and mu_k [-] of each body (in place of --mu, --mu-k); "
     "'paper' for the paper's 72 bodies (R = 4-11 ft, gamma = 2-6); 'example' for the "
     "shipped example file (the paper's two Section 8 blocks and five pieces of "
     "equipment).",
@@ -348,7 +349,32 @@ def option_group(
 OVERTURN_CHOICES: dict[str, float | str] = {"pi2": OVERTURN_ANGLE, "alpha": "alpha"}
 
 
-def _physics(e_text: str | None = None, overturn: str | None = None) -> Physics:
+mu_option = click.option(
+    "--mu",
+    "mu",
+    type=float,
+    default=None,
+    metavar="MU",
+    help="Static friction coefficient of the bases [-], > 0: the bodies may then slide, "
+    "slide-rock and fly, not only rock [default: infinite friction, the paper's model]. A "
+    "bodies CSV may give its own per body (column mu).",
+)
+mu_k_option = click.option(
+    "--mu-k",
+    "mu_k",
+    type=float,
+    default=None,
+    metavar="MU_K",
+    help="Kinetic friction coefficient [-], at most --mu [default: --mu].",
+)
+
+
+def _physics(
+    e_text: str | None = None,
+    overturn: str | None = None,
+    mu: float | None = None,
+    mu_k: float | None = None,
+) -> Physics:
     from ..dynamics.physics import Physics
 
     fields: dict[str, Any] = {}
@@ -356,19 +382,38 @@ def _physics(e_text: str | None = None, overturn: str | None = None) -> Physics:
         fields["e"] = parse_e(e_text)
     if overturn is not None:
         fields["overturn_angle"] = OVERTURN_CHOICES[overturn]
-    return Physics(**fields)
+    if mu_k is not None and mu is None:
+        raise InputError("--mu-k needs --mu: give the static friction coefficient as well")
+    for option, value in (("--mu", mu), ("--mu-k", mu_k)):
+        if value is not None and not (math.isfinite(value) and value > 0.0):
+            raise InputError(f"{option} must be a finite number > 0 [-], got {value:g}")
+    if mu_k is not None and mu is not None and mu_k > mu:
+        raise InputError(
+            f"--mu-k {mu_k:g} exceeds --mu {mu:g}: kinetic friction is at most the static"
+        )
+    return Physics(**fields, mu=mu, mu_k=mu_k)
 
 
 def physics_options(restitution: bool = True, overturn_angle: bool = False) -> Decorator:
     """The options of the physics of a command's simulations, as one parameter ``physics`` (a
     :class:`rocking.Physics`): --e, unless the command's bodies carry their own restitution
-    (``restitution=False``), and with ``overturn_angle`` the command's --overturn-angle
-    (parameter ``overturn``, one of :data:`OVERTURN_CHOICES`, listed where the command lists
-    it).  An option of the physics is added here, for every command that simulates."""
+    (``restitution=False``), --mu and --mu-k (friction, issue 45), and with ``overturn_angle``
+    the command's --overturn-angle (parameter ``overturn``, one of :data:`OVERTURN_CHOICES`,
+    listed where the command lists it).  An option of the physics is added here, for every
+    command that simulates."""
+
+    def build(*values: Any) -> Physics:
+        given = list(values)
+        e_text = given.pop(0) if restitution else None
+        mu, mu_k = given.pop(0), given.pop(0)
+        return _physics(e_text, given.pop(0) if overturn_angle else None, mu, mu_k)
+
     return option_group(
         "physics",
-        _physics,
+        build,
         *([e_option] if restitution else []),
+        mu_option,
+        mu_k_option,
         reads=("overturn",) if overturn_angle else (),
     )
 

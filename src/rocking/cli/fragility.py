@@ -84,19 +84,23 @@ class _Inputs:
     frame_name: str | None
 
 
-def _prepare(inputs: _Inputs, compute: Compute) -> tuple[list[NamedBody], Ensemble]:
+def _prepare(
+    inputs: _Inputs, compute: Compute, physics: Physics
+) -> tuple[list[NamedBody], Ensemble, Physics]:
     """Check every input, then load the motions (at the bodies' location) and connect the
     backend to a remote scheduler (a local Dask cluster is only started when the run starts).
 
-    Returns the bodies and the ensemble."""
+    Returns the bodies, the ensemble and ``physics`` with the bodies' own friction."""
+    from ..assessment.bodies import with_body_friction
     from ..motions.ensemble import Ensemble
 
     bodies = load_bodies(inputs.bodies_spec)
+    physics = with_body_friction(physics, bodies)
     frame, level = frame_and_floor(inputs.frame_name, inputs.floor)
     ensemble = _location(Ensemble.load(inputs.motions_path), frame, level)
     assert compute.backend is not None  # made by compute_options
     compute.backend.connect()  # an unreachable scheduler is refused before the run folder is made
-    return bodies, ensemble
+    return bodies, ensemble, physics
 
 
 def _names(ds: xr.Dataset, bodies: list[NamedBody]) -> xr.Dataset:
@@ -128,6 +132,13 @@ def _run_params(
         "e": e,
         **more,
     }
+
+
+def _friction_params(physics: Physics) -> dict:
+    """What run.json records about friction: nothing without it (the runs before issue 45)."""
+    if physics.mu is None and physics.mu_k is None:
+        return {}
+    return {"mu": physics.params()["mu"], "mu_k": physics.params()["mu_k"]}
 
 
 _motions_option = click.option(
@@ -162,7 +173,8 @@ def _limit_states_option(effect: str):
         metavar="LIST",
         help="Limit states on the response instead of overturning alone, e.g. 'uplift, "
         "theta/alpha>=0.5, overturn' (uplift: the body rocks at all; theta/alpha>=X: its peak "
-        f"rotation reaches X times alpha; overturn). {effect}",
+        "rotation reaches X times alpha; overturn; with --mu also slip>=X, residual_slip>=X, "
+        f"lift>=X [m]). {effect}",
     )
 
 
@@ -327,7 +339,7 @@ def fragility_cmd(
 
         for fmt in exports:
             check_exportable(measure.name, fmt)
-    bodies, ensemble = _prepare(inputs, compute)
+    bodies, ensemble, physics = _prepare(inputs, compute, physics)
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
     from ..montecarlo.statistics import CrossingWarning, ExtrapolationWarning
 
@@ -348,6 +360,7 @@ def fragility_cmd(
         seed=seed,
         im_efficiency=compare,
         limit_states=None if states is None else [ls.name for ls in states],
+        **_friction_params(physics),
     )
     if measure.name == AGX:
         params["agx_g"] = params["levels"]
@@ -792,7 +805,7 @@ def agx50_cmd(
 
     states = None if limit_states_text is None else parse_limit_states(limit_states_text)
     band = parse_band(band_text)
-    bodies, ensemble = _prepare(inputs, compute)
+    bodies, ensemble, physics = _prepare(inputs, compute, physics)
     import numpy as np
 
     from ..assessment.energy import forms_grid, grid_table
@@ -815,6 +828,7 @@ def agx50_cmd(
         agx_max_g=agx_max,
         band_hz=list(band),
         **({} if states is None else {"limit_states": [ls.name for ls in states]}),
+        **_friction_params(physics),
     )
     reads = {"--motions": motions_path}
     with (

@@ -99,7 +99,29 @@ def run_summary(
             "pga_g": float(np.abs(ag).max()) / G,
             "scale_factor": factor,
         },
-        "response": {**response.summary(), "overturn_angle_rad": response.overturn_angle},
+        "response": {
+            **response.summary(),
+            "overturn_angle_rad": response.overturn_angle,
+            **_modes(response, dt),
+        },
+    }
+
+
+def _modes(response: RockingResponse, dt: float) -> dict:
+    """With friction: the time [s] spent in each response mode (:data:`rocking.MODES`; the
+    samples at which the body is in it, times dt, up to overturning) and the mode at the end
+    (at overturning if it overturned); nothing without friction."""
+    if response.mu is None:
+        return {}
+    import numpy as np
+
+    from ..defaults import MODES
+
+    standing = ~np.isnan(response.theta)
+    counts = np.bincount(response.mode[standing], minlength=len(MODES))
+    return {
+        "time_in_mode_s": {m: float(n * dt) for m, n in zip(MODES, counts)},
+        "final_mode": MODES[int(response.mode[-1])],
     }
 
 
@@ -120,6 +142,20 @@ def _text(s: dict) -> list[str]:
         f"settings: e = {r['e']:.4g}, overturning at |theta| = {r['overturn_angle_rad']:.4f} rad",
         f"result:   {outcome}; {r['n_impacts']} impacts; max |theta|/alpha = "
         f"{r['max_abs_theta_over_alpha']:.4g} (max |theta| = {r['max_abs_theta_rad']:.4g} rad)",
+        *_friction_text(r),
+    ]
+
+
+def _friction_text(r: dict) -> list[str]:
+    """The lines of the response with friction: slip, lift and the modes (none without)."""
+    if "mu" not in r:
+        return []
+    times = ", ".join(f"{m} {t:.4g} s" for m, t in r["time_in_mode_s"].items() if t > 0.0)
+    return [
+        f"friction: mu = {r['mu']:.4g}, mu_k = {r['mu_k']:.4g}; max |slip| = "
+        f"{r['max_abs_slip_m']:.4g} m, residual slip = {r['residual_slip_m']:.4g} m, "
+        f"max lift = {r['max_lift_m']:.4g} m",
+        f"modes:    {times}; at the end: {r['final_mode']}",
     ]
 
 
@@ -181,7 +217,9 @@ def simulate_cmd(
     Integrates the rocking equation with fixed-step Runge-Kutta at the motion's time step (the
     paper's scheme) and prints whether and when the block overturned, the number of impacts and
     the largest rotation theta as a fraction of alpha, with the block's and the motion's
-    properties.
+    properties.  With --mu (friction): also the largest and the residual slip [m], the largest
+    lift [m] of the base, and the time in each response mode (rest, slide, rock, slide-rock,
+    flight) with the mode at the end.
     """
     from ..core.checks import positive
     from ..dynamics.body import Block

@@ -9,8 +9,9 @@
 * :mod:`~rocking.dynamics.limits` — :class:`LimitState` on the kernel's response quantities;
 * :mod:`~rocking.dynamics.simulate` — :func:`simulate`, one block under one motion;
 * :mod:`~rocking.dynamics.batch` — many simulations at once (SIMD lanes, threads): the entry
-  points, with its records in :mod:`~rocking.dynamics.batch_records` and its lane machine in
-  :mod:`~rocking.dynamics.batch_lanes`;
+  points, with its records in :mod:`~rocking.dynamics.batch_records`, its lane machine in
+  :mod:`~rocking.dynamics.batch_lanes` and its cases with friction in
+  :mod:`~rocking.dynamics.batch_modes`;
 * :mod:`~rocking.dynamics.reference` — an independent SciPy ``solve_ivp`` solver for the tests.
 """
 

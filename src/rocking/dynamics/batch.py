@@ -34,6 +34,7 @@ from ..core.checks import finite_array, positive
 from ..core.compile import readonly
 from ..errors import InputError
 from .batch_lanes import _cases_kernel, _suffixes_of
+from .batch_modes import modes_kernel, modes_needed
 from .batch_records import (
     QUANTITIES,
     Blocks,
@@ -108,15 +109,75 @@ def run_cases(
     vertical motion: exactly the results without it); case i scales it by abs(scale[i]) (a
     negative scale mirrors the horizontal motion only).  ``impacts``: "located" or "step-end",
     as in :func:`rocking.simulate` (None: the table's physics).  The checks made here: a
-    scaled ``av`` that reaches −g, and an unknown ``impacts``, raise
-    :class:`~rocking.errors.InputError`.  Returns
-    the :class:`Outcome` of every case, shape like ``body``; its ``steps`` are the integrated
-    steps of each case: the sample intervals in which the block is not at rest throughout (it
-    rocks at the start or at the end of the interval), up to and including the one in which it
-    overturns.
+    scaled ``av`` that reaches −g for a block without friction (with friction it may fly), and
+    an unknown ``impacts``, raise :class:`~rocking.errors.InputError`.
+
+    Cases of blocks with friction (the table's μ_s finite, issue 45) whose motion may lift the
+    block or make its base slip run in the response-modes kernel
+    (:mod:`rocking.dynamics.batch_modes`, which derives the bound), the others in the lane
+    machines; either gives :func:`rocking.simulate` ``(..., mu=...)``'s results bit for bit.
+    Returns the :class:`Outcome` of every case, shape like ``body``; its ``steps`` are the
+    integrated steps of each case: in the lanes, the sample intervals in which the block is not
+    at rest throughout (it rocks at the start or at the end of the interval), in the modes
+    kernel every interval; up to and including the one in which it overturns.
     """
     acc = readonly(acc)
     av = None if av is None else readonly(av)
+    located = resolve_impacts(table.physics.impacts if impacts is None else impacts)
+    avmin = None if av is None else av.min(axis=1)
+    frictionless = table.contacts.mu_s == np.inf
+    if avmin is not None:
+        low = np.abs(scale) * avmin[motion]
+        low[~frictionless[body]] = np.inf  # with friction the block may fly: allowed
+        if low.size and low.min() <= -table.g:
+            i = int(np.argmin(low))
+            raise InputError(
+                f"av scaled by {abs(scale[i]):g} (case {i}, motion {motion[i]}) reaches "
+                f"{low[i]:g} m/s², at or below -g = {-table.g:g} m/s²: the block would leave "
+                "the ground, which the rocking-only model does not model; give a friction "
+                "coefficient mu for the model with sliding and flight"
+            )
+    if frictionless.all():
+        return _lanes(table, acc, amax, dt, (body, motion, scale), (av, avmin), located, suffixes)
+    need = modes_needed(amax, avmin, table.g, table.arrays(), table.contacts, body, motion, scale)
+    out = empty_outcome(body.size, alloc=np.empty)  # every case is written by one kernel
+    if not need.all():
+        rest = np.flatnonzero(~need)
+        lanes = _lanes(
+            table,
+            acc,
+            amax,
+            dt,
+            (body[rest], motion[rest], scale[rest]),
+            (av, avmin),
+            located,
+            suffixes,
+        )
+        for field, values in zip(out, lanes):
+            field[rest] = values
+    idx = np.flatnonzero(need)
+    if idx.size:
+        flat_av = None if av is None else av.reshape(-1)
+        with numba.parallel_chunksize(1):  # cases of very different lengths of work
+            modes_kernel(
+                acc.reshape(-1),
+                flat_av,
+                acc.shape[1],
+                float(dt),
+                table.arrays(),
+                table.contacts,
+                Cases(body, motion, scale, idx),
+                located,
+                out,
+            )
+    return out
+
+
+def _lanes(table, acc, amax, dt, cases, vertical, located, suffixes) -> Outcome:
+    """The lane machines of :mod:`rocking.dynamics.batch_lanes` on ``cases`` (body, motion,
+    scale arrays), with ``vertical`` = (av, its min per motion) or (None, None)."""
+    body, motion, scale = cases
+    av, avmin = vertical
     if suffixes is None:
         used = np.zeros(acc.shape[0], dtype=np.bool_)
         used[motion] = True  # the suffix extremes of these motions only (a call may use few)
@@ -125,15 +186,6 @@ def run_cases(
         asuf, avsuf = suffixes
     vert = None
     if av is not None:
-        avmin = av.min(axis=1)
-        low = np.abs(scale) * avmin[motion]
-        if low.size and low.min() <= -table.g:
-            i = int(np.argmin(low))
-            raise InputError(
-                f"av scaled by {abs(scale[i]):g} (case {i}, motion {motion[i]}) reaches "
-                f"{low[i]:g} m/s², at or below -g = {-table.g:g} m/s²: the block would leave "
-                "the ground, which is not modelled"
-            )
         assert avsuf is not None  # computed with av
         vert = Vertical(av.reshape(-1), avmin, avsuf)
     out = empty_outcome(body.size, alloc=np.empty)  # every case is written by the kernel
@@ -152,7 +204,7 @@ def run_cases(
             table.arrays(),
             Cases(body, motion, scale, order),
             out,
-            resolve_impacts(table.physics.impacts if impacts is None else impacts),
+            located,
             machines,
         )
     return out

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from .body import Block
+from .modes import Contact
 from .physics import FROM_PHYSICS, Physics, as_physics
 
 #: A per-block option: one value for all blocks (a number or a keyword) or one per block.
@@ -50,6 +51,18 @@ class Blocks(NamedTuple):
     th_ov: np.ndarray  #: overturning angle [rad]
     alpha: np.ndarray  #: α [rad]
     g: float  #: gravity [m/s²]
+
+
+class Contacts(NamedTuple):
+    """Per-block contact constants of the modes kernel (:class:`~rocking.dynamics.modes.Contact`
+    of each block, field by field; see :class:`BlockTable`)."""
+
+    R: np.ndarray  #: distance centre of mass–corner [m]
+    rg2: np.ndarray  #: squared radius of gyration [m²]
+    mu_s: np.ndarray  #: static friction coefficient [-] (∞: no friction given, rocking only)
+    mu_k: np.ndarray  #: kinetic friction coefficient [-] (∞ likewise)
+    e_ratio: np.ndarray  #: e/e_H [-]
+    impact_ok: np.ndarray  #: the rule θ'⁺ = e·θ'⁻ from rock is inside the friction cone (bool)
 
 
 class Cases(NamedTuple):
@@ -134,6 +147,9 @@ class BlockTable:
     physics : Physics
         The physics resolved for the blocks (:meth:`Physics.for_blocks`), whose numbers these
         are.
+    contacts : Contacts
+        The contact constants of each block with its base (friction coefficients μ_s, μ_k [-],
+        ∞ for a block without friction; issue 45).
     """
 
     p2: np.ndarray
@@ -145,6 +161,7 @@ class BlockTable:
     alpha: np.ndarray
     g: float
     physics: Physics
+    contacts: Contacts
 
     @classmethod
     def from_blocks(
@@ -178,6 +195,7 @@ class BlockTable:
             alpha=alpha,
             g=g,
             physics=resolved,
+            contacts=_contacts(blocks, resolved),
         )
 
     def __len__(self) -> int:
@@ -188,6 +206,17 @@ class BlockTable:
         return Blocks(
             self.p2, self.sin_a, self.cos_a, self.tan_a, self.e, self.theta_ov, self.alpha, self.g
         )
+
+
+def _contacts(blocks: Sequence[Block], physics: Physics) -> Contacts:
+    """The :class:`Contacts` of ``blocks`` under ``physics`` (resolved for them)."""
+    rows = []
+    for i, b in enumerate(blocks):
+        mu, mu_k = physics.friction(i)
+        e = float(physics.e[i] if isinstance(physics.e, tuple) else physics.e)
+        rows.append(Contact.of(b, e, math.inf if mu is None else mu, mu_k, physics.g))
+    col = [np.array(values) for values in zip(*rows)]
+    return Contacts(col[1], col[2], col[3], col[4], col[5], col[6].astype(np.bool_))
 
 
 def block_list(blocks: Block | Iterable[Block]) -> list[Block]:

@@ -60,19 +60,21 @@ class Physics:
         Gravity [m/s²].
     impacts : {"located", "step-end"}
         Impact handling of the integrator (:func:`rocking.simulate`).
-    mu : float, optional
+    mu : float or sequence, optional
         Static friction coefficient μ_s [-] of the base (issue 45; :mod:`rocking.dynamics.modes`):
         the body may slide, slide-rock and fly.  None (default): infinite friction, rocking only.
-    mu_k : float, optional
-        Kinetic friction coefficient μ_k ≤ μ_s [-]; None (default): μ_s.
+        A sequence gives one value per block (None in it: that block without friction).
+    mu_k : float or sequence, optional
+        Kinetic friction coefficient μ_k ≤ μ_s [-]; None (default): μ_s.  A sequence gives one
+        value per block.
     """
 
     e: float | str | tuple = DEFAULT_E
     overturn_angle: float | str | tuple = OVERTURN_ANGLE
     g: float = G
     impacts: str = IMPACT_SCHEMES[0]
-    mu: float | None = DEFAULT_MU
-    mu_k: float | None = DEFAULT_MU_K
+    mu: float | tuple | None = DEFAULT_MU
+    mu_k: float | tuple | None = DEFAULT_MU_K
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__  # a frozen dataclass: the checked values replace the given
@@ -81,15 +83,13 @@ class Physics:
         set_(self, "g", positive("g", self.g, "m/s²"))
         resolve_impacts(self.impacts)  # refuses an unknown scheme
         set_(self, "impacts", self.impacts.strip().lower())
-        mu = None if self.mu is None else positive("mu", self.mu, "-")
-        mu_k = None if self.mu_k is None else positive("mu_k", self.mu_k, "-")
-        if mu_k is not None:
-            if mu is None:
-                raise InputError("mu_k needs mu: give the static friction coefficient mu as well")
-            if mu_k > mu:
-                raise InputError(
-                    f"mu_k = {mu_k:g} exceeds mu = {mu:g}: kinetic friction is at most the static"
-                )
+        mu = _each(self.mu, _friction("mu"))
+        mu_k = _each(self.mu_k, _friction("mu_k"))
+        if isinstance(mu, tuple) and isinstance(mu_k, tuple) and len(mu) != len(mu_k):
+            raise InputError(f"mu_k has {len(mu_k)} values but mu has {len(mu)}: one per block")
+        n = max(len(v) if isinstance(v, tuple) else 1 for v in (mu, mu_k))
+        for i in range(n):
+            _check_kinetic(_pick(mu, i), _pick(mu_k, i), "" if n == 1 else f" (block {i})")
         set_(self, "mu", mu)
         set_(self, "mu_k", mu_k)
 
@@ -101,11 +101,18 @@ class Physics:
             resolve_overturn_angle(_pick(self.overturn_angle, i), block),
         )
 
+    def friction(self, i: int = 0) -> tuple[float | None, float | None]:
+        """(μ_s, μ_k) [-] of the i-th block of a batch: None, None for infinite friction; μ_k is
+        μ_s where not given."""
+        mu = _pick(self.mu, i)
+        mu_k = _pick(self.mu_k, i)
+        return mu, mu if mu_k is None else mu_k
+
     def for_blocks(self, blocks: Sequence[Block]) -> Physics:
         """This physics resolved for ``blocks``: ``e`` and ``overturn_angle`` as tuples of
         numbers, one per block (done once per block)."""
         n = len(blocks)
-        for name in ("e", "overturn_angle"):
+        for name in ("e", "overturn_angle", "mu", "mu_k"):
             value = getattr(self, name)
             if isinstance(value, tuple) and len(value) != n:
                 raise InputError(f"{name} has {len(value)} values for {n} blocks")
@@ -153,6 +160,27 @@ def _each(value, check):
     if isinstance(value, str) or not isinstance(value, Iterable) or getattr(value, "ndim", 1) == 0:
         return check(value)
     return tuple(check(v) for v in value)
+
+
+def _friction(name: str):
+    """The check of a friction coefficient ``name``: None (not given) or a positive number."""
+
+    def check(value):
+        return None if value is None else positive(name, value, "-")
+
+    return check
+
+
+def _check_kinetic(mu, mu_k, where: str) -> None:
+    """Refuse a kinetic coefficient without a static one, or above it."""
+    if mu_k is None:
+        return
+    if mu is None:
+        raise InputError(f"mu_k needs mu{where}: give the static friction coefficient mu as well")
+    if mu_k > mu:
+        raise InputError(
+            f"mu_k = {mu_k:g} exceeds mu = {mu:g}{where}: kinetic friction is at most the static"
+        )
 
 
 def _pick(value, i: int):

@@ -250,11 +250,13 @@ def simulate(
         mu_k=FROM_PHYSICS if mu_k is None else mu_k,
     )
     g = physics.g
+    # e, the overturning angle and friction as numbers, once (for_blocks checks per-block ones)
+    resolved = physics.for_blocks([block])
+    e_val, th_ov = resolved.resolve(block)
+    mu_s, mu_kin = resolved.friction(0)
     ag = finite_array("ag", ag, ndim=(1,), min_len=1)
-    gv = None if av is None else _vertical_factor(av, ag.size, g, physics.mu is not None)
+    gv = None if av is None else _vertical_factor(av, ag.size, g, mu_s is not None)
     located = resolve_impacts(physics.impacts)
-    # e and the overturning angle as numbers, once (for_blocks checks per-block settings)
-    e_val, th_ov = physics.for_blocks([block]).resolve(block)
     theta0 = in_range("theta0", theta0, -math.pi / 2, math.pi / 2, unit="rad")
     try:
         omega0 = float(omega0)
@@ -264,7 +266,7 @@ def simulate(
         raise InputError(f"omega0 must be finite [rad/s], got {omega0!r}")
     alpha = block.alpha
     body = Body(block.p_squared(g), math.sin(alpha), math.cos(alpha), math.tan(alpha), e_val, th_ov)
-    if physics.mu is None:
+    if mu_s is None:
         theta = np.empty_like(ag)
         omega = np.empty_like(ag)
         overturned, t_ov, n_imp, peak = _simulate_kernel(
@@ -276,7 +278,7 @@ def simulate(
         slip, lift, max_slip, residual, max_lift = zeros, zeros.copy(), 0.0, 0.0, 0.0
     else:
         out = np.empty((5, ag.size))
-        contact = Contact.of(block, e_val, physics.mu, physics.mu_k, g)
+        contact = Contact.of(block, e_val, mu_s, mu_kin, g)
         overturned, t_ov, n_imp, peak, _up, max_slip, residual, max_lift, _demand = modes_case(
             ag / g, gv, dt, body, contact, located, theta0, omega0, out
         )
@@ -299,6 +301,6 @@ def simulate(
         max_abs_slip=float(max_slip),
         residual_slip=float(residual),
         max_lift=float(max_lift),
-        mu=physics.mu,
-        mu_k=physics.mu_k,
+        mu=mu_s,
+        mu_k=mu_kin,
     )

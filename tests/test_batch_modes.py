@@ -1,0 +1,140 @@
+"""The batched kernel with friction (issue 45): every case equals rocking.simulate(..., mu=...)."""
+
+import numba
+import numpy as np
+import pytest
+
+from rocking import Physics
+from rocking.defaults import MODES
+from rocking.dynamics.batch import BlockTable, motion_peaks, overturn_cases, run_cases
+from rocking.dynamics.batch_modes import modes_needed
+from rocking.dynamics.body import Block
+from rocking.dynamics.simulate import simulate
+from rocking.errors import InputError
+from rocking.motions.synthesis import generate
+
+SLIDE, ROCK, SLIDE_ROCK, FLIGHT = (
+    MODES.index(m) for m in ("slide", "rock", "slide-rock", "flight")
+)
+
+
+@pytest.fixture(scope="module")
+def ensemble():
+    return generate(6, duration=4.0, dt=1 / 200, seed=5)
+
+
+def _run(blocks, ens, body, motion, scale, physics, av=None):
+    table = BlockTable.from_blocks(blocks, physics=physics)
+    return run_cases(table, ens.acc, motion_peaks(ens.acc), ens.dt, body, motion, scale, av)
+
+
+def _check(blocks, ens, body, motion, scale, out, mu, mu_k=None, av=None):
+    """Every case's Outcome equals simulate()'s summaries bit for bit (the kernel calls the
+    same compiled modes_case on the same scaled samples); returns the modes seen."""
+    seen = set()
+    for i in range(body.size):
+        b = body[i]
+        blk = blocks[b]
+        vert = None if av is None else abs(scale[i]) * av[motion[i]]
+        m, mk = (mu[b], None if mu_k is None else mu_k[b]) if isinstance(mu, list) else (mu, mu_k)
+        r = simulate(blk, scale[i] * ens.acc[motion[i]], ens.dt, av=vert, mu=m, mu_k=mk)
+        assert out.overturned[i] == r.overturned, i
+        assert out.peak_theta_ratio[i] == r.max_abs_theta / blk.alpha, i
+        assert out.uplift[i] == r.uplift, i
+        assert out.peak_slip[i] == r.max_abs_slip, i
+        assert out.residual_slip[i] == abs(r.residual_slip), i
+        assert out.peak_lift[i] == r.max_lift, i
+        seen.update(int(x) for x in np.unique(r.mode))
+        seen.add("overturned" if r.overturned else "standing")
+    return seen
+
+
+def test_batch_with_friction_equals_simulate(ensemble):
+    rng = np.random.default_rng(21)
+    blocks = [
+        Block(float(rng.uniform(0.3, 2.0)), float(rng.uniform(1.5, 5.0))) for _ in range(3)
+    ] + [Block.from_mass_properties(0.8, 0.2, radius_of_gyration=0.35)]
+    n = 120
+    body = rng.integers(0, len(blocks), n)
+    motion = rng.integers(0, ensemble.n, n)
+    # from 0.02 g (rest, in the lanes) to 1.5 g; negative: mirrored
+    scale = rng.uniform(-1.5, 1.5, n) / ensemble.agx
+    scale[:10] = 0.02 / ensemble.agx
+    for mu, mu_k in ((0.3, 0.25), (0.6, None), (1e6, None)):
+        physics = Physics(mu=mu, mu_k=mu_k)
+        table = BlockTable.from_blocks(blocks, physics=physics)
+        need = modes_needed(
+            motion_peaks(ensemble.acc),
+            None,
+            table.g,
+            table.arrays(),
+            table.contacts,
+            body,
+            motion,
+            scale,
+        )
+        assert 10 <= (~need).sum() < n  # both kernels in one call: the lanes keep cases at rest
+        out = _run(blocks, ensemble, body, motion, scale, physics)
+        seen = _check(blocks, ensemble, body, motion, scale, out, mu, mu_k)
+        assert {"overturned", "standing", ROCK} <= seen, mu
+        if mu < 0.5:
+            assert {SLIDE, SLIDE_ROCK} <= seen
+
+
+def test_flight_and_per_block_friction_equal_simulate(ensemble):
+    # the vertical component: another motion at 1–2 times its size, scaled by up to 1.5/agx:
+    # below −g at the larger scales (flight, allowed with friction)
+    rng = np.random.default_rng(22)
+    av = ensemble.acc[::-1] * rng.uniform(1.0, 2.0, (ensemble.n, 1))
+    blocks = [Block(0.4, 3.0), Block(1.0, 2.0), Block(0.6, 4.0)]
+    n = 60
+    body = rng.integers(0, 3, n)
+    motion = rng.integers(0, ensemble.n, n)
+    scale = rng.uniform(-1.5, 1.5, n) / ensemble.agx
+    mu, mu_k = [0.3, 0.7, None], [0.2, None, None]
+    physics = Physics(mu=mu, mu_k=mu_k)
+    out = _run(blocks, ensemble, body[body < 2], motion[body < 2], scale[body < 2], physics, av)
+    seen = _check(
+        blocks, ensemble, body[body < 2], motion[body < 2], scale[body < 2], out, mu, mu_k, av
+    )
+    assert FLIGHT in seen
+    # the frictionless block under a vertical motion below −g: refused, pointing to mu
+    with pytest.raises(InputError, match="mu"):
+        _run(blocks, ensemble, body, motion, scale, physics, av)
+    small = 0.3 * av  # above −g: the frictionless block rocks in the lanes beside the others
+    out = _run(blocks, ensemble, body, motion, scale, physics, small)
+    _check(blocks, ensemble, body, motion, scale, out, mu, mu_k, small)
+
+
+def test_friction_results_do_not_depend_on_threads_or_grouping(ensemble):
+    rng = np.random.default_rng(23)
+    blocks = [Block(0.5, 3.0), Block(1.5, 2.5)]
+    n = 40
+    body = rng.integers(0, 2, n)
+    motion = rng.integers(0, ensemble.n, n)
+    scale = rng.uniform(0.02, 1.2, n) / ensemble.agx
+    physics = Physics(mu=0.35)
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = _run(blocks, ensemble, body, motion, scale, physics)
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        many = _run(blocks, ensemble, body, motion, scale, physics)
+    finally:
+        numba.set_num_threads(before)
+    half = [
+        _run(blocks, ensemble, body[s], motion[s], scale[s], physics)
+        for s in (np.s_[:17], np.s_[17:])
+    ]
+    for a, b, *parts in zip(one, many, *half):
+        np.testing.assert_array_equal(a, b)
+        np.testing.assert_array_equal(a, np.concatenate(parts))
+
+
+def test_overturn_cases_take_mu(ensemble):
+    blocks = [Block(0.5, 3.0)]
+    scale = np.array([0.3, 0.9]) / ensemble.agx
+    ov, pk = overturn_cases(blocks, ensemble.acc, ensemble.dt, [0, 0], [0, 1], scale, mu=0.25)
+    for i in range(2):
+        r = simulate(blocks[0], scale[i] * ensemble.acc[i], ensemble.dt, mu=0.25)
+        assert ov[i] == r.overturned and pk[i] == r.max_abs_theta / blocks[0].alpha
