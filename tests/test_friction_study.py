@@ -127,7 +127,7 @@ def test_summary_reports_friction_raising_agx50_and_bodies_that_stop_overturning
     # slender body: 0.9 / 0.75 − 1 = +20 %, raised by friction; the stocky one slides instead
     assert "+20.0 %" in text and "higher in 1" in text
     assert "raises A_gx50 most for slender at μ = 0.4 (+20.0 %)" in text
-    assert "In 1 pairs the body no longer overturns" in text
+    assert "In 1 pair the body no longer overturns" in text
     # the stocky body at the paper's A_gx50 (level 1 of the synthetic data: overturned 0.1)
     assert "stocky (B/H = 0.5) at μ = 0.4: at the paper's A_gx50 it overturns in 10 %" in text
     assert "and 90 % slide it, by up to 0.12 m" in text

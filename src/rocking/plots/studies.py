@@ -88,7 +88,8 @@ def plot_responses(
 def plot_friction(ds: xr.Dataset, *, title: str = "") -> Figure:
     """A_gx50 against the friction coefficient μ per body (left; infinite friction, the paper's
     model, drawn at the right end and marked ∞), and the share of the motions in which each body
-    slides or slide-rocks at its A_gx50 with friction (right; bars stacked per body and μ).
+    slides or slide-rocks without overturning, at its A_gx50 with friction (middle) and at the
+    paper's A_gx50 (right; bars stacked per body and μ).
 
     Parameters
     ----------
@@ -99,58 +100,50 @@ def plot_friction(ds: xr.Dataset, *, title: str = "") -> Figure:
     title : str
         Figure title.
     """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     mus = ds["mu"].values
     finite = np.isfinite(mus)
     step = float(np.diff(mus[finite]).min()) if finite.sum() > 1 else 0.1
     # infinite friction two steps right of the largest μ
     x = np.where(finite, mus, (mus[finite].max() if finite.any() else 0.0) + 2 * step)
-    fig = new_figure(figsize=(10.0, 4.2), layout="constrained")
-    left, right = fig.subplots(1, 2)
+    ticks = [f"{m:g}" if np.isfinite(m) else "∞" for m in mus]
+    fig = new_figure(figsize=(13.0, 4.2), layout="constrained")
+    axes = fig.subplots(1, 3)
     bodies = [str(b) for b in ds["body"].values]
+    top = float(ds.attrs.get("agx_max", np.nan))
+    handles = []
     for j, body in enumerate(bodies):
         y = ds["agx50"].sel(body=body).values
-        left.plot(x, y, "o-", ms=4, color=f"C{j % 10}", label=body)
-        if "agx_max" in ds.attrs and np.isnan(y).any():  # 50 % not reached: a mark at the top
-            top = np.full(y.shape, float(ds.attrs["agx_max"]))
-            left.plot(x[np.isnan(y)], top[np.isnan(y)], "^", ms=6, color=f"C{j % 10}")
-    if "agx_max" in ds.attrs and ds["agx50"].isnull().any():
-        left.axhline(float(ds.attrs["agx_max"]), color="0.6", lw=0.6, ls="--")
-        left.annotate(
-            "▲ 50 % not reached",
-            (0.01, float(ds.attrs["agx_max"])),
-            xycoords=("axes fraction", "data"),
-            va="top",
-            fontsize="small",
-            color="0.4",
-        )
-    left.set_xticks(x, [f"{m:g}" if np.isfinite(m) else "∞" for m in mus])
-    left.set_xlabel("friction coefficient μ [-]")
-    left.set_ylabel("A_gx50 [g]")
-    left.grid(True, lw=0.4, alpha=0.5)
-    own = ds["share"].isel(level=0)
+        handles += axes[0].plot(x, y, "o-", ms=4, color=f"C{j % 10}", label=body)
+        if np.isfinite(top) and np.isnan(y).any():  # 50 % not reached: a mark at the top
+            axes[0].plot(x[np.isnan(y)], np.full(np.isnan(y).sum(), top), "^", color=f"C{j % 10}")
+    if np.isfinite(top) and ds["agx50"].isnull().any():
+        axes[0].axhline(top, color="0.6", lw=0.6, ls="--")
+        handles.append(Line2D([], [], color="0.5", marker="^", ls="", label="50 % not reached"))
+    axes[0].set_ylabel("A_gx50 [g]")
     width = 0.8 * step / max(len(bodies), 1)
-    for j, body in enumerate(bodies):
-        xs = x + (j - (len(bodies) - 1) / 2) * width
-        slide = np.nan_to_num(own.sel(body=body, mode="slide").values)
-        both = np.nan_to_num(own.sel(body=body, mode="slide-rock").values)
-        right.bar(xs, slide, width, color=f"C{j % 10}", alpha=0.45)
-        right.bar(xs, both, width, bottom=slide, color=f"C{j % 10}", hatch="//", alpha=0.9)
-    from matplotlib.patches import Patch
-
-    kinds = [Patch(color="0.6", alpha=0.45), Patch(facecolor="0.6", hatch="//")]
-    right.set_xticks(x, [f"{m:g}" if np.isfinite(m) else "∞" for m in mus])
-    right.set_ylim(0.0, 1.0)
-    right.set_xlabel("friction coefficient μ [-]")
-    right.set_ylabel("share of the motions at A_gx50 [-]")
-    right.grid(True, axis="y", lw=0.4, alpha=0.5)
-    handles, labels = left.get_legend_handles_labels()
-    right.legend(
-        [*handles, *kinds],
-        [*labels, "slide", "slide-rock"],
-        loc="upper left",
-        bbox_to_anchor=(1.01, 1.0),
-        fontsize="small",
-    )
+    for ax, level in zip(axes[1:], ds["level"].values):
+        at = ds["share"].sel(level=level)
+        for j, body in enumerate(bodies):
+            xs = x + (j - (len(bodies) - 1) / 2) * width
+            slide = np.nan_to_num(at.sel(body=body, mode="slide").values)
+            both = np.nan_to_num(at.sel(body=body, mode="slide-rock").values)
+            ax.bar(xs, slide, width, color=f"C{j % 10}", alpha=0.45)
+            ax.bar(xs, both, width, bottom=slide, color=f"C{j % 10}", hatch="//", alpha=0.9)
+        ax.set_ylim(0.0, 1.0)
+        ax.set_ylabel(f"share of the motions at {level} [-]")
+        ax.grid(True, axis="y", lw=0.4, alpha=0.5)
+    for ax in axes:
+        ax.set_xticks(x, ticks)
+        ax.set_xlabel("friction coefficient μ [-]")
+    axes[0].grid(True, lw=0.4, alpha=0.5)
+    handles += [
+        Patch(color="0.6", alpha=0.45, label="slide"),
+        Patch(facecolor="0.6", hatch="//", label="slide-rock"),
+    ]
+    axes[-1].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
     if title:
         fig.suptitle(title, fontsize="medium")
     return fig

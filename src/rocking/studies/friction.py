@@ -215,13 +215,21 @@ def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
     ds, lab = result.data, result.label
     rep.heading(TITLE)
     rep.text(summary(ds))
+    rep.text(
+        "The paper's bodies and motions (Section 8 on the ground), with Coulomb friction of "
+        "coefficient μ (static = kinetic) between body and ground. A motion *slides* a body "
+        "when it slips (slip > 0) without rocking, *slide-rocks* it when it slips and rocks, "
+        "*rocks* it when it rocks without slipping. Overturned motions are counted apart: as a "
+        "body falls, the normal force at its corner vanishes and it slips at any μ."
+    )
     rep.plot(
         plot_friction,
         ds,
         name="friction",
         caption="A_gx50 against the friction coefficient μ (∞: the paper's sufficient "
-        "friction), and the share of the motions in which each body slides or slide-rocks at "
-        f"its A_gx50 [{lab}]",
+        "friction), and the share of the motions in which each body slides or slide-rocks "
+        "without overturning, at its A_gx50 with friction μ and at the paper's A_gx50 (infinite "
+        f"friction) [{lab}]",
     )
     rep.table(
         _table(ds, LEVELS[0]),
@@ -305,8 +313,9 @@ def summary(ds: xr.Dataset) -> str:
         slid = float(there["share"].sel(mode=["slide", "slide-rock"]).sum())
         fell = float(there["share"].sel(mode="overturned"))
         parts.append(
-            f"In {int(lost.sum())} pairs the body no longer overturns with 50 % probability up "
-            f"to {ds.attrs.get('agx_max', math.nan):g} g: it slides instead. E.g. "
+            f"In {int(lost.sum())} pair{'s' if int(lost.sum()) > 1 else ''} the body no longer "
+            "overturns with 50 % probability up "
+            f"to {ds.attrs.get('agx_max', math.nan):g} g. E.g. "
             f"{ds['body'].values[j]} (B/H = {float(ds['b_over_h'][j]):.3g}) at μ = {mus[i]:g}: "
             f"at the paper's A_gx50 it overturns in {100 * fell:.0f} % of the motions, and "
             f"{100 * slid:.0f} % slide it, by up to "
