@@ -524,6 +524,9 @@ def validate(cfg: dict) -> None:
             f"(1 ± grid_span), above 0 g) and grid_levels be an integer >= 3, got {span!r} "
             f"and {levels!r}"
         )
+    mus = cfg["friction"]["mu"]
+    if len(set(mus)) < len(mus):
+        raise InputError(f"friction.mu: give each friction coefficient once, got {mus}")
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
 
