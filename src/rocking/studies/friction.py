@@ -229,23 +229,53 @@ def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
         caption="A_gx50 against the friction coefficient μ (∞: the paper's sufficient "
         "friction), and the share of the motions in which each body slides or slide-rocks "
         "without overturning, at its A_gx50 with friction μ and at the paper's A_gx50 (infinite "
-        f"friction) [{lab}]",
+        f"friction; bars: the mean over the bodies of a γ) [{lab}]",
+    )
+    by_body = _table(ds, LEVELS[0])
+    rep.table(
+        _by_slenderness(by_body),
+        "By slenderness, over the bodies of each γ: the bodies whose A_gx50 is found, the mean, "
+        "smallest and largest change of A_gx50 (and of Table 3's ratio) against infinite "
+        "friction, the mean shares of the motions that slide or slide-rock a body at its "
+        f"A_gx50, the largest slip of a body left standing [{lab}]",
+        name="friction-by-gamma",
+        floatfmt=".3f",
     )
     rep.table(
-        _table(ds, LEVELS[0]),
-        "A_gx50, its change against infinite friction, Table 3's ratio S_v1/S_v and how the "
-        "motions moved each body at its A_gx50 with friction μ (μ = inf: the paper's model; "
-        f"A_gx50 NaN: 50 % not reached by {ds.attrs['agx_max']:g} g) [{lab}]",
+        by_body,
+        "Per body: A_gx50, its change against infinite friction, Table 3's ratio S_v1/S_v and "
+        "how the motions moved the body at its A_gx50 with friction μ (μ = inf: the paper's "
+        f"model; A_gx50 NaN: 50 % not reached by {ds.attrs['agx_max']:g} g) [{lab}]",
         name="friction-agx50",
         floatfmt=".3f",
+        collapsed=True,
     )
     rep.table(
         _table(ds, LEVELS[1]).drop(columns=["A_gx50 [g]", "change [-]", "S_v1/S_v [-]"]),
-        "The same motions at the paper's A_gx50 (infinite friction) with friction μ: the "
-        f"overturning probability there and how the motions moved each body [{lab}]",
+        "Per body, the same motions at the paper's A_gx50 (infinite friction) with friction μ: "
+        f"the overturning probability there and how the motions moved the body [{lab}]",
         name="friction-at-paper-agx50",
         floatfmt=".3f",
+        collapsed=True,
     )
+
+
+def _by_slenderness(by_body: pd.DataFrame) -> pd.DataFrame:
+    """The per-body table of :func:`_table` summarised per (μ, B/H)."""
+    groups = by_body.groupby(["μ [-]", "B/H [-]"], sort=False)
+    table = groups.agg(
+        **{
+            "bodies [-]": ("body", "size"),
+            "A_gx50 found [-]": ("A_gx50 [g]", "count"),
+            "mean change [-]": ("change [-]", "mean"),
+            "min change [-]": ("change [-]", "min"),
+            "max change [-]": ("change [-]", "max"),
+            "share slide [-]": ("share slide [-]", "mean"),
+            "share slide-rock [-]": ("share slide-rock [-]", "mean"),
+            "max slip, not overturned [m]": ("max slip, not overturned [m]", "max"),
+        }
+    ).reset_index()
+    return table.sort_values(["μ [-]", "B/H [-]"], ascending=[True, False], kind="stable")
 
 
 def _table(ds: xr.Dataset, level: str) -> pd.DataFrame:
@@ -300,33 +330,44 @@ def summary(ds: xr.Dataset) -> str:
             "ratio S_v1/S_v changes by the same factors."
         )
         if up:
-            i = np.unravel_index(np.nanargmax(np.where(both, change, -np.inf)), change.shape)
+            best = np.unravel_index(np.nanargmax(np.where(both, change, -np.inf)), change.shape)
             parts.append(
-                f"Friction raises A_gx50 most for {ds['body'].values[i[1]]} at μ = "
-                f"{mus[i[0]]:g} ({100 * change[i]:+.1f} %), presumably because slipping "
+                f"Friction raises A_gx50 most for {ds['body'].values[best[1]]} at μ = "
+                f"{mus[best[0]]:g} ({100 * change[best]:+.1f} %), presumably because slipping "
                 "limits the force the ground passes to the body (it isolates it)."
             )
+    bh = ds["b_over_h"].values[None, :]
+    below = mus[:, None] < bh
+    far = mus[:, None] >= 2.0 * bh
+    if (far & both).any():
+        most = np.abs(change[far & both]).max()
+        parts.append(
+            f"Where μ ≥ 2·B/H ({int(far.sum())} pairs), A_gx50 "
+            + (f"changes by at most {100 * most:.1f} %." if most else "is the paper's exactly.")
+        )
     paper_level = finite.sel(level=LEVELS[1])
     if int(lost.sum()):
         i, j = (int(k[0]) for k in np.nonzero(lost.values))
         there = paper_level.isel(mu=i, body=j)
         slid = float(there["share"].sel(mode=["slide", "slide-rock"]).sum())
         fell = float(there["share"].sel(mode="overturned"))
+        n_lost, lost_below = int(lost.sum()), int((lost.values & below).sum())
         parts.append(
-            f"In {int(lost.sum())} pair{'s' if int(lost.sum()) > 1 else ''} the body no longer "
-            "overturns with 50 % probability up "
-            f"to {ds.attrs.get('agx_max', math.nan):g} g. E.g. "
+            f"In {n_lost} pair{'s' if n_lost > 1 else ''} the body no longer overturns with 50 % "
+            f"probability up to {ds.attrs.get('agx_max', math.nan):g} g: {lost_below} of the "
+            f"{int(below.sum())} pairs with μ < B/H (where a body at rest slips before it can "
+            f"tip, Shenton 1996) and {n_lost - lost_below} others. E.g. "
             f"{ds['body'].values[j]} (B/H = {float(ds['b_over_h'][j]):.3g}) at μ = {mus[i]:g}: "
             f"at the paper's A_gx50 it overturns in {100 * fell:.0f} % of the motions, and "
             f"{100 * slid:.0f} % slide it, by up to "
             f"{float(there['max_slip']):.3g} m."
         )
     if np.isfinite(moved.values).any():
-        j = np.unravel_index(np.nanargmax(moved.values), moved.shape)
+        most = np.unravel_index(np.nanargmax(moved.values), moved.shape)
         parts.append(
-            f"At A_gx50 with friction, up to {100 * float(moved.values[j]):.0f} % of the motions "
-            f"make a body slide or slide-rock without overturning it "
-            f"({ds['body'].values[j[1]]} at μ = {mus[j[0]]:g}), with slips up to "
+            f"At A_gx50 with friction, up to {100 * float(moved.values[most]):.0f} % of the "
+            "motions make a body slide or slide-rock without overturning it "
+            f"({ds['body'].values[most[1]]} at μ = {mus[most[0]]:g}), with slips up to "
             f"{float(own['max_slip'].max()):.3g} m, a displacement the paper's model cannot show."
         )
     at_paper = paper_level["share"].sel(mode="overturned").values
