@@ -126,7 +126,7 @@ def test_summary_reports_friction_raising_agx50_and_bodies_that_stop_overturning
     text = summary(_synthetic([np.nan, 0.9], [1.0, 0.75], shares))
     # slender body: 0.9 / 0.75 − 1 = +20 %, raised by friction; the stocky one slides instead
     assert "+20.0 %" in text and "higher in 1" in text
-    assert "raises A_gx50 most for slender at μ = 0.4 (+20.0 %)" in text
+    assert "raises A_gx50 most for slender (B/H = 0.2) at μ = 0.4 (+20.0 %)" in text
     assert "In 1 pair the body no longer overturns" in text
     # the stocky body at the paper's A_gx50 (level 1 of the synthetic data: overturned 0.1)
     assert "stocky (B/H = 0.5) at μ = 0.4: at the paper's A_gx50 it overturns in 10 %" in text

@@ -185,7 +185,8 @@ def friction_study(
     return ds.assign_coords(
         R=("body", [b.R for b in blocks]),
         gamma=("body", [b.gamma for b in blocks]),
-        b_over_h=("body", [b.b / b.h_cg for b in blocks]),
+        # to 12 digits: μ = B/H compares equal where it should (0.4 = 1/2.5)
+        b_over_h=("body", [round(b.b / b.h_cg, 12) for b in blocks]),
     )
 
 
@@ -261,10 +262,11 @@ def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
 
 
 def _by_slenderness(by_body: pd.DataFrame) -> pd.DataFrame:
-    """The per-body table of :func:`_table` summarised per (μ, B/H)."""
-    groups = by_body.groupby(["μ [-]", "B/H [-]"], sort=False)
+    """The per-body table of :func:`_table` summarised per (μ, γ)."""
+    groups = by_body.groupby(["μ [-]", "γ [-]"])
     table = groups.agg(
         **{
+            "B/H [-]": ("B/H [-]", "mean"),
             "bodies [-]": ("body", "size"),
             "A_gx50 found [-]": ("A_gx50 [g]", "count"),
             "mean change [-]": ("change [-]", "mean"),
@@ -274,8 +276,8 @@ def _by_slenderness(by_body: pd.DataFrame) -> pd.DataFrame:
             "share slide-rock [-]": ("share slide-rock [-]", "mean"),
             "max slip, not overturned [m]": ("max slip, not overturned [m]", "max"),
         }
-    ).reset_index()
-    return table.sort_values(["μ [-]", "B/H [-]"], ascending=[True, False], kind="stable")
+    )
+    return table.reset_index()
 
 
 def _table(ds: xr.Dataset, level: str) -> pd.DataFrame:
@@ -289,6 +291,7 @@ def _table(ds: xr.Dataset, level: str) -> pd.DataFrame:
                 {
                     "μ [-]": float(mu),
                     "body": str(body),
+                    "γ [-]": float(ds["gamma"][b]),
                     "B/H [-]": float(ds["b_over_h"][b]),
                     "A_gx50 [g]": float(one["agx50"]),
                     "change [-]": float(one["change"]),
@@ -332,8 +335,9 @@ def summary(ds: xr.Dataset) -> str:
         if up:
             best = np.unravel_index(np.nanargmax(np.where(both, change, -np.inf)), change.shape)
             parts.append(
-                f"Friction raises A_gx50 most for {ds['body'].values[best[1]]} at μ = "
-                f"{mus[best[0]]:g} ({100 * change[best]:+.1f} %), presumably because slipping "
+                f"Friction raises A_gx50 most for {ds['body'].values[best[1]]} (B/H = "
+                f"{float(ds['b_over_h'][best[1]]):.3g}) at μ = {mus[best[0]]:g} "
+                f"({100 * change[best]:+.1f} %), presumably because slipping "
                 "limits the force the ground passes to the body (it isolates it)."
             )
     bh = ds["b_over_h"].values[None, :]
