@@ -140,10 +140,12 @@ def friction_study(
     physics : Physics, optional
         The physics without friction (its ``mu`` and ``mu_k`` are replaced per row).
     compute : Compute, optional
-        How to compute; ``stores`` (one chunk folder per row, infinite friction last) replace
-        its ``out``.
+        How to compute (:class:`~rocking.montecarlo.backends.Compute`).
     band_hz : (float, float), optional
         Band of S_v1 [Hz].
+    stores : sequence of str, Path or None, optional
+        One chunk folder per friction coefficient, infinite friction last (replacing
+        ``compute.out``: each row's simulations differ, and a folder holds one run's).
 
     Returns
     -------
