@@ -93,7 +93,7 @@ def test_friction_below_every_b_over_h_makes_every_moving_case_slide(motions):
     assert (at_paper["max_slip"] > 0).all()
 
 
-def _synthetic(agx50_mu, agx50_inf, shares, max_slip=0.12) -> xr.Dataset:
+def _synthetic(agx50_mu, agx50_inf, shares, max_slip=0.12, b_over_h=(0.5, 0.2)) -> xr.Dataset:
     """A friction_study result for one μ (0.4) and two bodies, from given numbers."""
     mus = [0.4, math.inf]
     agx50 = np.array([agx50_mu, agx50_inf])
@@ -114,7 +114,7 @@ def _synthetic(agx50_mu, agx50_inf, shares, max_slip=0.12) -> xr.Dataset:
             "body": ["stocky", "slender"],
             "level": list(LEVELS),
             "mode": list(MOTION_MODES),
-            "b_over_h": ("body", [0.5, 0.2]),
+            "b_over_h": ("body", list(b_over_h)),
         },
         attrs={"agx_max": 3.0},
     )
@@ -126,7 +126,10 @@ def test_summary_reports_friction_raising_agx50_and_bodies_that_stop_overturning
     text = summary(_synthetic([np.nan, 0.9], [1.0, 0.75], shares))
     # slender body: 0.9 / 0.75 − 1 = +20 %, raised by friction; the stocky one slides instead
     assert "+20.0 %" in text and "higher in 1" in text
-    assert "raises A_gx50 most for slender (B/H = 0.2) at μ = 0.4 (+20.0 %)" in text
+    assert "raises A_gx50 most for slender (B/H = 0.2) at μ = 0.4 (+20.0 %), presumably" in text
+    # the same rise at μ = B/H is named as the boundary between slipping and tipping first
+    edge = summary(_synthetic([np.nan, 0.9], [1.0, 0.75], shares, b_over_h=(0.5, 0.4)))
+    assert "(+20.0 %), at μ = B/H, the boundary between slipping first" in edge
     assert "In 1 pair the body no longer overturns" in text
     # the stocky body at the paper's A_gx50 (level 1 of the synthetic data: overturned 0.1)
     assert "stocky (B/H = 0.5) at μ = 0.4: at the paper's A_gx50 it overturns in 10 %" in text

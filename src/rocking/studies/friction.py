@@ -336,11 +336,17 @@ def summary(ds: xr.Dataset) -> str:
         )
         if up:
             best = np.unravel_index(np.nanargmax(np.where(both, change, -np.inf)), change.shape)
+            bh_best = float(ds["b_over_h"][best[1]])
+            why = (
+                "at μ = B/H, the boundary between slipping first (μ < B/H: no overturning) and "
+                "tipping first"
+                if math.isclose(mus[best[0]], bh_best, rel_tol=1e-9)
+                else "presumably because slipping limits the force the ground passes to the "
+                "body (it isolates it)"
+            )
             parts.append(
                 f"Friction raises A_gx50 most for {ds['body'].values[best[1]]} (B/H = "
-                f"{float(ds['b_over_h'][best[1]]):.3g}) at μ = {mus[best[0]]:g} "
-                f"({100 * change[best]:+.1f} %), presumably because slipping "
-                "limits the force the ground passes to the body (it isolates it)."
+                f"{bh_best:.3g}) at μ = {mus[best[0]]:g} ({100 * change[best]:+.1f} %), {why}."
             )
     bh = ds["b_over_h"].values[None, :]
     below = mus[:, None] < bh
