@@ -314,3 +314,23 @@ def test_single_section_reproduction(tmp_path):
     assert len(pd.read_csv(out / "tables" / "conclusions.csv")) == 9  # the CSV keeps all
     page = (out / "report.html").read_text()
     assert "index" not in [h for t in _tables(page) for h in t["th"]]
+
+
+def test_friction_reproduction_sits_beside_the_conclusions(tmp_path):
+    # the study beyond the paper (issue 45): its table, figure and summary in words come right
+    # after the conclusions, the summary's numbers those of its table
+    out = tmp_path / "friction"
+    sets = ["friction.n=6", "friction.resolution=0.1", "friction.mu=[0.3, 0.6]"]
+    reproduce(["8", "friction"], fidelity="quick", out_dir=out, sets=["sec8.n=6", *sets])
+    tables = _check_page(out)
+    assert any("μ [-]" in t["th"] for t in tables)
+    md = (out / "report.md").read_text()
+    beyond, section8 = md.index("## Beyond the paper: friction"), md.index("## Section 8")
+    assert md.index("The paper's conclusions") < beyond < section8
+    assert "**What the paper's assumption of sufficient friction hides.**" in md
+    assert (out / "figures" / "friction.png").exists()
+    table = pd.read_csv(out / "tables" / "friction-agx50.csv")
+    assert sorted(set(table["μ [-]"])) == [0.3, 0.6, float("inf")]
+    change = table["change [-]"].dropna()
+    if len(change):
+        assert f"{100 * change.min():+.1f} % to {100 * change.max():+.1f} %" in md
