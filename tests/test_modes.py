@@ -288,6 +288,37 @@ def test_energy_never_increases_across_an_impact():
     assert n_cases > 200 and {ROCK, SLIDE_ROCK} <= modes
 
 
+@pytest.mark.parametrize("c", [1.0, -1.0])
+def test_sliding_impact_from_rock_slips_against_friction(c):
+    # Hand check of rule 2 for an impact from pure rocking (the new corner c at rest before,
+    # θ = 0): uniform block b = 0.15 m, h = 0.6 m, r_g² = i = (b² + h²)/3, rocking about corner
+    # −c at θ' = ω (c·ω > 0), so V = (h·ω, −c·b·ω) and the new corner moves at (0, −2·c·b·ω).
+    # e = 0.5 asks abs(P_x)/P_y = (1 − e)/((1 + e)·tan α) = 1.33 > μ_s = 0.5: no stick impact.
+    # The corner slips where a frictionless impulse drives it (side c, Routh), so
+    # P_x = −c·μ_k·P_y; the plastic normal impulse P_y = 2·c·b·ω/(1 + b·(b − μ_k·h)/i);
+    # θ'⁺ = ω + c·P_y·(μ_k·h − b)/i and the corner's slip velocity
+    # c·P_y·(b·h/i − μ_k·(1 + h²/i)), which keeps the side c while μ_k < b·h/(i + h²) = 0.185.
+    # Beyond, the slip stops during the impact: the corner sticks, plastic, θ'⁺ = e_H·ω.
+    # (Before the fix the corner at rest got no friction at all.)  1e-12: rounding.
+    block = Block.from_dimensions(H=1.2, B=0.3)
+    b, h, i = 0.15, 0.6, (0.15**2 + 0.6**2) / 3.0
+    a = block.alpha
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.5, math.pi / 2)
+    om = c * 1.3
+    for mu_k in (0.1, 0.19):
+        con = Contact(G, block.R, i, 0.5, mu_k, 0.5 / block.housner_e(), False)
+        mode, om2, v, sig = _strike(0.0, c, om, h * om, -c * b * om, True, body, con)
+        if mu_k < b * h / (i + h * h):
+            p_y = 2.0 * c * b * om / (1.0 + b * (b - mu_k * h) / i)
+            assert mode == SLIDE_ROCK and sig == c
+            assert om2 == pytest.approx(om + c * p_y * (mu_k * h - b) / i, rel=1e-12)
+            slip_v = c * p_y * (b * h / i - mu_k * (1.0 + h * h / i))
+            assert v == pytest.approx(slip_v, rel=1e-12) and c * v > 0.0
+        else:
+            assert mode == ROCK and v == 0.0
+            assert om2 == pytest.approx(block.housner_e() * om, rel=1e-12)
+
+
 def test_flight_under_a_falling_ground_is_ballistic():
     # Reference: from rest under a constant a_v < −g and no a_g both corners leave together and
     # the block moves freely: lift(t) = ½·(−g − a_v)·t² relative to the ground, θ = 0, no slip

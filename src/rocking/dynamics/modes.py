@@ -49,7 +49,8 @@ striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·Δ
    (Housner's e_H·θ'⁻ when nothing slipped before), with no more than e² of the kinetic energy
    before; without slip before it is :mod:`rocking.dynamics.impacts`' rule θ'⁺ = e·θ'⁻ itself.
    Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y;
-2. otherwise a sliding (Coulomb) impact: P_x = −μ_k·P_y·sign(v_cx⁻), plastic in the normal
+2. otherwise a sliding (Coulomb) impact: P_x = −μ_k·P_y·sign(v_cx⁻) (a corner at rest before,
+   as after rock, slips where a frictionless impulse would drive it: Routh), plastic in the normal
    direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (slide
    when it would turn back into the ground).  Where that impulse would reverse the slip, the slip
    stops during the impact instead: plastic in both directions (the corner at rest after it);
@@ -334,12 +335,16 @@ def _strike(th, sc, om, VX, VY, switch, body, c):
     # 2. sliding impact: Coulomb tangential impulse, plastic normal
     vcx = VX - Om * rcy
     vcy = VY + Om * rcx
-    lam = -c.mu_k * _sign(vcx)
+    # the direction of the slip: the corner's, or for a corner at rest (an impact from rock at
+    # θ = 0) where a frictionless impulse would drive it (Routh's rule; −rcx·rcy·Py/rg² with
+    # Py > 0), which is also the side opposite to the friction that sticking would need
+    sg = _sign(vcx) if vcx != 0.0 else _sign(-rcx * rcy)
+    lam = -c.mu_k * sg
     Py = -vcy / (1.0 + rcx * (rcx - lam * rcy) / c.rg2)
     Px = lam * Py
     Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
     v = VX + Px - Om2 * rcy
-    if v * vcx < 0.0:  # the slip would reverse: it stops during the impact (plastic, stuck)
+    if v * sg < 0.0:  # the slip would reverse: it stops during the impact (plastic, stuck)
         kxx = 1.0 + rcy * rcy / c.rg2
         kyy = 1.0 + rcx * rcx / c.rg2
         kxy = -rcx * rcy / c.rg2
