@@ -319,6 +319,35 @@ def test_sliding_impact_from_rock_slips_against_friction(c):
             assert om2 == pytest.approx(block.housner_e() * om, rel=1e-12)
 
 
+def test_sliding_impact_that_turns_into_the_ground_lands_flat():
+    # Hand check of rule 2 then 3: a squat uniform block (b = 1 m, h = 0.5 m, i = r_g² =
+    # (b² + h²)/3; e_H < 0, so no stick impact: it would stop the centre of mass, which needs
+    # abs(P_x)/P_y = 1.5 > μ_s) slide-rocks on its −x corner at θ' = ω = 1 rad/s, the corner
+    # slipping at v0 = −2 m/s; the +x corner strikes at θ = 0.  Coulomb impulse against the
+    # slip (σ = −1): P_y = 2·b·ω/(1 + b·(b + μ_k·h)/i), P_x = μ_k·P_y, after which
+    # θ'⁺ = ω − P_y·(b + μ_k·h)/i < 0 would turn the body into the ground about the +x corner:
+    # the −x corner strikes too, a flat impact on the centre of mass's velocity after the
+    # first, V = (v0 + h·ω + P_x, −b·ω + P_y): plastic P_y2 = −V_y, and since
+    # abs(V_x) > μ_s·P_y2 it slides at V_x + μ_k·P_y2.  (Before the fix the slide went on at
+    # the first impact's corner velocity, a horizontal change of the centre of mass's velocity
+    # by h·θ'⁺ that no impulse within the friction cone makes.)  1e-12: rounding.
+    with pytest.warns(UserWarning, match="squat"):
+        block = Block.from_dimensions(H=1.0, B=2.0)
+    b, h, i = 1.0, 0.5, (1.0 + 0.25) / 3.0
+    a = block.alpha
+    assert block.housner_e() < 0.0
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.9, math.pi / 2)
+    mu_s, mu_k, om, v0 = 0.5, 0.4, 1.0, -2.0
+    con = Contact(G, block.R, i, mu_s, mu_k, 0.0, False)
+    mode, om2, v, sig = _strike(0.0, 1.0, om, v0 + h * om, -b * om, True, body, con)
+    p_y = 2.0 * b * om / (1.0 + b * (b + mu_k * h) / i)
+    assert om - p_y * (b + mu_k * h) / i < 0.0  # it turns into the ground
+    vx, vy = v0 + h * om + mu_k * p_y, -b * om + p_y
+    assert vy < 0.0 and abs(vx) > mu_s * -vy  # the flat impact slips
+    assert mode == SLIDE and om2 == 0.0 and sig == -1.0
+    assert v == pytest.approx(vx + mu_k * -vy, rel=1e-12)
+
+
 def test_flight_under_a_falling_ground_is_ballistic():
     # Reference: from rest under a constant a_v < −g and no a_g both corners leave together and
     # the block moves freely: lift(t) = ½·(−g − a_v)·t² relative to the ground, θ = 0, no slip

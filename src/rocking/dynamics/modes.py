@@ -51,8 +51,9 @@ striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·Δ
    Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y;
 2. otherwise a sliding (Coulomb) impact: P_x = −μ_k·P_y·sign(v_cx⁻) (a corner at rest before,
    as after rock, slips where a frictionless impulse would drive it: Routh), plastic in the normal
-   direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (slide
-   when it would turn back into the ground).  Where that impulse would reverse the slip, the slip
+   direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (where it
+   would turn back into the ground, the other corner strikes too: rule 3 on the velocity that
+   the first impulse left).  Where that impulse would reverse the slip, the slip
    stops during the impact instead: plastic in both directions (the corner at rest after it);
 3. a flat landing (both corners at once): plastic normal impulse, stick if abs(V_x) ≤ μ_s·P_y,
    else Coulomb.
@@ -353,9 +354,21 @@ def _strike(th, sc, om, VX, VY, switch, body, c):
         Py = -(kxx * vcy - kxy * vcx) / det
         Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
         v = 0.0
-    if switch and sc * -Om2 <= 0.0:
-        return (SLIDE if v != 0.0 else REST), 0.0, v, _sign(v)
+    if switch and sc * -Om2 <= 0.0:  # the other corner comes down too: rule 3 after this
+        mode, v = _flat(VX + Px, VY + Py, c)
+        return mode, 0.0, v, _sign(v)
     return (SLIDE_ROCK if v != 0.0 else ROCK), -Om2, v, _sign(v)
+
+
+@kernel(inline="always")
+def _flat(VX, VY, c):
+    """Rule 3, both corners striking at once with the centre of mass at (VX, VY) [m/s] and no
+    rotation after: plastic normal impulse P_y = −VY, stick if abs(VX) ≤ μ_s·P_y, else a Coulomb
+    impulse μ_k·P_y against the slip.  Returns (mode, slip velocity after [m/s])."""
+    Py = max(-VY, 0.0)
+    if abs(VX) <= c.mu_s * Py:
+        return REST, 0.0
+    return SLIDE, VX - _sign(VX) * c.mu_k * Py
 
 
 @kernel
@@ -412,11 +425,8 @@ def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
         X = q
         sl, _low = _lowest(th, body, c)
         if th == 0.0 and om == 0.0:  # 3. flat landing: plastic normal, then stick or Coulomb
-            Py = -vy
-            if abs(v) <= c.mu_s * Py:
-                return REST, s, 0.0, (0.0, 0.0, X, 0.0, 0.0, 0.0), 1
-            v2 = v - _sign(v) * c.mu_k * Py
-            return SLIDE, s, _sign(v2), (0.0, 0.0, X, v2, 0.0, 0.0), 1
+            m2, v2 = _flat(v, vy, c)
+            return m2, s, _sign(v2), (0.0, 0.0, X, v2, 0.0, 0.0), 1
         S, _C = _sin_cos_terms(th, sl, body.sa, body.ca)
         qc = X + c.R * S - sl * c.R * body.sa  # the slip of the landing corner
         m2, om2, v2, sg2 = _strike(th, sl, om, v, vy, False, body, c)
