@@ -63,7 +63,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
 from ..core.checks import finite_array, in_range, positive
-from ..defaults import DEFAULT_E, OVERTURN_ANGLE
+from ..defaults import DEFAULT_E, MODES, OVERTURN_ANGLE
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .simulate import RockingResponse
@@ -335,9 +335,10 @@ def simulate_reference(
     )
 
 
-#: The response modes; a sample's ``mode`` indexes it (−1 after overturning).
-_MODES = ("rest", "slide", "rock", "slide-rock", "flight")
-_REST, _SLIDE, _ROCK, _SLIDE_ROCK, _FLIGHT = range(5)
+#: The indices of :data:`rocking.MODES` (a sample's ``mode`` indexes it).
+_REST, _SLIDE, _ROCK, _SLIDE_ROCK, _FLIGHT = (
+    MODES.index(m) for m in ("rest", "slide", "rock", "slide-rock", "flight")
+)
 #: Contact kinds of a corner: stuck (friction unknown), slipping (Coulomb, μ_k·N against the
 #: slip), frictionless (normal force only; the second corner of the rest mode).
 _STICK, _SLIP, _FREE = range(3)
@@ -776,7 +777,7 @@ class _Modes:
                     break
                 j, t_cur, first = start
                 ph = self.leave_rest(j, t_cur, z, first)
-                events.append((t_cur, f"onset -> {_MODES[ph.mode]}", 0.0, 0.0))
+                events.append((t_cur, f"onset -> {MODES[ph.mode]}", 0.0, 0.0))
                 t_seg = t_cur
                 continue
             t_next = ground.times[j + 1]
@@ -799,7 +800,7 @@ class _Modes:
                 n_imp += (
                     what.endswith("impact)") or what.endswith("impact") or what == "flat landing"
                 )
-                events.append((t_ev, f"{what} -> {_MODES[ph.mode]}", ke, _kinetic(body, z)))
+                events.append((t_ev, f"{what} -> {MODES[ph.mode]}", ke, _kinetic(body, z)))
                 burst = burst + 1 if t_ev - t_seg < 1e-12 else 0
                 if burst > _MAX_EVENTS_AT_ONCE:
                     raise RuntimeError(f"contact undecided at t = {t_ev:g} s: {events[-3:]}")
