@@ -506,8 +506,9 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
     the mode (index into :data:`MODES`) at every sample (NaN after overturning, the mode there
     kept).  Returns the summaries (overturned, t_overturn [s] or NaN, n_impacts, max abs(θ) [rad]
     (the overturning angle if overturned), uplift (the body rocked or lifted at a sample, or
-    overturned), max abs(slip) [m], residual slip [m] (at the end, or at overturning), max lift
-    [m], friction demand [-] (the largest abs(F)/N at the samples where the base sticks)).
+    overturned), max abs(slip) [m] and max lift [m] (at the samples and at overturning, so that
+    the peak slip bounds the residual), residual slip [m] (at the end, or at overturning),
+    friction demand [-] (the largest abs(F)/N at the samples where the base sticks)).
     """
     n = u.shape[0]
     th = theta0
@@ -594,6 +595,8 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
             t_ov = k * dt + tev
             peak = body.th_ov
             uplift = True
+            peak_slip = max(peak_slip, abs(slip))
+            peak_lift = max(peak_lift, lift)
             if out is not None:
                 for r in range(4):
                     out[r, k + 1] = math.nan

@@ -470,8 +470,8 @@ class ReferenceResponse:
     lift : ndarray
         Height of the base's lowest corner above the ground [m] (NaN after overturning).
     mode : ndarray of int
-        Index into ("rest", "slide", "rock", "slide-rock", "flight") of the mode at each
-        sample (after any transition at that instant); −1 after overturning.
+        Index into :data:`rocking.MODES` of the mode at each sample (after any transition at
+        that instant); after overturning, the mode it overturned in (as :func:`rocking.simulate`).
     overturned : bool
     t_overturn : float
         Time of overturning [s], NaN if none.
@@ -812,6 +812,8 @@ class _Modes:
             j, t_cur = j + 1, t_next
             record(j)
         overturned = not math.isnan(t_ov)
+        if overturned:
+            mode[j + 1 :] = ph.mode
         slip_end, _ = _lowest(body, z)
         slip = np.append(out["slip"][np.isfinite(out["slip"])], slip_end)
         return dict(
