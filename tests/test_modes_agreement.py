@@ -101,3 +101,22 @@ def test_outcomes_modes_and_peaks_agree(pairs):
         # the samples too, where both are standing (NaN after overturning in both)
         for a, b in ((fast.theta, ref.theta), (fast.slip, ref.slip), (fast.lift, ref.lift)):
             np.testing.assert_allclose(a, b, rtol=0, atol=TOL, err_msg=str(seed))
+
+
+def test_a_corner_that_a_landing_sticks_slips_at_once_where_the_cone_says_so():
+    # Case 11 at dt = 1/200 s: a landing after flight at t = 1.9631 s is a stick impact (its
+    # impulse lies in the friction cone), but the rock mode right after it needs
+    # abs(F) > μ_s·N, so the corner slips at once (slide-rock) until its slip velocity returns
+    # to 0 at t = 1.9731 s (the reference's events).  The kernel looked for the slip only at
+    # the step's end, where the demand was back inside the cone, and rocked on: the samples at
+    # 1.965 s and 1.97 s were rock, and the residual slip 1.8e-5 m off.
+    dt = 1.0 / 200.0
+    block, ag, kw = _case(11, dt)
+    fast = rocking.simulate(block, ag, dt, **kw)
+    ref = simulate_reference(block, ag, dt, **kw)
+    landing = [t for t, what, _, _ in ref.events if what == "landing (stick impact) -> slide-rock"]
+    assert any(1.96 < t < 1.965 for t in landing)
+    np.testing.assert_array_equal(fast.mode, ref.mode)
+    assert rocking.MODES[fast.mode[393]] == "slide-rock"
+    # RK4's error at this dt: 7e-6 m (the module docstring: dt⁴)
+    assert fast.residual_slip == pytest.approx(ref.residual_slip, abs=1e-5)

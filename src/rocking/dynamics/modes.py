@@ -75,8 +75,9 @@ results bit for bit.  The general integrator takes one classical Runge–Kutta s
 of the interval (the paper's scheme) in the current mode; where the step ends with an event (the
 conditions of the mode above) the first instant is located by bisection on the length of a
 partial Runge–Kutta step from the same start (to 1e-13·dt), the transition is applied there and
-the interval goes on.  Events are looked for at the step's ends only (a slip velocity that touches
-0 and turns back inside one step is not seen).
+the interval goes on.  Events are looked for at the step's ends, and right after each transition
+(a corner that an impact leaves stuck slips, or lifts, at once where its contact forces say so);
+a slip velocity that touches 0 and turns back inside one step is not seen.
 
 Pure compiled functions on scalars and arrays; no I/O, no state.
 """
@@ -481,6 +482,11 @@ def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
             return mode, s, sig, (th, end[1], end[2], end[3], end[4], end[5]), n_imp, tau
         mode, s, sig, st, n = _transition(code, mode, s, sig, end, ut, gt, dt, body, c)
         n_imp += n
+        # a corner that an impact leaves stuck may have to slip (or lift) at once: the contact
+        # forces decide right after the transition, not only at the step's end
+        code = _event(mode, s, sig, st, ut, gt, body, c)
+        if code in (_SLIP, _LIFT):
+            mode, s, sig, st, n = _transition(code, mode, s, sig, st, ut, gt, dt, body, c)
     return mode, s, sig, st, n_imp, -1.0
 
 
