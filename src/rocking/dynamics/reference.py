@@ -38,8 +38,10 @@ ground, exert none), no change of position during it.  (1) Stick: the corner com
 ω_L conserves the angular momentum about it (Housner's plastic law, e_H·ω⁻ after pure rocking),
 ω⁺ = (e/e_H)·ω_L with at most e² of the kinetic energy (e·ω⁻ after pure rocking, today's rule);
 accepted where P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y.  (2) Otherwise a sliding impact: P_x = −σ·μ_k·P_y
-with σ the sign of the corner's slip velocity before (taken not to reverse during the impact) and
-P_y plastic (the corner's vertical velocity 0 after); where that P_y would be negative (a
+with σ the sign of the corner's slip velocity before (taken not to reverse during the impact; a
+corner at rest before, as after rock, slips against the friction that sticking would need, the
+side a frictionless impulse drives it to: Routh) and P_y
+plastic (the corner's vertical velocity 0 after); where that P_y would be negative (a
 Painlevé jam) or the slip would reverse (it stops during the impact, and a reversed slip under
 the same impulse would gain energy), the corner sticks, plastic: ω⁺ = ω_L, outside the cone.
 (3) Both corners at once (a flat landing, or an impact after which the body would turn into the
@@ -702,6 +704,11 @@ class _Modes:
         else:
             # 2. sliding: P_x = −σ·μ_k·P_y, P_y such that the corner's y' is 0 after
             vcx, vcy = vx + ry * om, vy - rx * om
+            # a corner at rest before (an impact from rock) has vcx = 0 up to the rounding of
+            # the located θ (1e-15 relative); below 10·rtol of the velocities it is no slip,
+            # and the corner slips against the friction that sticking would need
+            if abs(vcx) <= 10.0 * self.tol[0] * (abs(vx) + abs(ry * om)):
+                vcx = 0.0
             sigma = _sign(vcx) if vcx != 0.0 else -_sign(p_x)
             den = 1.0 + rx * (rx + sigma * body.mu_k * ry) / body.i_cm
             q_y = -vcy / den if den > 0.0 else -1.0
