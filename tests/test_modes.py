@@ -298,15 +298,18 @@ def test_sliding_impact_from_rock_slips_against_friction(c):
     # P_x = −c·μ_k·P_y; the plastic normal impulse P_y = 2·c·b·ω/(1 + b·(b − μ_k·h)/i);
     # θ'⁺ = ω + c·P_y·(μ_k·h − b)/i and the corner's slip velocity
     # c·P_y·(b·h/i − μ_k·(1 + h²/i)), which keeps the side c while μ_k < b·h/(i + h²) = 0.185.
-    # Beyond, the slip stops during the impact: the corner sticks, plastic, θ'⁺ = e_H·ω.
-    # (Before the fix the corner at rest got no friction at all.)  1e-12: rounding.
+    # Beyond, the slip stops during the impact: the corner sticks, plastic, θ'⁺ = e_H·ω; so
+    # too where 1 + b·(b − μ_k·h)/i ≤ 0 (μ_k ≥ 1.67): the Coulomb impulse would need P_y < 0, a
+    # jam (e = 0.1 then asks 3.3 > μ_s = 1.8 of a stick impact).  (Before the fix the corner
+    # at rest got no friction at all.)  1e-12: rounding.
     block = Block.from_dimensions(H=1.2, B=0.3)
     b, h, i = 0.15, 0.6, (0.15**2 + 0.6**2) / 3.0
     a = block.alpha
-    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.5, math.pi / 2)
     om = c * 1.3
-    for mu_k in (0.1, 0.19):
-        con = Contact(G, block.R, i, 0.5, mu_k, 0.5 / block.housner_e(), False)
+    for e, mu_s, mu_k in ((0.5, 0.5, 0.1), (0.5, 0.5, 0.19), (0.1, 1.8, 1.8)):
+        assert (1.0 - e) / ((1.0 + e) * math.tan(a)) > mu_s  # no stick impact
+        body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), e, math.pi / 2)
+        con = Contact(G, block.R, i, mu_s, mu_k, e / block.housner_e(), False)
         mode, om2, v, sig = _strike(0.0, c, om, h * om, -c * b * om, True, body, con)
         if mu_k < b * h / (i + h * h):
             p_y = 2.0 * c * b * om / (1.0 + b * (b - mu_k * h) / i)

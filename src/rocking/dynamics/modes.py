@@ -54,7 +54,8 @@ striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·Δ
    direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (where it
    would turn back into the ground, the other corner strikes too: rule 3 on the velocity that
    the first impulse left).  Where that impulse would reverse the slip, the slip
-   stops during the impact instead: plastic in both directions (the corner at rest after it);
+   stops during the impact instead, and where its normal impulse would be negative (a jam,
+   large μ_k·h) the corner jams: plastic in both directions (the corner at rest after it);
 3. a flat landing (both corners at once): plastic normal impulse, stick if abs(V_x) ≤ μ_s·P_y,
    else Coulomb.
 
@@ -342,11 +343,14 @@ def _strike(th, sc, om, VX, VY, switch, body, c):
     # Py > 0), which is also the side opposite to the friction that sticking would need
     sg = _sign(vcx) if vcx != 0.0 else _sign(-rcx * rcy)
     lam = -c.mu_k * sg
-    Py = -vcy / (1.0 + rcx * (rcx - lam * rcy) / c.rg2)
+    den = 1.0 + rcx * (rcx - lam * rcy) / c.rg2
+    Py = -vcy / den if den > 0.0 else -1.0
     Px = lam * Py
     Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
     v = VX + Px - Om2 * rcy
-    if v * sg < 0.0:  # the slip would reverse: it stops during the impact (plastic, stuck)
+    # the slip would reverse (it stops during the impact), or the Coulomb impulse would pull the
+    # corner down (den ≤ 0: a jam, Painlevé): plastic, stuck
+    if Py < 0.0 or v * sg < 0.0:
         kxx = 1.0 + rcy * rcy / c.rg2
         kyy = 1.0 + rcx * rcx / c.rg2
         kxy = -rcx * rcy / c.rg2
