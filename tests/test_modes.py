@@ -351,6 +351,31 @@ def test_sliding_impact_that_turns_into_the_ground_lands_flat():
     assert v == pytest.approx(vx + mu_k * -vy, rel=1e-12)
 
 
+def test_stick_impact_that_turns_into_the_ground_lands_flat():
+    # Hand check of rule 1 then 3: a uniform block (b = 0.15 m, h = 0.6 m, i = r_g² =
+    # (b² + h²)/3, I_0/m = i + b² + h²) slide-rocks on its −x corner at θ' = ω = 1 rad/s, the
+    # corner slipping at v0 = −1 m/s (V = (v0 + h·ω, −b·ω)); the +x corner strikes at θ = 0.
+    # e = 0.8·e_H: θ'⁺ = 0.8·ω_L, ω_L = (ω·(i − b² + h²) + h·v0)/I_0 < 0, a rotation back into
+    # the ground; its impulse V⁺ − V, V⁺ = (h·θ'⁺, b·θ'⁺), asks abs(P_x)/P_y = 2.31 ≤ μ_s = 2.4:
+    # a stick impact, after which the −x corner strikes too,
+    # a flat impact on V⁺: P_y2 = −b·θ'⁺, and abs(h·θ'⁺) > μ_s·P_y2, so it slides at
+    # h·θ'⁺ + μ_k·P_y2.  (Before the fix the stick impact was asked to stop the body at once,
+    # abs(P_x)/P_y = 2.67 > μ_s, and went on as a sliding impact that stuck, plastic, at ω_L.)
+    # 1e-12: rounding.
+    block = Block.from_dimensions(H=1.2, B=0.3)
+    b, h, i = 0.15, 0.6, (0.15**2 + 0.6**2) / 3.0
+    a, e_h = block.alpha, block.housner_e()
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.8 * e_h, math.pi / 2)
+    mu, om, v0 = 2.4, 1.0, -1.0
+    con = Contact(G, block.R, i, mu, mu, 0.8, False)
+    mode, om2, v, sig = _strike(0.0, 1.0, om, v0 + h * om, -b * om, True, body, con)
+    w = 0.8 * (om * (i - b * b + h * h) + h * v0) / (i + b * b + h * h)
+    assert w < 0.0
+    assert abs(h * w - v0 - h * om) / (b * w + b * om) == pytest.approx(2.309, abs=1e-3)
+    assert mode == SLIDE and om2 == 0.0 and sig == -1.0
+    assert v == pytest.approx(h * w + mu * -b * w, rel=1e-12)
+
+
 def test_flight_under_a_falling_ground_is_ballistic():
     # Reference: from rest under a constant a_v < −g and no a_g both corners leave together and
     # the block moves freely: lift(t) = ½·(−g − a_v)·t² relative to the ground, θ = 0, no slip

@@ -48,7 +48,9 @@ striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·Δ
    θ'⁺ = (e/e_H)·θ'_L, θ'_L the angular velocity that conserves the angular momentum about c
    (Housner's e_H·θ'⁻ when nothing slipped before), with no more than e² of the kinetic energy
    before; without slip before it is :mod:`rocking.dynamics.impacts`' rule θ'⁺ = e·θ'⁻ itself.
-   Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y;
+   Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y (where
+   θ'⁺ turns the body back into the ground, as after slide-rock, the other corner strikes too:
+   rule 3 on the velocity that this impulse left);
 2. otherwise a sliding (Coulomb) impact: P_x = −μ_k·P_y·sign(v_cx⁻) (a corner at rest before,
    as after rock, slips where a frictionless impulse would drive it: Routh), plastic in the normal
    direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (where it
@@ -329,11 +331,12 @@ def _strike(th, sc, om, VX, VY, switch, body, c):
     cap = body.e * math.sqrt((VX * VX + VY * VY + c.rg2 * om * om) / i0)
     if abs(Omp) > cap:
         Omp = math.copysign(cap, Omp)
-    if switch and sc * -Omp <= 0.0:
-        Omp = 0.0
     Px = Omp * rcy - VX
     Py = -Omp * rcx - VY
     if Py >= 0.0 and abs(Px) <= c.mu_s * Py:
+        if switch and sc * -Omp <= 0.0:  # the other corner comes down too: rule 3 after this
+            mode, v = _flat(VX + Px, VY + Py, c)
+            return mode, 0.0, v, _sign(v)
         return (ROCK if Omp != 0.0 else REST), -Omp, 0.0, 0.0
     # 2. sliding impact: Coulomb tangential impulse, plastic normal
     vcx = VX - Om * rcy
