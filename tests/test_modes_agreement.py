@@ -120,3 +120,22 @@ def test_a_corner_that_a_landing_sticks_slips_at_once_where_the_cone_says_so():
     assert rocking.MODES[fast.mode[393]] == "slide-rock"
     # RK4's error at this dt: 7e-6 m (the module docstring: dt⁴)
     assert fast.residual_slip == pytest.approx(ref.residual_slip, abs=1e-5)
+
+
+def test_a_corner_that_an_impact_from_rock_sticks_slips_at_once_where_the_cone_says_so():
+    # Case 61 at dt = 1/200 s: an impact from rock at t = 1.3257 s is a stick impact, but
+    # the rock mode right after it needs abs(F) > μ_s·N, so the corner slips at once until
+    # t = 1.3640 s (the reference's events).  The impact falls inside one of the rocking
+    # kernel's own steps, whose contact was checked at the step's end only, where the demand was
+    # back in the cone: the kernel rocked on without slipping (0.75 mm of residual slip lost).
+    dt = 1.0 / 200.0
+    block, ag, kw = _case(61, dt)
+    fast = rocking.simulate(block, ag, dt, **kw)
+    ref = simulate_reference(block, ag, dt, **kw)
+    after = [t for t, what, _, _ in ref.events if what == "stick impact -> slide-rock"]
+    assert any(1.325 < t < 1.33 for t in after)
+    np.testing.assert_array_equal(fast.mode, ref.mode)
+    assert rocking.MODES[fast.mode[266]] == "slide-rock"
+    # RK4's error at this dt: 1.2e-10 m here
+    assert fast.residual_slip == pytest.approx(ref.residual_slip, abs=1e-5)
+    assert abs(fast.residual_slip) > 5e-3

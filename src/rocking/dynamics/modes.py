@@ -71,8 +71,9 @@ rule of :mod:`rocking.dynamics.impacts` does.
 Integration, designed for bit-identity: an interval that starts at rest or in rock, and at rest
 cannot slip (abs(a_g) ≤ μ_s·G, G > 0 at both ends; linear in between), is advanced by the rocking
 kernel's own step (:func:`rocking.dynamics.impacts._advance`, the same arithmetic), and the
-contact conditions (N ≥ 0, abs(F) ≤ μ_s·N at the step's end; the friction cone of its impacts)
-are checked; only where one fails is the interval done again from its start by the general
+contact conditions (N ≥ 0, abs(F) ≤ μ_s·N at the step's end; the friction cone of its impacts,
+and, on a step with an impact, that the general integrator below keeps the corner stuck after
+it) are checked; only where one fails is the interval done again from its start by the general
 integrator below.  A case that never leaves stick-rock thus gives :func:`rocking.simulate`'s
 results bit for bit.  The general integrator takes one classical Runge–Kutta step over the rest
 of the interval (the paper's scheme) in the current mode; where the step ends with an event (the
@@ -497,6 +498,16 @@ def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
     return mode, s, sig, st, n_imp, -1.0
 
 
+@kernel
+def _stays_stuck(mode, s, st, u0, du, g0, dg, dt, body, c):
+    """Whether the general integrator keeps the corner stuck (no slip, no flight, no
+    overturning) over the interval from the state tuple ``st`` in ``mode`` (rest or rock): the
+    check of the contact right after an impact inside a rocking step, which that step only
+    looks at the step's end."""
+    m2, _s, _sig, st2, _n, tev = _general(mode, s, 0.0, st, 0.0, u0, du, g0, dg, dt, body, c)
+    return tev < 0.0 and m2 in (ROCK, REST) and st2[2] == st[2]
+
+
 @kernel(inline="always")
 def _slip_lift(mode, st, body, c):
     """(slip [m], lift [m]) of the state tuple ``st`` in ``mode`` (module docstring)."""
@@ -579,7 +590,9 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
             else:
                 F, N = _rock_forces(th1, om1, s1, u1, gf1, body, c)
                 if N >= 0.0 and abs(F) <= c.mu_s * N and (ni == 0 or c.impact_ok):
-                    done = True
+                    du = (u1 - u0) / dt
+                    dg = (gf1 - gf0) / dt
+                    done = ni == 0 or _stays_stuck(mode, s, st, u0, du, gf0, dg, dt, body, c)
                     if N > 0.0:
                         demand = max(demand, abs(F) / N)
             if done:
