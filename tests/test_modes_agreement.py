@@ -11,11 +11,12 @@ part reaching below −g), chosen so that every mode occurs across the set.
 Tolerance: 1e-5 absolute (rad for θ, m for slip and lift), the issue's.  Absolute, since slip
 and lift are 0 in many cases (a relative bound means nothing there) and θ, slip and lift are of
 order 0.01–1.  The reference's error is about 1e-9 here; the kernel's is RK4's, which falls as
-dt⁴ (16× per halving, measured through every transition): at dt = 1/200 s it reached 3.4e-5 rad
-in peak θ on one case of 80 drawn like these, at the dt used here, 1/400 s, the largest
-differences over those 80 cases were 1.1e-6 rad (peak θ), 1.6e-7 m (max abs(slip)), 6.1e-7 m
-(residual slip) and 5.4e-10 m (max lift).  So dt = 1/400 s, finer than the paper's 1/100 s, is
-what 1e-5 needs.  Run time: about 6 s on one core (the reference dominates).
+dt⁴ (14–16× per halving, measured on case 11 through every transition).  Over the 80 cases
+0–79 drawn as here, the largest differences were, at dt = 1/200 s, 2.3e-5 rad (peak θ, case
+11), 2.6e-6 m (max abs(slip)), 7.5e-6 m (residual slip), 1.0e-8 m (max lift); at the dt used
+here, 1/400 s, 1.1e-6 rad, 1.6e-7 m, 6.1e-7 m and 5.4e-10 m (3.9e-6 at the samples).  So
+dt = 1/400 s, finer than the paper's 1/100 s, is what 1e-5 needs.  Run time: about 10 s on one
+idle core (the reference dominates).
 """
 
 from __future__ import annotations
@@ -103,39 +104,30 @@ def test_outcomes_modes_and_peaks_agree(pairs):
             np.testing.assert_allclose(a, b, rtol=0, atol=TOL, err_msg=str(seed))
 
 
-def test_a_corner_that_a_landing_sticks_slips_at_once_where_the_cone_says_so():
-    # Case 11 at dt = 1/200 s: a landing after flight at t = 1.9631 s is a stick impact (its
-    # impulse lies in the friction cone), but the rock mode right after it needs
-    # abs(F) > μ_s·N, so the corner slips at once (slide-rock) until its slip velocity returns
-    # to 0 at t = 1.9731 s (the reference's events).  The kernel looked for the slip only at
-    # the step's end, where the demand was back inside the cone, and rocked on: the samples at
-    # 1.965 s and 1.97 s were rock, and the residual slip 1.8e-5 m off.
+@pytest.mark.parametrize(
+    ("seed", "event", "t_event", "k_slip"),
+    [
+        # a landing after flight at t = 1.9631 s is a stick impact, but the rock mode right
+        # after it needs abs(F) > μ_s·N: the corner slips at once until t = 1.9731 s.  The
+        # kernel looked for the slip only at the end of its step, where the demand was back
+        # in the cone, and rocked on (residual slip 1.8e-5 m off)
+        (11, "landing (stick impact) -> slide-rock", 1.9631, 393),
+        # the same after an impact from rock (t = 1.3257 s, slip until 1.3640 s) inside one of
+        # the rocking kernel's own steps, whose contact was checked at the step's end only
+        # (residual slip 0.75 mm off)
+        (61, "stick impact -> slide-rock", 1.3257, 266),
+    ],
+)
+def test_a_corner_that_an_impact_sticks_slips_at_once_where_the_cone_says_so(
+    seed, event, t_event, k_slip
+):
+    # At dt = 1/200 s, against the reference's events and modes at the samples.
     dt = 1.0 / 200.0
-    block, ag, kw = _case(11, dt)
+    block, ag, kw = _case(seed, dt)
     fast = rocking.simulate(block, ag, dt, **kw)
     ref = simulate_reference(block, ag, dt, **kw)
-    landing = [t for t, what, _, _ in ref.events if what == "landing (stick impact) -> slide-rock"]
-    assert any(1.96 < t < 1.965 for t in landing)
+    assert any(what == event and abs(t - t_event) < 1e-4 for t, what, _, _ in ref.events)
     np.testing.assert_array_equal(fast.mode, ref.mode)
-    assert rocking.MODES[fast.mode[393]] == "slide-rock"
-    # RK4's error at this dt: 7e-6 m (the module docstring: dt⁴)
+    assert rocking.MODES[fast.mode[k_slip]] == "slide-rock"
+    # RK4's error at this dt: 7e-6 m (case 11), 1.2e-10 m (case 61)
     assert fast.residual_slip == pytest.approx(ref.residual_slip, abs=1e-5)
-
-
-def test_a_corner_that_an_impact_from_rock_sticks_slips_at_once_where_the_cone_says_so():
-    # Case 61 at dt = 1/200 s: an impact from rock at t = 1.3257 s is a stick impact, but
-    # the rock mode right after it needs abs(F) > μ_s·N, so the corner slips at once until
-    # t = 1.3640 s (the reference's events).  The impact falls inside one of the rocking
-    # kernel's own steps, whose contact was checked at the step's end only, where the demand was
-    # back in the cone: the kernel rocked on without slipping (0.75 mm of residual slip lost).
-    dt = 1.0 / 200.0
-    block, ag, kw = _case(61, dt)
-    fast = rocking.simulate(block, ag, dt, **kw)
-    ref = simulate_reference(block, ag, dt, **kw)
-    after = [t for t, what, _, _ in ref.events if what == "stick impact -> slide-rock"]
-    assert any(1.325 < t < 1.33 for t in after)
-    np.testing.assert_array_equal(fast.mode, ref.mode)
-    assert rocking.MODES[fast.mode[266]] == "slide-rock"
-    # RK4's error at this dt: 1.2e-10 m here
-    assert fast.residual_slip == pytest.approx(ref.residual_slip, abs=1e-5)
-    assert abs(fast.residual_slip) > 5e-3
