@@ -70,18 +70,18 @@ rule of :mod:`rocking.dynamics.impacts` does.
 
 Integration, designed for bit-identity: an interval that starts at rest or in rock, and at rest
 cannot slip (abs(a_g) ≤ μ_s·G, G > 0 at both ends; linear in between), is advanced by the rocking
-kernel's own step (:func:`rocking.dynamics.impacts._advance`, the same arithmetic), and the
-contact conditions (N ≥ 0, abs(F) ≤ μ_s·N at the step's end; the friction cone of its impacts,
-and, on a step with an impact, that the general integrator below keeps the corner stuck after
-it) are checked; only where one fails is the interval done again from its start by the general
-integrator below.  A case that never leaves stick-rock thus gives :func:`rocking.simulate`'s
-results bit for bit.  The general integrator takes one classical Runge–Kutta step over the rest
-of the interval (the paper's scheme) in the current mode; where the step ends with an event (the
-conditions of the mode above) the first instant is located by bisection on the length of a
-partial Runge–Kutta step from the same start (to 1e-13·dt), the transition is applied there and
-the interval goes on.  Events are looked for at the step's ends, and right after each transition
-(a corner that an impact leaves stuck slips, or lifts, at once where its contact forces say so);
-a slip velocity that touches 0 and turns back inside one step is not seen.
+kernel's own step (:func:`rocking.dynamics.impacts._advance`, the same arithmetic), and the contact
+conditions (N ≥ 0, abs(F) ≤ μ_s·N at the step's end; the friction cone of its impacts; on a step
+with an impact, the contact right after it: a bound over the step, else the general integrator below
+keeping the corner stuck) are checked; only where one fails is the interval done again from its
+start by the general integrator below.  A case that never leaves stick-rock thus gives
+:func:`rocking.simulate`'s results bit for bit.  The general integrator takes one classical
+Runge–Kutta step over the rest of the interval (the paper's scheme) in the current mode; where the
+step ends with an event (the conditions of the mode above) the first instant is located by bisection
+on the length of a partial Runge–Kutta step from the same start (to 1e-13·dt), the transition is
+applied there and the interval goes on.  Events are looked for at the step's ends, and right after
+each transition (a corner that an impact leaves stuck slips, or lifts, at once where its contact
+forces say so); a slip velocity that touches 0 and turns back inside one step is not seen.
 
 Pure compiled functions on scalars and arrays; no I/O, no state.
 """
@@ -499,6 +499,24 @@ def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
 
 
 @kernel
+def _cone_holds_after_impacts(om0, u0, u1, g0, g1, dt, body, c):
+    """Whether every state right after an impact inside a rocking step (θ = 0 on either corner,
+    abs(θ') ≤ W, u and gv anywhere between their values at the step's ends) meets the rock
+    mode's contact conditions N ≥ 0 and abs(F) ≤ μ_s·N: a cheap sufficient condition.  At
+    θ = 0, F and N are affine in u, gv and θ'², so their vertices decide; W = abs(θ'0) +
+    dt·p²·(max abs(gv) + max abs(u)) bounds abs(θ') over the step (abs(θ'') ≤ p²·(abs(gv) +
+    abs(u)), and an impact only slows the body)."""
+    W = abs(om0) + dt * body.p2 * (max(abs(g0), abs(g1)) + max(abs(u0), abs(u1)))
+    for sd in (1.0, -1.0):
+        for uu, gg in ((u0, g0), (u1, g1)):
+            for w in (0.0, W):
+                F, N = _rock_forces(0.0, w, sd, uu, gg, body, c)
+                if N < 0.0 or abs(F) > c.mu_s * N:
+                    return False
+    return True
+
+
+@kernel
 def _stays_stuck(mode, s, st, u0, du, g0, dg, dt, body, c):
     """Whether the general integrator keeps the corner stuck (no slip, no flight, no
     overturning) over the interval from the state tuple ``st`` in ``mode`` (rest or rock): the
@@ -592,7 +610,11 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
                 if N >= 0.0 and abs(F) <= c.mu_s * N and (ni == 0 or c.impact_ok):
                     du = (u1 - u0) / dt
                     dg = (gf1 - gf0) / dt
-                    done = ni == 0 or _stays_stuck(mode, s, st, u0, du, gf0, dg, dt, body, c)
+                    done = (
+                        ni == 0
+                        or _cone_holds_after_impacts(st[1], u0, u1, gf0, gf1, dt, body, c)
+                        or _stays_stuck(mode, s, st, u0, du, gf0, dg, dt, body, c)
+                    )
                     if N > 0.0:
                         demand = max(demand, abs(F) / N)
             if done:
