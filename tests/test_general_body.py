@@ -19,7 +19,7 @@ from scipy import optimize, signal
 
 from rocking import Block, BodyWarning, G, InputError, housner_sv, simulate
 from rocking.dynamics.body import resolve_e
-from rocking.dynamics.reference import simulate_reference
+from rocking.dynamics.reference import Tolerances, simulate_reference
 from rocking.motions.response import response_spectrum
 
 
@@ -191,7 +191,7 @@ def test_general_bodies_agree_with_solve_ivp(matches_reference):
         # shorter than its step (case 0: two impacts of a 1e-7 rad chatter unseen, after which
         # it rocks to 0.35 rad instead of 0.48; at dt/16 both solvers give 0.48 and agree to
         # 1e-9 rad)
-        ref = simulate_reference(blk, ag, DT, e=e, max_step=DT / 2)
+        ref = simulate_reference(blk, ag, DT, e=e, tolerances=Tolerances(max_step=DT / 2))
         outcomes.add(ref.overturned)
         matches_reference(ours, ref, i)  # (tolerances and their reasons: tests/conftest.py)
     assert outcomes == {True, False}  # both outcomes exercised

@@ -20,7 +20,7 @@ from scipy import signal
 
 from rocking import Block, G, InputError, housner_sv, simulate
 from rocking.dynamics.batch import overturn_batch, overturn_cases
-from rocking.dynamics.reference import simulate_reference
+from rocking.dynamics.reference import Tolerances, simulate_reference
 from rocking.motions.response import response_spectrum
 
 DT = 1 / 100  # [s]
@@ -161,7 +161,7 @@ def test_vertical_motion_agrees_with_solve_ivp(matches_reference):
         block, ag, av = _case(i, general=i % 2 == 1)
         ours = simulate(block, ag, DT, av=av)
         # max_step = dt/2: see test_general_body.py (bounces shorter than the reference's step)
-        ref = simulate_reference(block, ag, DT, av=av, max_step=DT / 2)
+        ref = simulate_reference(block, ag, DT, av=av, tolerances=Tolerances(max_step=DT / 2))
         without = simulate(block, ag, DT)
         moved += without.overturned != ours.overturned or not math.isclose(
             without.max_abs_theta, ours.max_abs_theta, rel_tol=0.05

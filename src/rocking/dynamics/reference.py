@@ -212,6 +212,17 @@ def _flight(rhs, t_cur: float, t_next: float, y, side: float, t_seg: float, th_o
     )
 
 
+@dataclass(frozen=True)
+class Tolerances:
+    """The integrator's tolerances of :func:`simulate_reference`: ``rtol`` [-] and ``atol``
+    [the state's units] of ``solve_ivp``, and ``max_step`` [s], a cap on its step (None: none;
+    a step never crosses a sample of the ground motion anyway)."""
+
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    max_step: float | None = None
+
+
 def simulate_reference(
     block: Block,
     ag: ArrayLike,
@@ -221,22 +232,20 @@ def simulate_reference(
     overturn_angle: float | str = OVERTURN_ANGLE,
     g: float = G,
     av: ArrayLike | None = None,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    max_step: float | None = None,
     mu: float | None = None,
     mu_k: float | None = None,
+    tolerances: Tolerances | None = None,
 ) -> RockingResponse | ReferenceResponse:
     """Rocking response by ``solve_ivp`` (DOP853) with event location; starts from rest.
 
     Parameters as :func:`rocking.simulate`: ``ag`` [m/s²] sampled at ``dt`` [s], linear between
     samples; ``e`` [-]; ``overturn_angle`` [rad]; ``g`` [m/s²]; ``av`` [m/s², up positive] the
-    vertical ground acceleration at the same samples, above −g (None: zero); ``rtol``/``atol``
-    are the integrator's tolerances; ``max_step`` [s] caps its step (default: none, a step never
-    crosses a sample of the ground motion anyway).  Events are found from the values at the
-    ends of the integrator's steps, so a bounce much shorter than a step can go unseen (a
-    minimum of θ inside a step is looked for, but a chatter of tiny bounces may still be
-    missed); ``max_step = dt/2`` guards against it at twice the cost.
+    vertical ground acceleration at the same samples, above −g (None: zero);
+    ``tolerances`` those of the integrator (:class:`Tolerances`, default ``Tolerances()``).
+    Events are found from the values at the ends of the integrator's steps, so a bounce much
+    shorter than a step can go unseen (a minimum of θ inside a step is looked for, but a chatter
+    of tiny bounces may still be missed); ``Tolerances(max_step=dt/2)`` guards against it at
+    twice the cost.
     """
     dt = positive("dt", dt, "s")
     g = positive("g", g, "m/s²")
@@ -254,7 +263,13 @@ def simulate_reference(
     alpha = block.alpha
     tan_a = math.tan(alpha)
     ground = _Ground(a_g, a_v, dt, g, np.arange(n) * dt)
-    tol = (rtol, atol, math.inf if max_step is None else positive("max_step", max_step, "s"))
+    tolerances = Tolerances() if tolerances is None else tolerances
+    max_step = tolerances.max_step
+    tol = (
+        positive("rtol", tolerances.rtol, "-"),
+        positive("atol", tolerances.atol, "-"),
+        math.inf if max_step is None else positive("max_step", max_step, "s"),
+    )
     if mu is not None:
         mu = in_range("mu", mu, 0.0, math.inf, hi_open=True)
         mu_k = mu if mu_k is None else in_range("mu_k", mu_k, 0.0, mu)
