@@ -34,6 +34,13 @@ the answer is skipped:
   suffix minimum of a_v, in the same test) ends there: at rest to the end;
 * everything after overturning.
 
+With friction (issue 45: :class:`Friction`, blocks with a finite μ_s), the machine also checks
+the contact conditions of the modes model where :func:`~rocking.dynamics.modes.modes_case`
+checks them (:mod:`rocking.dynamics.batch_modes`: every state of a rocking lane at a sample and
+right after an impact), in the SIMD loop on the sin θ and cos θ it computes anyway; a case that
+fails one ends at once and is marked, for the modes kernel to re-run.  Without friction the
+argument is None, and the checks compile away (as the vertical motion's code does without it).
+
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
 only its own output slot, so results do not depend on the number of threads, on which machine
 takes a case or on how cases are grouped into calls; they equal :func:`~rocking.dynamics.simulate`
@@ -51,6 +58,7 @@ from ..core.compile import (
     aligned_zeros,
     borrowing_kernel,
     fetch_add,
+    fma,
     highest_bit,
     kernel,
     maxnum,
@@ -58,6 +66,8 @@ from ..core.compile import (
     prange,
 )
 from .equation import (
+    _angle_terms,
+    _gv_at,
     _gv_sample,
     _gv_slope,
     _plain_terms,
@@ -83,6 +93,7 @@ from .impacts import (
     _newton,
     _slopes,
 )
+from .modes import _contact_forces
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -101,6 +112,17 @@ class Lanes(NamedTuple):
     case: np.ndarray  #: the lane's case, −1 for none
     base: np.ndarray  #: index in Motions.acc of the case's first sample
     state: np.ndarray  #: _REST, _ROCKING or _OVERTURNED
+
+
+class Friction(NamedTuple):
+    """The contact checks of a lane machine whose cases' blocks have friction (issue 45; the
+    checks and their margins: :mod:`rocking.dynamics.batch_modes`).  The kernels take None
+    instead for blocks without friction, and then compile to the lane machine without checks."""
+
+    mu: np.ndarray  #: per block: μ_s·(1 − margin) [-], the friction cone with its margin
+    R: np.ndarray  #: per block: distance centre of mass–corner [m]
+    n_min: float  #: the least normal force per unit mass accepted [m/s²]
+    failed: np.ndarray  #: per case: a check failed (bool; only True is written)
 
 
 # Rows of the lane table W.  The SIMD loop (:func:`_lane_steps`) stores every row it changes
@@ -162,10 +184,16 @@ _TH1 = 43
 _OM1 = 44
 _DMX = 45
 _ROWS = 46
+# With friction only (the table has _ROWS rows without): 1.0 once a contact check of the lane's
+# case has failed; the case's μ_s·(1 − margin) [-] and R [m] (:class:`Friction`).
+_FL = 46
+_MU = 47
+_RR = 48
+_ROWS_FRICTION = 49
 
 
 @borrowing_kernel
-def _lane_steps(lanes, n, motions, g, vert):
+def _lane_steps(lanes, n, motions, g, vert, fric):
     """One sample interval of lanes 0 … n−1 (SIMD loops): the RK4 step from each lane's state
     (:func:`rocking.dynamics.equation._plain_step`), kept where it is all that happens in the
     interval; every lane's ``nxt`` advances by one.
@@ -173,7 +201,10 @@ def _lane_steps(lanes, n, motions, g, vert):
     The step is computed in five loops over the lanes, through rows of W: (1) the ground
     motion's change and sin θ, cos θ; (2) the stages' brackets and the bound of
     :func:`~rocking.dynamics.equation._no_touch` (:func:`~rocking.dynamics.equation._plain_terms`);
-    (3) stages 2 and 3; (4) stage 4 and the step; (5) its tests and the lanes' masks.  The same
+    (3) stages 2 and 3; (4) stage 4 and the step; (5) its tests and the lanes' masks.  With
+    friction (``fric`` not None), loop (1) also checks the contact conditions of every lane that
+    rocks at the state it starts from (:func:`_check_contact`), and a lane whose case failed a
+    check needs attention.  The same
     operations on the same values as one loop, but the dependency chain of a lane's step, about
     110 cycles, is cut into five short ones, which the processor overlaps across lanes: one loop
     of the whole step is longer than its reorder window (Zen 3: 20 % less time per step with four
@@ -200,6 +231,7 @@ def _lane_steps(lanes, n, motions, g, vert):
         W[_DU * L + j] = (u1 - u0) / dt
         W[_U0S * L + j] = u0
         W[_TAUS * L + j] = W[_TAU * L + j]
+        _check_contact(fric, W, j, st, ct, u0, u1, g0, g1, W[_TAUS * L + j], dt, g)
         W[_U0 * L + j] = u1
         W[_TAU * L + j] = 0.0
         _store_vertical(vert, W, j, g0, g1)
@@ -286,11 +318,54 @@ def _lane_steps(lanes, n, motions, g, vert):
         W[_PL * L + j] = 1.0 if plain else 0.0
         k1 = nxt[j] + 1
         nxt[j] = k1
-        att = (not plain) | (k1 >= base[j] + n_t)  # an event, or the motion ended
+        att = (not plain) | (k1 >= base[j] + n_t) | _failed(fric, W, j)  # an event, the end
         bit = np.uint64(1 if att else 0) << np.uint64(j & 63)
         low |= bit if j < 64 else np.uint64(0)
         high |= np.uint64(0) if j < 64 else bit
     return low, high
+
+
+@kernel(inline="always")
+def _check_contact(fric, W, j, st, ct, u0, u1, g0, g1, tau, dt, g):
+    """With friction, mark lane j's case failed (row FL) if it rocks (row RK) and its contact
+    conditions fail with their margins (:class:`Friction`) at local time ``tau`` [s] of the
+    interval (u, gv from u0, u1, g0, g1 as :func:`~rocking.dynamics.impacts._impact` computes
+    them there; at tau = 0 the sample's own): N ≥ n_min and abs(F) ≤ μ_s·(1 − margin)·N, with F
+    and N of :func:`rocking.dynamics.modes._contact_forces` at θ (``st``, ``ct``: its sine and
+    cosine), θ' and side s of the lane's rows.  Nothing without friction (``fric`` None)."""
+    if fric is None:
+        return
+    L = _LANES
+    u = fma((u1 - u0) / dt, tau, u0)
+    gv = _gv_or_one(_gv_at(g0, _gv_slope(g0, g1, dt), tau))
+    S, C = _angle_terms(st, ct, W[_SG * L + j], W[_SA * L + j], W[_CA * L + j])
+    F, N = _contact_forces(S, C, W[_OM * L + j], u, gv, W[_P2 * L + j], g, W[_RR * L + j])
+    bad = (fric.n_min > N) | (abs(F) > W[_MU * L + j] * N)
+    W[_FL * L + j] = maxnum(W[_FL * L + j], 1.0 if bad & (W[_RK * L + j] != 0.0) else 0.0)
+
+
+@kernel(inline="always")
+def _gv_or_one(gv):
+    """gv, or 1.0 for None (no vertical motion), as the modes kernel takes it."""
+    if gv is None:
+        return 1.0
+    return gv
+
+
+@kernel(inline="always")
+def _failed(fric, W, j):
+    """Whether lane j's case has failed a contact check (False without friction)."""
+    if fric is None:
+        return False
+    return W[_FL * _LANES + j] != 0.0
+
+
+@kernel(inline="always")
+def _rows(fric):
+    """The rows of a lane machine's table W: with friction, those of the contact checks too."""
+    if fric is None:
+        return _ROWS
+    return _ROWS_FRICTION
 
 
 @kernel(inline="always")
@@ -339,7 +414,7 @@ def _row_or_none(vert, x):
 
 
 @borrowing_kernel
-def _start_case(lanes, j, i, motions, vert, blocks, cases):
+def _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
     """Put case i in lane j at the first interval in which its block may lift; False (lane left
     as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
     peak 0, no steps)."""
@@ -388,6 +463,10 @@ def _start_case(lanes, j, i, motions, vert, blocks, cases):
     W[_CA * L + j] = blocks.ca[b]
     W[_OV * L + j] = blocks.th_ov[b]
     _set_vertical(vert, W, _G0 * L + j, g0)
+    if fric is not None:
+        W[_FL * L + j] = 0.0
+        W[_MU * L + j] = fric.mu[b]
+        W[_RR * L + j] = fric.R[b]
     return True
 
 
@@ -423,20 +502,23 @@ def _avsuf(vert):
 
 
 @kernel(inline="always")
-def _attend(lanes, j, motions, vert, blocks, cases, located):
+def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
     """Lane j after a SIMD round in which it needs attention (see :func:`_lane_steps`): the
     events of its interval (:func:`rocking.dynamics.impacts._advance_events`, exactly as
     :func:`rocking.simulate` handles them), the intervals at rest that follow, or the end of its
     motion.
 
     Returns (done, overturned, k): whether the case has ended, whether by overturning, and the
-    intervals integrated or skipped so far (the interval in which it ended counts).
+    intervals integrated or skipped so far (the interval in which it ended counts).  A case that
+    has failed a contact check (with friction) ends at once: its result is discarded.
     """
     L = _LANES
     W = lanes.W
     n_t = motions.n_t
     dt = motions.dt
     b = cases.body[lanes.case[j]]
+    if _failed(fric, W, j):
+        return True, False, lanes.nxt[j] - lanes.base[j] - 1
     if W[_PL * L + j] != 0.0:  # a plain step that ended the motion
         return True, False, lanes.nxt[j] - lanes.base[j] - 1
     k = lanes.nxt[j] - lanes.base[j] - 2  # the interval: from sample k to k + 1
@@ -648,11 +730,20 @@ def _no_slip(out, i):
 
 
 @kernel(inline="always")
-def _finish(lanes, j, overturned, k, blocks, cases, out):
-    """The results of lane j's case, which ended after k intervals (overturned or not)."""
+def _finish(lanes, j, overturned, k, motions, vert, fric, blocks, cases, out):
+    """The results of lane j's case, which ended after k intervals (overturned or not); with
+    friction, the contact check at the motion's last sample, and whether the case failed one."""
     L = _LANES
     i = lanes.case[j]
     W = lanes.W
+    if fric is not None:
+        if not overturned:
+            st, ct = _sincos(W[_TH * L + j])
+            u = W[_U0 * L + j]
+            gv = _row_or_none(vert, W[_G0 * L + j])
+            _check_contact(fric, W, j, st, ct, u, u, gv, gv, 0.0, motions.dt, blocks.g)
+        if W[_FL * L + j] != 0.0:
+            fric.failed[i] = True
     steps = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end
     out.overturned[i] = overturned
     alpha = blocks.alpha[cases.body[i]]
@@ -663,7 +754,7 @@ def _finish(lanes, j, overturned, k, blocks, cases, out):
 
 
 @kernel(inline="always")
-def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
+def _fill(lanes, j, queue, motions, vert, fric, blocks, cases, out):
     """Start in lane j the next case of the shared queue (positions in ``cases.order``, taken
     with :func:`~rocking.core.compile.fetch_add` on ``queue``) that lifts its block (those that
     don't get their result at once); lanes.case[j] = −1 if none is left."""
@@ -674,7 +765,7 @@ def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
         if pos >= n:
             return
         i = cases.order[pos]
-        if _start_case(lanes, j, i, motions, vert, blocks, cases):
+        if _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
             return
         out.overturned[i] = False
         out.peak_theta_ratio[i] = 0.0
@@ -684,10 +775,10 @@ def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
 
 
 @kernel(inline="always")
-def _move_lane(lanes, src, dst):
+def _move_lane(lanes, src, dst, fric):
     """Lane ``src``'s case into lane ``dst``; lane ``src`` left empty."""
     L = _LANES
-    for r in range(_ROWS):
+    for r in range(_rows(fric)):
         lanes.W[r * L + dst] = lanes.W[r * L + src]
     lanes.case[dst] = lanes.case[src]
     lanes.base[dst] = lanes.base[src]
@@ -697,11 +788,11 @@ def _move_lane(lanes, src, dst):
 
 
 @kernel
-def _new_lanes(vert):
+def _new_lanes(vert, fric):
     """An empty lane machine (its table's rows start cache lines: :func:`aligned_zeros`)."""
     L = _LANES
     return Lanes(
-        aligned_zeros(_ROWS * L),
+        aligned_zeros(_rows(fric) * L),
         np.zeros(L, np.int64),
         np.full(L, -1, np.int64),
         np.zeros(L, np.int64),
@@ -710,7 +801,7 @@ def _new_lanes(vert):
 
 
 @borrowing_kernel
-def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, width):
+def _lane_machine(lanes, motions, vert, fric, blocks, cases, out, located, queue, width):
     """Integrate cases taken from the shared ``queue`` (see :func:`_fill`) in the empty lane
     machine ``lanes`` (:func:`_new_lanes`; allocated by the caller: this function is compiled
     without reference counting, :func:`~rocking.core.compile.borrowing_kernel`), at most
@@ -718,13 +809,13 @@ def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, widt
     module docstring)."""
     live = 0  # lanes 0 … live−1 hold a case
     while live < width:
-        _fill(lanes, live, queue, motions, vert, blocks, cases, out)
+        _fill(lanes, live, queue, motions, vert, fric, blocks, cases, out)
         if lanes.case[live] < 0:
             break
         live += 1
     while live > 0:
         _gather(lanes, live, motions, vert)
-        low, high = _lane_steps(lanes, live, motions, blocks.g, vert)
+        low, high = _lane_steps(lanes, live, motions, blocks.g, vert, fric)
         # the lanes that need attention, from the highest down: when a case ends, its lane
         # takes the next case, or the last live lane (handled already) moves into it
         while (high | low) != 0:
@@ -734,15 +825,15 @@ def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, widt
             else:
                 j = highest_bit(low)
                 low ^= np.uint64(1) << np.uint64(j)
-            done, overturned, k = _attend(lanes, j, motions, vert, blocks, cases, located)
+            done, overturned, k = _attend(lanes, j, motions, vert, fric, blocks, cases, located)
             if not done:
                 continue
-            _finish(lanes, j, overturned, k, blocks, cases, out)
-            _fill(lanes, j, queue, motions, vert, blocks, cases, out)
+            _finish(lanes, j, overturned, k, motions, vert, fric, blocks, cases, out)
+            _fill(lanes, j, queue, motions, vert, fric, blocks, cases, out)
             if lanes.case[j] < 0:  # no case left
                 live -= 1
                 if j < live:
-                    _move_lane(lanes, live, j)
+                    _move_lane(lanes, live, j, fric)
 
 
 @parallel_kernel
@@ -814,10 +905,11 @@ def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
 
 
 @parallel_kernel
-def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
+def _cases_kernel(motions, vert, fric, blocks, cases, out, located, machines):
     """Integrate the cases from rest in ``machines`` lane machines (a thread each), which take
     them in the order ``cases.order`` from one shared queue, and write their :class:`Outcome`;
-    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`.
+    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`; ``fric``: the contact
+    checks (:class:`Friction`) of blocks with friction, None for blocks without.
 
     A machine holds at most its share of the cases at a time (all its lanes when there are
     enough for every machine's): otherwise the first machine to start could take every case of
@@ -825,4 +917,6 @@ def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
     queue = np.zeros(1, np.int64)
     width = min(_LANES, -(-cases.order.size // machines))
     for _ in prange(machines):
-        _lane_machine(_new_lanes(vert), motions, vert, blocks, cases, out, located, queue, width)
+        _lane_machine(
+            _new_lanes(vert, fric), motions, vert, fric, blocks, cases, out, located, queue, width
+        )
