@@ -231,3 +231,54 @@ def test_example_motion_is_the_shipped_el_centro_record():
     assert out["response"] == json.loads(
         json.dumps({**lib.summary(), "overturn_angle_rad": lib.overturn_angle})
     )
+
+
+# ------------------------------------------------------------------------ friction (issue 45)
+
+
+def test_with_mu_the_summary_gives_slip_lift_and_modes_as_rocking_simulate(tmp_path):
+    # A slender block (R = 1.5 m, γ = 3.5) on μ_s = 0.35, μ_k = 0.3 under El Centro scaled to
+    # 0.8 g slide-rocks for a while (the README's figure): the JSON's slip, lift and shares of
+    # the modes are those of rocking.simulate on the same input; the text gives them in mm.
+    block = Block(1.5, 3.5)
+    rec = read_record(example_record_path())
+    ag = rec.acc * (0.8 * G / np.abs(rec.acc).max())
+    expected = simulate(block, ag, rec.dt, mu=0.35, mu_k=0.3)
+    args = ["--R", 1.5, "--gamma", 3.5, "--motion", "example", "--scale-g", 0.8]
+    args += ["--mu", 0.35, "--mu-k", 0.3]
+    res = _run([*args, "--json"])
+    assert res.exit_code == 0, res.output
+    got = json.loads(res.output)["response"]
+    assert got["max_abs_slip_m"] == expected.max_abs_slip > 0.0
+    assert got["max_lift_m"] == expected.max_lift
+    times = got["time_in_mode_s"]
+    assert sum(times.values()) == pytest.approx(expected.t[-1] + rec.dt, rel=1e-12)
+    assert times["slide-rock"] == np.count_nonzero(expected.mode == 3) * rec.dt > 0.0
+    plot = tmp_path / "slide-rock.png"
+    res = _run([*args, "--plot", plot])
+    assert res.exit_code == 0, res.output
+    assert f"max |slip| = {expected.max_abs_slip:.4g} m" in res.output
+    assert "slide-rock" in res.output and plot.is_file()
+    # the figure has a panel more than without friction: the slip
+    assert imread(plot).shape[0] > imread(_plain_plot(tmp_path)).shape[0]
+
+
+def test_with_mu_a_block_that_cannot_rock_rests_until_the_ground_exceeds_mu_g():
+    # A square block (B/H = 1: no rocking below g·tan α = 1 g) on μ = 0.6 under El Centro:
+    # Coulomb friction holds it while |a_g| ≤ μ g (a_g is linear between samples, so its peak
+    # is the PGA). At a PGA of 0.55 g it rests throughout, without slip; at 0.9 g it slides.
+    args = ["--R", 1.0, "--gamma", 1.0, "--motion", "example", "--mu", 0.6, "--json"]
+    rests = json.loads(_run([*args, "--scale-g", 0.55]).output)["response"]
+    assert {m for m, t in rests["time_in_mode_s"].items() if t > 0} == {"rest"}
+    assert rests["max_abs_slip_m"] == 0.0
+    slides = json.loads(_run([*args, "--scale-g", 0.9]).output)["response"]
+    assert {m for m, t in slides["time_in_mode_s"].items() if t > 0} == {"rest", "slide"}
+    assert slides["max_abs_slip_m"] > 0.0
+
+
+def _plain_plot(folder):
+    """The figure of `rocking simulate` without friction (R = 1.5 m, γ = 3.5, El Centro)."""
+    plot = folder / "rock.png"
+    args = ["--R", 1.5, "--gamma", 3.5, "--motion", "example", "--scale-g", 0.8, "--plot", plot]
+    assert _run(args).exit_code == 0
+    return plot

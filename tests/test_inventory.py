@@ -5,7 +5,7 @@ import warnings
 
 import pytest
 
-from rocking.assessment.inventory import DEFAULT_E, SlidingWarning, read_inventory
+from rocking.assessment.inventory import DEFAULT_E, read_inventory
 from rocking.dynamics.body import Block
 from rocking.errors import InputError
 from rocking.structures.frames import ShearFrame
@@ -38,7 +38,7 @@ def test_csv_inventory(tmp_path):
         ShearFrame.preset("paper-2.0"),
         "floor 3 of paper-2.0",
     )
-    assert rack.e == DEFAULT_E and rack.mu == 0.5 and not rack.may_slide
+    assert rack.e == DEFAULT_E and rack.mu == 0.5 and rack.mu_k is None
     assert statue.block == Block(1.22, 4.0) and statue.location == "ground"
     # Housner (1963): e = 1 − 1.5·sin²α with tan α = 1/4 -> sin²α = 1/17
     assert statue.e == pytest.approx(1 - 1.5 / 17, rel=1e-12)
@@ -87,26 +87,33 @@ def test_frame_toml_file_relative_to_the_inventory(tmp_path):
     assert item.frame.masses == (1e5, 1e5) and item.location == "floor 2 of bldg"
 
 
-def test_items_that_may_slide_are_flagged_and_warned(tmp_path):
-    # B/H = 0.5/2.0 = 0.25: μ = 0.2 may slide, μ = 0.3 rocks; a squat block with B/H = 1 and
-    # μ = 0.6 may slide too.
+def test_friction_columns_mu_and_mu_k(tmp_path):
+    # Issue 45: mu is the static coefficient (empty: infinite friction, the rocking model),
+    # mu_k the kinetic one (empty: mu_k = mu). A low mu is no longer a warning: the screening
+    # models the sliding (the old "mu <= B/H: may slide" flag and its SlidingWarning are gone).
     path = write(
         tmp_path,
         "inv.csv",
-        "name,height,width,location,mu\n"
-        "a,2.0,0.5,ground,0.2\nb,2.0,0.5,ground,0.3\nc,1.0,1.0,ground,0.6\n"
-        "d,2.0,0.5,ground,\n",
+        "name,height,width,location,mu,mu_k\n"
+        "a,2.0,0.5,ground,0.2,0.15\nb,2.0,0.5,ground,0.3,\nc,2.0,0.5,ground,,\n",
     )
-    with pytest.warns(SlidingWarning, match=r"2 item\(s\) may slide.*a \(mu 0.2 <= B/H 0.25\)"):
-        inv = read_inventory(path)
-    assert [it.may_slide for it in inv] == [True, False, True, False]
-    assert [it.name for it in inv.sliding] == ["a", "c"]
-
-
-def test_no_warning_when_nothing_slides(tmp_path):
-    path = write(tmp_path, "inv.csv", "name,height,width,location,mu\na,2.0,0.5,ground,0.5\n")
     with warnings.catch_warnings():
         warnings.simplefilter("error")
+        inv = read_inventory(path)
+    assert [(it.mu, it.mu_k) for it in inv] == [(0.2, 0.15), (0.3, None), (None, None)]
+
+
+@pytest.mark.parametrize(
+    "row, message",
+    [
+        ("a,2.0,0.5,ground,,0.2", "mu_k needs mu"),
+        ("a,2.0,0.5,ground,0.2,0.3", "mu_k = 0.3 exceeds mu = 0.2"),
+        ("a,2.0,0.5,ground,0.2,-1", "mu_k"),
+    ],
+)
+def test_bad_kinetic_friction_is_refused_naming_the_row(tmp_path, row, message):
+    path = write(tmp_path, "inv.csv", f"name,height,width,location,mu,mu_k\n{row}\n")
+    with pytest.raises(InputError, match=rf"row 2: item 'a': .*{message}"):
         read_inventory(path)
 
 
@@ -191,8 +198,7 @@ def test_file_level_errors(tmp_path):
 def test_shipped_example_inventory_reads():
     from importlib.resources import files
 
-    with pytest.warns(SlidingWarning, match="transformer"):
-        inv = read_inventory(files("rocking") / "data" / "example_inventory.csv", frame="paper-2.0")
-    assert len(inv) == 14
+    inv = read_inventory(files("rocking") / "data" / "example_inventory.csv", frame="paper-2.0")
+    assert len(inv) == 16
     assert {it.floor for it in inv} == {0, 1, 2, 3, 4, 5}
     assert all(math.isfinite(it.block.R) for it in inv)

@@ -288,6 +288,94 @@ def test_energy_never_increases_across_an_impact():
     assert n_cases > 200 and {ROCK, SLIDE_ROCK} <= modes
 
 
+@pytest.mark.parametrize("c", [1.0, -1.0])
+def test_sliding_impact_from_rock_slips_against_friction(c):
+    # Hand check of rule 2 for an impact from pure rocking (the new corner c at rest before,
+    # θ = 0): uniform block b = 0.15 m, h = 0.6 m, r_g² = i = (b² + h²)/3, rocking about corner
+    # −c at θ' = ω (c·ω > 0), so V = (h·ω, −c·b·ω) and the new corner moves at (0, −2·c·b·ω).
+    # e = 0.5 asks abs(P_x)/P_y = (1 − e)/((1 + e)·tan α) = 1.33 > μ_s = 0.5: no stick impact.
+    # The corner slips where a frictionless impulse drives it (side c, Routh), so
+    # P_x = −c·μ_k·P_y; the plastic normal impulse P_y = 2·c·b·ω/(1 + b·(b − μ_k·h)/i);
+    # θ'⁺ = ω + c·P_y·(μ_k·h − b)/i and the corner's slip velocity
+    # c·P_y·(b·h/i − μ_k·(1 + h²/i)), which keeps the side c while μ_k < b·h/(i + h²) = 0.185.
+    # Beyond, the slip stops during the impact: the corner sticks, plastic, θ'⁺ = e_H·ω; so
+    # too where 1 + b·(b − μ_k·h)/i ≤ 0 (μ_k ≥ 1.67): the Coulomb impulse would need P_y < 0, a
+    # jam (e = 0.1 then asks 3.3 > μ_s = 1.8 of a stick impact).  (Before the fix the corner
+    # at rest got no friction at all.)  1e-12: rounding.
+    block = Block.from_dimensions(H=1.2, B=0.3)
+    b, h, i = 0.15, 0.6, (0.15**2 + 0.6**2) / 3.0
+    a = block.alpha
+    om = c * 1.3
+    for e, mu_s, mu_k in ((0.5, 0.5, 0.1), (0.5, 0.5, 0.19), (0.1, 1.8, 1.8)):
+        assert (1.0 - e) / ((1.0 + e) * math.tan(a)) > mu_s  # no stick impact
+        body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), e, math.pi / 2)
+        con = Contact(G, block.R, i, mu_s, mu_k, e / block.housner_e(), False)
+        mode, om2, v, sig = _strike(0.0, c, om, h * om, -c * b * om, True, body, con)
+        if mu_k < b * h / (i + h * h):
+            p_y = 2.0 * c * b * om / (1.0 + b * (b - mu_k * h) / i)
+            assert mode == SLIDE_ROCK and sig == c
+            assert om2 == pytest.approx(om + c * p_y * (mu_k * h - b) / i, rel=1e-12)
+            slip_v = c * p_y * (b * h / i - mu_k * (1.0 + h * h / i))
+            assert v == pytest.approx(slip_v, rel=1e-12) and c * v > 0.0
+        else:
+            assert mode == ROCK and v == 0.0
+            assert om2 == pytest.approx(block.housner_e() * om, rel=1e-12)
+
+
+def test_sliding_impact_that_turns_into_the_ground_lands_flat():
+    # Hand check of rule 2 then 3: a squat uniform block (b = 1 m, h = 0.5 m, i = r_g² =
+    # (b² + h²)/3; e_H < 0, so no stick impact: it would stop the centre of mass, which needs
+    # abs(P_x)/P_y = 1.5 > μ_s) slide-rocks on its −x corner at θ' = ω = 1 rad/s, the corner
+    # slipping at v0 = −2 m/s; the +x corner strikes at θ = 0.  Coulomb impulse against the
+    # slip (σ = −1): P_y = 2·b·ω/(1 + b·(b + μ_k·h)/i), P_x = μ_k·P_y, after which
+    # θ'⁺ = ω − P_y·(b + μ_k·h)/i < 0 would turn the body into the ground about the +x corner:
+    # the −x corner strikes too, a flat impact on the centre of mass's velocity after the
+    # first, V = (v0 + h·ω + P_x, −b·ω + P_y): plastic P_y2 = −V_y, and since
+    # abs(V_x) > μ_s·P_y2 it slides at V_x + μ_k·P_y2.  (Before the fix the slide went on at
+    # the first impact's corner velocity, a horizontal change of the centre of mass's velocity
+    # by h·θ'⁺ that no impulse within the friction cone makes.)  1e-12: rounding.
+    with pytest.warns(UserWarning, match="squat"):
+        block = Block.from_dimensions(H=1.0, B=2.0)
+    b, h, i = 1.0, 0.5, (1.0 + 0.25) / 3.0
+    a = block.alpha
+    assert block.housner_e() < 0.0
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.9, math.pi / 2)
+    mu_s, mu_k, om, v0 = 0.5, 0.4, 1.0, -2.0
+    con = Contact(G, block.R, i, mu_s, mu_k, 0.0, False)
+    mode, om2, v, sig = _strike(0.0, 1.0, om, v0 + h * om, -b * om, True, body, con)
+    p_y = 2.0 * b * om / (1.0 + b * (b + mu_k * h) / i)
+    assert om - p_y * (b + mu_k * h) / i < 0.0  # it turns into the ground
+    vx, vy = v0 + h * om + mu_k * p_y, -b * om + p_y
+    assert vy < 0.0 and abs(vx) > mu_s * -vy  # the flat impact slips
+    assert mode == SLIDE and om2 == 0.0 and sig == -1.0
+    assert v == pytest.approx(vx + mu_k * -vy, rel=1e-12)
+
+
+def test_stick_impact_that_turns_into_the_ground_lands_flat():
+    # Hand check of rule 1 then 3: a uniform block (b = 0.15 m, h = 0.6 m, i = r_g² =
+    # (b² + h²)/3, I_0/m = i + b² + h²) slide-rocks on its −x corner at θ' = ω = 1 rad/s, the
+    # corner slipping at v0 = −1 m/s (V = (v0 + h·ω, −b·ω)); the +x corner strikes at θ = 0.
+    # e = 0.8·e_H: θ'⁺ = 0.8·ω_L, ω_L = (ω·(i − b² + h²) + h·v0)/I_0 < 0, a rotation back into
+    # the ground; its impulse V⁺ − V, V⁺ = (h·θ'⁺, b·θ'⁺), asks abs(P_x)/P_y = 2.31 ≤ μ_s = 2.4:
+    # a stick impact, after which the −x corner strikes too,
+    # a flat impact on V⁺: P_y2 = −b·θ'⁺, and abs(h·θ'⁺) > μ_s·P_y2, so it slides at
+    # h·θ'⁺ + μ_k·P_y2.  (Before the fix the stick impact was asked to stop the body at once,
+    # abs(P_x)/P_y = 2.67 > μ_s, and went on as a sliding impact that stuck, plastic, at ω_L.)
+    # 1e-12: rounding.
+    block = Block.from_dimensions(H=1.2, B=0.3)
+    b, h, i = 0.15, 0.6, (0.15**2 + 0.6**2) / 3.0
+    a, e_h = block.alpha, block.housner_e()
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.8 * e_h, math.pi / 2)
+    mu, om, v0 = 2.4, 1.0, -1.0
+    con = Contact(G, block.R, i, mu, mu, 0.8, False)
+    mode, om2, v, sig = _strike(0.0, 1.0, om, v0 + h * om, -b * om, True, body, con)
+    w = 0.8 * (om * (i - b * b + h * h) + h * v0) / (i + b * b + h * h)
+    assert w < 0.0
+    assert abs(h * w - v0 - h * om) / (b * w + b * om) == pytest.approx(2.309, abs=1e-3)
+    assert mode == SLIDE and om2 == 0.0 and sig == -1.0
+    assert v == pytest.approx(h * w + mu * -b * w, rel=1e-12)
+
+
 def test_flight_under_a_falling_ground_is_ballistic():
     # Reference: from rest under a constant a_v < −g and no a_g both corners leave together and
     # the block moves freely: lift(t) = ½·(−g − a_v)·t² relative to the ground, θ = 0, no slip

@@ -162,7 +162,7 @@ def test_workers_die_with_a_command_killed_outright(tmp_path, command, workers):
         parent = psutil.Process(proc.pid)
         deadline = time.monotonic() + 60
         # the workers (spawned interpreters) once they have started
-        while sum("spawn_main" in " ".join(c.cmdline()) for c in children) < workers:
+        while sum("spawn_main" in " ".join(_cmdline(c)) for c in children) < workers:
             assert proc.poll() is None and time.monotonic() < deadline, "no worker started"
             time.sleep(0.05)
             children = parent.children(recursive=True)
@@ -182,3 +182,14 @@ def test_workers_die_with_a_command_killed_outright(tmp_path, command, workers):
         for child in children:  # only the processes this test started
             with contextlib.suppress(psutil.NoSuchProcess):
                 child.kill()
+
+
+def _cmdline(process) -> list[str]:
+    """The command line of ``process``; none for a child that has already ended (a zombie not yet
+    reaped, or gone): short-lived helpers of start-up end while the test lists the children."""
+    import psutil
+
+    try:
+        return process.cmdline()
+    except (psutil.ZombieProcess, psutil.NoSuchProcess):
+        return []

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import rocking
-from rocking.dynamics.reference import simulate_reference
+from rocking.dynamics.reference import _Ground, _Modes, _Phase, _Rigid, simulate_reference
 from rocking.errors import InputError
 
 G = 9.80665
@@ -276,6 +276,31 @@ def test_energy_never_increases_across_impacts():
     assert kinds["stick impact"] > 10
     assert kinds["sliding impact"] + kinds["landing (sliding impact)"] > 3
     assert kinds["landing (stick impact)"] > 0
+
+
+@pytest.mark.parametrize("c", [1.0, -1.0])
+def test_sliding_impact_from_rock_does_not_hang_on_the_rounding_of_theta(c):
+    # An impact from rock: the new corner c is at rest before (θ = 0), so the slip direction
+    # is where a frictionless impulse drives it (side c; Routh), whatever side of 0 the
+    # located θ lies on by rounding (±3e-15 rad here, as SciPy's root finder leaves it).
+    # Uniform block b = 0.15 m, h = 0.6 m, i = r_g² = (b² + h²)/3; e = 0.5 asks
+    # abs(P_x)/P_y = 1.33 > μ_s = 0.5, so a sliding impact, P_x = −c·μ_k·P_y with the plastic
+    # P_y = 2·c·b·ω/(1 + b·(b − μ_k·h)/i), θ'⁺ = ω + c·P_y·(μ_k·h − b)/i (μ_k = 0.1 keeps the
+    # slip: μ_k < b·h/(i + h²)).  Before the fix, θ on the far side of 0 gave vcx ≈ −c·6e-16
+    # m/s, a slip to −c, which reverses: a plastic stick impact instead.  1e-9: rtol 1e-10.
+    block = rocking.Block.from_dimensions(1.2, 0.3)
+    b, h, i = block.b, block.h_cg, block.radius_of_gyration**2
+    body = _Rigid(b, h, i, i + block.R**2, 0.5, 0.1, 0.5, block.housner_e(), block.alpha)
+    ground = _Ground(np.zeros(2), np.zeros(2), 0.01, G, np.array([0.0, 0.01]))
+    modes = _Modes(body, ground, math.tan(block.alpha), (1e-10, 1e-12, math.inf))
+    om = c * 1.3  # rocking about corner −c towards c
+    p_y = 2.0 * c * b * om / (1.0 + b * (b - 0.1 * h) / i)
+    for th in (3e-15, -3e-15):
+        rx, ry = body.corner(-c, th)
+        z = modes.project(_Phase(2, -c), [-rx, -ry, th, -ry * om, rx * om, om])
+        ph, after, kind = modes.strike(0, 0.0, z, c, at_zero=True)
+        assert kind == "sliding impact" and MODES[ph.mode] == "slide-rock" and ph.sigma == c
+        assert after[5] == pytest.approx(om + c * p_y * (0.1 * h - b) / i, rel=1e-9)
 
 
 def test_frictionless_slide_rock_frees_the_centre_of_mass():

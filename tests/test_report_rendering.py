@@ -19,7 +19,7 @@ from click.testing import CliRunner
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from rocking import generate
-from rocking.assessment.screen import screen
+from rocking.assessment.screen import RESPONSES, screen
 from rocking.cli import main
 from rocking.motions.design import parse_spectrum
 from rocking.motions.records import example_record_path
@@ -37,7 +37,7 @@ UNITLESS = {
     "body",
     "location",
     "verdict",
-    "may slide",
+    "response (most frequent)",
     "Eq. (11) screen (conservative)",
     "no.",
     "sections",
@@ -49,6 +49,7 @@ UNITLESS = {
     "ratio S_v1/S_v",  # row labels of the Table 3 summary
     "n",  # a count of bodies
     "note",  # text: the IM efficiency's note on a per-body dimensionless IM
+    "refitted not to cross",  # yes/no: the limit-state fits refitted together (fragility)
 }
 #: Columns keyed by γ of an R × γ grid (paper Tables 1–3): the quantity and its unit are in the
 #: caption.
@@ -56,13 +57,14 @@ GRID_KEY = re.compile(r"^((ours|paper|ours - paper) )?γ=\S+$")
 UNIT = re.compile(r"\[[^\]]+\]")
 
 # Two identical items at one location (one point: one label "2, 3" must not overprint), one
-# stocky and one slender on the ground, one upstairs.
-INVENTORY = """name,height,width,location,frame
-cabinet,2.0,0.5,ground,
-rack A,2.0,0.6,ground,
-rack B,2.0,0.6,ground,
-stocky block,1.5,1.0,ground,
-shelf,2.2,0.35,floor 2,paper-2.0
+# stocky and one slender on the ground, one upstairs; two with friction (issue 45: the stocky
+# block slides, the cabinet may slide-rock), the others without (infinite friction).
+INVENTORY = """name,height,width,location,frame,mu,mu_k
+cabinet,2.0,0.5,ground,,0.35,0.3
+rack A,2.0,0.6,ground,,,
+rack B,2.0,0.6,ground,,,
+stocky block,1.5,1.0,ground,,0.3,
+shelf,2.2,0.35,floor 2,paper-2.0,,
 """
 
 
@@ -153,7 +155,7 @@ def screened(tmp_path_factory):
     out = folder / "out"
     args = ["screen", inventory, "--spectrum", "asce7:SDS=1.5,SD1=0.9,TL=8", "--out", out]
     args += ["--n", 8, "--duration", 5, "--resolution", 0.05, "--agx-max", 3]
-    result = _run([*args, "--hazard", "example", "--quiet"])
+    result = _run([*args, "--hazard", "example", "--max-slip", 0.05, "--quiet"])
     assert result.exit_code == 0, result.output
     spectrum = parse_spectrum("asce7:SDS=1.5,SD1=0.9,TL=8")
     motions = generate(8, duration=5.0, target=spectrum, seed=0)
@@ -167,8 +169,14 @@ def test_screen_report_reads_at_a_glance(screened):
     # the page shows the verdict and Eq. (11) as the conservative screen, with yes/no cells
     assert table["th"][:5] == ["#", "item", "location", "H × B [m]", "verdict"]
     assert "Eq. (11) screen (conservative)" in table["th"]
-    n_cols, k = len(table["th"]), table["th"].index("may slide")
-    assert set(table["td"][k::n_cols]) <= {"yes", "no"}
+    # the response at the design level: a word, μ as a number or ∞ (infinite friction), the
+    # slip in mm
+    n_cols, k = len(table["th"]), table["th"].index("response (most frequent)")
+    assert set(table["td"][k::n_cols]) <= set(RESPONSES)
+    mu = table["td"][table["th"].index("μ [-]") :: n_cols]
+    assert sorted(mu) == sorted(["0.35 / 0.3", "∞", "∞", "0.3", "∞"])
+    assert "slip if standing, median / largest [mm]" in table["th"]
+    assert any(h.startswith("P(overturn or slip >= 0.05 m)") for h in table["th"])
     md = (out / "report.md").read_text()
     assert "illustrative" in md and "not the hazard of any real site" in md
 
@@ -306,3 +314,23 @@ def test_single_section_reproduction(tmp_path):
     assert len(pd.read_csv(out / "tables" / "conclusions.csv")) == 9  # the CSV keeps all
     page = (out / "report.html").read_text()
     assert "index" not in [h for t in _tables(page) for h in t["th"]]
+
+
+def test_friction_reproduction_sits_beside_the_conclusions(tmp_path):
+    # the study beyond the paper (issue 45): its table, figure and summary in words come right
+    # after the conclusions, the summary's numbers those of its table
+    out = tmp_path / "friction"
+    sets = ["friction.n=6", "friction.resolution=0.1", "friction.mu=[0.3, 0.6]"]
+    reproduce(["8", "friction"], fidelity="quick", out_dir=out, sets=["sec8.n=6", *sets])
+    tables = _check_page(out)
+    assert any("μ [-]" in t["th"] for t in tables)
+    md = (out / "report.md").read_text()
+    beyond, section8 = md.index("## Beyond the paper: friction"), md.index("## Section 8")
+    assert md.index("The paper's conclusions") < beyond < section8
+    assert "**What the paper's assumption of sufficient friction hides.**" in md
+    assert (out / "figures" / "friction.png").exists()
+    table = pd.read_csv(out / "tables" / "friction-agx50.csv")
+    assert sorted(set(table["μ [-]"])) == [0.3, 0.6, float("inf")]
+    change = table["change [-]"].dropna()
+    if len(change):
+        assert f"{100 * change.min():+.1f} % to {100 * change.max():+.1f} %" in md

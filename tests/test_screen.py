@@ -16,13 +16,17 @@ from click.testing import CliRunner
 from rocking.assessment.energy import available_sv
 from rocking.assessment.screen import (
     N_BAND_FREQS,
+    RESPONSES,
     eq11_vs_monte_carlo,
+    responses,
     results_table,
     screen,
     verdicts,
 )
 from rocking.cli import main
 from rocking.dynamics.body import FOOT, G
+from rocking.dynamics.physics import Physics
+from rocking.errors import InputError
 from rocking.motions.design import ASCE7
 from rocking.motions.synthesis import generate
 from rocking.plots.screen import plot_screen
@@ -49,14 +53,18 @@ def motions():
     return generate(8, duration=5.0, target=SPECTRUM, seed=3)
 
 
+def screen_inventory(folder, motions, **options):
+    """The screening of INVENTORY (written to ``folder``) under ``motions``, coarse searches."""
+    path = folder / "inv.csv"
+    path.write_text(INVENTORY)
+    return screen(
+        path, SPECTRUM, frame="paper-2.0", ensemble=motions, resolution=0.05, agx_max=3.0, **options
+    )
+
+
 @pytest.fixture(scope="module")
 def result(motions, tmp_path_factory):
-    path = tmp_path_factory.mktemp("inv") / "inv.csv"
-    path.write_text(INVENTORY)
-    with pytest.warns(UserWarning, match="squat"):  # μ = 0.6 < B/H = 1: may slide
-        return screen(
-            path, SPECTRUM, frame="paper-2.0", ensemble=motions, resolution=0.05, agx_max=3.0
-        )
+    return screen_inventory(tmp_path_factory.mktemp("inv"), motions)
 
 
 def test_ground_verdicts_match_the_papers_worked_examples(result):
@@ -89,18 +97,7 @@ def test_floor_agx50_is_in_ground_terms_and_paper_mode_rescales(result, motions,
     # mode (Section 7: floors rescaled to the ground's A_gx) gives the floor A_gx50 itself.
     # Both searches stop on 0.05 g steps (of ground and of floor A_gx), hence the tolerance of
     # one step of the coarser grid.
-    path = tmp_path / "inv.csv"
-    path.write_text(INVENTORY)
-    with pytest.warns(UserWarning, match="squat"):
-        paper = screen(
-            path,
-            SPECTRUM,
-            frame="paper-2.0",
-            ensemble=motions,
-            resolution=0.05,
-            agx_max=3.0,
-            floor_motions="paper",
-        )
+    paper = screen_inventory(tmp_path, motions, floor_motions="paper")
     frame = ShearFrame.preset("paper-2.0")
     floor4 = frame.floor_ensemble(motions.scaled(0.6), 4)
     r = floor4.agx / 0.6
@@ -120,7 +117,7 @@ def test_floor_agx50_is_in_ground_terms_and_paper_mode_rescales(result, motions,
     expected = available_sv(floor4.scaled(0.6), n_freqs=800)
     assert paper["sv_available"].sel(item="upstairs") == pytest.approx(expected, rel=5e-3)
     with pytest.raises(ValueError, match="floor_motions"):
-        screen(path, SPECTRUM, ensemble=motions, floor_motions="roof")
+        screen_inventory(tmp_path, motions, floor_motions="roof")
 
 
 @pytest.mark.parametrize("preset", list(FRAME_PRESETS))
@@ -151,7 +148,87 @@ def test_a_block_that_cannot_uplift_never_overturns(result, motions):
     assert squat["probability"] == 0 and squat["overturned"] == 0
     # Wilson upper bound for 0 of n = 8 at 95 %: z²/(n + z²) = 3.8415/11.8415 = 0.3244
     assert squat["ci_high"] == pytest.approx(1.959964**2 / (8 + 1.959964**2), rel=1e-5)
-    assert bool(squat["may_slide"]) and not bool(result["may_slide"].sel(item="stocky"))
+
+
+def test_a_square_block_slides_in_the_motions_whose_pga_exceeds_mu_g(result, motions):
+    # Issue 45: the squat item (B/H = 1, μ = 0.6) cannot rock below |a_g| = g·tan α = 1 g and
+    # cannot tip while sliding (μ_k = 0.6 < tan α = 1, MODES.md), and it leaves rest for a slide
+    # exactly when |a_g| > μ g (Coulomb; a_g is linear between samples, so its peak is a
+    # sample's: the PGA). So it slides in the motions whose PGA exceeds 0.6 g and rests in the
+    # others, with a slip in the first and none in the second.
+    pga = motions.scaled(0.6).pga
+    slides = float(np.mean(pga > 0.6))
+    assert 0.0 < slides < 1.0  # the ensemble has both kinds (else the test shows nothing)
+    squat = result.sel(item="squat")
+    share = squat["response_share"]
+    assert float(share.sel(response="slide")) == pytest.approx(slides, abs=1e-12)
+    assert float(share.sel(response="rest")) == pytest.approx(1.0 - slides, abs=1e-12)
+    assert float(squat["slip_max"]) > 0.0 and float(squat["flight_share"]) == 0.0
+    assert float(squat["mu"]) == 0.6 and float(squat["mu_k"]) == 0.6
+    assert str(squat["mode"].values) == ("slide" if slides > 0.5 else "rest")
+
+
+def test_without_mu_an_item_never_slides_and_its_responses_add_up(result):
+    # No μ: infinite friction (the paper's model): no slip, no slide; the shares of the
+    # responses add up to 1 and the share "overturn" is the overturning probability.
+    share = result["response_share"]
+    np.testing.assert_allclose(share.sum("response"), 1.0, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(share.sel(response="overturn"), result["probability"])
+    rigid = result.sel(item=["stocky", "slender", "upstairs", "lower"])
+    assert np.isnan(rigid["mu"]).all()
+    assert (rigid["slip_max"].fillna(0.0) == 0).all()  # (NaN: every motion overturns it)
+    assert (rigid["response_share"].sel(response=["slide", "slide-rock"]) == 0).all()
+
+
+def test_physics_mu_is_the_friction_of_the_items_without_their_own(motions, tmp_path):
+    # --mu (physics.mu) fills in the items without a mu column; the squat item keeps its own
+    # 0.6. Per-item friction belongs in the inventory: a per-block physics.mu is refused.
+    ds = screen_inventory(tmp_path, motions, physics=Physics(mu=0.8, mu_k=0.7))
+    assert float(ds["mu"].sel(item="squat")) == 0.6 and float(ds["mu_k"].sel(item="squat")) == 0.6
+    rigid = ds.sel(item=["stocky", "slender", "upstairs", "lower"])
+    assert (rigid["mu"] == 0.8).all() and (rigid["mu_k"] == 0.7).all()
+    with pytest.raises(InputError, match="physics.mu"):
+        screen_inventory(tmp_path, motions, physics=Physics(mu=(0.5, 0.5)))
+
+
+def test_responses_classify_each_motion_by_what_the_kernel_recorded():
+    # The screening's words for the batched kernel's outcome of one motion: overturned first,
+    # then whether the block left rest (uplift: rocked or lifted off) and whether it slid.
+    got = responses(
+        overturned=[False, False, False, False, True, True],
+        uplift=[False, False, True, True, True, False],
+        peak_slip=[0.0, 0.01, 0.0, 0.02, 0.3, 0.0],
+    )
+    assert [RESPONSES[i] for i in got] == [
+        "rest",
+        "slide",
+        "rock",
+        "slide-rock",
+        "overturn",
+        "overturn",
+    ]
+
+
+def test_max_slip_puts_sliding_into_the_verdict(result, motions, tmp_path):
+    # With a largest allowed slip, the verdict counts the motions that overturn the item or
+    # slide it at least that far. The squat item slides (above) but cannot overturn: its
+    # verdict probability is that of the limit state "slip >= max_slip", counted by the Monte
+    # Carlo engine on its own, at most the share of motions it slides in (a small slip may
+    # stay below the limit); the rigid items' verdicts do not change (they never slide).
+    limit = float(result["slip_max"].sel(item="squat")) / 2  # [m]: some motions, maybe not all
+    ds = screen_inventory(tmp_path, motions, max_slip=limit, limit_states=f"slip>={limit!r}")
+    squat = ds.sel(item="squat")
+    slid = float(squat["limit_state_probability"].squeeze())
+    assert 0.0 < slid <= float(squat["response_share"].sel(response="slide"))
+    assert float(squat["failure_probability"]) == slid
+    assert float(squat["slip_probability"]) == slid
+    assert str(squat["verdict"].values) == verdicts([slid], [float(squat["failure_ci_high"])])[0]
+    rigid = ["stocky", "slender", "upstairs", "lower"]
+    np.testing.assert_array_equal(ds["verdict"].sel(item=rigid), result["verdict"].sel(item=rigid))
+    table = results_table(ds)
+    assert f"P(overturn or slip >= {limit:g} m) [-]" in table.columns
+    with pytest.raises(InputError, match="max_slip"):
+        screen_inventory(tmp_path, motions, max_slip=-1.0)
 
 
 def test_results_are_labelled_and_sorted_most_at_risk_first(result):
@@ -250,12 +327,31 @@ def test_cli_writes_table_figure_and_report(tmp_path):
         ]
     )
     assert res.exit_code == 0, res.output
-    assert "may slide" in res.output  # the warning reaches the user
     for name in ("report.html", "report.md", "run.json", "tables/screen.csv", "figures/sv-agx.png"):
         assert (out / name).is_file(), name
     rows = (out / "tables" / "screen.csv").read_text().splitlines()
     assert len(rows) == 1 + 5 and rows[0].startswith("item,location")
     assert json.loads((out / "run.json").read_text())["n_motions"] == 8
+
+
+def test_cli_friction_and_max_slip_are_recorded_and_reported(tmp_path):
+    # --mu gives the items without mu their friction, --max-slip enters the verdict: both are
+    # in run.json (a run with other values is another run), the table has the verdict's
+    # probability, and the terminal lists the items that mostly slide, with their slip.
+    out = tmp_path / "out"
+    args = [str(write_inventory(tmp_path)), "--spectrum", "asce7:SDS=1.5,SD1=0.9,TL=8"]
+    args += ["--frame", "paper-2.0", "--out", str(out), "--n", "8", "--duration", "5"]
+    args += ["--resolution", "0.05", "--agx-max", "3", "--mu", "0.5", "--max-slip", "0.01"]
+    res = run(args)
+    assert res.exit_code == 0, res.output
+    params = json.loads((out / "run.json").read_text())
+    assert (params["mu"], params["mu_k"], params["max_slip"]) == (0.5, None, 0.01)
+    table = pd.read_csv(out / "tables" / "screen.csv").set_index("item")
+    assert table.loc["squat", "mu [-]"] == 0.6 and table.loc["stocky", "mu [-]"] == 0.5
+    failure = table["P(overturn or slip >= 0.01 m) [-]"]
+    assert (failure >= table["P(overturn) [-]"]).all()
+    for item in table.index[table["mode"].isin(["slide", "slide-rock"])]:
+        assert f"  {item}: {table.loc[item, 'mode']} in " in res.output
 
 
 def test_cli_report_says_where_eq11_and_monte_carlo_disagree(tmp_path):

@@ -321,12 +321,13 @@ def test_reproduce_all_quick(quick_run):
         "fig14",
         "fig15",
         "fig16",
+        "friction",
     ):
         assert (out / "figures" / f"{fig}.png").exists(), fig
     assert page.count("data:image/png;base64,") == len(list((out / "figures").iterdir()))
     run = json.loads((out / "run.json").read_text())
     assert run["status"] == "completed" and run["version"] == rocking.__version__
-    assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "total"}
+    assert set(run["wall_time_s"]) >= {"4", "5", "6", "7", "8", "friction", "total"}
     assert run["parameters"] == PRESETS["quick"] and not run["modified"]
 
 
@@ -443,6 +444,8 @@ def test_reproduce_bad_input_is_one_line(tmp_path):
         ("sec6.bodies=[[1.0, -2]]", "sec6.bodies: gamma must be"),
         ("common.envelope_params={t2 = 50.0}", "common.envelope_params: t2 must lie in"),
         ("sec5.motions=[1, 30]", "sec5: motion numbers must lie in 1..n = 25"),
+        ("friction.mu=[0.3, 0.3]", "friction.mu: give each friction coefficient once"),
+        ("friction.mu=[0.0]", "friction.mu must be a finite number > 0"),
     ],
 )
 def test_bad_values_stop_the_run_before_it_writes(tmp_path, setting, message):

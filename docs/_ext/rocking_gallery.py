@@ -42,6 +42,7 @@ class ExampleOrder:
 
     ORDER = (
         "plot_block_el_centro.py",
+        "plot_response_modes.py",
         "plot_motions_fit.py",
         "plot_floor_spectra.py",
         "plot_fragility.py",

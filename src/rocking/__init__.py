@@ -27,7 +27,7 @@ def __getattr__(name: str):
 if TYPE_CHECKING:  # the names for type checkers and IDEs
     from .assessment.bodies import NamedBody, read_bodies, read_bodies_table
     from .assessment.energy import assess, available_sv, energy_balance
-    from .assessment.inventory import Inventory, Item, SlidingWarning, read_inventory
+    from .assessment.inventory import Inventory, Item, read_inventory
     from .assessment.risk import HazardCurve, RiskResult, annual_rate, check_hazard_im
     from .assessment.screen import results_table, screen
     from .core.runs import provenance

@@ -103,6 +103,7 @@ STUDY_SECTIONS = {
     "7": "floors of shear frames (Figs. 11-12)",
     "8": "Housner's energy balance (Figs. 13-16, Tables 1-3, worked examples)",
     "soundness": "time step, ensemble size, ensemble strength, the Section 8 floor (issue 17)",
+    "friction": "beyond the paper: A_gx50 and Table 3 with friction mu = 0.3-0.8 (issue 45)",
 }
 #: Float format of CSV tables: 12 significant digits keep every value to far better than any
 #: result needs, and drop binary noise such as 0.23000000000046314 (an A_gx found on a 0.01 g

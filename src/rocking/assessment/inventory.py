@@ -2,7 +2,7 @@
 
 An item is a rigid rectangular block (height and width [m], or R [m] and γ [-]) standing on the
 ground or on floor N of a shear frame, with an optional coefficient of restitution e [-] and
-friction coefficient μ [-].
+friction coefficients μ (static) and μ_k (kinetic) [-].
 
 CSV (header row, then one item per row; header names are case-insensitive and may carry a unit in
 brackets, e.g. ``height [m]``; blank lines and lines starting with ``#`` are skipped; other
@@ -22,7 +22,10 @@ warning); ``frame``
 (relative to the inventory; see :meth:`rocking.structures.frames.ShearFrame.from_toml`); empty: the
 default
 frame. ``e`` (optional): a number in (0, 1] or ``housner`` (1 − 1.5·sin²α); empty: 0.925, the
-paper's value. ``mu`` (optional): friction coefficient > 0.
+paper's value. ``mu`` (optional): the static friction coefficient μ_s > 0 between the base and
+the floor; empty: infinite friction (the item rocks but never slides, the paper's model).
+``mu_k`` (optional): the kinetic friction coefficient, 0 < μ_k ≤ μ_s; empty: μ_s. With μ the
+item may rest, slide, rock, slide-rock and fly (issue 45, :mod:`rocking.dynamics.modes`).
 
 TOML: the same fields in ``[[items]]`` tables, an optional top-level ``frame = "NAME"`` (the
 default frame) and frames defined in ``[frames.NAME]`` tables with the keys of a frame TOML file
@@ -31,9 +34,6 @@ optional ``damping``).
 
 Rows are numbered as in a spreadsheet (the header is row 1); TOML items as ``item N``. Every
 malformed row is reported, all of them in one :class:`rocking.errors.InputError`.
-
-A block rocks rather than slides from rest only when μ > B/H (Shenton 1996); items with μ ≤ B/H
-get a :class:`SlidingWarning` and ``may_slide`` = True: they are outside the model's validity.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ from ..structures.frames import PRESETS, ShearFrame
 
 _FIELDS = (
     *("name", "height", "width", "r", "gamma", "h_cg", "b", "r_g"),
-    *("location", "frame", "e", "mu"),
+    *("location", "frame", "e", "mu", "mu_k"),
 )
 _ALIASES = {
     "h": "height",
@@ -70,10 +70,6 @@ class _NoFrame(InputError):
 
 
 _LOCATION = re.compile(r"\s*(?:(ground)|floor\s*(\d+))\s*", re.IGNORECASE)
-
-
-class SlidingWarning(UserWarning):
-    """Items whose friction coefficient is too low for the rocking model (μ ≤ B/H)."""
 
 
 @dataclass(frozen=True)
@@ -93,7 +89,9 @@ class Item:
     e : float
         Coefficient of restitution [-].
     mu : float or None
-        Friction coefficient [-] (None: not given).
+        Static friction coefficient μ_s [-] (None: not given, infinite friction).
+    mu_k : float or None
+        Kinetic friction coefficient μ_k ≤ μ_s [-] (None: μ_s).
     source : str
         File and row it came from.
     """
@@ -105,6 +103,7 @@ class Item:
     e: float
     mu: float | None
     source: str
+    mu_k: float | None = None
 
     @property
     def location(self) -> str:
@@ -112,11 +111,6 @@ class Item:
         if self.floor == 0 or self.frame is None:  # (an item on a floor always has its frame)
             return "ground"
         return f"floor {self.floor} of {self.frame.name}"
-
-    @property
-    def may_slide(self) -> bool:
-        """True when μ is given and μ ≤ B/H = 1/γ: the block may slide rather than rock."""
-        return self.mu is not None and self.mu <= 1.0 / self.block.gamma
 
 
 @dataclass(frozen=True)
@@ -131,11 +125,6 @@ class Inventory:
 
     def __iter__(self) -> Iterator[Item]:
         return iter(self.items)
-
-    @property
-    def sliding(self) -> list[Item]:
-        """Items that may slide rather than rock (μ ≤ B/H)."""
-        return [it for it in self.items if it.may_slide]
 
 
 class _Frames:
@@ -183,12 +172,7 @@ def read_inventory(
     ------
     InputError
         Naming the file and every malformed row (missing field, text where a number belongs,
-        non-positive size, unknown floor or frame, repeated name).
-
-    Warns
-    -----
-    SlidingWarning
-        When items have μ ≤ B/H.
+        non-positive size, unknown floor or frame, repeated name, μ_k without μ or above it).
     """
     path = Path(path)
     if not path.is_file():
@@ -231,19 +215,7 @@ def read_inventory(
     if not items:
         raise InputError(f"{path}: no items")
     _check_frame_names(items, path)
-    inventory = Inventory(tuple(items), path)
-    if inventory.sliding:
-        listed = "; ".join(
-            f"{it.name} (mu {it.mu:g} <= B/H {1 / it.block.gamma:.3g})" for it in inventory.sliding
-        )
-        warnings.warn(
-            f"{path}: {len(inventory.sliding)} item(s) may slide rather than rock "
-            f"(friction coefficient mu <= B/H), outside the rocking model's validity: "
-            f"{listed}",
-            SlidingWarning,
-            stacklevel=2,
-        )
-    return inventory
+    return Inventory(tuple(items), path)
 
 
 def _frame_or_error(frames: _Frames, name: str, where: str) -> ShearFrame:
@@ -368,10 +340,15 @@ def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None)
     floor, frame = check(_location, fields, frames, default, where) or (None, None)
     e = check(_restitution, fields.get("e"), block) if block is not None else None
     mu = check(_optional_positive, "mu", fields.get("mu"))
+    mu_k = check(_optional_positive, "mu_k", fields.get("mu_k"))
+    if mu_k is not None and "mu" not in fields:
+        problems.append(InputError("mu_k needs mu (the static friction coefficient)"))
+    elif mu_k is not None and mu is not None and mu_k > mu:
+        problems.append(InputError(f"mu_k = {mu_k:g} exceeds mu = {mu:g} (kinetic ≤ static)"))
     if problems or block is None or floor is None or e is None:
         kind = _NoFrame if any(isinstance(p, _NoFrame) for p in problems) else InputError
         raise kind(f"item {name!r}: " + "; ".join(map(str, problems)))
-    return Item(name, block, floor, frame, e, mu, where)
+    return Item(name, block, floor, frame, e, mu, where, mu_k)
 
 
 def _block(fields: dict) -> Block:

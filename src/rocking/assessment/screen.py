@@ -9,7 +9,13 @@ spectrum (its zero-period acceleration, :func:`rocking.motions.design.design_pga
   conservative screen;
 * the Monte Carlo overturning probability at the design level with its Wilson interval, and the
   ground A_gx of 50 % probability (:mod:`rocking.montecarlo.probability`), from the same ensemble;
-* one verdict per item, from the Monte Carlo probability alone (:data:`VERDICT_RULE`).
+* with the item's friction μ (issue 45; none: infinite friction, rocking only), its response at
+  the design level from the same simulations: the share of the motions in which it stays at
+  rest, slides, rocks, slide-rocks or overturns (:data:`RESPONSES`, :func:`responses`), the
+  dominant one, the share in which it flies, and its slip (median and largest peak slip over the
+  motions);
+* one verdict per item, from the Monte Carlo probability alone (:data:`VERDICT_RULE`): of
+  overturning, or with ``max_slip`` of overturning or sliding that far.
 
 Floor motions are, by default (``floor_motions="building"``), the frame's response to the
 spectrum-compatible ground motions scaled to the design A_gx: what the floor of that (linear)
@@ -27,9 +33,10 @@ one A_gx50 search over all its items.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -41,15 +48,17 @@ from ..core import portable
 from ..core.checks import positive, record, unexpected
 from ..core.reuse import reusing
 from ..defaults import DT
+from ..dynamics.batch import Outcome
 from ..dynamics.body import Block
 from ..dynamics.limits import LimitState, limit_state_coords, parse_limit_states
 from ..dynamics.physics import Physics
 from ..errors import InputError
 from ..montecarlo.backends import Compute
+from ..montecarlo.engine import Engine, level_key
 from ..montecarlo.fragility import fragility_analysis
 from ..montecarlo.probability import agx_50, overturning_probability
 from ..montecarlo.search import Agx50Search
-from ..montecarlo.statistics import LognormalFit
+from ..montecarlo.statistics import LognormalFit, wilson_interval
 from ..motions.design import design_pga, parse_spectrum
 from ..motions.ensemble import Ensemble
 from ..motions.intensity import intensity_measures
@@ -84,6 +93,14 @@ VERDICT_RULE = (
     f"**not at risk**: the whole interval lies below {100 * RISK_PROBABILITY:g} %. Eq. (11) "
     "does not enter the verdict: it is a conservative screen, shown beside it"
 )
+#: How the verdict counts slip when a largest allowed slip is given (``max_slip``).
+SLIP_RULE = (
+    "with a largest allowed slip, the probability of the verdict is that of overturning or "
+    "sliding at least that far (peak slip) in the same motion"
+)
+#: The response of an item to one motion, as a screening counts it (issue 45), from the batched
+#: kernel's outcome (:func:`responses`): most severe last.
+RESPONSES = ("rest", "slide", "rock", "slide-rock", "overturn")
 
 
 @dataclass(frozen=True)
@@ -93,8 +110,9 @@ class _MonteCarlo:
     search: Agx50Search  # the A_gx50 search (resolution, upper end [g])
     confidence: float  # of the Wilson interval [-]
     compute: Compute
-    physics: Physics | None = None  # e: the items' own
+    physics: Physics | None = None  # e: the items' own; mu, mu_k: of items without their own
     limit_states: tuple[LimitState, ...] | None = None  # their probabilities besides
+    max_slip: float | None = None  # largest allowed peak slip [m]: in the verdict
 
 
 @dataclass(frozen=True)
@@ -129,6 +147,7 @@ _SCREEN_OPTIONS: dict[str, Any] = {
     "confidence": 0.95,
     "floor_motions": "building",
     "years": 50.0,
+    "max_slip": None,
 }
 
 
@@ -169,7 +188,9 @@ def screen(
         Needs ``floor_motions="building"``.
     physics : Physics, optional
         The physics of the simulations (:class:`~rocking.Physics`: overturning angle, g, impact
-        scheme); the restitution is each item's own.
+        scheme); the restitution is each item's own, and so are the friction coefficients of
+        the items that give them (``mu``, ``mu_k`` of the inventory): physics's ``mu`` and
+        ``mu_k`` are those of the items without (None: infinite friction, rocking only).
     compute : Compute, optional
         How the Monte Carlo runs are computed (:class:`~rocking.montecarlo.backends.Compute`:
         backend, default local; progress; chunk size); a screening keeps no chunk folder
@@ -203,6 +224,11 @@ def screen(
     years : float
         Keyword (default 50): exposure time [yr] of the probability of at least one
         overturning (Poisson), > 0.
+    max_slip : float, optional
+        Keyword: the largest allowed peak slip [m], > 0 (e.g. the clearance to a wall or the
+        edge of a plinth). Given, the verdict counts the motions that overturn the item or
+        slide it at least that far (:data:`SLIP_RULE`); None (default): overturning alone,
+        the slip reported beside it.
 
     Returns
     -------
@@ -210,19 +236,25 @@ def screen(
         Dimension ``item`` (coordinate: item names), sorted most at risk first (highest
         probability at the design A_gx, then lowest A_gx50, then lowest margin). Variables:
         ``location``, ``floor``, ``frame``, ``height`` and ``width`` [m], ``R`` [m], ``gamma``
-        [-], ``e`` [-], ``mu`` [-] (NaN: not given), ``may_slide`` (μ ≤ B/H), ``sv_required``
-        and ``sv_available`` [m/s], ``margin`` [-] (> 0: safe by Eq. 11), ``eq11_verdict``
-        (Eq. 11's "safe" or "overturn>50%"), ``probability``, ``ci_low``, ``ci_high`` [-],
-        ``overturned`` and ``n_motions`` (counts), ``agx50`` [g] (ground A_gx; with
-        ``floor_motions="paper"`` the floor's own), ``verdict`` (the one verdict:
-        :func:`verdicts`, :data:`VERDICT_RULE`) and ``at_risk`` (verdict "at risk"); with
-        ``hazard``: ``fragility_median`` [the IM's
+        [-], ``e`` [-], ``mu`` and ``mu_k`` [-] (the friction simulated; NaN: infinite),
+        ``sv_required`` and ``sv_available`` [m/s], ``margin`` [-] (> 0: safe by Eq. 11),
+        ``eq11_verdict`` (Eq. 11's "safe" or "overturn>50%"), ``probability``, ``ci_low``,
+        ``ci_high`` [-], ``overturned`` and ``n_motions`` (counts), ``agx50`` [g] (ground
+        A_gx; with ``floor_motions="paper"`` the floor's own), ``response_share`` (item,
+        response) [-] (the share of the motions of each of :data:`RESPONSES`), ``mode`` (the
+        most frequent of them), ``flight_share`` [-] (motions in which the base left the
+        ground), ``slip_median`` and ``slip_max`` [m] (median and largest peak slip over the
+        motions that leave it standing; NaN if none does), with ``max_slip``
+        ``slip_probability`` [-] (peak slip ≥ max_slip) and ``failure_probability``,
+        ``failure_ci_low``, ``failure_ci_high`` [-] (overturning or that slip), ``verdict``
+        (the one verdict: :func:`verdicts`, :data:`VERDICT_RULE`) and ``at_risk`` (verdict
+        "at risk"); with ``hazard``: ``fragility_median`` [the IM's
         unit], ``fragility_beta`` [-], ``annual_rate`` [1/yr] (NaN: no overturning up to the
         hazard's largest IM, so below its upper-tail bound) and ``p_years`` [-]. Attributes:
         ``spectrum``, ``design_agx`` [g], the settings and the ensemble's generation
         parameters.
     """
-    n, seed, duration, dt, band_hz, confidence, floor_motions, years = (
+    n, seed, duration, dt, band_hz, confidence, floor_motions, years, max_slip = (
         options.pop(name, default) for name, default in _SCREEN_OPTIONS.items()
     )
     search = record(Agx50Search, search, options, "search")
@@ -234,7 +266,10 @@ def screen(
         raise InputError(
             f"floor_motions must be one of {', '.join(FLOOR_MOTIONS)}, got {floor_motions!r}"
         )
+    if max_slip is not None:
+        max_slip = positive("max_slip", max_slip, "m")
     inventory = _inventory(inventory, frame)
+    physics = _default_friction(physics)
     if not isinstance(spectrum, TargetSpectrum):
         spectrum = parse_spectrum(spectrum)
     available_sv(spectrum, band_hz=band_hz, damping=spectrum.damping)  # it covers the band
@@ -249,7 +284,7 @@ def screen(
     agx = design_pga(spectrum)
     ground = ensemble.scaled(agx)
     states = None if limit_states is None else parse_limit_states(limit_states)
-    settings = _MonteCarlo(search, confidence, compute, physics, states)
+    settings = _MonteCarlo(search, confidence, compute, physics, states, max_slip)
     risk = None if hazard is None else _risk(hazard, years, ground)
     parts = [
         _screen_location(location, band_hz, settings, risk)
@@ -267,6 +302,7 @@ def screen(
         floor_motions=floor_motions,
         n_motions=ensemble.n,
         years=years,
+        max_slip=math.nan if max_slip is None else max_slip,
         hazard="" if hazard is None else hazard.source,
         duration=ensemble.duration,
         dt=ensemble.dt,
@@ -305,6 +341,30 @@ def _inventory(
             f"of an inventory file, got {type(inventory).__name__}"
         )
     return read_inventory(inventory, frame=frame)
+
+
+def _default_friction(physics: Physics | None) -> Physics | None:
+    """``physics`` checked as a screening takes it: its friction is one value, that of the items
+    without their own."""
+    if physics is not None and (isinstance(physics.mu, tuple) or isinstance(physics.mu_k, tuple)):
+        raise InputError(
+            "physics.mu and physics.mu_k of a screening are one value each, that of the items "
+            "without their own (give per-item friction in the inventory's mu, mu_k columns)"
+        )
+    return physics
+
+
+def _item_physics(items: list[Item], physics: Physics | None) -> Physics | None:
+    """``physics`` with the friction of every item (:func:`screen`): its own μ and μ_k, else
+    physics's; unchanged when no item has its own."""
+    if all(it.mu is None for it in items):
+        return physics
+    base = Physics() if physics is None else physics
+    return dataclasses.replace(
+        base,
+        mu=tuple(base.mu if it.mu is None else it.mu for it in items),
+        mu_k=tuple(base.mu_k if it.mu is None else it.mu_k for it in items),
+    )
 
 
 def _hazard_curve(hazard: HazardCurve | str | os.PathLike[str], floor_motions: str) -> HazardCurve:
@@ -379,29 +439,35 @@ def _screen_location(
     """The screening dataset (dimension ``item``) of the items at one location."""
     blocks = [it.block for it in location.items]
     e = _restitution(location.items)
-    variables = _item_variables(location.items)
+    settings = dataclasses.replace(
+        settings, physics=_item_physics(location.items, settings.physics)
+    )
+    variables = _item_variables(location.items, settings.physics)
     variables.update(_eq11_variables(location, band_hz))
     variables.update(_monte_carlo_variables(blocks, e, location, settings))
     if risk is not None:
         variables.update(_annual_rates(blocks, e, location.motions, risk, settings))
     states = {} if settings.limit_states is None else limit_state_coords(settings.limit_states)
+    second = {"limit_state_probability": "limit_state", "response_share": "response"}
     return xr.Dataset(
         {
             k: (
-                ("item", "limit_state")[: np.ndim(v)],
+                ("item", second.get(k, ""))[: np.ndim(v)],
                 np.asarray(v),
                 {"units": u, "long_name": ln} if u else {"long_name": ln},
             )
             for k, (v, u, ln) in variables.items()
         },
-        coords={"item": [it.name for it in location.items], **states},
+        coords={"item": [it.name for it in location.items], "response": list(RESPONSES), **states},
     )
 
 
-def _item_variables(items: list[Item]) -> _Variables:
-    """What the inventory says of each item: location, geometry, restitution, friction."""
+def _item_variables(items: list[Item], physics: Physics | None) -> _Variables:
+    """What the inventory says of each item: location, geometry, restitution, and the friction
+    simulated (``physics``: the location's, :func:`_item_physics`)."""
     blocks = [it.block for it in items]
-    mu = np.array([math.nan if it.mu is None else it.mu for it in items])
+    friction = [(None, None) if physics is None else physics.friction(i) for i in range(len(items))]
+    mu, mu_k = (np.array([math.nan if f[j] is None else f[j] for f in friction]) for j in (0, 1))
     return {
         "location": ([it.location for it in items], "", "ground or floor N of FRAME"),
         "floor": ([it.floor for it in items], "", "floor (0: ground)"),
@@ -411,8 +477,8 @@ def _item_variables(items: list[Item]) -> _Variables:
         "R": ([b.R for b in blocks], "m", "size parameter R"),
         "gamma": ([b.gamma for b in blocks], "1", "slenderness H/B"),
         "e": ([it.e for it in items], "1", "coefficient of restitution"),
-        "mu": (mu, "1", "friction coefficient (NaN: not given)"),
-        "may_slide": ([it.may_slide for it in items], "", "mu <= B/H: may slide, not rock"),
+        "mu": (mu, "1", "static friction coefficient simulated (NaN: infinite)"),
+        "mu_k": (mu_k, "1", "kinetic friction coefficient simulated (NaN: infinite)"),
     }
 
 
@@ -460,9 +526,10 @@ def _monte_carlo_variables(
             **options,
         ).isel(agx=0)
 
-    with reusing():  # the limit states read the outcomes of the overturning run
+    with reusing():  # the limit states and the responses read the outcomes of the overturning run
         mc = at_design(None)
         states = None if settings.limit_states is None else at_design(settings.limit_states)
+        outcomes = _outcomes(blocks, motions, options)
         a50 = (
             agx_50(
                 blocks,
@@ -489,7 +556,90 @@ def _monte_carlo_variables(
         "overturned": (mc["count"].values, "", "motions that overturn the item"),
         "n_motions": (mc["n"].values, "", "motions"),
         "agx50": (a50, "g", "ground A_gx at 50 % overturning probability"),
+        **_response_variables(outcomes, settings),
     }
+
+
+def _outcomes(blocks: list[Block], motions: Ensemble, options: dict[str, Any]) -> list[Outcome]:
+    """The outcome of every motion of ``motions`` (as they are: at the design level) for each
+    block, simulated with ``options`` (physics, e, compute); inside :func:`reusing`, those of the
+    overturning run that simulated them already."""
+    engine = Engine(blocks, [motions], desc="response modes", **options)
+    key = level_key(motions.agx)
+    with engine:
+        engine.run([(0, b, key) for b in range(len(blocks))])
+    return [engine.results[(0, b, key)] for b in range(len(blocks))]
+
+
+def responses(overturned: ArrayLike, uplift: ArrayLike, peak_slip: ArrayLike) -> np.ndarray:
+    """The response of a block to each motion, an index into :data:`RESPONSES`, from the batched
+    kernel's outcome (:class:`rocking.dynamics.batch.Outcome`): "overturn" if it overturned,
+    else "slide-rock" if it both left rest (``uplift``: rocked or lifted off) and slid
+    (``peak_slip`` [m] > 0, not necessarily at the same time), "rock" or "slide" if it did only
+    one of them, "rest" if neither."""
+    slid = np.asarray(peak_slip, dtype=float) > 0.0
+    rocked = np.asarray(uplift, dtype=bool)
+    index = np.where(rocked, np.where(slid, 3, 2), np.where(slid, 1, 0))
+    return np.where(np.asarray(overturned, dtype=bool), len(RESPONSES) - 1, index)
+
+
+def _standing(statistic: Callable[[np.ndarray], Any], outcome: Outcome) -> float:
+    """``statistic`` of the peak slip [m] over the motions that do not overturn the block (the
+    slip of one that does is that up to its fall); NaN if every motion overturns it."""
+    slip = outcome.peak_slip[~outcome.overturned]
+    return float(statistic(slip)) if slip.size else math.nan
+
+
+def _response_variables(outcomes: list[Outcome], settings: _MonteCarlo) -> _Variables:
+    """The response of each item at the design level, from the outcomes of its motions: the
+    share of each of :data:`RESPONSES`, the most frequent (the most severe of a tie), the share
+    of flights, the median and largest peak slip, and with ``settings.max_slip`` the
+    probability of the verdict (:data:`SLIP_RULE`)."""
+    share = np.array(
+        [
+            np.bincount(responses(o.overturned, o.uplift, o.peak_slip), minlength=len(RESPONSES))
+            / o.overturned.size
+            for o in outcomes
+        ]
+    )
+    mode = [RESPONSES[len(RESPONSES) - 1 - int(np.argmax(row[::-1]))] for row in share]
+    variables: _Variables = {
+        "response_share": (share, "1", "share of the motions of each response at design A_gx"),
+        "mode": (mode, "", "most frequent response at design A_gx"),
+        "flight_share": (
+            np.array([np.mean(o.peak_lift > 0.0) for o in outcomes]),
+            "1",
+            "share of the motions in which the base leaves the ground",
+        ),
+        "slip_median": (
+            np.array([_standing(np.median, o) for o in outcomes]),
+            "m",
+            "median peak slip over the motions that leave the item standing",
+        ),
+        "slip_max": (
+            np.array([_standing(np.max, o) for o in outcomes]),
+            "m",
+            "largest peak slip over the motions that leave the item standing",
+        ),
+    }
+    if settings.max_slip is None:
+        return variables
+    limit = settings.max_slip
+    n = np.array([o.overturned.size for o in outcomes])
+    slid = np.array([np.count_nonzero(o.peak_slip >= limit) for o in outcomes])
+    failed = np.array([np.count_nonzero(o.overturned | (o.peak_slip >= limit)) for o in outcomes])
+    low, high = wilson_interval(failed, n, settings.confidence)
+    variables.update(
+        slip_probability=(slid / n, "1", f"P(peak slip >= {limit:g} m) at design A_gx"),
+        failure_probability=(
+            failed / n,
+            "1",
+            f"P(overturn or peak slip >= {limit:g} m) at design A_gx",
+        ),
+        failure_ci_low=(low, "1", "Wilson interval, lower end"),
+        failure_ci_high=(high, "1", "Wilson interval, upper end"),
+    )
+    return variables
 
 
 def _annual_rates(
@@ -541,20 +691,25 @@ def _restitution(items: list[Item]) -> float | np.ndarray:
 
 def _ranked(ds: xr.Dataset) -> xr.Dataset:
     """``ds`` with ``verdict`` and ``at_risk``, sorted most at risk first: highest probability
-    at the design A_gx, then lowest A_gx50, then lowest margin."""
+    of the verdict (with ``max_slip``, of overturning or that slip), then of overturning at the
+    design A_gx, then lowest A_gx50, then lowest margin."""
+    failure = "failure_probability" if "failure_probability" in ds else "probability"
+    high = "failure_ci_high" if "failure_probability" in ds else "ci_high"
+    rule = VERDICT_RULE if failure == "probability" else f"{VERDICT_RULE}; {SLIP_RULE}"
     ds["verdict"] = (
         "item",
-        verdicts(ds["probability"].values, ds["ci_high"].values),
-        {"long_name": f"verdict from the Monte Carlo probability ({VERDICT_RULE})"},
+        verdicts(ds[failure].values, ds[high].values),
+        {"long_name": f"verdict from the Monte Carlo probability ({rule})"},
     )
     ds["at_risk"] = (ds["verdict"] == AT_RISK).assign_attrs(
-        long_name=f"P(overturn) >= {100 * RISK_PROBABILITY:g} % at the design A_gx"
+        long_name=f"{ds[failure].attrs['long_name']} >= {100 * RISK_PROBABILITY:g} %"
     )
     order = np.lexsort(
         (
             ds["margin"].values,
             np.nan_to_num(ds["agx50"].values, nan=np.inf),
             -ds["probability"].values,
+            -ds[failure].values,
         )
     )
     return ds.isel(item=order)
@@ -638,9 +793,11 @@ def eq11_vs_monte_carlo_note(band_hz: Sequence[float] = BAND_HZ) -> str:
 
 def results_table(ds: xr.Dataset) -> pd.DataFrame:
     """The screening result as a table (pandas DataFrame) in the dataset's order: the verdict
-    (:data:`VERDICT_RULE`) and the Monte Carlo results first, then Eq. (11) (S_v in cm/s) and
-    whether it agrees with the Monte Carlo (:func:`eq11_vs_monte_carlo`), for CSV files and
-    reports."""
+    (:data:`VERDICT_RULE`) and the Monte Carlo results first (with ``max_slip``, the probability
+    of the verdict after it), the response at the design level (the most frequent of
+    :data:`RESPONSES`, the share of each, of flights, and the median and largest peak slip in
+    mm of the motions that leave the item standing), then Eq. (11) (S_v in cm/s) and whether
+    it agrees with the Monte Carlo (:func:`eq11_vs_monte_carlo`), for CSV files and reports."""
     import pandas as pd
 
     table = pd.DataFrame(
@@ -654,12 +811,20 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
             "gamma [-]": ds["gamma"].values,
             "e [-]": ds["e"].values,
             "mu [-]": ds["mu"].values,
-            "may slide": ds["may_slide"].values,
+            "mu_k [-]": ds["mu_k"].values,
             "verdict": ds["verdict"].values,
             "P(overturn) [-]": ds["probability"].values,
             "CI low [-]": ds["ci_low"].values,
             "CI high [-]": ds["ci_high"].values,
             "Agx50 [g]": ds["agx50"].values,
+            "mode": ds["mode"].values,
+            **{
+                f"P({r}) [-]": ds["response_share"].sel(response=r).values
+                for r in RESPONSES[:-1]  # (the last, overturn, is P(overturn))
+            },
+            "P(flight) [-]": ds["flight_share"].values,
+            "median slip if standing [mm]": 1e3 * ds["slip_median"].values,
+            "max slip if standing [mm]": 1e3 * ds["slip_max"].values,
             "Sv required [cm/s]": 100.0 * ds["sv_required"].values,
             "Sv available [cm/s]": 100.0 * ds["sv_available"].values,
             "margin [-]": ds["margin"].values,
@@ -672,6 +837,17 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
             ),
         }
     )
+    if "failure_probability" in ds:
+        limit = f"{ds.attrs['max_slip']:g} m"
+        failure = {
+            f"P(slip >= {limit}) [-]": ds["slip_probability"].values,
+            f"P(overturn or slip >= {limit}) [-]": ds["failure_probability"].values,
+            "its CI low [-]": ds["failure_ci_low"].values,
+            "its CI high [-]": ds["failure_ci_high"].values,
+        }
+        at = list(table.columns).index("verdict") + 1
+        for offset, (column, values) in enumerate(failure.items()):
+            table.insert(at + offset, column, values)
     if "limit_state_probability" in ds:
         for j, name in enumerate(ds["limit_state"].values):
             table[f"P({name}) [-]"] = ds["limit_state_probability"].values[:, j]
@@ -685,9 +861,12 @@ def results_table(ds: xr.Dataset) -> pd.DataFrame:
 
 
 __all__ = [
+    "RESPONSES",
+    "SLIP_RULE",
     "VERDICT_RULE",
     "eq11_vs_monte_carlo",
     "eq11_vs_monte_carlo_note",
+    "responses",
     "results_table",
     "screen",
     "verdicts",

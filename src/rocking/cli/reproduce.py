@@ -76,6 +76,8 @@ def reproduce_command(
     6  duration and intensity function (Figs. 9-10)
     7  floors of shear frames (Figs. 11-12)
     8  Housner's energy balance (Figs. 13-16, Tables 1-3, worked examples)
+    soundness  time step, ensemble size and strength, the Section 8 floor
+    friction   beyond the paper: A_gx50 and Table 3 with friction mu = 0.3-0.8
 
     The report lists the paper's nine conclusions as reproduced / partly / not reproduced
     with the evidence in numbers.

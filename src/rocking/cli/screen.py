@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from dataclasses import dataclass
@@ -18,6 +19,7 @@ from ._options import (
     OutFolder,
     compute_options,
     count,
+    friction_params,
     option_group,
     physics_options,
     quiet_option,
@@ -203,7 +205,18 @@ _hazard_options = option_group(
     default=None,
     metavar="LIST",
     help="Also the probability of each of these limit states at the design level, e.g. "
-    "'uplift, theta/alpha>=0.5, overturn' (columns P(<limit state>) of screen.csv).",
+    "'uplift, theta/alpha>=0.5, slip>=0.05, overturn' (columns P(<limit state>) of "
+    "screen.csv).",
+)
+@click.option(
+    "--max-slip",
+    "max_slip",
+    type=click.FloatRange(0.0, min_open=True),
+    default=None,
+    metavar="M",
+    help="Largest allowed slip [m] (e.g. the clearance to a wall or a plinth's edge): the "
+    "verdict then counts the motions that overturn an item or slide it at least this far "
+    "(peak slip). Without it the verdict is on overturning, the slip reported beside it.",
 )
 @quiet_option
 def screen_command(
@@ -216,6 +229,7 @@ def screen_command(
     physics: Physics,
     site_hazard: _SiteHazard,
     limit_states_text: str | None,
+    max_slip: float | None,
 ) -> None:
     """Screen every item of INVENTORY (CSV or TOML) against a design spectrum.
 
@@ -224,10 +238,12 @@ def screen_command(
     motions, the frame's response to spectrum-compatible ground motions at the design A_gx), and
     the Monte Carlo probability of overturning at the design level (ground A_gx = the spectrum's
     zero-period acceleration) with its 95 % Wilson interval and the ground A_gx of 50 %
-    probability.
+    probability; and, with the item's friction mu, its response at the design level (the share
+    of motions in which it rests, slides, rocks, slide-rocks or overturns) and its slip.
 
     INVENTORY columns: name, height and width [m] (or R [m] and gamma), location ('ground' or
-    'floor N'), optional frame, e, mu; 'example' is the shipped example inventory.
+    'floor N'), optional frame, e, mu and mu_k (empty mu: infinite friction, or --mu); 'example'
+    is the shipped example inventory.
 
     Writes to --out: tables/screen.csv (sorted, most at risk first), figures/sv-agx.png,
     report.md, report.html and run.json. Example:
@@ -267,6 +283,8 @@ def screen_command(
         "hazard": None if hazard is None else hazard.source,
         "years": site_hazard.years,
         "limit_states": None if states is None else [ls.name for ls in states],
+        **friction_params(physics),  # --mu, --mu-k (the items' own: in INVENTORY)
+        **({} if max_slip is None else {"max_slip": max_slip}),
     }
     run_folder = folder.claim(
         "screen",
@@ -295,15 +313,23 @@ def screen_command(
                 hazard=hazard,
                 years=site_hazard.years,
                 limit_states=states,
+                max_slip=max_slip,
             )
         for name in _write_report(ds, out, inv_path, notes):
             run.file(name)
         run.update(at_risk=int(ds["at_risk"].sum()))
     wall = time.perf_counter() - started
-    click.echo(
-        f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk; wrote "
-        f"{out / 'report.html'} ({wall:.1f} s)"
-    )
+    click.echo(f"{int(ds['at_risk'].sum())} of {len(inv)} items at risk")
+    for item, mode in zip(ds["item"].values, ds["mode"].values):
+        if mode in ("slide", "slide-rock"):
+            it = ds.sel(item=item)
+            share = float(it["response_share"].sel(response=mode))
+            click.echo(
+                f"  {item}: {mode} in {100 * share:.3g} % of the motions; peak slip median "
+                f"{1e3 * float(it['slip_median']):.3g} mm, largest "
+                f"{1e3 * float(it['slip_max']):.3g} mm"
+            )
+    click.echo(f"wrote {out / 'report.html'} ({wall:.1f} s)")
 
 
 def _scheduler(backend: Backend) -> str:
@@ -397,7 +423,8 @@ def _write_report(ds: xr.Dataset, out: Path, inv_path: Path, notes: list[str]) -
 def page_table(table: pd.DataFrame) -> pd.DataFrame:
     """The columns of a screening's table (:func:`rocking.assessment.screen.results_table`)
     shown on the report's page: number, item, where, the verdict and its Monte Carlo numbers,
-    then Eq. (11)'s screen and, with a hazard, the annual rate."""
+    the friction and the response at the design level (the most frequent response, the share
+    of each, the slip), then Eq. (11)'s screen and, with a hazard, the annual rate."""
     import pandas as pd
 
     page = pd.DataFrame(
@@ -415,15 +442,46 @@ def page_table(table: pd.DataFrame) -> pd.DataFrame:
                 for lo, hi in zip(table["CI low [-]"], table["CI high [-]"])
             ],
             "A_gx50 [g]": table["Agx50 [g]"],
+            "μ [-]": [_friction(mu, mu_k) for mu, mu_k in zip(table["mu [-]"], table["mu_k [-]"])],
+            "response (most frequent)": table["mode"],
+            "responses [% of motions]": [_shares(row) for _, row in table.iterrows()],
+            "slip if standing, median / largest [mm]": [
+                "–" if math.isnan(m) else f"{m:.3g} / {x:.3g}"
+                for m, x in zip(
+                    table["median slip if standing [mm]"], table["max slip if standing [mm]"]
+                )
+            ],
             "Eq. (11) screen (conservative)": table["Eq. (11) screen"],
             "Eq. (11) margin [-]": table["margin [-]"],
-            "may slide": table["may slide"],
         }
     )
+    slip = [c for c in table.columns if c.startswith("P(overturn or slip")]
+    if slip:
+        page.insert(list(page.columns).index("verdict") + 1, slip[0], table[slip[0]])
     for column in table.columns:
         if column.startswith(("annual rate", "P in ")):
             page[column] = table[column]
     return page
+
+
+def _friction(mu: float, mu_k: float) -> str:
+    """μ of a page's row: "∞" (infinite friction), μ_s, or "μ_s / μ_k" where they differ."""
+    if math.isnan(mu):  # infinite friction
+        return "∞"
+    return f"{mu:.3g}" if mu_k == mu else f"{mu:.3g} / {mu_k:.3g}"
+
+
+def _shares(row: pd.Series) -> str:
+    """The responses of a page's row that occur, in % of the motions, e.g. "slide 62, rest 38"
+    (most frequent first), and "flight N" where the base left the ground."""
+    from ..assessment.screen import RESPONSES
+
+    shares = {r: row["P(overturn) [-]" if r == RESPONSES[-1] else f"P({r}) [-]"] for r in RESPONSES}
+    text = ", ".join(
+        f"{r} {100 * p:.3g}" for r, p in sorted(shares.items(), key=lambda kv: -kv[1]) if p > 0
+    )
+    flight = row["P(flight) [-]"]
+    return text + (f"; flight {100 * flight:.3g}" if flight > 0 else "")
 
 
 _FLOORS = {
@@ -434,12 +492,39 @@ _FLOORS = {
 }
 
 
+def _modes_summary(ds: xr.Dataset) -> str:
+    """Markdown sentence(s) of a screening's summary on the response modes: how many items
+    mostly rest, slide, rock, slide-rock or overturn, which ones slide, and the largest slip."""
+    from ..assessment.screen import RESPONSES
+
+    items, mode = ds["item"].values, ds["mode"].values
+    counts = ", ".join(f"{int((mode == r).sum())} {r}" for r in RESPONSES if (mode == r).any())
+    text = (
+        f"Response at the design level (the most frequent over the motions; with the item's "
+        f"friction μ, infinite where not given): {counts}."
+    )
+    slipping = [i for i, r in zip(items, mode) if r in ("slide", "slide-rock")]
+    if slipping:
+        text += f" Sliding mostly: {', '.join(map(str, slipping))}."
+    slip = ds["slip_max"].fillna(0.0).values
+    worst = int(slip.argmax())
+    if slip[worst] > 0.0:
+        text += (
+            f" Largest peak slip of an item left standing: {1e3 * slip[worst]:.3g} mm "
+            f"({items[worst]}; median over the motions that leave it standing "
+            f"{1e3 * ds['slip_median'].values[worst]:.3g} mm)."
+        )
+    else:
+        text += " No item left standing slides in any motion."
+    return text
+
+
 def _summary(ds: xr.Dataset, table: pd.DataFrame, inv_path: Path) -> str:
     """Markdown paragraph(s) above the figure (``table``:
     :func:`rocking.assessment.screen.results_table` of ``ds``): the verdict first, with its
     rule, then Eq. (11) as the screen it is, then the inputs."""
     from ..assessment.risk import illustrative_note
-    from ..assessment.screen import AGREE, AT_RISK, BORDERLINE, VERDICT_RULE
+    from ..assessment.screen import AGREE, AT_RISK, BORDERLINE, SLIP_RULE, VERDICT_RULE
 
     a = ds.attrs
     n = ds.sizes["item"]
@@ -447,6 +532,8 @@ def _summary(ds: xr.Dataset, table: pd.DataFrame, inv_path: Path) -> str:
     at_risk = [str(i) for i, v in zip(ds["item"].values, verdict) if v == AT_RISK]
     borderline = [str(i) for i, v in zip(ds["item"].values, verdict) if v == BORDERLINE]
     n_fail_eq11 = int((ds["margin"].values <= 0.0).sum())
+    max_slip = a["max_slip"]
+    slip_rule = "" if math.isnan(max_slip) else f"; {SLIP_RULE} ({max_slip:g} m)"
     differ = [
         str(item)
         for item, c in zip(table["item"], table["Eq. (11) vs Monte Carlo"])
@@ -457,7 +544,8 @@ def _summary(ds: xr.Dataset, table: pd.DataFrame, inv_path: Path) -> str:
         f"{': ' + ', '.join(at_risk) if at_risk else ''}.** "
         f"{len(borderline)} borderline{': ' + ', '.join(borderline) if borderline else ''}.\n\n"
         f"Verdict (one rule, from {a['n_motions']} simulated motions at the design A_gx = "
-        f"{a['design_agx']:.3g} g): {VERDICT_RULE}.\n\n"
+        f"{a['design_agx']:.3g} g): {VERDICT_RULE}{slip_rule}.\n\n"
+        f"{_modes_summary(ds)}\n\n"
         f"Housner's Eq. (11), the quick screen, flags {n_fail_eq11} of {n} items (margin ≤ 0); "
         f"it differs from the simulation for {len(differ)} "
         f"item(s){': ' + ', '.join(differ) if differ else ''} (why: see below the table).\n\n"

@@ -73,7 +73,6 @@ PUBLIC = {
     "kN_per_g_to_kg": "structures.frames",
     "Inventory": "assessment.inventory",
     "Item": "assessment.inventory",
-    "SlidingWarning": "assessment.inventory",
     "read_inventory": "assessment.inventory",
     "Ensemble": "motions.ensemble",
     "baseline_correct": "motions.baseline",

@@ -48,11 +48,16 @@ striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·Δ
    θ'⁺ = (e/e_H)·θ'_L, θ'_L the angular velocity that conserves the angular momentum about c
    (Housner's e_H·θ'⁻ when nothing slipped before), with no more than e² of the kinetic energy
    before; without slip before it is :mod:`rocking.dynamics.impacts`' rule θ'⁺ = e·θ'⁻ itself.
-   Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y;
-2. otherwise a sliding (Coulomb) impact: P_x = −μ_k·P_y·sign(v_cx⁻), plastic in the normal
-   direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (slide
-   when it would turn back into the ground).  Where that impulse would reverse the slip, the slip
-   stops during the impact instead: plastic in both directions (the corner at rest after it);
+   Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y (where
+   θ'⁺ turns the body back into the ground, as after slide-rock, the other corner strikes too:
+   rule 3 on the velocity that this impulse left);
+2. otherwise a sliding (Coulomb) impact: P_x = −μ_k·P_y·sign(v_cx⁻) (a corner at rest before,
+   as after rock, slips where a frictionless impulse would drive it: Routh), plastic in the normal
+   direction (the corner's vertical velocity 0 after it); the body goes on in slide-rock (where it
+   would turn back into the ground, the other corner strikes too: rule 3 on the velocity that
+   the first impulse left).  Where that impulse would reverse the slip, the slip
+   stops during the impact instead, and where its normal impulse would be negative (a jam,
+   large μ_k·h) the corner jams: plastic in both directions (the corner at rest after it);
 3. a flat landing (both corners at once): plastic normal impulse, stick if abs(V_x) ≤ μ_s·P_y,
    else Coulomb.
 
@@ -65,16 +70,18 @@ rule of :mod:`rocking.dynamics.impacts` does.
 
 Integration, designed for bit-identity: an interval that starts at rest or in rock, and at rest
 cannot slip (abs(a_g) ≤ μ_s·G, G > 0 at both ends; linear in between), is advanced by the rocking
-kernel's own step (:func:`rocking.dynamics.impacts._advance`, the same arithmetic), and the
-contact conditions (N ≥ 0, abs(F) ≤ μ_s·N at the step's end; the friction cone of its impacts)
-are checked; only where one fails is the interval done again from its start by the general
-integrator below.  A case that never leaves stick-rock thus gives :func:`rocking.simulate`'s
-results bit for bit.  The general integrator takes one classical Runge–Kutta step over the rest
-of the interval (the paper's scheme) in the current mode; where the step ends with an event (the
-conditions of the mode above) the first instant is located by bisection on the length of a
-partial Runge–Kutta step from the same start (to 1e-13·dt), the transition is applied there and
-the interval goes on.  Events are looked for at the step's ends only (a slip velocity that touches
-0 and turns back inside one step is not seen).
+kernel's own step (:func:`rocking.dynamics.impacts._advance`, the same arithmetic), and the contact
+conditions (N ≥ 0, abs(F) ≤ μ_s·N at the step's end; the friction cone of its impacts; on a step
+with an impact, the contact right after it: a bound over the step, else the general integrator below
+keeping the corner stuck) are checked; only where one fails is the interval done again from its
+start by the general integrator below.  A case that never leaves stick-rock thus gives
+:func:`rocking.simulate`'s results bit for bit.  The general integrator takes one classical
+Runge–Kutta step over the rest of the interval (the paper's scheme) in the current mode; where the
+step ends with an event (the conditions of the mode above) the first instant is located by bisection
+on the length of a partial Runge–Kutta step from the same start (to 1e-13·dt), the transition is
+applied there and the interval goes on.  Events are looked for at the step's ends, and right after
+each transition (a corner that an impact leaves stuck slips, or lifts, at once where its contact
+forces say so); a slip velocity that touches 0 and turns back inside one step is not seen.
 
 Pure compiled functions on scalars and arrays; no I/O, no state.
 """
@@ -332,21 +339,29 @@ def _strike(th, sc, om, VX, VY, switch, body, c):
     cap = body.e * math.sqrt((VX * VX + VY * VY + c.rg2 * om * om) / i0)
     if abs(Omp) > cap:
         Omp = math.copysign(cap, Omp)
-    if switch and sc * -Omp <= 0.0:
-        Omp = 0.0
     Px = Omp * rcy - VX
     Py = -Omp * rcx - VY
     if Py >= 0.0 and abs(Px) <= c.mu_s * Py:
+        if switch and sc * -Omp <= 0.0:  # the other corner comes down too: rule 3 after this
+            mode, v = _flat(VX + Px, VY + Py, c)
+            return mode, 0.0, v, _sign(v)
         return (ROCK if Omp != 0.0 else REST), -Omp, 0.0, 0.0
     # 2. sliding impact: Coulomb tangential impulse, plastic normal
     vcx = VX - Om * rcy
     vcy = VY + Om * rcx
-    lam = -c.mu_k * _sign(vcx)
-    Py = -vcy / (1.0 + rcx * (rcx - lam * rcy) / c.rg2)
+    # the direction of the slip: the corner's, or for a corner at rest (an impact from rock at
+    # θ = 0) where a frictionless impulse would drive it (Routh's rule; −rcx·rcy·Py/rg² with
+    # Py > 0), which is also the side opposite to the friction that sticking would need
+    sg = _sign(vcx) if vcx != 0.0 else _sign(-rcx * rcy)
+    lam = -c.mu_k * sg
+    den = 1.0 + rcx * (rcx - lam * rcy) / c.rg2
+    Py = -vcy / den if den > 0.0 else -1.0
     Px = lam * Py
     Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
     v = VX + Px - Om2 * rcy
-    if v * vcx < 0.0:  # the slip would reverse: it stops during the impact (plastic, stuck)
+    # the slip would reverse (it stops during the impact), or the Coulomb impulse would pull the
+    # corner down (den ≤ 0: a jam, Painlevé): plastic, stuck
+    if Py < 0.0 or v * sg < 0.0:
         kxx = 1.0 + rcy * rcy / c.rg2
         kyy = 1.0 + rcx * rcx / c.rg2
         kxy = -rcx * rcy / c.rg2
@@ -355,9 +370,21 @@ def _strike(th, sc, om, VX, VY, switch, body, c):
         Py = -(kxx * vcy - kxy * vcx) / det
         Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
         v = 0.0
-    if switch and sc * -Om2 <= 0.0:
-        return (SLIDE if v != 0.0 else REST), 0.0, v, _sign(v)
+    if switch and sc * -Om2 <= 0.0:  # the other corner comes down too: rule 3 after this
+        mode, v = _flat(VX + Px, VY + Py, c)
+        return mode, 0.0, v, _sign(v)
     return (SLIDE_ROCK if v != 0.0 else ROCK), -Om2, v, _sign(v)
+
+
+@kernel(inline="always")
+def _flat(VX, VY, c):
+    """Rule 3, both corners striking at once with the centre of mass at (VX, VY) [m/s] and no
+    rotation after: plastic normal impulse P_y = −VY, stick if abs(VX) ≤ μ_s·P_y, else a Coulomb
+    impulse μ_k·P_y against the slip.  Returns (mode, slip velocity after [m/s])."""
+    Py = max(-VY, 0.0)
+    if abs(VX) <= c.mu_s * Py:
+        return REST, 0.0
+    return SLIDE, VX - _sign(VX) * c.mu_k * Py
 
 
 @kernel
@@ -414,11 +441,8 @@ def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
         X = q
         sl, _low = _lowest(th, body, c)
         if th == 0.0 and om == 0.0:  # 3. flat landing: plastic normal, then stick or Coulomb
-            Py = -vy
-            if abs(v) <= c.mu_s * Py:
-                return REST, s, 0.0, (0.0, 0.0, X, 0.0, 0.0, 0.0), 1
-            v2 = v - _sign(v) * c.mu_k * Py
-            return SLIDE, s, _sign(v2), (0.0, 0.0, X, v2, 0.0, 0.0), 1
+            m2, v2 = _flat(v, vy, c)
+            return m2, s, _sign(v2), (0.0, 0.0, X, v2, 0.0, 0.0), 1
         S, _C = _sin_cos_terms(th, sl, body.sa, body.ca)
         qc = X + c.R * S - sl * c.R * body.sa  # the slip of the landing corner
         m2, om2, v2, sg2 = _strike(th, sl, om, v, vy, False, body, c)
@@ -473,7 +497,40 @@ def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
             return mode, s, sig, (th, end[1], end[2], end[3], end[4], end[5]), n_imp, tau
         mode, s, sig, st, n = _transition(code, mode, s, sig, end, ut, gt, dt, body, c)
         n_imp += n
+        # a corner that an impact leaves stuck may have to slip (or lift) at once: the contact
+        # forces decide right after the transition, not only at the step's end
+        code = _event(mode, s, sig, st, ut, gt, body, c)
+        if code in (_SLIP, _LIFT):
+            mode, s, sig, st, n = _transition(code, mode, s, sig, st, ut, gt, dt, body, c)
     return mode, s, sig, st, n_imp, -1.0
+
+
+@kernel
+def _cone_holds_after_impacts(om0, u0, u1, g0, g1, dt, body, c):
+    """Whether every state right after an impact inside a rocking step (θ = 0 on either corner,
+    abs(θ') ≤ W, u and gv anywhere between their values at the step's ends) meets the rock
+    mode's contact conditions N ≥ 0 and abs(F) ≤ μ_s·N: a cheap sufficient condition.  At
+    θ = 0, F and N are affine in u, gv and θ'², so their vertices decide; W = abs(θ'0) +
+    dt·p²·(max abs(gv) + max abs(u)) bounds abs(θ') over the step (abs(θ'') ≤ p²·(abs(gv) +
+    abs(u)), and an impact only slows the body)."""
+    W = abs(om0) + dt * body.p2 * (max(abs(g0), abs(g1)) + max(abs(u0), abs(u1)))
+    for sd in (1.0, -1.0):
+        for uu, gg in ((u0, g0), (u1, g1)):
+            for w in (0.0, W):
+                F, N = _rock_forces(0.0, w, sd, uu, gg, body, c)
+                if N < 0.0 or abs(F) > c.mu_s * N:
+                    return False
+    return True
+
+
+@kernel
+def _stays_stuck(mode, s, st, u0, du, g0, dg, dt, body, c):
+    """Whether the general integrator keeps the corner stuck (no slip, no flight, no
+    overturning) over the interval from the state tuple ``st`` in ``mode`` (rest or rock): the
+    check of the contact right after an impact inside a rocking step, which that step only
+    looks at the step's end."""
+    m2, _s, _sig, st2, _n, tev = _general(mode, s, 0.0, st, 0.0, u0, du, g0, dg, dt, body, c)
+    return tev < 0.0 and m2 in (ROCK, REST) and st2[2] == st[2]
 
 
 @kernel(inline="always")
@@ -498,8 +555,9 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
     the mode (index into :data:`MODES`) at every sample (NaN after overturning, the mode there
     kept).  Returns the summaries (overturned, t_overturn [s] or NaN, n_impacts, max abs(θ) [rad]
     (the overturning angle if overturned), uplift (the body rocked or lifted at a sample, or
-    overturned), max abs(slip) [m], residual slip [m] (at the end, or at overturning), max lift
-    [m], friction demand [-] (the largest abs(F)/N at the samples where the base sticks)).
+    overturned), max abs(slip) [m] and max lift [m] (at the samples and at overturning, so that
+    the peak slip bounds the residual), residual slip [m] (at the end, or at overturning),
+    friction demand [-] (the largest abs(F)/N at the samples where the base sticks)).
     """
     n = u.shape[0]
     th = theta0
@@ -557,7 +615,13 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
             else:
                 F, N = _rock_forces(th1, om1, s1, u1, gf1, body, c)
                 if N >= 0.0 and abs(F) <= c.mu_s * N and (ni == 0 or c.impact_ok):
-                    done = True
+                    du = (u1 - u0) / dt
+                    dg = (gf1 - gf0) / dt
+                    done = (
+                        ni == 0
+                        or _cone_holds_after_impacts(st[1], u0, u1, gf0, gf1, dt, body, c)
+                        or _stays_stuck(mode, s, st, u0, du, gf0, dg, dt, body, c)
+                    )
                     if N > 0.0:
                         demand = max(demand, abs(F) / N)
             if done:
@@ -586,6 +650,8 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
             t_ov = k * dt + tev
             peak = body.th_ov
             uplift = True
+            peak_slip = max(peak_slip, abs(slip))
+            peak_lift = max(peak_lift, lift)
             if out is not None:
                 for r in range(4):
                     out[r, k + 1] = math.nan

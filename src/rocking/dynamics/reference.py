@@ -38,8 +38,10 @@ ground, exert none), no change of position during it.  (1) Stick: the corner com
 ω_L conserves the angular momentum about it (Housner's plastic law, e_H·ω⁻ after pure rocking),
 ω⁺ = (e/e_H)·ω_L with at most e² of the kinetic energy (e·ω⁻ after pure rocking, today's rule);
 accepted where P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y.  (2) Otherwise a sliding impact: P_x = −σ·μ_k·P_y
-with σ the sign of the corner's slip velocity before (taken not to reverse during the impact) and
-P_y plastic (the corner's vertical velocity 0 after); where that P_y would be negative (a
+with σ the sign of the corner's slip velocity before (taken not to reverse during the impact; a
+corner at rest before, as after rock, slips against the friction that sticking would need, the
+side a frictionless impulse drives it to: Routh) and P_y
+plastic (the corner's vertical velocity 0 after); where that P_y would be negative (a
 Painlevé jam) or the slip would reverse (it stops during the impact, and a reversed slip under
 the same impulse would gain energy), the corner sticks, plastic: ω⁺ = ω_L, outside the cone.
 (3) Both corners at once (a flat landing, or an impact after which the body would turn into the
@@ -63,7 +65,7 @@ from numpy.typing import ArrayLike
 from scipy.integrate import solve_ivp
 
 from ..core.checks import finite_array, in_range, positive
-from ..defaults import DEFAULT_E, OVERTURN_ANGLE
+from ..defaults import DEFAULT_E, MODES, OVERTURN_ANGLE
 from ..errors import InputError
 from .body import Block, G, resolve_e, resolve_overturn_angle
 from .simulate import RockingResponse
@@ -335,9 +337,10 @@ def simulate_reference(
     )
 
 
-#: The response modes; a sample's ``mode`` indexes it (−1 after overturning).
-_MODES = ("rest", "slide", "rock", "slide-rock", "flight")
-_REST, _SLIDE, _ROCK, _SLIDE_ROCK, _FLIGHT = range(5)
+#: The indices of :data:`rocking.MODES` (a sample's ``mode`` indexes it).
+_REST, _SLIDE, _ROCK, _SLIDE_ROCK, _FLIGHT = (
+    MODES.index(m) for m in ("rest", "slide", "rock", "slide-rock", "flight")
+)
 #: Contact kinds of a corner: stuck (friction unknown), slipping (Coulomb, μ_k·N against the
 #: slip), frictionless (normal force only; the second corner of the rest mode).
 _STICK, _SLIP, _FREE = range(3)
@@ -469,8 +472,8 @@ class ReferenceResponse:
     lift : ndarray
         Height of the base's lowest corner above the ground [m] (NaN after overturning).
     mode : ndarray of int
-        Index into ("rest", "slide", "rock", "slide-rock", "flight") of the mode at each
-        sample (after any transition at that instant); −1 after overturning.
+        Index into :data:`rocking.MODES` of the mode at each sample (after any transition at
+        that instant); after overturning, the mode it overturned in (as :func:`rocking.simulate`).
     overturned : bool
     t_overturn : float
         Time of overturning [s], NaN if none.
@@ -701,6 +704,11 @@ class _Modes:
         else:
             # 2. sliding: P_x = −σ·μ_k·P_y, P_y such that the corner's y' is 0 after
             vcx, vcy = vx + ry * om, vy - rx * om
+            # a corner at rest before (an impact from rock) has vcx = 0 up to the rounding of
+            # the located θ (1e-15 relative); below 10·rtol of the velocities it is no slip,
+            # and the corner slips against the friction that sticking would need
+            if abs(vcx) <= 10.0 * self.tol[0] * (abs(vx) + abs(ry * om)):
+                vcx = 0.0
             sigma = _sign(vcx) if vcx != 0.0 else -_sign(p_x)
             den = 1.0 + rx * (rx + sigma * body.mu_k * ry) / body.i_cm
             q_y = -vcy / den if den > 0.0 else -1.0
@@ -776,7 +784,7 @@ class _Modes:
                     break
                 j, t_cur, first = start
                 ph = self.leave_rest(j, t_cur, z, first)
-                events.append((t_cur, f"onset -> {_MODES[ph.mode]}", 0.0, 0.0))
+                events.append((t_cur, f"onset -> {MODES[ph.mode]}", 0.0, 0.0))
                 t_seg = t_cur
                 continue
             t_next = ground.times[j + 1]
@@ -799,7 +807,7 @@ class _Modes:
                 n_imp += (
                     what.endswith("impact)") or what.endswith("impact") or what == "flat landing"
                 )
-                events.append((t_ev, f"{what} -> {_MODES[ph.mode]}", ke, _kinetic(body, z)))
+                events.append((t_ev, f"{what} -> {MODES[ph.mode]}", ke, _kinetic(body, z)))
                 burst = burst + 1 if t_ev - t_seg < 1e-12 else 0
                 if burst > _MAX_EVENTS_AT_ONCE:
                     raise RuntimeError(f"contact undecided at t = {t_ev:g} s: {events[-3:]}")
@@ -811,6 +819,8 @@ class _Modes:
             j, t_cur = j + 1, t_next
             record(j)
         overturned = not math.isnan(t_ov)
+        if overturned:
+            mode[j + 1 :] = ph.mode
         slip_end, _ = _lowest(body, z)
         slip = np.append(out["slip"][np.isfinite(out["slip"])], slip_end)
         return dict(

@@ -93,15 +93,16 @@ class RockingResponse:
         Largest abs(θ) [rad] (the overturning angle if the block overturned).
     slip : ndarray
         Horizontal displacement of the block relative to the ground due to sliding [m] (the
-        displacement of its contact corner(s); 0 for pure rocking); NaN after overturning.
+        displacement of its contact corner(s), in flight of its lowest corner, from where that
+        corner stood at rest; 0 for pure rocking); NaN after overturning.
     lift : ndarray
         Height of the base's lowest corner above the ground [m]; NaN after overturning.
     mode : ndarray of int
         The response mode at the samples, an index into :data:`rocking.MODES`
-        (rest, slide, rock, slide-rock, flight).
+        (rest, slide, rock, slide-rock, flight); after overturning, the mode it overturned in.
     max_abs_slip, residual_slip, max_lift : float
         Largest abs(slip) [m], slip at the end (at overturning if the block overturned) [m],
-        largest lift [m].
+        largest lift [m]; the largest at the samples and at overturning (not between samples).
     block, e, overturn_angle, mu, mu_k :
         The inputs that produced the response (e [-], overturn_angle [rad], the friction
         coefficients [-], None for infinite friction).

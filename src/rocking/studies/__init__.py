@@ -1,5 +1,6 @@
-"""The paper's studies (Sections 4–8), each a small module composing the library, and the runner
-that reproduces them into a report.
+"""The paper's studies (Sections 4–8), the checks of their soundness and, beyond the paper, the
+friction study (issue 45), each a small module composing the library, and the runner that
+reproduces them into a report.
 
 Every study module has ``TITLE``, ``run(ctx) -> result`` (computation only) and
 ``report(result, rep, ctx)`` (figures and tables into a :class:`rocking.report.Report`).
@@ -36,11 +37,12 @@ STUDIES = {
     "7": "sec7_floors",
     "8": "sec8_energy",
     "soundness": "soundness",
+    "friction": "friction",
 }
 
 
 def study(section: str) -> ModuleType:
-    """The module of the study of ``section`` ("4"–"8" or "soundness")."""
+    """The module of the study of ``section`` ("4"–"8", "soundness" or "friction")."""
     return importlib.import_module(f".{STUDIES[section]}", __name__)
 
 
@@ -62,7 +64,8 @@ def reproduce(
     Parameters
     ----------
     sections : iterable of str
-        Section numbers "4"–"8", or "soundness" (:mod:`.soundness`).
+        Section numbers "4"–"8", "soundness" (:mod:`.soundness`) or "friction" (beyond the
+        paper: :mod:`.friction`, reported beside the conclusions).
     fidelity : str
         "quick" or "paper" (:data:`rocking.studies.config.PRESETS`).
     out_dir : str or Path
@@ -195,7 +198,8 @@ def _write_report(
     )
     _introduction(rep, ctx, sections, ctx.fidelity, ctx.modified)
     _conclusions(rep, conclusions.evaluate(results), conclusions.robustness(results), ctx.label())
-    for s in sections:
+    # beyond the paper, beside its conclusions: what its assumption of sufficient friction hides
+    for s in sorted(sections, key=lambda s: s != "friction"):
         rep.extend(parts[s])
     rep.heading("Known disagreements with the paper and likely reasons")
     rep.text("\n".join(f"- {item}" for item in conclusions.known_disagreements(results)))

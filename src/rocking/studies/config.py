@@ -53,6 +53,10 @@ of a CSV file read by :func:`rocking.assessment.bodies.read_bodies`; frames are 
     A_gx grid of the bootstrap, (1 ± span)·A_gx50), ``target_g`` [g] (half-width asked of
     A_gx50); ``variant_bodies`` (bodies of the strength part); ``floor_frame``,
     ``floor_periods`` [s], ``floor_dampings`` [-], ``floor_agx`` [g] (the frame scan).
+``[friction]`` beyond the paper: Section 8's A_gx50 and Table 3 with friction (issue 45,
+    :mod:`.friction`): ``seed``; ``n``; ``bodies``; ``mu`` [-] (friction coefficients, static =
+    kinetic; infinite friction is always added); ``resolution`` [g] and ``agx_max`` [g] of the
+    A_gx50 searches; ``band_hz`` [Hz].
 """
 
 from __future__ import annotations
@@ -183,6 +187,15 @@ PAPER: dict = {
         "floor_dampings": [0.02, 0.05, 0.1, 0.2],
         "floor_agx": 0.6,
     },
+    "friction": {
+        "seed": 8,
+        "n": 200,
+        "bodies": "paper",
+        "mu": [0.3, 0.4, 0.5, 0.6, 0.7, 0.8],
+        "resolution": 0.01,
+        "agx_max": 5.0,
+        "band_hz": list(BAND_HZ),
+    },
 }
 
 QUICK: dict = copy.deepcopy(PAPER)
@@ -199,6 +212,11 @@ QUICK["sec8"].update(
     bodies=[[r, g] for r in _ft(4, 7, 10) for g in (2.0, 4.0, 6.0)],
     resolution=0.02,
     fig13_agx=_grid(0.6, 1.4, 0.2),
+)
+# the friction study runs seven A_gx50 searches (six μ and infinite friction): three bodies of
+# B/H = 1/2, 1/4 and 1/6 (one below, one inside and one above the μ range) and few motions
+QUICK["friction"].update(
+    n=20, bodies=[[_R4, 2.0], [_R4, 4.0], [_R4, 6.0]], resolution=0.05, agx_max=3.0
 )
 QUICK["soundness"].update(
     n=40,
@@ -465,6 +483,7 @@ def validate(cfg: dict) -> None:
                 ("soundness", "bodies"),
                 ("soundness", "convergence_bodies"),
                 ("soundness", "variant_bodies"),
+                ("friction", "bodies"),
             )
         }
     )
@@ -505,6 +524,9 @@ def validate(cfg: dict) -> None:
             f"(1 ± grid_span), above 0 g) and grid_levels be an integer >= 3, got {span!r} "
             f"and {levels!r}"
         )
+    mus = cfg["friction"]["mu"]
+    if len(set(mus)) < len(mus):
+        raise InputError(f"friction.mu: give each friction coefficient once, got {mus}")
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
 
