@@ -36,9 +36,10 @@ the answer is skipped:
 
 With friction (issue 45: :class:`Friction`, blocks with a finite μ_s), the machine also checks
 the contact conditions of the modes model where :func:`~rocking.dynamics.modes.modes_case`
-checks them (:mod:`rocking.dynamics.batch_modes`: every state of a rocking lane at a sample and
-right after an impact), in the SIMD loop on the sin θ and cos θ it computes anyway; a case that
-fails one ends at once and is marked, for the modes kernel to re-run.  Without friction the
+checks them (:mod:`rocking.dynamics.batch_modes`: every state of a rocking lane at a sample, in
+the SIMD loop on the sin θ and cos θ it computes anyway; the contact after the impacts of an
+interval, where they are handled); a case that fails one ends at once and is marked, for the
+modes kernel to re-run.  Without friction the
 argument is None, and the checks compile away (as the vertical motion's code does without it).
 
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
@@ -58,7 +59,6 @@ from ..core.compile import (
     aligned_zeros,
     borrowing_kernel,
     fetch_add,
-    fma,
     highest_bit,
     kernel,
     maxnum,
@@ -67,7 +67,6 @@ from ..core.compile import (
 )
 from .equation import (
     _angle_terms,
-    _gv_at,
     _gv_sample,
     _gv_slope,
     _plain_terms,
@@ -93,7 +92,7 @@ from .impacts import (
     _newton,
     _slopes,
 )
-from .modes import _contact_forces
+from .modes import Contact, _cone_holds_after_impacts, _contact_forces
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -117,10 +116,17 @@ class Lanes(NamedTuple):
 class Friction(NamedTuple):
     """The contact checks of a lane machine whose cases' blocks have friction (issue 45; the
     checks and their margins: :mod:`rocking.dynamics.batch_modes`).  The kernels take None
-    instead for blocks without friction, and then compile to the lane machine without checks."""
+    instead for blocks without friction, and then compile to the lane machine without checks.
+    Its first fields are those of :class:`~rocking.dynamics.batch_records.Contacts`, per block
+    (a record within a record does not reach a parallel kernel)."""
 
-    mu: np.ndarray  #: per block: μ_s·(1 − margin) [-], the friction cone with its margin
-    R: np.ndarray  #: per block: distance centre of mass–corner [m]
+    R: np.ndarray
+    rg2: np.ndarray
+    mu_s: np.ndarray
+    mu_k: np.ndarray
+    e_ratio: np.ndarray
+    impact_ok: np.ndarray
+    cone: float  #: 1 − the friction cone's margin [-]: abs(F) ≤ μ_s·cone·N is accepted
     n_min: float  #: the least normal force per unit mass accepted [m/s²]
     failed: np.ndarray  #: per case: a check failed (bool; only True is written)
 
@@ -185,11 +191,15 @@ _OM1 = 44
 _DMX = 45
 _ROWS = 46
 # With friction only (the table has _ROWS rows without): 1.0 once a contact check of the lane's
-# case has failed; the case's μ_s·(1 − margin) [-] and R [m] (:class:`Friction`).
+# case has failed; the case's μ_s·(1 − margin) [-] and R [m] (:class:`Friction`); θ' [rad/s]
+# at the start of the lane's interval; 1.0 if an impact in it failed the check of the contact
+# after impacts (which fails the case if the interval ends rocking).
 _FL = 46
 _MU = 47
 _RR = 48
-_ROWS_FRICTION = 49
+_OMI = 49
+_PD = 50
+_ROWS_FRICTION = 51
 
 
 @borrowing_kernel
@@ -231,7 +241,7 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
         W[_DU * L + j] = (u1 - u0) / dt
         W[_U0S * L + j] = u0
         W[_TAUS * L + j] = W[_TAU * L + j]
-        _check_contact(fric, W, j, st, ct, u0, u1, g0, g1, W[_TAUS * L + j], dt, g)
+        _check_contact(fric, W, j, st, ct, u0, g0, W[_TAUS * L + j] == 0.0, g)
         W[_U0 * L + j] = u1
         W[_TAU * L + j] = 0.0
         _store_vertical(vert, W, j, g0, g1)
@@ -326,22 +336,53 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
 
 
 @kernel(inline="always")
-def _check_contact(fric, W, j, st, ct, u0, u1, g0, g1, tau, dt, g):
-    """With friction, mark lane j's case failed (row FL) if it rocks (row RK) and its contact
-    conditions fail with their margins (:class:`Friction`) at local time ``tau`` [s] of the
-    interval (u, gv from u0, u1, g0, g1 as :func:`~rocking.dynamics.impacts._impact` computes
-    them there; at tau = 0 the sample's own): N ≥ n_min and abs(F) ≤ μ_s·(1 − margin)·N, with F
-    and N of :func:`rocking.dynamics.modes._contact_forces` at θ (``st``, ``ct``: its sine and
-    cosine), θ' and side s of the lane's rows.  Nothing without friction (``fric`` None)."""
+def _check_contact(fric, W, j, st, ct, u, gv, at_sample, g):
+    """With friction, where lane j's state is that of a sample (``at_sample``: its interval
+    starts there) reached rocking (row RK), mark its case failed (row FL) if the contact
+    conditions fail there with their margins (:class:`Friction`), N ≥ n_min and
+    abs(F) ≤ μ_s·(1 − margin)·N, or an impact of the interval that ended there failed its check
+    (row PD); F and N of :func:`rocking.dynamics.modes._contact_forces` at θ (``st``, ``ct``: its
+    sine and cosine), θ' and side s of the lane's rows, u and gv (None: 1) of the sample.  Then
+    the rows of the new interval: θ' at its start, no impact yet.  Nothing without friction
+    (``fric`` None)."""
     if fric is None:
         return
     L = _LANES
-    u = fma((u1 - u0) / dt, tau, u0)
-    gv = _gv_or_one(_gv_at(g0, _gv_slope(g0, g1, dt), tau))
     S, C = _angle_terms(st, ct, W[_SG * L + j], W[_SA * L + j], W[_CA * L + j])
-    F, N = _contact_forces(S, C, W[_OM * L + j], u, gv, W[_P2 * L + j], g, W[_RR * L + j])
-    bad = (fric.n_min > N) | (abs(F) > W[_MU * L + j] * N)
-    W[_FL * L + j] = maxnum(W[_FL * L + j], 1.0 if bad & (W[_RK * L + j] != 0.0) else 0.0)
+    om = W[_OM * L + j]
+    F, N = _contact_forces(S, C, om, u, _gv_or_one(gv), W[_P2 * L + j], g, W[_RR * L + j])
+    bad = (fric.n_min > N) | (abs(F) > W[_MU * L + j] * N) | (W[_PD * L + j] != 0.0)
+    fail = bad & at_sample & (W[_RK * L + j] != 0.0)
+    W[_FL * L + j] = maxnum(W[_FL * L + j], 1.0 if fail else 0.0)
+    W[_PD * L + j] = 0.0 if at_sample else W[_PD * L + j]
+    W[_OMI * L + j] = om if at_sample else W[_OMI * L + j]
+
+
+@kernel(inline="always")
+def _check_impacts(fric, W, j, n_imp, iv, body, b, g):
+    """With friction, after ``n_imp`` > 0 impacts in lane j's interval ``iv`` (block b, ``body``,
+    g [m/s²]): row PD if modes_case's check of the contact right after the impacts of a rocking
+    step fails, :func:`rocking.dynamics.modes._cone_holds_after_impacts` (the same function of
+    the same values: θ' at the interval's start, u and gv (None: 1) at its ends); the interval
+    then fails the case if it ends rocking (:func:`_check_contact`), where modes_case would
+    look further or do the interval again.  Nothing without friction (``fric`` None)."""
+    if fric is None:
+        return
+    if n_imp > 0:
+        c = Contact(
+            g,
+            fric.R[b],
+            fric.rg2[b],
+            fric.mu_s[b],
+            fric.mu_k[b],
+            fric.e_ratio[b],
+            fric.impact_ok[b],
+        )
+        g0 = _gv_or_one(iv.g0)
+        g1 = _gv_or_one(iv.g1)
+        om0 = W[_OMI * _LANES + j]
+        if not _cone_holds_after_impacts(om0, iv.u0, iv.u1, g0, g1, iv.dt, body, c):
+            W[_PD * _LANES + j] = 1.0
 
 
 @kernel(inline="always")
@@ -465,8 +506,9 @@ def _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
     _set_vertical(vert, W, _G0 * L + j, g0)
     if fric is not None:
         W[_FL * L + j] = 0.0
-        W[_MU * L + j] = fric.mu[b]
+        W[_MU * L + j] = fric.mu_s[b] * fric.cone
         W[_RR * L + j] = fric.R[b]
+        W[_PD * L + j] = 0.0
     return True
 
 
@@ -548,7 +590,7 @@ def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
         W[_FS * L + j],
     )
     if W[_HL * L + j] > 0.0:  # locating an impact: the round computed a partial step
-        found, sw, deferred = _lane_impact(W, j, sw, iv, body, located)
+        found, sw, deferred, n_imp = _lane_impact(W, j, sw, iv, body, located)
         if not found:  # the next partial step in the next round
             _repeat_interval(lanes, j, vert)
             return False, False, k
@@ -557,7 +599,7 @@ def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
         _repeat_interval(lanes, j, vert)
         return False, False, k
     else:
-        sw, _ni, _te, deferred = _advance_events(
+        sw, n_imp, _te, deferred = _advance_events(
             sw,
             iv,
             body,
@@ -567,6 +609,7 @@ def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
             True,
             located,
         )
+    _check_impacts(fric, W, j, n_imp, iv, body, b, blocks.g)
     W[_TH * L + j] = sw.theta
     W[_OM * L + j] = sw.omega
     W[_SG * L + j] = sw.s
@@ -658,9 +701,10 @@ def _start_locating(W, j, sw, iv):
 def _lane_impact(W, j, sw, iv, body, located):
     """The Newton correction of lane j's impact location after the round's partial step
     (:func:`~rocking.dynamics.impacts._newton`, as in
-    :func:`~rocking.dynamics.impacts._locate`).  Returns (found, swing, deferred): when found,
-    the impact and the rest of the interval as :func:`~rocking.dynamics.impacts._advance_events`
-    goes on after it (``deferred`` as it returns it); else W[_HL] is the next length to try."""
+    :func:`~rocking.dynamics.impacts._locate`).  Returns (found, swing, deferred, impacts): when
+    found, the impact and the rest of the interval as
+    :func:`~rocking.dynamics.impacts._advance_events` goes on after it (``deferred`` as it returns
+    it; the impacts counted); else W[_HL] is the next length to try."""
     L = _LANES
     dt = iv.dt
     du, dg = _slopes(iv)
@@ -697,14 +741,14 @@ def _lane_impact(W, j, sw, iv, body, located):
         W[_NI * L + j] = ni + 1.0
         if not found:
             W[_HL * L + j] = h
-            return False, sw, False
+            return False, sw, False, 0
     W[_HL * L + j] = 0.0
     arrived = Swing(sw.theta, sw.omega, s, sw.state, sw.tau + h, sw.t_start, sw.false_side)
-    sw, _n = _impact(arrived, om, iv, du, dg, body)
+    sw, n = _impact(arrived, om, iv, du, dg, body)
     if sw.state == _ROCKING:  # what _advance_events does after it (here without a call)
-        return True, sw, dt - sw.tau > 0.0
-    sw, _n, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
-    return True, sw, deferred
+        return True, sw, dt - sw.tau > 0.0, n
+    sw, n2, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
+    return True, sw, deferred, n + n2
 
 
 @kernel(inline="always")
@@ -737,11 +781,10 @@ def _finish(lanes, j, overturned, k, motions, vert, fric, blocks, cases, out):
     i = lanes.case[j]
     W = lanes.W
     if fric is not None:
-        if not overturned:
+        if not overturned:  # the motion's last sample
             st, ct = _sincos(W[_TH * L + j])
-            u = W[_U0 * L + j]
             gv = _row_or_none(vert, W[_G0 * L + j])
-            _check_contact(fric, W, j, st, ct, u, u, gv, gv, 0.0, motions.dt, blocks.g)
+            _check_contact(fric, W, j, st, ct, W[_U0 * L + j], gv, True, blocks.g)
         if W[_FL * L + j] != 0.0:
             fric.failed[i] = True
     steps = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end

@@ -8,12 +8,14 @@ integrates rest and rock only.  :func:`~rocking.dynamics.modes.modes_case` (what
 or at rest where the base cannot slip, with the rocking kernel's own step
 (:func:`rocking.dynamics.impacts._advance`, the lanes' arithmetic too), and checks the contact
 conditions where the block rocks: at the interval's end N ≥ 0 and abs(F) ≤ μ_s·N (F, N of
-:func:`~rocking.dynamics.modes._rock_forces`), and that the impacts' impulses lie in the
-friction cone, (1 − e)/((1 + e)·tan α) ≤ μ_s, one constant per body
-(:func:`~rocking.dynamics.modes.stick_impact_demand`).  Only where a check fails does it redo
-the interval with its general integrator.  A case whose checks all pass never leaves
-stick-rock: modes_case's result is the lanes' result.  So (:func:`modes_needed`) a case of a
-block with a finite μ_s goes to the lanes unless
+:func:`~rocking.dynamics.modes._rock_forces`), and, where the interval had impacts, that
+their impulses lie in the friction cone, (1 − e)/((1 + e)·tan α) ≤ μ_s, one constant per body
+(:func:`~rocking.dynamics.modes.stick_impact_demand`), and that the contact right after them
+does (:func:`~rocking.dynamics.modes._cone_holds_after_impacts`, a bound over the interval from
+θ' at its start and u, gv at its ends; where the bound fails, the general integrator's verdict).
+Only where a check fails does it redo the interval with its general integrator.  A case whose
+checks all pass never leaves stick-rock: modes_case's result is the lanes' result.  So
+(:func:`modes_needed`) a case of a block with a finite μ_s goes to the lanes unless
 
 * its base may slip, or its block fly, at rest: max abs(scale·a_g) > μ_s·(g + abs(scale)·min a_v)
   or g + abs(scale)·min a_v ≤ 0 (the rest intervals are then checked a priori: the tests are
@@ -24,11 +26,13 @@ block with a finite μ_s goes to the lanes unless
   impulse lies outside the friction cone (the first impact would fail the check);
 
 and in the lanes (``fric``, :class:`~rocking.dynamics.batch_lanes.Friction`) every state of a
-rocking lane at a sample, and right after every impact from which it rocks on, is checked:
-N ≥ :data:`N_MARGIN`·g and abs(F) ≤ μ_s·(1 − :data:`CONE_MARGIN`)·N.  A case that fails a check
-is marked and re-run by :func:`modes_kernel` (the lanes' result discarded); so is every case
-routed to it above.  The margins: the lanes' θ and θ' at a check are modes_case's own bits (the
-same steps), and F and N come from the same function,
+rocking lane at a sample is checked, N ≥ :data:`N_MARGIN`·g and
+abs(F) ≤ μ_s·(1 − :data:`CONE_MARGIN`)·N, and an interval with impacts that ends rocking needs
+the bound on the contact after them to hold (the same function of the same values: no margin
+needed); where it fails the lanes do not try the general integrator, they give the case to the
+modes kernel.  A case that fails a check is marked and re-run by :func:`modes_kernel` (the
+lanes' result discarded); so is every case routed to it above.  The margins: the lanes' θ and
+θ' at a check are modes_case's own bits (the same steps), and F and N come from the same function,
 :func:`~rocking.dynamics.modes._contact_forces`, of sin θ and cos θ by the lanes' polynomials
 (:func:`~rocking.dynamics.equation._sincos`), which equal modes_case's
 (:func:`~rocking.dynamics.equation._sincos_any`) for every θ below the overturning angle: the
@@ -93,12 +97,8 @@ def modes_needed(amax, avmin, g, blocks, contacts, body, motion, scale):
 def lane_friction(contacts: Contacts, g: float, n_cases: int) -> Friction:
     """The lanes' contact checks (:class:`~rocking.dynamics.batch_lanes.Friction`) of the blocks
     of ``contacts`` under gravity g [m/s²], for a call of ``n_cases`` cases (none failed yet)."""
-    return Friction(
-        np.ascontiguousarray(contacts.mu_s * (1.0 - CONE_MARGIN)),
-        contacts.R,
-        N_MARGIN * g,
-        np.zeros(n_cases, dtype=np.bool_),
-    )
+    margins = (1.0 - CONE_MARGIN, N_MARGIN * g)
+    return Friction(*contacts, *margins, np.zeros(n_cases, dtype=np.bool_))
 
 
 @kernel(inline="always")
