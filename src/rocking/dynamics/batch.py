@@ -146,7 +146,7 @@ def run_cases(
             table, acc, amax, dt, (body, motion, scale), (av, avmin), located, suffixes, None
         )
     need = modes_needed(amax, avmin, table.g, table.arrays(), table.contacts, body, motion, scale)
-    out = empty_outcome(body.size, alloc=np.empty)  # every case is written by one kernel
+    out = empty_outcome(body.size, alloc=np.empty)  # every case is written (re-run ones twice)
     # the blocks without friction in lanes without checks, those with in lanes with checks
     for checked in (False, True):
         sel = np.flatnonzero(~need & (frictionless[body] != checked))
