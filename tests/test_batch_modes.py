@@ -6,6 +6,7 @@ import pytest
 
 from rocking import Physics
 from rocking.defaults import MODES
+from rocking.dynamics import batch
 from rocking.dynamics.batch import BlockTable, motion_peaks, overturn_cases, run_cases
 from rocking.dynamics.batch_modes import modes_needed
 from rocking.dynamics.body import Block
@@ -28,16 +29,20 @@ def _run(blocks, ens, body, motion, scale, physics, av=None):
     return run_cases(table, ens.acc, motion_peaks(ens.acc), ens.dt, body, motion, scale, av)
 
 
-def _check(blocks, ens, body, motion, scale, out, mu, mu_k=None, av=None):
+def _check(blocks, ens, body, motion, scale, out, mu, mu_k=None, av=None, e=None):
     """Every case's Outcome equals simulate()'s summaries bit for bit (the kernel calls the
-    same compiled modes_case on the same scaled samples); returns the modes seen."""
+    same compiled modes_case on the same scaled samples, or the lanes the same steps); returns
+    the modes seen.  ``e``: the restitution (None: simulate's default)."""
+    restitution = {} if e is None else {"e": e}
     seen = set()
     for i in range(body.size):
         b = body[i]
         blk = blocks[b]
         vert = None if av is None else abs(scale[i]) * av[motion[i]]
         m, mk = (mu[b], None if mu_k is None else mu_k[b]) if isinstance(mu, list) else (mu, mu_k)
-        r = simulate(blk, scale[i] * ens.acc[motion[i]], ens.dt, av=vert, mu=m, mu_k=mk)
+        r = simulate(
+            blk, scale[i] * ens.acc[motion[i]], ens.dt, av=vert, mu=m, mu_k=mk, **restitution
+        )
         assert out.overturned[i] == r.overturned, i
         assert out.peak_theta_ratio[i] == r.max_abs_theta / blk.alpha, i
         assert out.uplift[i] == r.uplift, i
@@ -73,12 +78,86 @@ def test_batch_with_friction_equals_simulate(ensemble):
             motion,
             scale,
         )
-        assert 10 <= (~need).sum() < n  # both kernels in one call: the lanes keep cases at rest
+        # the lanes take the cases at rest, and with their checks those whose base cannot slip
+        assert (~need).sum() >= 10
         out = _run(blocks, ensemble, body, motion, scale, physics)
         seen = _check(blocks, ensemble, body, motion, scale, out, mu, mu_k)
         assert {"overturned", "standing", ROCK} <= seen, mu
         if mu < 0.5:
             assert {SLIDE, SLIDE_ROCK} <= seen
+
+
+def _run_spied(monkeypatch, blocks, ens, body, motion, scale, physics, av=None):
+    """run_cases, and the cases that the lanes with contact checks kept and those they sent to
+    the modes kernel (every block has friction here)."""
+    made = []
+    real = batch.lane_friction
+
+    def spy(*args):
+        made.append(real(*args))
+        return made[-1]
+
+    monkeypatch.setattr(batch, "lane_friction", spy)
+    out = _run(blocks, ens, body, motion, scale, physics, av)
+    table = BlockTable.from_blocks(blocks, physics=physics)
+    avmin = None if av is None else av.min(axis=1)
+    need = modes_needed(
+        motion_peaks(ens.acc), avmin, table.g, table.arrays(), table.contacts, body, motion, scale
+    )
+    checked = np.flatnonzero(~need)
+    assert len(made) == (1 if checked.size else 0)
+    failed = made[0].failed if made else np.zeros(0, dtype=bool)
+    return out, checked[~failed], checked[failed]
+
+
+@pytest.fixture(scope="module")
+def slender():
+    """Slender blocks (tan α 0.17 to 0.25, R 0.1 to 0.5 m) and a general body, which rock, and
+    overturn, at peak accelerations below μ_s·g for μ_s = 0.3: cases that the lanes keep and
+    cases that fail their checks, at every μ_s."""
+    rng = np.random.default_rng(31)
+    blocks = [Block(float(rng.uniform(0.1, 0.5)), float(rng.uniform(4.0, 8.0))) for _ in range(4)]
+    blocks.append(Block.from_mass_properties(0.8, 0.2, radius_of_gyration=0.35))
+    return blocks, rng
+
+
+def test_lanes_keep_rocking_cases_with_friction_bit_for_bit(ensemble, slender, monkeypatch):
+    blocks, rng = slender
+    n = 150
+    body = rng.integers(0, len(blocks), n)
+    motion = rng.integers(0, ensemble.n, n)
+    # peaks from 0.1 g to 1.2 g, log-uniform, either sign
+    scale = rng.choice([-1.0, 1.0], n) * np.exp(rng.uniform(np.log(0.1), np.log(1.2), n))
+    scale /= ensemble.agx
+    for mu, e in ((1e6, None), (0.6, None), (0.3, None), (0.45, "housner")):
+        physics = Physics(mu=mu) if e is None else Physics(mu=mu, e=e)
+        out, kept, rerun = _run_spied(monkeypatch, blocks, ensemble, body, motion, scale, physics)
+        # bit for bit simulate(mu=...): whether the lanes kept a case or the modes kernel re-ran it
+        seen = _check(blocks, ensemble, body, motion, scale, out, mu, e=e)
+        assert kept.size and rerun.size, mu  # both kinds
+        assert out.uplift[kept].any(), mu  # the lanes keep rocking cases, not only rest
+        assert {"overturned", "standing", ROCK} <= seen, mu
+        if mu == 1e6:
+            assert out.overturned[kept].any()
+            # with ample friction the lanes keep every case that does not overturn (only
+            # overturning ones fly off their corner first, N < 0: measured, all 150 cases)
+            assert np.isin(np.flatnonzero(~out.overturned), kept).all()
+
+
+def test_lanes_with_friction_and_vertical_motion_bit_for_bit(ensemble, slender, monkeypatch):
+    blocks, rng = slender
+    n = 80
+    body = rng.integers(0, len(blocks), n)
+    motion = rng.integers(0, ensemble.n, n)
+    scale = rng.uniform(-0.8, 0.8, n) / ensemble.agx
+    av = 0.5 * ensemble.acc[::-1]  # above −g at these scales: the lanes may take the cases
+    for mu in (1e6, 0.4):
+        physics = Physics(mu=mu)
+        out, kept, rerun = _run_spied(
+            monkeypatch, blocks, ensemble, body, motion, scale, physics, av
+        )
+        _check(blocks, ensemble, body, motion, scale, out, mu, av=av)
+        assert out.uplift[kept].any() and rerun.size, mu
 
 
 def test_flight_and_per_block_friction_equal_simulate(ensemble):

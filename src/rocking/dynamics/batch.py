@@ -7,9 +7,9 @@ physics of :func:`rocking.dynamics.simulate` — the same compiled one-interval 
 largest abs(θ)/α and whether it left rest at all.  Split along its seams (issue 44): the records
 in :mod:`rocking.dynamics.batch_records`, the lane machine (how it is fast, issues 6 and 18) in
 :mod:`rocking.dynamics.batch_lanes`, the entry points here.  With friction (issue 45: a finite
-μ_s of the :class:`~rocking.Physics`), the cases that may lift their block or make its base
-slip run through every response mode in :mod:`rocking.dynamics.batch_modes`, and the Outcome
-gains their slip and lift.
+μ_s of the :class:`~rocking.Physics`), the lanes check the contact conditions of the cases
+that rock, and the cases that fail them, or whose base may slip, run through every response mode
+in :mod:`rocking.dynamics.batch_modes`; the Outcome gains their slip and lift.
 
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
 only its own output slot, so results do not depend on the number of threads, on which machine
@@ -37,7 +37,7 @@ from ..core.checks import finite_array, positive
 from ..core.compile import readonly
 from ..errors import InputError
 from .batch_lanes import _cases_kernel, _suffixes_of
-from .batch_modes import modes_kernel, modes_needed
+from .batch_modes import lane_friction, modes_kernel, modes_needed
 from .batch_records import (
     QUANTITIES,
     Blocks,
@@ -115,14 +115,15 @@ def run_cases(
     scaled ``av`` that reaches −g for a block without friction (with friction it may fly), and
     an unknown ``impacts``, raise :class:`~rocking.errors.InputError`.
 
-    Cases of blocks with friction (the table's μ_s finite, issue 45) whose motion may lift the
-    block or make its base slip run in the response-modes kernel
-    (:mod:`rocking.dynamics.batch_modes`, which derives the bound), the others in the lane
-    machines; either gives :func:`rocking.simulate` ``(..., mu=...)``'s results bit for bit.
+    Cases of blocks with friction (the table's μ_s finite, issue 45) run in the lane machines
+    with contact checks; those that fail one, or whose motion may make the base slip at rest,
+    run in the response-modes kernel (:mod:`rocking.dynamics.batch_modes`, which derives the
+    checks); either gives :func:`rocking.simulate` ``(..., mu=...)``'s results bit for bit.
     Returns the :class:`Outcome` of every case, shape like ``body``; its ``steps`` are the
     integrated steps of each case: in the lanes, the sample intervals in which the block is not
     at rest throughout (it rocks at the start or at the end of the interval), in the modes
-    kernel every interval; up to and including the one in which it overturns.
+    kernel every interval; up to and including the one in which it overturns (a case re-run
+    in the modes kernel counts its steps there only).
     """
     acc = readonly(acc)
     av = None if av is None else readonly(av)
@@ -141,23 +142,32 @@ def run_cases(
                 "coefficient mu for the model with sliding and flight"
             )
     if frictionless.all():
-        return _lanes(table, acc, amax, dt, (body, motion, scale), (av, avmin), located, suffixes)
+        return _lanes(
+            table, acc, amax, dt, (body, motion, scale), (av, avmin), located, suffixes, None
+        )
     need = modes_needed(amax, avmin, table.g, table.arrays(), table.contacts, body, motion, scale)
-    out = empty_outcome(body.size, alloc=np.empty)  # every case is written by one kernel
-    if not need.all():
-        rest = np.flatnonzero(~need)
+    out = empty_outcome(body.size, alloc=np.empty)  # every case is written (re-run ones twice)
+    # the blocks without friction in lanes without checks, those with in lanes with checks
+    for checked in (False, True):
+        sel = np.flatnonzero(~need & (frictionless[body] != checked))
+        if not sel.size:
+            continue
+        fric = lane_friction(table.contacts, table.g, sel.size) if checked else None
         lanes = _lanes(
             table,
             acc,
             amax,
             dt,
-            (body[rest], motion[rest], scale[rest]),
+            (body[sel], motion[sel], scale[sel]),
             (av, avmin),
             located,
             suffixes,
+            fric,
         )
         for field, values in zip(out, lanes):
-            field[rest] = values
+            field[sel] = values
+        if fric is not None:
+            need[sel[fric.failed]] = True  # re-run: the lanes' results are overwritten
     idx = np.flatnonzero(need)
     if idx.size:
         flat_av = None if av is None else av.reshape(-1)
@@ -176,9 +186,10 @@ def run_cases(
     return out
 
 
-def _lanes(table, acc, amax, dt, cases, vertical, located, suffixes) -> Outcome:
+def _lanes(table, acc, amax, dt, cases, vertical, located, suffixes, fric) -> Outcome:
     """The lane machines of :mod:`rocking.dynamics.batch_lanes` on ``cases`` (body, motion,
-    scale arrays), with ``vertical`` = (av, its min per motion) or (None, None)."""
+    scale arrays), with ``vertical`` = (av, its min per motion) or (None, None) and the contact
+    checks ``fric`` (:class:`~rocking.dynamics.batch_lanes.Friction`, or None: none)."""
     body, motion, scale = cases
     av, avmin = vertical
     if suffixes is None:
@@ -204,6 +215,7 @@ def _lanes(table, acc, amax, dt, cases, vertical, located, suffixes) -> Outcome:
         _cases_kernel(
             motions,
             vert,
+            fric,
             table.arrays(),
             Cases(body, motion, scale, order),
             out,

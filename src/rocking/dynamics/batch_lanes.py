@@ -34,6 +34,14 @@ the answer is skipped:
   suffix minimum of a_v, in the same test) ends there: at rest to the end;
 * everything after overturning.
 
+With friction (issue 45: :class:`Friction`, blocks with a finite μ_s), the machine also checks
+the contact conditions of the modes model where :func:`~rocking.dynamics.modes.modes_case`
+checks them (:mod:`rocking.dynamics.batch_modes`: every state of a rocking lane at a sample, in
+the SIMD loop on the sin θ and cos θ it computes anyway; the contact after the impacts of an
+interval, where they are handled); a case that fails one ends at once and is marked, for the
+modes kernel to re-run.  Without friction the
+argument is None, and the checks compile away (as the vertical motion's code does without it).
+
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
 only its own output slot, so results do not depend on the number of threads, on which machine
 takes a case or on how cases are grouped into calls; they equal :func:`~rocking.dynamics.simulate`
@@ -58,6 +66,7 @@ from ..core.compile import (
     prange,
 )
 from .equation import (
+    _angle_terms,
     _gv_sample,
     _gv_slope,
     _plain_terms,
@@ -83,6 +92,7 @@ from .impacts import (
     _newton,
     _slopes,
 )
+from .modes import Contact, _cone_holds_after_impacts, _contact_forces
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -101,6 +111,24 @@ class Lanes(NamedTuple):
     case: np.ndarray  #: the lane's case, −1 for none
     base: np.ndarray  #: index in Motions.acc of the case's first sample
     state: np.ndarray  #: _REST, _ROCKING or _OVERTURNED
+
+
+class Friction(NamedTuple):
+    """The contact checks of a lane machine whose cases' blocks have friction (issue 45; the
+    checks and their margins: :mod:`rocking.dynamics.batch_modes`).  The kernels take None
+    instead for blocks without friction, and then compile to the lane machine without checks.
+    Its first fields are those of :class:`~rocking.dynamics.batch_records.Contacts`, per block
+    (a record within a record does not reach a parallel kernel)."""
+
+    R: np.ndarray
+    rg2: np.ndarray
+    mu_s: np.ndarray
+    mu_k: np.ndarray
+    e_ratio: np.ndarray
+    impact_ok: np.ndarray
+    cone: float  #: 1 − the friction cone's margin [-]: abs(F) ≤ μ_s·cone·N is accepted
+    n_min: float  #: the least normal force per unit mass accepted [m/s²]
+    failed: np.ndarray  #: per case: a check failed (bool; only True is written)
 
 
 # Rows of the lane table W.  The SIMD loop (:func:`_lane_steps`) stores every row it changes
@@ -162,10 +190,20 @@ _TH1 = 43
 _OM1 = 44
 _DMX = 45
 _ROWS = 46
+# With friction only (the table has _ROWS rows without): 1.0 once a contact check of the lane's
+# case has failed; the case's μ_s·(1 − margin) [-] and R [m] (:class:`Friction`); θ' [rad/s]
+# at the start of the lane's interval; 1.0 if an impact in it failed the check of the contact
+# after impacts (which fails the case if the interval ends rocking).
+_FL = 46
+_MU = 47
+_RR = 48
+_OMI = 49
+_PD = 50
+_ROWS_FRICTION = 51
 
 
 @borrowing_kernel
-def _lane_steps(lanes, n, motions, g, vert):
+def _lane_steps(lanes, n, motions, g, vert, fric):
     """One sample interval of lanes 0 … n−1 (SIMD loops): the RK4 step from each lane's state
     (:func:`rocking.dynamics.equation._plain_step`), kept where it is all that happens in the
     interval; every lane's ``nxt`` advances by one.
@@ -173,7 +211,10 @@ def _lane_steps(lanes, n, motions, g, vert):
     The step is computed in five loops over the lanes, through rows of W: (1) the ground
     motion's change and sin θ, cos θ; (2) the stages' brackets and the bound of
     :func:`~rocking.dynamics.equation._no_touch` (:func:`~rocking.dynamics.equation._plain_terms`);
-    (3) stages 2 and 3; (4) stage 4 and the step; (5) its tests and the lanes' masks.  The same
+    (3) stages 2 and 3; (4) stage 4 and the step; (5) its tests and the lanes' masks.  With
+    friction (``fric`` not None), loop (1) also checks the contact conditions of every lane that
+    rocks at the state it starts from (:func:`_check_contact`), and a lane whose case failed a
+    check needs attention.  The same
     operations on the same values as one loop, but the dependency chain of a lane's step, about
     110 cycles, is cut into five short ones, which the processor overlaps across lanes: one loop
     of the whole step is longer than its reorder window (Zen 3: 20 % less time per step with four
@@ -200,6 +241,7 @@ def _lane_steps(lanes, n, motions, g, vert):
         W[_DU * L + j] = (u1 - u0) / dt
         W[_U0S * L + j] = u0
         W[_TAUS * L + j] = W[_TAU * L + j]
+        _check_contact(fric, W, j, st, ct, u0, g0, W[_TAUS * L + j] == 0.0, g)
         W[_U0 * L + j] = u1
         W[_TAU * L + j] = 0.0
         _store_vertical(vert, W, j, g0, g1)
@@ -286,11 +328,85 @@ def _lane_steps(lanes, n, motions, g, vert):
         W[_PL * L + j] = 1.0 if plain else 0.0
         k1 = nxt[j] + 1
         nxt[j] = k1
-        att = (not plain) | (k1 >= base[j] + n_t)  # an event, or the motion ended
+        att = (not plain) | (k1 >= base[j] + n_t) | _failed(fric, W, j)  # an event, the end
         bit = np.uint64(1 if att else 0) << np.uint64(j & 63)
         low |= bit if j < 64 else np.uint64(0)
         high |= np.uint64(0) if j < 64 else bit
     return low, high
+
+
+@kernel(inline="always")
+def _check_contact(fric, W, j, st, ct, u, gv, at_sample, g):
+    """With friction, where lane j's state is that of a sample (``at_sample``: its interval
+    starts there) reached rocking (row RK), mark its case failed (row FL) if the contact
+    conditions fail there with their margins (:class:`Friction`), N ≥ n_min and
+    abs(F) ≤ μ_s·(1 − margin)·N, or an impact of the interval that ended there failed its check
+    (row PD); F and N of :func:`rocking.dynamics.modes._contact_forces` at θ (``st``, ``ct``: its
+    sine and cosine), θ' and side s of the lane's rows, u and gv (None: 1) of the sample.  Then
+    the rows of the new interval: θ' at its start, no impact yet.  Nothing without friction
+    (``fric`` None)."""
+    if fric is None:
+        return
+    L = _LANES
+    S, C = _angle_terms(st, ct, W[_SG * L + j], W[_SA * L + j], W[_CA * L + j])
+    om = W[_OM * L + j]
+    F, N = _contact_forces(S, C, om, u, _gv_or_one(gv), W[_P2 * L + j], g, W[_RR * L + j])
+    bad = (fric.n_min > N) | (abs(F) > W[_MU * L + j] * N) | (W[_PD * L + j] != 0.0)
+    fail = bad & at_sample & (W[_RK * L + j] != 0.0)
+    W[_FL * L + j] = maxnum(W[_FL * L + j], 1.0 if fail else 0.0)
+    W[_PD * L + j] = 0.0 if at_sample else W[_PD * L + j]
+    W[_OMI * L + j] = om if at_sample else W[_OMI * L + j]
+
+
+@kernel(inline="always")
+def _check_impacts(fric, W, j, n_imp, iv, body, b, g):
+    """With friction, after ``n_imp`` > 0 impacts in lane j's interval ``iv`` (block b, ``body``,
+    g [m/s²]): row PD if modes_case's check of the contact right after the impacts of a rocking
+    step fails, :func:`rocking.dynamics.modes._cone_holds_after_impacts` (the same function of
+    the same values: θ' at the interval's start, u and gv (None: 1) at its ends); the interval
+    then fails the case if it ends rocking (:func:`_check_contact`), where modes_case would
+    look further or do the interval again.  Nothing without friction (``fric`` None)."""
+    if fric is None:
+        return
+    if n_imp > 0:
+        c = Contact(
+            g,
+            fric.R[b],
+            fric.rg2[b],
+            fric.mu_s[b],
+            fric.mu_k[b],
+            fric.e_ratio[b],
+            fric.impact_ok[b],
+        )
+        g0 = _gv_or_one(iv.g0)
+        g1 = _gv_or_one(iv.g1)
+        om0 = W[_OMI * _LANES + j]
+        if not _cone_holds_after_impacts(om0, iv.u0, iv.u1, g0, g1, iv.dt, body, c):
+            W[_PD * _LANES + j] = 1.0
+
+
+@kernel(inline="always")
+def _gv_or_one(gv):
+    """gv, or 1.0 for None (no vertical motion), as the modes kernel takes it."""
+    if gv is None:
+        return 1.0
+    return gv
+
+
+@kernel(inline="always")
+def _failed(fric, W, j):
+    """Whether lane j's case has failed a contact check (False without friction)."""
+    if fric is None:
+        return False
+    return W[_FL * _LANES + j] != 0.0
+
+
+@kernel(inline="always")
+def _rows(fric):
+    """The rows of a lane machine's table W: with friction, those of the contact checks too."""
+    if fric is None:
+        return _ROWS
+    return _ROWS_FRICTION
 
 
 @kernel(inline="always")
@@ -339,7 +455,7 @@ def _row_or_none(vert, x):
 
 
 @borrowing_kernel
-def _start_case(lanes, j, i, motions, vert, blocks, cases):
+def _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
     """Put case i in lane j at the first interval in which its block may lift; False (lane left
     as it was) if it never lifts: then it stays at rest throughout (its result: not overturned,
     peak 0, no steps)."""
@@ -388,6 +504,11 @@ def _start_case(lanes, j, i, motions, vert, blocks, cases):
     W[_CA * L + j] = blocks.ca[b]
     W[_OV * L + j] = blocks.th_ov[b]
     _set_vertical(vert, W, _G0 * L + j, g0)
+    if fric is not None:
+        W[_FL * L + j] = 0.0
+        W[_MU * L + j] = fric.mu_s[b] * fric.cone
+        W[_RR * L + j] = fric.R[b]
+        W[_PD * L + j] = 0.0
     return True
 
 
@@ -423,20 +544,23 @@ def _avsuf(vert):
 
 
 @kernel(inline="always")
-def _attend(lanes, j, motions, vert, blocks, cases, located):
+def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
     """Lane j after a SIMD round in which it needs attention (see :func:`_lane_steps`): the
     events of its interval (:func:`rocking.dynamics.impacts._advance_events`, exactly as
     :func:`rocking.simulate` handles them), the intervals at rest that follow, or the end of its
     motion.
 
     Returns (done, overturned, k): whether the case has ended, whether by overturning, and the
-    intervals integrated or skipped so far (the interval in which it ended counts).
+    intervals integrated or skipped so far (the interval in which it ended counts).  A case that
+    has failed a contact check (with friction) ends at once: its result is discarded.
     """
     L = _LANES
     W = lanes.W
     n_t = motions.n_t
     dt = motions.dt
     b = cases.body[lanes.case[j]]
+    if _failed(fric, W, j):
+        return True, False, lanes.nxt[j] - lanes.base[j] - 1
     if W[_PL * L + j] != 0.0:  # a plain step that ended the motion
         return True, False, lanes.nxt[j] - lanes.base[j] - 1
     k = lanes.nxt[j] - lanes.base[j] - 2  # the interval: from sample k to k + 1
@@ -466,7 +590,7 @@ def _attend(lanes, j, motions, vert, blocks, cases, located):
         W[_FS * L + j],
     )
     if W[_HL * L + j] > 0.0:  # locating an impact: the round computed a partial step
-        found, sw, deferred = _lane_impact(W, j, sw, iv, body, located)
+        found, sw, deferred, n_imp = _lane_impact(W, j, sw, iv, body, located)
         if not found:  # the next partial step in the next round
             _repeat_interval(lanes, j, vert)
             return False, False, k
@@ -475,7 +599,7 @@ def _attend(lanes, j, motions, vert, blocks, cases, located):
         _repeat_interval(lanes, j, vert)
         return False, False, k
     else:
-        sw, _ni, _te, deferred = _advance_events(
+        sw, n_imp, _te, deferred = _advance_events(
             sw,
             iv,
             body,
@@ -485,6 +609,7 @@ def _attend(lanes, j, motions, vert, blocks, cases, located):
             True,
             located,
         )
+    _check_impacts(fric, W, j, n_imp, iv, body, b, blocks.g)
     W[_TH * L + j] = sw.theta
     W[_OM * L + j] = sw.omega
     W[_SG * L + j] = sw.s
@@ -576,9 +701,10 @@ def _start_locating(W, j, sw, iv):
 def _lane_impact(W, j, sw, iv, body, located):
     """The Newton correction of lane j's impact location after the round's partial step
     (:func:`~rocking.dynamics.impacts._newton`, as in
-    :func:`~rocking.dynamics.impacts._locate`).  Returns (found, swing, deferred): when found,
-    the impact and the rest of the interval as :func:`~rocking.dynamics.impacts._advance_events`
-    goes on after it (``deferred`` as it returns it); else W[_HL] is the next length to try."""
+    :func:`~rocking.dynamics.impacts._locate`).  Returns (found, swing, deferred, impacts): when
+    found, the impact and the rest of the interval as
+    :func:`~rocking.dynamics.impacts._advance_events` goes on after it (``deferred`` as it returns
+    it; the impacts counted); else W[_HL] is the next length to try."""
     L = _LANES
     dt = iv.dt
     du, dg = _slopes(iv)
@@ -615,14 +741,14 @@ def _lane_impact(W, j, sw, iv, body, located):
         W[_NI * L + j] = ni + 1.0
         if not found:
             W[_HL * L + j] = h
-            return False, sw, False
+            return False, sw, False, 0
     W[_HL * L + j] = 0.0
     arrived = Swing(sw.theta, sw.omega, s, sw.state, sw.tau + h, sw.t_start, sw.false_side)
-    sw, _n = _impact(arrived, om, iv, du, dg, body)
+    sw, n = _impact(arrived, om, iv, du, dg, body)
     if sw.state == _ROCKING:  # what _advance_events does after it (here without a call)
-        return True, sw, dt - sw.tau > 0.0
-    sw, _n, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
-    return True, sw, deferred
+        return True, sw, dt - sw.tau > 0.0, n
+    sw, n2, _te, deferred = _advance_events(sw, iv, body, 0.0, 0.0, False, True, located)
+    return True, sw, deferred, n + n2
 
 
 @kernel(inline="always")
@@ -648,11 +774,19 @@ def _no_slip(out, i):
 
 
 @kernel(inline="always")
-def _finish(lanes, j, overturned, k, blocks, cases, out):
-    """The results of lane j's case, which ended after k intervals (overturned or not)."""
+def _finish(lanes, j, overturned, k, motions, vert, fric, blocks, cases, out):
+    """The results of lane j's case, which ended after k intervals (overturned or not); with
+    friction, the contact check at the motion's last sample, and whether the case failed one."""
     L = _LANES
     i = lanes.case[j]
     W = lanes.W
+    if fric is not None:
+        if not overturned:  # the motion's last sample
+            st, ct = _sincos(W[_TH * L + j])
+            gv = _row_or_none(vert, W[_G0 * L + j])
+            _check_contact(fric, W, j, st, ct, W[_U0 * L + j], gv, True, blocks.g)
+        if W[_FL * L + j] != 0.0:
+            fric.failed[i] = True
     steps = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end
     out.overturned[i] = overturned
     alpha = blocks.alpha[cases.body[i]]
@@ -663,7 +797,7 @@ def _finish(lanes, j, overturned, k, blocks, cases, out):
 
 
 @kernel(inline="always")
-def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
+def _fill(lanes, j, queue, motions, vert, fric, blocks, cases, out):
     """Start in lane j the next case of the shared queue (positions in ``cases.order``, taken
     with :func:`~rocking.core.compile.fetch_add` on ``queue``) that lifts its block (those that
     don't get their result at once); lanes.case[j] = −1 if none is left."""
@@ -674,7 +808,7 @@ def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
         if pos >= n:
             return
         i = cases.order[pos]
-        if _start_case(lanes, j, i, motions, vert, blocks, cases):
+        if _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
             return
         out.overturned[i] = False
         out.peak_theta_ratio[i] = 0.0
@@ -684,10 +818,10 @@ def _fill(lanes, j, queue, motions, vert, blocks, cases, out):
 
 
 @kernel(inline="always")
-def _move_lane(lanes, src, dst):
+def _move_lane(lanes, src, dst, fric):
     """Lane ``src``'s case into lane ``dst``; lane ``src`` left empty."""
     L = _LANES
-    for r in range(_ROWS):
+    for r in range(_rows(fric)):
         lanes.W[r * L + dst] = lanes.W[r * L + src]
     lanes.case[dst] = lanes.case[src]
     lanes.base[dst] = lanes.base[src]
@@ -697,11 +831,11 @@ def _move_lane(lanes, src, dst):
 
 
 @kernel
-def _new_lanes(vert):
+def _new_lanes(vert, fric):
     """An empty lane machine (its table's rows start cache lines: :func:`aligned_zeros`)."""
     L = _LANES
     return Lanes(
-        aligned_zeros(_ROWS * L),
+        aligned_zeros(_rows(fric) * L),
         np.zeros(L, np.int64),
         np.full(L, -1, np.int64),
         np.zeros(L, np.int64),
@@ -710,7 +844,7 @@ def _new_lanes(vert):
 
 
 @borrowing_kernel
-def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, width):
+def _lane_machine(lanes, motions, vert, fric, blocks, cases, out, located, queue, width):
     """Integrate cases taken from the shared ``queue`` (see :func:`_fill`) in the empty lane
     machine ``lanes`` (:func:`_new_lanes`; allocated by the caller: this function is compiled
     without reference counting, :func:`~rocking.core.compile.borrowing_kernel`), at most
@@ -718,13 +852,13 @@ def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, widt
     module docstring)."""
     live = 0  # lanes 0 … live−1 hold a case
     while live < width:
-        _fill(lanes, live, queue, motions, vert, blocks, cases, out)
+        _fill(lanes, live, queue, motions, vert, fric, blocks, cases, out)
         if lanes.case[live] < 0:
             break
         live += 1
     while live > 0:
         _gather(lanes, live, motions, vert)
-        low, high = _lane_steps(lanes, live, motions, blocks.g, vert)
+        low, high = _lane_steps(lanes, live, motions, blocks.g, vert, fric)
         # the lanes that need attention, from the highest down: when a case ends, its lane
         # takes the next case, or the last live lane (handled already) moves into it
         while (high | low) != 0:
@@ -734,15 +868,15 @@ def _lane_machine(lanes, motions, vert, blocks, cases, out, located, queue, widt
             else:
                 j = highest_bit(low)
                 low ^= np.uint64(1) << np.uint64(j)
-            done, overturned, k = _attend(lanes, j, motions, vert, blocks, cases, located)
+            done, overturned, k = _attend(lanes, j, motions, vert, fric, blocks, cases, located)
             if not done:
                 continue
-            _finish(lanes, j, overturned, k, blocks, cases, out)
-            _fill(lanes, j, queue, motions, vert, blocks, cases, out)
+            _finish(lanes, j, overturned, k, motions, vert, fric, blocks, cases, out)
+            _fill(lanes, j, queue, motions, vert, fric, blocks, cases, out)
             if lanes.case[j] < 0:  # no case left
                 live -= 1
                 if j < live:
-                    _move_lane(lanes, live, j)
+                    _move_lane(lanes, live, j, fric)
 
 
 @parallel_kernel
@@ -814,10 +948,11 @@ def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
 
 
 @parallel_kernel
-def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
+def _cases_kernel(motions, vert, fric, blocks, cases, out, located, machines):
     """Integrate the cases from rest in ``machines`` lane machines (a thread each), which take
     them in the order ``cases.order`` from one shared queue, and write their :class:`Outcome`;
-    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`.
+    the impact scheme ``located`` (bool) as in :func:`rocking.simulate`; ``fric``: the contact
+    checks (:class:`Friction`) of blocks with friction, None for blocks without.
 
     A machine holds at most its share of the cases at a time (all its lanes when there are
     enough for every machine's): otherwise the first machine to start could take every case of
@@ -825,4 +960,6 @@ def _cases_kernel(motions, vert, blocks, cases, out, located, machines):
     queue = np.zeros(1, np.int64)
     width = min(_LANES, -(-cases.order.size // machines))
     for _ in prange(machines):
-        _lane_machine(_new_lanes(vert), motions, vert, blocks, cases, out, located, queue, width)
+        _lane_machine(
+            _new_lanes(vert, fric), motions, vert, fric, blocks, cases, out, located, queue, width
+        )

@@ -1,31 +1,46 @@
-"""The batched kernel's cases with friction (issue 45): which need the response-modes model, and
-its compiled loop over them (entry point :func:`rocking.dynamics.batch.run_cases`).
+"""The batched kernel's cases with friction (issue 45): which the rocking lanes can take, and the
+compiled loop of the response-modes model over the others (entry point
+:func:`rocking.dynamics.batch.run_cases`).
 
-**Which cases keep the rocking lanes** (:func:`modes_needed`).  The lane machine of
-:mod:`rocking.dynamics.batch_lanes` integrates rest and rock only, with infinite friction.  A case
-of a block with a finite static friction coefficient μ_s gives the lanes' result exactly when it
-provably never leaves rest, that is when at every sample of its scaled motion
+**Which cases the lanes keep.**  The lane machine of :mod:`rocking.dynamics.batch_lanes`
+integrates rest and rock only.  :func:`~rocking.dynamics.modes.modes_case` (what
+:func:`rocking.simulate` ``(..., mu=...)`` computes) advances every interval that starts in rock,
+or at rest where the base cannot slip, with the rocking kernel's own step
+(:func:`rocking.dynamics.impacts._advance`, the lanes' arithmetic too), and checks the contact
+conditions where the block rocks: at the interval's end N ≥ 0 and abs(F) ≤ μ_s·N (F, N of
+:func:`~rocking.dynamics.modes._rock_forces`), and, where the interval had impacts, that
+their impulses lie in the friction cone, (1 − e)/((1 + e)·tan α) ≤ μ_s, one constant per body
+(:func:`~rocking.dynamics.modes.stick_impact_demand`), and that the contact right after them
+does (:func:`~rocking.dynamics.modes._cone_holds_after_impacts`, a bound over the interval from
+θ' at its start and u, gv at its ends; where the bound fails, the general integrator's verdict).
+Only where a check fails does it redo the interval with its general integrator.  A case whose
+checks all pass never leaves stick-rock: modes_case's result is the lanes' result.  So
+(:func:`modes_needed`) a case of a block with a finite μ_s goes to the lanes unless
 
-* the block cannot lift: the lanes' own skip test (:func:`~rocking.dynamics.batch_lanes._may_lift`:
-  max abs(scale·a_g)·cos α ≤ (g + abs(scale)·min a_v)·sin α, the samples bound the linear
-  ground motion), and
-* the base cannot slip: max abs(scale·a_g) ≤ μ_s·(g + abs(scale)·min a_v), with
-  g + abs(scale)·min a_v > 0 (no flight).
+* its base may slip, or its block fly, at rest: max abs(scale·a_g) > μ_s·(g + abs(scale)·min a_v)
+  or g + abs(scale)·min a_v ≤ 0 (the rest intervals are then checked a priori: the tests are
+  written in the kernel's expressions on the motion's extremes, abs(sc·a)/g and
+  1 + abs(sc)·a_v/g round monotonically, μ_s·x too, so they are the per-sample tests or
+  stricter), or
+* it may lift its block (:func:`~rocking.dynamics.batch_lanes._may_lift`) and the impact's
+  impulse lies outside the friction cone (the first impact would fail the check);
 
-Then the modes model's rest (:mod:`rocking.dynamics.modes`: rest holds while abs(a_g) ≤ μ_s·G and
-abs(a_g) ≤ G·tan α) never ends, and :func:`~rocking.dynamics.modes.modes_case` integrates each
-interval from rest with the rocking kernel's own step, which stays at rest: not overturned, peak 0,
-no uplift, no slip, no lift — the lanes' answer for a case they skip.  The tests are written in the
-kernel's expressions on the motion's extremes (abs(sc·a)/g and 1 + abs(sc)·a_v/g round
-monotonically, μ_s·x too), so they are the per-sample tests or stricter.
-
-No such a-priori bound exists for a case that may lift: once the block rocks, the friction it
-needs, abs(F)/N with N = G + R·sin φ·θ'' − R·cos φ·θ'² (:mod:`rocking.dynamics.modes`), depends on
-θ and θ' along the response, and N → 0 as the block turns fast or approaches overturning, so for
-every finite μ_s (even 1e6) a rocking case may slide-rock or fly; the a_g and a_v of the motion
-alone do not bound it.  Every case that may lift therefore goes to the modes kernel, as does every
-case whose motion may make its base slip.  Blocks without friction (μ_s = None, stored as ∞) keep
-the lanes throughout.
+and in the lanes (``fric``, :class:`~rocking.dynamics.batch_lanes.Friction`) every state of a
+rocking lane at a sample is checked, N ≥ :data:`N_MARGIN`·g and
+abs(F) ≤ μ_s·(1 − :data:`CONE_MARGIN`)·N, and an interval with impacts that ends rocking needs
+the bound on the contact after them to hold (the same function of the same values: no margin
+needed); where it fails the lanes do not try the general integrator, they give the case to the
+modes kernel.  A case that fails a check is marked and re-run by :func:`modes_kernel` (the
+lanes' result discarded); so is every case routed to it above.  The margins: the lanes' θ and
+θ' at a check are modes_case's own bits (the same steps), and F and N come from the same function,
+:func:`~rocking.dynamics.modes._contact_forces`, of sin θ and cos θ by the lanes' polynomials
+(:func:`~rocking.dynamics.equation._sincos`), which equal modes_case's
+(:func:`~rocking.dynamics.equation._sincos_any`) for every θ below the overturning angle: the
+same bits.  The margins guard that reasoning against any difference of rounding (a few ulps of
+the terms g·gv and R·θ'², about 1e-15·g each): five orders of magnitude above it, they only
+send cases whose friction demand comes within 1e-9 of μ_s, or whose N comes within 1e-9·g of
+0, to be re-run.  Blocks without friction (μ_s = None, stored as ∞) keep the lanes without
+checks (``fric`` None: the lane machine compiles to the rocking-only one).
 
 **The modes kernel** (:func:`modes_kernel`): a compiled parallel loop over the routed cases, each
 calling :func:`~rocking.dynamics.modes.modes_case` on its own scaled motion (u = scale·a_g/g,
@@ -42,18 +57,25 @@ import math
 import numpy as np
 
 from ..core.compile import kernel, parallel_kernel, prange
-from .batch_lanes import _may_lift
+from .batch_lanes import Friction, _may_lift
+from .batch_records import Contacts
 from .equation import _gv_sample
 from .impacts import Body
 from .modes import Contact, modes_case
 
+#: Relative margin of the lanes' friction check: abs(F) ≤ μ_s·(1 − CONE_MARGIN)·N.
+CONE_MARGIN = 1e-9
+#: The lanes' least normal force per unit mass accepted, as a fraction of g.
+N_MARGIN = 1e-9
+
 
 @kernel
 def modes_needed(amax, avmin, g, blocks, contacts, body, motion, scale):
-    """Whether each case (``body``, ``motion``, ``scale`` arrays) needs the modes kernel (see the
-    module docstring): its block has a finite μ_s and its scaled motion may lift the block or make
-    its base slip.  ``amax``: max abs(a_g) [m/s²] and ``avmin``: min a_v [m/s²] (None: no
-    vertical motion) of each motion; g [m/s²]; ``blocks``, ``contacts``: the per-block records
+    """Whether each case (``body``, ``motion``, ``scale`` arrays) goes to the modes kernel at once
+    (see the module docstring): its block has a finite μ_s, and its base may slip or its block
+    fly at rest, or it may lift its block, whose impacts lie outside the friction cone.
+    ``amax``: max abs(a_g) [m/s²] and ``avmin``: min a_v [m/s²] (None: no vertical motion) of
+    each motion; g [m/s²]; ``blocks``, ``contacts``: the per-block records
     (:class:`~rocking.dynamics.batch_records.Blocks`, ``Contacts``)."""
     n = body.size
     need = np.zeros(n, dtype=np.bool_)
@@ -67,8 +89,16 @@ def modes_needed(amax, avmin, g, blocks, contacts, body, motion, scale):
         gv = _gv_sample(avmin, m, sc, g)
         gvmin = 1.0 if gv is None else gv
         still = not _may_lift(amax[m], avmin, m, sc, g, blocks.sa[b], blocks.ca[b])
-        need[i] = not (still and gvmin > 0.0 and abs(sc * amax[m]) / g <= mu * gvmin)
+        rests = gvmin > 0.0 and abs(sc * amax[m]) / g <= mu * gvmin
+        need[i] = not (rests and (still or contacts.impact_ok[b]))
     return need
+
+
+def lane_friction(contacts: Contacts, g: float, n_cases: int) -> Friction:
+    """The lanes' contact checks (:class:`~rocking.dynamics.batch_lanes.Friction`) of the blocks
+    of ``contacts`` under gravity g [m/s²], for a call of ``n_cases`` cases (none failed yet)."""
+    margins = (1.0 - CONE_MARGIN, N_MARGIN * g)
+    return Friction(*contacts, *margins, np.zeros(n_cases, dtype=np.bool_))
 
 
 @kernel(inline="always")

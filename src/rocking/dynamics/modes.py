@@ -167,10 +167,17 @@ def _rock_forces(th, om, s, u, gv, body, c):
     """(F, N) [m/s²] of the sticking corner s during rock (the module docstring), with
     u = a_g/g and gv = 1 + a_v/g."""
     S, C = _sin_cos_terms(th, s, body.sa, body.ca)
-    acc = -body.p2 * (gv * S + u * C)  # Eq. (1)
+    return _contact_forces(S, C, om, u, gv, body.p2, c.g, c.R)
+
+
+@kernel(inline="always")
+def _contact_forces(S, C, om, u, gv, p2, g, R):
+    """(F, N) [m/s²] of :func:`_rock_forces` from S = sin φ, C = cos φ, θ' = ``om`` [rad/s], p²
+    [1/s²], g [m/s²] and R [m] (branch-free: the lane machine's checks use it too)."""
+    acc = -p2 * (gv * S + u * C)  # Eq. (1)
     w2 = om * om
-    F = c.g * u + c.R * (C * acc + S * w2)
-    N = c.g * gv + c.R * (S * acc - C * w2)
+    F = g * u + R * (C * acc + S * w2)
+    N = g * gv + R * (S * acc - C * w2)
     return F, N
 
 
