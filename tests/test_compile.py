@@ -169,3 +169,32 @@ def test_a_cache_folder_that_cannot_be_written_falls_back_with_one_warning(tmp_p
         assert f"{variable} {blocker / 'cache'}" in proc.stderr
         hits.append(int(hit))
     assert hits == [0, 1]  # compiled once, then loaded
+
+
+def test_kernels_of_changed_sources_are_not_loaded_from_the_cache(tmp_path):
+    # Numba checks only the time stamp of a kernel's own file, not of the files whose kernels it
+    # inlines: the batched friction kernel (batch_modes.py) cached before modes.py changed was
+    # loaded stale and gave other results than simulate (seen after a merge, 24-32 of 120 cases).
+    # The cache subfolder is named by the digest of every module that compiles code, so a change
+    # to any of them (here modes.py, called by batch_modes.py) gives a new folder, while a change
+    # to a module without kernels (a command) keeps the compiled code
+    import shutil
+    from pathlib import Path
+
+    import rocking
+    from rocking.core.compile import sources_stamp
+
+    copy = tmp_path / "rocking"
+    shutil.copytree(Path(rocking.__file__).parent, copy, ignore=shutil.ignore_patterns("*.pyc"))
+    before = sources_stamp(copy)
+    assert before == sources_stamp()  # the same sources, wherever they lie
+    with open(copy / "cli" / "screen.py", "a") as f:
+        f.write("\n# a command changed\n")
+    assert sources_stamp(copy) == before
+    with open(copy / "dynamics" / "modes.py", "a") as f:
+        f.write("\n# a kernel's callee changed\n")
+    assert sources_stamp(copy) != before
+    # the kernels of this process were compiled into the subfolder of the current sources
+    from rocking.dynamics.modes import modes_case
+
+    assert Path(modes_case._cache._cache_path).parent.name == sources_stamp()
