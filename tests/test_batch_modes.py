@@ -54,16 +54,24 @@ def _check(blocks, ens, body, motion, scale, out, mu, mu_k=None, av=None, e=None
     return seen
 
 
+def _cases(rng, n_blocks, ensemble, n, peaks_g=None):
+    """``n`` random cases: block and motion indices and, with ``peaks_g`` = (lo, hi), scale
+    factors giving the ensemble's A_gx uniform in [lo, hi] g (negative: mirrored)."""
+    body = rng.integers(0, n_blocks, n)
+    motion = rng.integers(0, ensemble.n, n)
+    if peaks_g is None:
+        return body, motion
+    return body, motion, rng.uniform(*peaks_g, n) / ensemble.agx
+
+
 def test_batch_with_friction_equals_simulate(ensemble):
     rng = np.random.default_rng(21)
     blocks = [
         Block(float(rng.uniform(0.3, 2.0)), float(rng.uniform(1.5, 5.0))) for _ in range(3)
     ] + [Block.from_mass_properties(0.8, 0.2, radius_of_gyration=0.35)]
     n = 120
-    body = rng.integers(0, len(blocks), n)
-    motion = rng.integers(0, ensemble.n, n)
     # from 0.02 g (rest, in the lanes) to 1.5 g; negative: mirrored
-    scale = rng.uniform(-1.5, 1.5, n) / ensemble.agx
+    body, motion, scale = _cases(rng, len(blocks), ensemble, n, (-1.5, 1.5))
     scale[:10] = 0.02 / ensemble.agx
     for mu, mu_k in ((0.3, 0.25), (0.6, None), (1e6, None)):
         physics = Physics(mu=mu, mu_k=mu_k)
@@ -124,8 +132,7 @@ def slender():
 def test_lanes_keep_rocking_cases_with_friction_bit_for_bit(ensemble, slender, monkeypatch):
     blocks, rng = slender
     n = 150
-    body = rng.integers(0, len(blocks), n)
-    motion = rng.integers(0, ensemble.n, n)
+    body, motion = _cases(rng, len(blocks), ensemble, n)
     # peaks from 0.1 g to 1.2 g, log-uniform, either sign
     scale = rng.choice([-1.0, 1.0], n) * np.exp(rng.uniform(np.log(0.1), np.log(1.2), n))
     scale /= ensemble.agx
@@ -147,9 +154,7 @@ def test_lanes_keep_rocking_cases_with_friction_bit_for_bit(ensemble, slender, m
 def test_lanes_with_friction_and_vertical_motion_bit_for_bit(ensemble, slender, monkeypatch):
     blocks, rng = slender
     n = 80
-    body = rng.integers(0, len(blocks), n)
-    motion = rng.integers(0, ensemble.n, n)
-    scale = rng.uniform(-0.8, 0.8, n) / ensemble.agx
+    body, motion, scale = _cases(rng, len(blocks), ensemble, n, (-0.8, 0.8))
     av = 0.5 * ensemble.acc[::-1]  # above −g at these scales: the lanes may take the cases
     for mu in (1e6, 0.4):
         physics = Physics(mu=mu)
@@ -167,9 +172,7 @@ def test_flight_and_per_block_friction_equal_simulate(ensemble):
     av = ensemble.acc[::-1] * rng.uniform(1.0, 2.0, (ensemble.n, 1))
     blocks = [Block(0.4, 3.0), Block(1.0, 2.0), Block(0.6, 4.0)]
     n = 60
-    body = rng.integers(0, 3, n)
-    motion = rng.integers(0, ensemble.n, n)
-    scale = rng.uniform(-1.5, 1.5, n) / ensemble.agx
+    body, motion, scale = _cases(rng, 3, ensemble, n, (-1.5, 1.5))
     mu, mu_k = [0.3, 0.7, None], [0.2, None, None]
     physics = Physics(mu=mu, mu_k=mu_k)
     out = _run(blocks, ensemble, body[body < 2], motion[body < 2], scale[body < 2], physics, av)
@@ -189,9 +192,7 @@ def test_friction_results_do_not_depend_on_threads_or_grouping(ensemble):
     rng = np.random.default_rng(23)
     blocks = [Block(0.5, 3.0), Block(1.5, 2.5)]
     n = 40
-    body = rng.integers(0, 2, n)
-    motion = rng.integers(0, ensemble.n, n)
-    scale = rng.uniform(0.02, 1.2, n) / ensemble.agx
+    body, motion, scale = _cases(rng, 2, ensemble, n, (0.02, 1.2))
     physics = Physics(mu=0.35)
     before = numba.get_num_threads()
     try:
@@ -241,9 +242,7 @@ def test_friction_with_housner_e_alpha_angle_and_step_end_impacts_equals_simulat
     rng = np.random.default_rng(24)
     blocks = [Block(0.5, 4.0), Block(1.2, 3.0)]
     n = 30
-    body = rng.integers(0, 2, n)
-    motion = rng.integers(0, ensemble.n, n)
-    scale = rng.uniform(-1.2, 1.2, n) / ensemble.agx
+    body, motion, scale = _cases(rng, 2, ensemble, n, (-1.2, 1.2))
     kw = dict(e="housner", overturn_angle="alpha", impacts="step-end")
     out = _run(blocks, ensemble, body, motion, scale, Physics(mu=0.45, **kw))
     for i in range(n):
