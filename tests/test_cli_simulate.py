@@ -237,15 +237,17 @@ def test_example_motion_is_the_shipped_el_centro_record():
 
 
 def test_with_mu_the_summary_gives_slip_lift_and_modes_as_rocking_simulate(tmp_path):
-    # A slender block (R = 1.5 m, γ = 3.5) on μ_s = 0.35, μ_k = 0.3 under El Centro scaled to
-    # 0.8 g slide-rocks for a while (the README's figure): the JSON's slip, lift and shares of
-    # the modes are those of rocking.simulate on the same input; the text gives them in mm.
-    block = Block(1.5, 3.5)
+    # A slender block (R = 2 m, γ = 3.5) on μ_s = 0.32, μ_k = 0.27 under El Centro scaled to
+    # 0.7 g slides and slide-rocks for a while, then rocks to the end without overturning (the
+    # README's figure): the JSON's slip, lift and shares of the modes are those of
+    # rocking.simulate on the same input; the text gives them in mm.
+    block = Block(2.0, 3.5)
     rec = read_record(example_record_path())
-    ag = rec.acc * (0.8 * G / np.abs(rec.acc).max())
-    expected = simulate(block, ag, rec.dt, mu=0.35, mu_k=0.3)
-    args = ["--R", 1.5, "--gamma", 3.5, "--motion", "example", "--scale-g", 0.8]
-    args += ["--mu", 0.35, "--mu-k", 0.3]
+    ag = rec.acc * (0.7 * G / np.abs(rec.acc).max())
+    expected = simulate(block, ag, rec.dt, mu=0.32, mu_k=0.27)
+    assert not expected.overturned  # so the modes' times add up to the whole record
+    args = ["--R", 2.0, "--gamma", 3.5, "--motion", "example", "--scale-g", 0.7]
+    args += ["--mu", 0.32, "--mu-k", 0.27]
     res = _run([*args, "--json"])
     assert res.exit_code == 0, res.output
     got = json.loads(res.output)["response"]

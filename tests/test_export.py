@@ -287,7 +287,8 @@ def test_pelicun_damage_states_of_several_limit_states_equal_ours(limit_states, 
     for b, name in enumerate(ids):
         assert damaged[name].shape == (x.size, 3)
         for k, state in enumerate(ORDER):
-            median, beta = float(ds["median"].sel(limit_state=state)[b]), float(ds["beta"][b, 0])
+            fit = ds[["median", "beta"]].sel(limit_state=state).isel(body=b)
+            median, beta = float(fit["median"]), float(fit["beta"])  # the state's own β
             # pelicun holds our median in m/s (its unit: mps) and our β, to pandas' parsing
             # of the file's repr (1 ulp off at times: 2e-16)
             assert params.loc[name, (f"LS{k + 1}", "Theta_0")] == pytest.approx(median, 1e-15)
