@@ -79,9 +79,15 @@ start by the general integrator below.  A case that never leaves stick-rock thus
 Runge–Kutta step over the rest of the interval (the paper's scheme) in the current mode; where the
 step ends with an event (the conditions of the mode above) the first instant is located by bisection
 on the length of a partial Runge–Kutta step from the same start (to 1e-13·dt), the transition is
-applied there and the interval goes on.  Events are looked for at the step's ends, and right after
+applied there and the interval goes on.  Events are looked for at the step's ends, right after
 each transition (a corner that an impact leaves stuck slips, or lifts, at once where its contact
-forces say so); a slip velocity that touches 0 and turns back inside one step is not seen.
+forces say so), and, for the slip velocity q' in slide and slide-rock, inside the step too: q'
+may reach 0 and turn back between the ends.  The cubic Hermite interpolant of q' over the step
+(q' at its ends, q'' of the first and the last Runge–Kutta stage; exact in slide, where q' is
+quadratic in t) gives the instant of its lowest σ·q' (:func:`_slip_dip`); where that is ≤ 0 and
+the partial step to it has σ·q' < 0, the first event is located by the same bisection up to that
+instant, and the stick test applied there as at a step's end (stick where the friction needed
+fits the cone, else the slip reverses).
 
 Pure compiled functions on scalars and arrays; no I/O, no state.
 """
@@ -223,7 +229,8 @@ def _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c):
 @kernel
 def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
     """One classical Runge–Kutta step of length h from local time tau of the state tuple ``st``
-    (θ, θ', q, q', y, y'), with u = u0 + du·τ and gv = g0 + dg·τ."""
+    (θ, θ', q, q', y, y'), with u = u0 + du·τ and gv = g0 + dg·τ: (the state at tau + h, q'' of
+    the first stage and of the last, the slopes of the slip velocity at the step's ends)."""
     th, om, q, v, y, vy = st
     ua = u0 + du * tau
     um = u0 + du * (tau + 0.5 * h)
@@ -242,7 +249,7 @@ def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
     y4 = (v + h * a3[3], y + h * a3[4], vy + h * a3[5])
     a4 = _rates(mode, s, sig, x4[0], x4[1], x4[2], y4[0], y4[1], y4[2], ub, gb, body, c)
     h6 = h / 6.0
-    return (
+    end = (
         th + h6 * (a1[0] + 2.0 * a2[0] + 2.0 * a3[0] + a4[0]),
         om + h6 * (a1[1] + 2.0 * a2[1] + 2.0 * a3[1] + a4[1]),
         q + h6 * (a1[2] + 2.0 * a2[2] + 2.0 * a3[2] + a4[2]),
@@ -250,6 +257,39 @@ def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
         y + h6 * (a1[4] + 2.0 * a2[4] + 2.0 * a3[4] + a4[4]),
         vy + h6 * (a1[5] + 2.0 * a2[5] + 2.0 * a3[5] + a4[5]),
     )
+    return end, a1[3], a4[3]
+
+
+@kernel(inline="always")
+def _slip_dip(sig, v0, a0, v1, a1, h):
+    """Local time [s] in (0, h) of the lowest σ·q' on the cubic Hermite interpolant of the slip
+    velocity over a step (q' = v0, v1 [m/s] and q'' = a0, a1 [m/s²] at its ends), where that
+    lowest value is ≤ 0 (the slip velocity reaches 0 inside the step), or −1.  With
+    w(x) = σ·q' at x = τ/h ∈ [0, 1], w = w0 + e0·x + B·x² + C·x³, e0 = σ·a0·h,
+    B = 3·(w1 − w0) − 2·e0 − e1, C = 2·(w0 − w1) + e0 + e1 (e1 = σ·a1·h); its minimum is the
+    root of w' = e0 + 2·B·x + 3·C·x² where w'' > 0, x = −e0/(B + sqrt(B² − 3·C·e0)) (the
+    conjugate form, also right for C = 0).  In slide (q'' depends on time only, linearly) the
+    interpolant is the slip velocity itself."""
+    w0 = sig * v0
+    w1 = sig * v1
+    e0 = sig * a0 * h
+    e1 = sig * a1 * h
+    # the cubic lies above its Bernstein control points w0, w0 + e0/3, w1 − e1/3, w1: where all
+    # are positive (nearly every step) it has no zero
+    if w0 > 0.0 and 3.0 * w0 + e0 > 0.0 and 3.0 * w1 - e1 > 0.0 and w1 > 0.0:
+        return -1.0
+    B = 3.0 * (w1 - w0) - 2.0 * e0 - e1
+    C = 2.0 * (w0 - w1) + e0 + e1
+    disc = B * B - 3.0 * C * e0
+    if disc < 0.0:
+        return -1.0
+    den = B + math.sqrt(disc)
+    if den <= 0.0:
+        return -1.0
+    x = -e0 / den
+    if not 0.0 < x < 1.0 or w0 + x * (e0 + x * (B + x * C)) > 0.0:
+        return -1.0
+    return x * h
 
 
 @kernel
@@ -473,16 +513,26 @@ def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
             mode = SLIDE_ROCK
             s = sig
         h = dt - tau
-        end = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c)
+        end, a0, a1 = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c)
         code = _event(mode, s, sig, end, u0 + du * dt, g0 + dg * dt, body, c)
+        hi = h
+        if mode in (SLIDE, SLIDE_ROCK):
+            # a slip velocity that reaches 0 and turns back inside the step: its ends do not
+            # show it; the partial step to the interpolant's lowest point brackets it
+            tz = _slip_dip(sig, st[3], a0, end[3], a1, h)
+            if tz > 0.0:
+                sz = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, tz, body, c)[0]
+                if sig * sz[3] < 0.0:
+                    hi = tz
+                    end = sz
+                    code = _STICK
         if code == _NONE:
             st = end
             break
         lo = 0.0
-        hi = h
         while hi - lo > _LOCATE_TOL * dt:
             mid = 0.5 * (lo + hi)
-            sm = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, mid, body, c)
+            sm = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, mid, body, c)[0]
             if _event(mode, s, sig, sm, u0 + du * (tau + mid), g0 + dg * (tau + mid), body, c):
                 hi = mid
                 end = sm
