@@ -481,7 +481,7 @@ def agx_50(
 
     engine.require_memory(nb * ns * crossing.max_levels, "resolution")
     with engine:
-        engine.expect(crossing.typical_rounds * nb * sum(cases[c].n for c in todo))
+        engine.expect(crossing.typical_rounds * nb * ns * sum(cases[c].n for c in todo))
         while level := crossing.pending():  # one batch of simulations per round and state
             keys = {item: key(item[0], item[1], k) for item, k in level.items()}
             if search.exhaustive:
