@@ -12,6 +12,7 @@ from click.testing import CliRunner
 from rocking.cli import main
 from rocking.defaults import G
 from rocking.dynamics.body import Block
+from rocking.montecarlo.engine import Engine
 from rocking.montecarlo.probability import agx_50, overturning_probability
 from rocking.motions.synthesis import generate
 
@@ -200,3 +201,14 @@ def test_the_command_writes_a_row_per_body_and_limit_state(ensemble, tmp_path):
         assert (out / f"{name}.csv").stat().st_size > 0
     assert (out / "sv_agx.png").stat().st_size > 0
     assert "(uplift)" in result.output and "(overturn)" in result.output
+
+
+def test_progress_total_counts_every_limit_states_search(ensemble, monkeypatch):
+    # each limit state is searched on its own (its own brackets and bisection), so the progress
+    # bar must expect the simulations of each search: three states announce three times the
+    # work of one (before the fix every number of states announced one search's)
+    announced: list[int] = []
+    monkeypatch.setattr(Engine, "expect", lambda self, n: announced.append(n))
+    for states in ("overturn", "uplift, theta/alpha>=0.5, overturn"):
+        agx_50([Block(1.0, 3.0)], ensemble, resolution=0.1, agx_max=1.0, limit_states=states)
+    assert len(announced) == 2 and announced[1] == 3 * announced[0] > 0

@@ -64,7 +64,7 @@ def test_member_outcomes_are_each_bodys_own_simulations(ensemble):
     for b, blk in enumerate(blocks):
         alone = overturning_probability([blk], ensemble, agx[b], members=True)
         assert ds["agx"].values[b].tobytes() == alone["agx"].values.tobytes()
-        for name in ("overturned", "peak"):
+        for name in ("overturned", "peak", "uplift", "peak_slip", "residual_slip", "peak_lift"):
             assert ds[name].values[b].tobytes() == alone[name].values[0].tobytes()
         for j, a in enumerate(agx[b]):
             scaled = ensemble.scaled(a)
@@ -81,6 +81,32 @@ def test_member_outcomes_are_each_bodys_own_simulations(ensemble):
         member_outcomes(blocks, ensemble, [0.3, 0.5, 0.7])
     with pytest.raises(InputError, match="agx"):
         member_outcomes(blocks, ensemble, [0.3, np.nan])
+
+
+def test_member_outcomes_with_friction_are_simulates_slip_lift_and_uplift(ensemble):
+    # with friction (issue 45) each motion's uplift, peak and residual slip and peak lift must
+    # be those of rocking.simulate(mu=) for that motion at that A_gx, bit for bit (the batched
+    # kernel and simulate integrate the same steps: tests/test_batch_modes.py); B/H = 0.25 and
+    # mu = 0.3 slightly above it, so that at 0.4 g some motions slide and some rock
+    blk, mu = Block(1.22, 4.0), 0.3
+    ds = member_outcomes([blk], ensemble, [0.4], mu=mu)
+    assert ds["peak_slip"].attrs["units"] == "m" and ds["peak_lift"].attrs["units"] == "m"
+    scaled = ensemble.scaled(float(ds["agx"].values[0, 0]))
+    for m, row in enumerate(scaled.acc):
+        r = simulate(blk, row, scaled.dt, mu=mu)
+        one = ds.isel(body=0, level=0, member=m)
+        assert bool(one["overturned"]) == r.overturned
+        assert bool(one["uplift"]) == r.uplift
+        assert float(one["peak_slip"]) == r.max_abs_slip
+        assert float(one["residual_slip"]) == abs(r.residual_slip)
+        assert float(one["peak_lift"]) == r.max_lift
+    standing = ~ds["overturned"].values
+    assert (ds["peak_slip"].values[standing] > 0).any(), "no motion slid the body: no check"
+    assert ds["uplift"].values.any(), "no motion rocked the body: no check"
+    # without friction (the paper's model) nothing slips or lifts
+    rigid = member_outcomes([blk], ensemble, [0.4])
+    for name in ("peak_slip", "residual_slip", "peak_lift"):
+        assert not rigid[name].values.any()
 
 
 def test_wilson_interval_published_values():

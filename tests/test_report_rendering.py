@@ -12,11 +12,13 @@ import re
 from html.parser import HTMLParser
 from itertools import combinations
 
+import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
 from click.testing import CliRunner
 from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.transforms import Bbox
 
 from rocking import generate
 from rocking.assessment.screen import RESPONSES, screen
@@ -197,6 +199,34 @@ def test_screen_labels_neither_overlap_nor_overprint(screened):
     frame = ax.get_window_extent(renderer)
     for box in boxes:
         assert frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)
+
+
+def test_screen_rings_the_items_that_slide(screened):
+    _, ds = screened
+    # the stocky block (B/H = 1/1.5 = 0.67 > mu = 0.3) slips before it can tip (Shenton 1996):
+    # at the design level it mostly slides, which the figure must show (a ring about its point,
+    # named in the legend) and no label may hide
+    items = [str(i) for i in ds["item"].values]
+    modes = ds["mode"].values.astype(str)
+    assert modes[items.index("stocky block")] in ("slide", "slide-rock")
+    moving = np.isin(modes, ["slide", "slide-rock"])
+    fig = plot_screen(ds)
+    renderer = _legend_outside(fig)
+    ax = fig.axes[0]
+    rings = [line for line in ax.get_lines() if line.get_markerfacecolor() == "none"]
+    ringed = sorted((float(x), float(y)) for r in rings for x, y in zip(*r.get_data()))
+    agx50 = np.where(np.isfinite(ds["agx50"]), ds["agx50"], ds.attrs["agx_max"])
+    sv = 100.0 * ds["sv_required"].values  # the figure's cm/s
+    assert ringed == sorted(zip(agx50[moving].tolist(), sv[moving].tolist()))
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert {f"{m}s at design A_gx (most motions)" for m in modes[moving]} <= set(legend)
+    labels = [t.get_window_extent(renderer) for t in ax.texts if t.get_text()]
+    for r in rings:
+        for x, y in zip(*r.get_data()):
+            cx, cy = ax.transData.transform((x, y))
+            half = r.get_markersize() / 2 * fig.dpi / 72  # [pixels]
+            ring = Bbox([[cx - half, cy - half], [cx + half, cy + half]])
+            assert not any(box.overlaps(ring) for box in labels), (x, y)
 
 
 # --------------------------------------------------------------------------- fragility, risk

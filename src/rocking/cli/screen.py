@@ -405,7 +405,8 @@ def _write_report(ds: xr.Dataset, out: Path, inv_path: Path, notes: list[str]) -
         "sv-agx",
         "Items on the S_v–A_gx plane (paper Fig. 15 style), numbered as the rows of the table: "
         "required S_v of Eq. (11) against the A_gx of 50 % overturning probability; dashed: "
-        "design A_gx; dotted: available S_v at each location.",
+        "design A_gx; dotted: available S_v at each location; □ / ◇ about a point: the item "
+        "mostly slides / slide-rocks at the design A_gx.",
     )
     report.table(
         page_table(table),

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 
 from ..core.checks import finite_array, in_range, positive, record
 from ..core.reuse import key_of, recall, remember
-from ..dynamics.batch import BlockTable, block_list
+from ..dynamics.batch import QUANTITIES, BlockTable, block_list
 from ..dynamics.limits import OVERTURN, LimitState, limit_state_coords, parse_limit_states
 from ..dynamics.physics import Physics
 from ..errors import InputError
@@ -31,6 +31,12 @@ from .statistics import wilson_interval
 
 if TYPE_CHECKING:
     from ..dynamics.body import Block
+
+
+#: The quantities of each motion's Outcome returned besides ``overturned`` and ``peak`` (by
+#: :func:`member_outcomes` and ``overturning_probability(members=True)``), under their
+#: Outcome's names: whether the body rocked at all, and with friction its slip [m] and lift [m].
+_MEMBER_QUANTITIES = ("uplift", "peak_slip", "residual_slip", "peak_lift")
 
 
 def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
@@ -116,8 +122,8 @@ def overturning_probability(
     confidence : float
         Level of the Wilson interval, in (0, 1) [-].
     members : bool
-        Also return ``overturned`` and ``peak`` of every motion (dimension ``member``; for a
-        dict, all ensembles must have the same number of motions).
+        Also return the outcome of every motion (dimension ``member``; for a dict, all
+        ensembles must have the same number of motions): see Returns.
     limit_states : str or sequence of str or LimitState, optional
         Limit states on the response (:class:`~rocking.LimitState`, or their text form, e.g.
         ``"uplift, theta/alpha>=0.5, overturn"``): the probability of each, from the same
@@ -134,10 +140,13 @@ def overturning_probability(
     xarray.Dataset
         Dimensions ([case,] body, agx[, member]); ``probability`` [-], ``count`` (motions that
         overturned the body), ``n`` (motions), ``ci_low``/``ci_high`` (Wilson) [-], and with
-        ``members``: ``overturned`` (bool) and ``peak`` = max|θ|/α [-].  Coordinates ``body``
-        (labels), ``R`` [m], ``gamma`` [-], ``e`` [-], ``overturn_angle`` [rad] on body,
-        ``agx`` [g].  Attributes: ``g`` [m/s²], ``confidence``, and how many chunks were
-        computed / loaded from ``out`` (``chunks_computed``, ``chunks_loaded``).
+        ``members``: ``overturned`` (bool), ``peak`` = max|θ|/α [-], ``uplift`` (bool: the
+        body rocked at all), ``peak_slip`` = max|slip| [m], ``residual_slip`` = |slip| at the
+        end [m] and ``peak_lift``, the largest lift of the base [m] (the last three 0 without
+        friction, ``mu`` None).  Coordinates ``body`` (labels), ``R`` [m], ``gamma`` [-],
+        ``e`` [-], ``overturn_angle`` [rad] on body, ``agx`` [g].  Attributes: ``g`` [m/s²],
+        ``confidence``, and how many chunks were computed / loaded from ``out``
+        (``chunks_computed``, ``chunks_loaded``).
     """
     labels, cases = _cases(ensemble)
     levels = _levels(agx)
@@ -181,7 +190,8 @@ def member_outcomes(
     compute: Compute | None = None,
     **shorthands: Any,
 ) -> xr.Dataset:
-    """Whether each motion overturns each body, every body at intensities of its own.
+    """What each motion does to each body (overturns it, rocks it, slides it), every body at
+    intensities of its own.
 
     The outcomes of :func:`overturning_probability` with ``members=True`` for one body at a
     time (the same simulations, bit for bit), computed in one batch: a study that needs each
@@ -204,10 +214,12 @@ def member_outcomes(
     Returns
     -------
     xarray.Dataset
-        Dimensions ([case,] body, level, member): ``overturned`` (bool) and ``peak`` =
-        max|θ|/α [-]; coordinate ``agx`` (body, level) [g], the intensities simulated (each
-        rounded to the engine's level unit, as :func:`overturning_probability` rounds them);
-        body coordinates and attributes as for :func:`overturning_probability`.
+        Dimensions ([case,] body, level, member): ``overturned`` (bool), ``peak`` =
+        max|θ|/α [-], ``uplift``, ``peak_slip`` [m], ``residual_slip`` [m] and ``peak_lift``
+        [m] as :func:`overturning_probability` gives them; coordinate ``agx`` (body, level)
+        [g], the intensities simulated (each rounded to the engine's level unit, as
+        :func:`overturning_probability` rounds them); body coordinates and attributes as for
+        :func:`overturning_probability`.
     """
     labels, cases = _cases(ensemble)
     _same_size(cases, "member_outcomes")
@@ -312,17 +324,33 @@ def _probability_vars(
 
 
 def _member_vars(engine: Engine, keys: list, level_dim: str = "agx") -> dict[str, Any]:
-    """``overturned`` and ``peak`` of every motion at every (case, body, level) of ``keys``
-    (nested [case][body][level]; the levels' dimension named ``level_dim``)."""
-    flags, peaks = (
-        np.array([[[getattr(engine.results[k], name) for k in pb] for pb in pc] for pc in keys])
-        for name in ("overturned", "peak_theta_ratio")
-    )
+    """``overturned``, ``peak`` and the Outcome's other quantities (``uplift``,
+    ``peak_slip``, ``residual_slip``, ``peak_lift``) of every motion at every (case, body,
+    level) of ``keys`` (nested [case][body][level]; the levels' dimension named
+    ``level_dim``)."""
+
+    def of_motions(name: str) -> np.ndarray:
+        return np.array(
+            [[[getattr(engine.results[k], name) for k in pb] for pb in pc] for pc in keys]
+        )
+
     dims = ("body", level_dim, "member")
-    return {
-        "overturned": (dims, flags, {}),
-        "peak": (dims, peaks, {"units": "1", "long_name": "max |theta| / alpha"}),
+    data = {
+        "overturned": (dims, of_motions("overturned"), {}),
+        "peak": (
+            dims,
+            of_motions("peak_theta_ratio"),
+            {"units": "1", "long_name": "max |theta| / alpha"},
+        ),
     }
+    for name in _MEMBER_QUANTITIES:
+        _dtype, unit, meaning = QUANTITIES[name]
+        data[name] = (
+            dims,
+            of_motions(name),
+            {"long_name": meaning, **({"units": unit} if unit else {})},
+        )
+    return data
 
 
 def agx_50(
@@ -453,7 +481,7 @@ def agx_50(
 
     engine.require_memory(nb * ns * crossing.max_levels, "resolution")
     with engine:
-        engine.expect(crossing.typical_rounds * nb * sum(cases[c].n for c in todo))
+        engine.expect(crossing.typical_rounds * nb * ns * sum(cases[c].n for c in todo))
         while level := crossing.pending():  # one batch of simulations per round and state
             keys = {item: key(item[0], item[1], k) for item, k in level.items()}
             if search.exhaustive:

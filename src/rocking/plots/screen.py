@@ -20,6 +20,10 @@ MAX_NAMED = 40
 SAME_POINT = 3.0
 #: Least gap between a label and another label or point [points].
 GAP = 1.5
+#: Half the size of a point's marker, and of the ring about an item that slides [points].
+POINT, RING = 3.5, 6.0
+#: The ring's marker for each response marked (:data:`rocking.assessment.screen.RESPONSES`).
+_RINGS = {"slide": "s", "slide-rock": "D"}
 #: Offsets of a label from its point tried in turn, (dx, dy) [points]; the label's corner
 #: nearest to the point is placed there.
 _OFFSETS = [
@@ -36,7 +40,9 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     overturn with more than 50 % probability in the Monte Carlo runs. Each location's available
     S_v (the largest PSV in the band) is a dotted horizontal line of its colour: items below
     their line fail Housner's check. Items whose A_gx50 lies beyond the search range are drawn
-    at its end with a ▸ marker.
+    at its end with a ▸ marker. Items whose most frequent response at the design level is to
+    slide (□ about the point) or slide-rock (◇) are ringed: with friction, a body may stay
+    standing yet move.
 
     Each point is labelled with its item's number, its row in ``ds`` counted from 1 (the key is
     the report's table); items at one point share a label ("2, 5"). Labels are placed where
@@ -47,7 +53,7 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     ----------
     ds : xarray.Dataset
         Result of :func:`rocking.assessment.screen.screen` (``agx50`` [g], ``sv_required`` and
-        ``sv_available`` [m/s], ``location``, ``at_risk``; attributes
+        ``sv_available`` [m/s], ``location``, ``at_risk``, ``mode`` if given; attributes
         ``design_agx`` and ``agx_max`` [g]).
     title : str
         Figure title.
@@ -74,6 +80,15 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
         ax.plot(x[sel & ~beyond], sv[sel & ~beyond], "o", color=color, ms=5, label=label)
         ax.plot(x[sel & beyond], sv[sel & beyond], ">", color=color, ms=6)
         ax.axhline(available, color=color, ls=":", lw=1.0)
+    # items that slide or slide-rock at the design level (their most frequent response, with
+    # friction): ringed, so the figure shows what the overturning axes alone would hide
+    modes = ds["mode"].values.astype(str) if "mode" in ds else np.full(len(x), "")
+    ringed = np.isin(modes, list(_RINGS))
+    for mode, marker in _RINGS.items():
+        sel = modes == mode
+        if sel.any():
+            ax.plot(x[sel], sv[sel], marker, mfc="none", mec="k", mew=0.9, ms=2 * RING,
+                    label=f"{mode}s at design A_gx (most motions)")  # fmt: skip
     ax.axvline(design, color="k", ls="--", lw=1.0, label=f"design A_gx = {design:.3g} g")
     ax.set_xlim(left=0.0, right=float(np.max(x, initial=design)) * 1.08)
     ax.set_ylim(bottom=0.0, top=float(np.max(sv, initial=1.0)) * 1.12)
@@ -84,16 +99,19 @@ def plot_screen(ds: xr.Dataset, *, title: str = "") -> Figure:
     legend_beside(ax, "dotted: available S_v at the location\nnumbers: rows of the table")
     ax.set_title(title or f"Screening: {ds.attrs.get('spectrum', '')}", fontsize="medium")
     named = np.ones(len(x), bool) if len(x) <= MAX_NAMED else at_risk.astype(bool)
-    _label_points(fig, ax, x, sv, named)
+    _label_points(fig, ax, x, sv, named, np.where(ringed, RING, POINT))
     return fig
 
 
-def _label_points(fig: Figure, ax: Axes, x: np.ndarray, y: np.ndarray, named: np.ndarray) -> None:
+def _label_points(
+    fig: Figure, ax: Axes, x: np.ndarray, y: np.ndarray, named: np.ndarray, half: np.ndarray
+) -> None:
     """Number the points (x, y) of ``ax`` that are ``named`` (1 + their index), one label per
     group of points closer than :data:`SAME_POINT`, each at the first offset of
-    :data:`_OFFSETS` where it overlaps no other label or point and stays inside the axes (the
-    first offset if there is none). The figure's layout is solved first and then fixed, so the
-    labels stay where they were placed."""
+    :data:`_OFFSETS` (from the edge of a ring about the point) where it overlaps no other label
+    or point (a square of half-side ``half`` [points] about each) and stays inside the axes
+    (the first offset if there is none). The figure's layout is solved first and then fixed,
+    so the labels stay where they were placed."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     if not named.any():
@@ -112,14 +130,16 @@ def _label_points(fig: Figure, ax: Axes, x: np.ndarray, y: np.ndarray, named: np
                 break
         else:
             groups.append([int(i)])
-    marker = 3.5  # half the size of a point's marker [points]
-    points = [_box(p, marker, to_points) for p in xy]  # every point, named or not
+    points = [_box(p, h, to_points) for p, h in zip(xy, half)]  # every point, named or not
     labels: list[Bbox] = []
     frame = ax.get_window_extent(renderer)
     for group in groups:
         text = ", ".join(str(i + 1) for i in group)
         others = [b for i, b in enumerate(points) if i not in group] + labels
-        for dx, dy in _OFFSETS:
+        # the offsets from a ring's edge as from a point's
+        out = float(max(half[i] for i in group)) - POINT
+        offsets = [(dx + np.sign(dx) * out, dy + np.sign(dy) * out) for dx, dy in _OFFSETS]
+        for dx, dy in offsets:
             label = _annotate(ax, text, (x[group[0]], y[group[0]]), dx, dy)
             box = label.get_window_extent(renderer).expanded(1.0, 1.0).padded(GAP / to_points)
             inside = frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)
@@ -127,7 +147,7 @@ def _label_points(fig: Figure, ax: Axes, x: np.ndarray, y: np.ndarray, named: np
                 break
             label.remove()
         else:  # nowhere free: the first place
-            label = _annotate(ax, text, (x[group[0]], y[group[0]]), *_OFFSETS[0])
+            label = _annotate(ax, text, (x[group[0]], y[group[0]]), *offsets[0])
         labels.append(label.get_window_extent(renderer))
 
 
