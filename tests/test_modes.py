@@ -495,18 +495,19 @@ def test_slip_velocity_that_reaches_zero_inside_a_step_stops_there():
     # both ends of the step.  Newmark's block stops at t = 2.024·dt instead (q' = 0 with
     # a_g = 10.6 m/s² > μg: the slip reverses), stops again at 2.359·dt and slides to +x.
     # Before the kernel looked inside the step it missed both (slip 6.6e-6 m low at 3·dt,
-    # 1.4e-4 m low at the end).  Reference: the SciPy solver with its steps capped at dt/64 (by
-    # default it takes one step per interval here, since q' is a polynomial in t, and does not
-    # see the dip either), which locates the zeros of q' with an event function.  In slide q' is
-    # quadratic in t on each interval, which RK4 integrates exactly, so the two agree to
-    # rounding and the event location (1e-13·dt): tolerance 1e-12 m.
-    from rocking.dynamics.reference import Tolerances, simulate_reference
+    # 1.4e-4 m low at the end).  Reference: the SciPy solver at its default tolerances, which
+    # takes one step per interval here (q' is a polynomial in t) and finds the dip as a minimum
+    # of σ·q' inside the step (before it watched for that: no stop at all), then locates the
+    # zeros of q' with an event function.  In slide q' is quadratic in t on each interval,
+    # which RK4 integrates exactly, so the two agree to rounding and the event location
+    # (1e-13·dt): tolerance 1e-12 m.
+    from rocking.dynamics.reference import simulate_reference
 
     ag = np.zeros(20)
     ag[1:4] = (-10.0, 11.9, -40.0)
     block = Block(1.0, 1.0)
     fast = simulate(block, ag, DT, mu=0.2)
-    ref = simulate_reference(block, ag, DT, mu=0.2, tolerances=Tolerances(max_step=DT / 64))
+    ref = simulate_reference(block, ag, DT, mu=0.2)
     stops = [t / DT for t, what, _, _ in ref.events if what == "stick -> rest"]
     assert stops[:2] == pytest.approx([2.024, 2.359], abs=1e-3)
     np.testing.assert_array_equal(fast.mode, ref.mode)
@@ -518,17 +519,18 @@ def test_slip_velocity_of_slide_rock_that_reaches_zero_inside_a_step_stops_there
     # A block of B/H = 1/2.77 (tan α = 0.36 < μ = 0.42: it rocks, and slide-rocks where the
     # friction it needs exceeds the cone) under 0.72 g at 2.7 Hz plus 1.27 g at 83 Hz (4.8
     # samples a period at the package's dt), for 1 s: the corner's slip velocity reaches 0
-    # inside many steps.  Reference: the SciPy solver with its steps capped at dt/32, so that
-    # its event function on the slip velocity sees every zero (uncapped, it misses the same
-    # ones: slip 3.1e-5 m off).  Measured: the slip at the samples within 5e-10 m of it (RK4's
-    # error); before the kernel looked inside the step, 3.1e-5 m off.  Tolerance 1e-7 m.
-    from rocking.dynamics.reference import Tolerances, simulate_reference
+    # inside many steps.  Reference: the SciPy solver at its default tolerances, which watches
+    # for a minimum of σ·(slip velocity) inside each step (before it did, it missed the same
+    # zeros unless its steps were capped at dt/32).  Measured: the slip at the samples within
+    # 5e-10 m of it (RK4's error); before the kernel looked inside the step, 3.1e-5 m off.
+    # Tolerance 1e-7 m.
+    from rocking.dynamics.reference import simulate_reference
 
     t = np.arange(400) * DT
     ag = G * (0.72 * np.sin(2 * np.pi * 2.7 * t) + 1.27 * np.sin(2 * np.pi * 83.0 * t + 0.32))
     block = Block(1.0, 2.77)
     fast = simulate(block, ag, DT, mu=0.42)
-    ref = simulate_reference(block, ag, DT, mu=0.42, tolerances=Tolerances(max_step=DT / 32))
+    ref = simulate_reference(block, ag, DT, mu=0.42)
     assert any(what == "stick -> rock" for _, what, _, _ in ref.events)
     np.testing.assert_array_equal(fast.mode, ref.mode)
     np.testing.assert_allclose(fast.slip, ref.slip, rtol=0, atol=1e-7)

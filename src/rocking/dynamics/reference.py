@@ -23,7 +23,9 @@ g + a_v) with the mode's contact constraints (the contact corner's vertical acce
 its horizontal one too while it sticks; Coulomb F = −σ·μ_k·N while it slips) is solved as one
 small linear system for the accelerations and contact forces (``numpy.linalg.solve``).  After
 each step the state is put back on the constraints.  Transitions are terminal events located
-inside the interval: slip velocity 0 (stick, then the static cone decides), abs(F) − μ_s·N = 0
+inside the interval: slip velocity 0 (stick, then the static cone decides; also where it
+reaches 0 and turns back inside one step, found at the minimum of σ·slip velocity that
+:func:`_segment` watches), abs(F) − μ_s·N = 0
 (slip onset), N = 0 (lift-off), θ = 0 (impact), a corner's height 0 (landing), abs(θ) = the
 overturning angle; the end of rest is found exactly on the linearly interpolated ground motion
 (slip when abs(a_g) > μ_s·(g + a_v), tipping when abs(a_g) > (g + a_v)·tan α, flight when
@@ -243,7 +245,8 @@ def simulate_reference(
     vertical ground acceleration at the same samples, above −g (None: zero);
     ``tolerances`` those of the integrator (:class:`Tolerances`, default ``Tolerances()``).
     Events are found from the values at the ends of the integrator's steps, so a bounce much
-    shorter than a step can go unseen (a minimum of θ inside a step is looked for, but a chatter
+    shorter than a step can go unseen (a minimum of θ inside a step is looked for, as is one of
+    a corner's height in flight and of the slip velocity in slide and slide-rock, but a chatter
     of tiny bounces may still be missed); ``Tolerances(max_step=dt/2)`` guards against it at
     twice the cost.
     """
@@ -610,14 +613,25 @@ class _Modes:
                 return abs(f) - body.mu_s * n
 
             add("slip", slip, 1.0)
-        elif ph.mode == _SLIDE_ROCK:  # the corner's slip velocity x' + r_y·θ'
-            add(
-                "stick",
-                lambda t, z: z[3] + body.corner(c, z[2])[1] * z[5] if t > t_seg else sigma,
-                -sigma,
-            )
-        elif ph.mode == _SLIDE:
-            add("stick", lambda t, z: z[3] if t > t_seg else sigma, -sigma)
+        if ph.mode in (_SLIDE, _SLIDE_ROCK):
+
+            def slip_velocity(z):  # of the corner, x' + r_y·θ' (x' in slide: θ = θ' = 0)
+                return z[3] + body.corner(c, z[2])[1] * z[5]
+
+            def slows(t, z):  # minima of σ·(slip velocity): its rate σ·(x'' + r_y·θ'' − r_x·θ'²)
+                if t <= t_seg:
+                    return 1.0
+                acc = self.forces(ph, j, t, z)[0]
+                rx, ry = body.corner(c, z[2])
+                return sigma * (acc[0] + ry * acc[2] - rx * z[5] * z[5])
+
+            add("stick", lambda t, z: slip_velocity(z) if t > t_seg else sigma, -sigma)
+            # a slip velocity that reaches 0 and turns back inside one step (in slide DOP853
+            # takes whole sample intervals, the motion being polynomial in t there) leaves
+            # σ·(slip velocity) < 0 at its minimum: a stop was missed before it
+            slows.direction = 1.0  # type: ignore[attr-defined]
+            watches.append((slows, lambda z: sigma * slip_velocity(z) < 0.0))
+        if ph.mode == _SLIDE:
             add("lift-off", normal, -1.0)
         elif ph.mode == _FLIGHT:
             for corner in (1.0, -1.0):
