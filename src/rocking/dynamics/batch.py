@@ -146,6 +146,10 @@ def run_cases(
             table, acc, amax, dt, (body, motion, scale), (av, avmin), located, suffixes, None
         )
     need = modes_needed(amax, avmin, table.g, table.arrays(), table.contacts, body, motion, scale)
+    if suffixes is None:  # once for the motions of both lane calls below
+        used = np.zeros(acc.shape[0], dtype=np.bool_)
+        used[motion[~need]] = True
+        suffixes = _suffixes_of(acc, av, used)
     out = empty_outcome(body.size, alloc=np.empty)  # every case is written (re-run ones twice)
     # the blocks without friction in lanes without checks, those with in lanes with checks
     for checked in (False, True):
