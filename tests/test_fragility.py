@@ -83,6 +83,21 @@ def test_member_outcomes_are_each_bodys_own_simulations(ensemble):
         member_outcomes(blocks, ensemble, [0.3, np.nan])
 
 
+def test_member_outcomes_of_some_bodies_load_a_run_of_all(ensemble, tmp_path):
+    # bodies=: only the bodies named are simulated (e.g. those whose A_gx50 a search found),
+    # their outcomes the bits of a call with every body, and a chunk folder of a run of all
+    # the blocks serves (the fingerprint holds every block): nothing is simulated again
+    blocks = [Block(1.22, 4.0), Block(0.6, 3.0), Block(1.0, 2.0)]
+    agx = np.array([0.3, 0.7, 0.9])
+    full = member_outcomes(blocks, ensemble, agx, out=tmp_path)
+    some = member_outcomes(blocks, ensemble, agx[[2, 0]], bodies=[2, 0], out=tmp_path)
+    assert some.attrs["chunks_computed"] == 0 and some.attrs["chunks_loaded"] > 0
+    assert _science(some).identical(_science(full).isel(body=[2, 0]))
+    for bad in ([3], [0, 0], [-1]):
+        with pytest.raises(InputError, match=r"bodies must hold indices of the blocks \(0 to 2\)"):
+            member_outcomes(blocks, ensemble, agx[: len(bad)], bodies=bad)
+
+
 def test_member_outcomes_with_friction_are_simulates_slip_lift_and_uplift(ensemble):
     # with friction (issue 45) each motion's uplift, peak and residual slip and peak lift must
     # be those of rocking.simulate(mu=) for that motion at that A_gx, bit for bit (the batched

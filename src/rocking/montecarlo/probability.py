@@ -62,20 +62,30 @@ def _cases(ensemble) -> tuple[list[str] | None, list[Ensemble]]:
 
 
 def _dataset(
-    blocks, table: BlockTable, labels, data_vars: dict, coords: dict, attrs: dict
+    blocks,
+    table: BlockTable,
+    labels,
+    data_vars: dict,
+    coords: dict,
+    attrs: dict,
+    bodies: Sequence[int] | None = None,
 ) -> xr.Dataset:
-    """Labelled result; ``data_vars`` values have a leading case axis, dropped for one ensemble."""
+    """Labelled result; ``data_vars`` values have a leading case axis, dropped for one ensemble.
+    ``bodies``: the indices of the blocks (and rows of ``table``) the result holds (default
+    all)."""
     lead = () if labels is None else ("case",)
     dvars = {}
     for name, (dims, values, vattrs) in data_vars.items():
         values = values[0] if labels is None else values
         dvars[name] = (lead + dims, values, vattrs)
+    at = list(range(len(blocks))) if bodies is None else list(bodies)
+    blocks = [blocks[b] for b in at]
     all_coords = {
         "body": ("body", [b.label for b in blocks]),
         "R": ("body", [b.R for b in blocks], {"units": "m", "long_name": "size parameter R"}),
         "gamma": ("body", [b.gamma for b in blocks], {"units": "1", "long_name": "H/B"}),
-        "e": ("body", table.e, {"units": "1", "long_name": "coefficient of restitution"}),
-        "overturn_angle": ("body", table.theta_ov, {"units": "rad"}),
+        "e": ("body", table.e[at], {"units": "1", "long_name": "coefficient of restitution"}),
+        "overturn_angle": ("body", table.theta_ov[at], {"units": "rad"}),
         **coords,
     }
     if labels is not None:
@@ -188,6 +198,7 @@ def member_outcomes(
     *,
     physics: Physics | None = None,
     compute: Compute | None = None,
+    bodies: Sequence[int] | None = None,
     **shorthands: Any,
 ) -> xr.Dataset:
     """What each motion does to each body (overturns it, rocks it, slides it), every body at
@@ -205,7 +216,13 @@ def member_outcomes(
         The motions [m/s²]; a dict gives a leading ``case`` dimension (ensembles with the same
         number of motions).
     agx : array_like, shape (n_bodies,) or (n_bodies, n_levels)
-        Intensities A_gx [g], > 0, of each body: one per body, or a row per body.
+        Intensities A_gx [g], > 0, of each body: one per body, or a row per body (with
+        ``bodies``: per body of ``bodies``).
+    bodies : sequence of int, optional
+        The indices in ``blocks`` of the bodies to simulate (default: all), e.g. those whose
+        A_gx50 a search found; the result holds these only.  The others stay in the run's
+        fingerprint, so that a chunk folder ``out`` of a call with all of ``blocks`` (e.g. of
+        :func:`agx_50`) serves and its simulations are loaded, not made again.
     physics, compute, **shorthands :
         As for :func:`overturning_probability` (``e``, ``overturn_angle``, ``g``, ``impacts``,
         ``mu``, ``mu_k``: shorthands for physics's fields; ``backend``, ``out``, ``progress``,
@@ -224,7 +241,8 @@ def member_outcomes(
     labels, cases = _cases(ensemble)
     _same_size(cases, "member_outcomes")
     blocks = block_list(blocks)  # one Block is a list of one
-    nb = len(blocks)
+    at = _body_indices(bodies, len(blocks))
+    nb = len(at)
     values = np.asarray(agx, dtype=float)
     if values.ndim == 1:
         values = values[:, None]
@@ -237,7 +255,7 @@ def member_outcomes(
     engine, keys = _run_levels(
         blocks,
         cases,
-        levels,
+        dict(zip(at, levels)),
         "outcomes",
         values.size * 2,
         dict(physics=physics, compute=compute, **shorthands),
@@ -251,22 +269,47 @@ def member_outcomes(
         "member": _member_coord(labels, cases),
     }
     return _dataset(
-        blocks, engine.table, labels, _member_vars(engine, keys, "level"), coords, engine.stats
+        blocks,
+        engine.table,
+        labels,
+        _member_vars(engine, keys, "level"),
+        coords,
+        engine.stats,
+        bodies=at,
     )
 
 
+def _body_indices(bodies: Sequence[int] | None, nb: int) -> list[int]:
+    """The indices ``bodies`` of some of ``nb`` blocks (None: all), checked: each once, in
+    range."""
+    if bodies is None:
+        return list(range(nb))
+    at = list(bodies)
+    if not all(isinstance(b, (int, np.integer)) and 0 <= b < nb for b in at) or len(set(at)) < len(
+        at
+    ):
+        raise InputError(
+            f"bodies must hold indices of the blocks (0 to {nb - 1}), each once, got {at}"
+        )
+    return [int(b) for b in at]
+
+
 def _run_levels(
-    blocks, cases: list[Ensemble], levels: list[list[int]], desc: str, pairs: int, options: dict
+    blocks,
+    cases: list[Ensemble],
+    levels: list[list[int]] | dict[int, list[int]],
+    desc: str,
+    pairs: int,
+    options: dict,
 ) -> tuple[Engine, list]:
-    """Every motion of every case at the level keys ``levels[b]`` of each body b, on an engine
-    made with ``options`` (refused first if ``pairs`` (body, level) pairs per case would not fit
-    in memory); returns the engine and the keys, nested [case][body][level]."""
+    """Every motion of every case at the level keys ``levels[b]`` of each body b (a list: of
+    every body; a dict: of the bodies it holds, the others not simulated), on an engine made
+    with ``options`` (refused first if ``pairs`` (body, level) pairs per case would not fit in
+    memory); returns the engine and the keys, nested [case][body][level]."""
     engine = Engine(blocks, cases, desc=desc, **options)
     engine.require_memory(pairs, "agx")
-    keys = [
-        [[(c, b, k) for k in per_body] for b, per_body in enumerate(levels)]
-        for c in range(len(cases))
-    ]
+    per_body = dict(enumerate(levels)) if isinstance(levels, list) else levels
+    keys = [[[(c, b, k) for k in ks] for b, ks in per_body.items()] for c in range(len(cases))]
     with engine:
         engine.run([k for per_case in keys for per_body in per_case for k in per_body])
     return engine, keys

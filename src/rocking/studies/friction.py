@@ -33,8 +33,7 @@ from ..dynamics.batch import block_list
 from ..dynamics.body import Block
 from ..dynamics.physics import Physics
 from ..montecarlo.backends import Compute
-from ..montecarlo.engine import Engine, level_key
-from ..montecarlo.probability import agx_50
+from ..montecarlo.probability import agx_50, member_outcomes
 from ..montecarlo.search import Agx50Search
 from ..motions.ensemble import Ensemble
 from ..plots.studies import plot_friction
@@ -94,18 +93,17 @@ def mode_shares(
     agx = np.asarray(agx, dtype=float)
     share = np.full((len(blocks), len(MOTION_MODES)), np.nan)
     max_slip = np.full(len(blocks), np.nan)
-    keys = {b: (0, b, level_key(float(a))) for b, a in enumerate(agx) if math.isfinite(a)}
-    if keys:
-        engine = Engine(blocks, [ensemble], desc="modes", physics=physics, compute=compute)
-        with engine:
-            engine.run(list(keys.values()))
-        for b, key in keys.items():
-            out = engine.results[key]
-            ov = out.overturned
-            slid, up = (out.peak_slip > 0.0) & ~ov, out.uplift & ~ov
-            modes = (~slid & ~up & ~ov, slid & ~up, ~slid & up, slid & up, ov)
-            share[b] = [np.count_nonzero(m) / ensemble.n for m in modes]
-            max_slip[b] = float(out.peak_slip[~ov].max()) if not ov.all() else np.nan
+    found = np.flatnonzero(np.isfinite(agx))
+    if found.size:
+        out = member_outcomes(
+            blocks, ensemble, agx[found], physics=physics, compute=compute, bodies=found.tolist()
+        ).isel(level=0)
+        ov, slip = out["overturned"].values, out["peak_slip"].values  # (body, member)
+        slid, up = (slip > 0.0) & ~ov, out["uplift"].values & ~ov
+        modes = (~slid & ~up & ~ov, slid & ~up, ~slid & up, slid & up, ov)
+        share[found] = np.stack(modes, axis=1).mean(axis=-1)
+        standing = np.where(ov, -np.inf, slip).max(axis=-1)
+        max_slip[found] = np.where(ov.all(axis=-1), np.nan, standing)
     return xr.Dataset(
         {
             "share": (("body", "mode"), share, {"units": "1"}),
