@@ -9,6 +9,7 @@ import pytest
 import xarray as xr
 
 from rocking import Block, Physics, agx_50, generate, simulate
+from rocking.errors import InputError
 from rocking.montecarlo.search import Agx50Search
 from rocking.studies.friction import LEVELS, MOTION_MODES, friction_study, summary
 
@@ -67,6 +68,24 @@ def test_shares_count_the_modes_of_single_simulations(study, motions):
                     assert float(at["max_slip"][b]) == pytest.approx(
                         max(slips), rel=1e-9, abs=1e-12
                     )
+
+
+def test_kinetic_ratio_sets_mu_k_of_every_row(motions):
+    # kinetic_ratio = μ_k/μ: each finite row is agx_50 with Physics(mu=μ, mu_k=ratio·μ), the
+    # infinite row the paper's; the shares too come from simulations with that μ_k
+    ds = friction_study(BODIES, motions, [0.6], search=SEARCH, kinetic_ratio=0.5)
+    assert ds.attrs["kinetic_ratio"] == 0.5
+    direct = agx_50(BODIES, motions, search=SEARCH, physics=Physics(mu=0.6, mu_k=0.3))
+    np.testing.assert_array_equal(ds["agx50"].sel(mu=0.6).values, direct["agx50"].values)
+    paper = agx_50(BODIES, motions, search=SEARCH)["agx50"].values
+    np.testing.assert_array_equal(ds["agx50"].sel(mu=math.inf).values, paper)
+    at = ds.sel(mu=0.6, level=LEVELS[1]).isel(body=0)  # the stocky body at the paper's A_gx50
+    acc = motions.scaled(float(paper[0])).acc
+    runs = [simulate(BODIES[0], a, motions.dt, mu=0.6, mu_k=0.3) for a in acc]
+    fell = np.mean([r.overturned for r in runs])
+    assert float(at["share"].sel(mode="overturned")) == fell
+    with pytest.raises(InputError, match=r"kinetic_ratio must lie in \(0, 1\]"):
+        friction_study(BODIES, motions, [0.6], search=SEARCH, kinetic_ratio=1.2)
 
 
 def test_large_friction_gives_the_papers_results_bit_for_bit(motions):

@@ -54,9 +54,9 @@ of a CSV file read by :func:`rocking.assessment.bodies.read_bodies`; frames are 
     A_gx50); ``variant_bodies`` (bodies of the strength part); ``floor_frame``,
     ``floor_periods`` [s], ``floor_dampings`` [-], ``floor_agx`` [g] (the frame scan).
 ``[friction]`` beyond the paper: Section 8's A_gx50 and Table 3 with friction (issue 45,
-    :mod:`.friction`): ``seed``; ``n``; ``bodies``; ``mu`` [-] (friction coefficients, static =
-    kinetic; infinite friction is always added); ``resolution`` [g] and ``agx_max`` [g] of the
-    A_gx50 searches; ``band_hz`` [Hz].
+    :mod:`.friction`): ``seed``; ``n``; ``bodies``; ``mu`` [-] (static friction coefficients;
+    infinite friction is always added); ``kinetic_ratio`` [-] (μ_k/μ, in (0, 1]; 1: kinetic =
+    static); ``resolution`` [g] and ``agx_max`` [g] of the A_gx50 searches; ``band_hz`` [Hz].
 """
 
 from __future__ import annotations
@@ -192,6 +192,7 @@ PAPER: dict = {
         "n": 200,
         "bodies": "paper",
         "mu": [0.3, 0.4, 0.5, 0.6, 0.7, 0.8],
+        "kinetic_ratio": 1.0,
         "resolution": 0.01,
         "agx_max": 5.0,
         "band_hz": list(BAND_HZ),
@@ -527,6 +528,7 @@ def validate(cfg: dict) -> None:
     mus = cfg["friction"]["mu"]
     if len(set(mus)) < len(mus):
         raise InputError(f"friction.mu: give each friction coefficient once, got {mus}")
+    in_range("friction.kinetic_ratio", cfg["friction"]["kinetic_ratio"], 0.0, 1.0, lo_open=True)
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
 

@@ -2,7 +2,8 @@
 
 The paper models rocking alone, assuming "sufficient friction so that no slippage occurs".
 This study repeats Section 8's A_gx50 search and Table 3 (S_v1/S_v) with Coulomb friction of
-μ = 0.3 … 0.8 (kinetic equal to static) and with infinite friction (the paper's model), for the
+μ = 0.3 … 0.8 (kinetic equal to static by default, or a given fraction of it) and with
+infinite friction (the paper's model), for the
 same kind of bodies on the ground under ``n`` compound motions, and counts at each body's A_gx50
 how the motions moved it: the share of the motions in which it slides (slip > 0, never rocking),
 slide-rocks (slip > 0 and rocking) or rocks without slip.  The same shares at the paper's
@@ -28,6 +29,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..assessment.energy import energy_balance
+from ..core.checks import in_range
 from ..defaults import BAND_HZ
 from ..dynamics.batch import block_list
 from ..dynamics.body import Block
@@ -123,6 +125,7 @@ def friction_study(
     compute: Compute | None = None,
     band_hz: Sequence[float] = BAND_HZ,
     stores: Sequence[str | os.PathLike[str] | None] | None = None,
+    kinetic_ratio: float = 1.0,
 ) -> xr.Dataset:
     """A_gx50, Table 3 and the modes of the motions for each friction coefficient.
 
@@ -131,8 +134,8 @@ def friction_study(
     blocks, ensemble :
         The bodies and the ground motions [m/s²], as for :func:`mode_shares`.
     mus : sequence of float
-        Friction coefficients μ [-] (static = kinetic); infinite friction (``physics.mu`` None,
-        the paper's) is added as μ = inf.
+        Static friction coefficients μ [-]; infinite friction (``physics.mu`` None, the
+        paper's) is added as μ = inf.
     search : Agx50Search, optional
         The A_gx50 search (:func:`rocking.agx_50`).
     physics : Physics, optional
@@ -144,6 +147,9 @@ def friction_study(
     stores : sequence of str, Path or None, optional
         One chunk folder per friction coefficient, infinite friction last (replacing
         ``compute.out``: each row's simulations differ, and a folder holds one run's).
+    kinetic_ratio : float, optional
+        μ_k/μ [-], in (0, 1]: the kinetic coefficient of every row is this fraction of its μ
+        (default 1: kinetic equal to static).
 
     Returns
     -------
@@ -152,15 +158,23 @@ def friction_study(
         ``agx_max``), ``change`` = A_gx50(μ)/A_gx50(∞) − 1 [-], ``ratio`` = S_v1/S_v [-]
         (Table 3), and at each of :data:`LEVELS` the ``share`` of each mode and ``max_slip`` [m]
         of :func:`mode_shares`.  Coordinate ``mu`` [-] (inf last), body
-        coordinates ``R`` [m], ``gamma`` [-], ``b_over_h`` (B/H = tan α [-]).
+        coordinates ``R`` [m], ``gamma`` [-], ``b_over_h`` (B/H = tan α [-]).  Attribute
+        ``kinetic_ratio`` [-].
     """
     blocks = block_list(blocks)
+    ratio_k = in_range("kinetic_ratio", kinetic_ratio, 0.0, 1.0, lo_open=True, unit="-")
     base = physics or Physics()
     compute = compute or Compute()
     rows = [*(float(m) for m in mus), math.inf]
     where = list(stores) if stores is not None else [compute.out] * len(rows)
     physics_of = [
-        dataclasses.replace(base, mu=None if math.isinf(m) else m, mu_k=None) for m in rows
+        dataclasses.replace(
+            base,
+            mu=None if math.isinf(m) else m,
+            # ratio 1: mu_k None (= mu), the physics (and chunk folders) of μ_k = μ_s runs
+            mu_k=None if math.isinf(m) or ratio_k == 1.0 else ratio_k * m,
+        )
+        for m in rows
     ]
     computes = [dataclasses.replace(compute, out=out) for out in where]
     a50 = [
@@ -182,6 +196,7 @@ def friction_study(
         change=(("mu", "body"), a50_arr / paper - 1.0, {"units": "1"}),
         ratio=(("mu", "body"), np.array(ratio), {"units": "1"}),
     )
+    ds.attrs["kinetic_ratio"] = ratio_k
     return ds.assign_coords(
         R=("body", [b.R for b in blocks]),
         gamma=("body", [b.gamma for b in blocks]),
@@ -206,6 +221,7 @@ def run(ctx: RunContext) -> FrictionResult:
         compute=Compute(backend=ctx.backend, progress=ctx.progress),
         band_hz=p["band_hz"],
         stores=[ctx.store("friction", f"agx50-{name}") for name in names],
+        kinetic_ratio=p["kinetic_ratio"],
     )
     data.attrs.update(agx_max=p["agx_max"], resolution=p["resolution"], n=ground.n)
     return FrictionResult(data, ctx.label(n=ground.n, bodies=len(blocks)))
@@ -218,7 +234,7 @@ def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
     rep.text(summary(ds))
     rep.text(
         "The paper's bodies and motions (Section 8 on the ground), with Coulomb friction of "
-        "coefficient μ (static = kinetic) between body and ground. A motion *slides* a body "
+        f"coefficient μ ({_kinetic(ds)}) between body and ground. A motion *slides* a body "
         "when it slips (slip > 0) without rocking, *slide-rocks* it when it slips and rocks, "
         "*rocks* it when it rocks without slipping. Overturned motions are counted apart: as a "
         "body falls, the normal force at its corner vanishes and it slips at any μ."
@@ -259,6 +275,12 @@ def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
         floatfmt=".3f",
         collapsed=True,
     )
+
+
+def _kinetic(ds: xr.Dataset) -> str:
+    """The kinetic coefficient of ``ds`` in words: "static = kinetic" or "kinetic 0.8 μ"."""
+    ratio = float(ds.attrs.get("kinetic_ratio", 1.0))
+    return "static = kinetic" if ratio == 1.0 else f"static μ, kinetic {ratio:g} μ"
 
 
 def _by_slenderness(by_body: pd.DataFrame) -> pd.DataFrame:
