@@ -48,13 +48,11 @@ from ..core import portable
 from ..core.checks import positive, record, unexpected
 from ..core.reuse import reusing
 from ..defaults import DT
-from ..dynamics.batch import Outcome
 from ..dynamics.body import Block
 from ..dynamics.limits import LimitState, limit_state_coords, parse_limit_states
 from ..dynamics.physics import Physics
 from ..errors import InputError
 from ..montecarlo.backends import Compute
-from ..montecarlo.engine import Engine, level_key
 from ..montecarlo.fragility import fragility_analysis
 from ..montecarlo.probability import agx_50, overturning_probability
 from ..montecarlo.search import Agx50Search
@@ -516,20 +514,20 @@ def _monte_carlo_variables(
     motions, ratio = location.motions, location.ratio
     options: dict[str, Any] = dict(physics=settings.physics, e=e, compute=settings.compute)
 
-    def at_design(limit_states) -> xr.Dataset:
+    def at_design(limit_states, members: bool = False) -> xr.Dataset:
         return overturning_probability(
             blocks,
             motions,
             [motions.agx],
             confidence=settings.confidence,
             limit_states=limit_states,
+            members=members,
             **options,
         ).isel(agx=0)
 
-    with reusing():  # the limit states and the responses read the outcomes of the overturning run
-        mc = at_design(None)
+    with reusing():  # the limit states read the outcomes of the overturning run
+        mc = at_design(None, members=True)  # with every motion's outcome: the responses
         states = None if settings.limit_states is None else at_design(settings.limit_states)
-        outcomes = _outcomes(blocks, motions, options)
         a50 = (
             agx_50(
                 blocks,
@@ -556,19 +554,8 @@ def _monte_carlo_variables(
         "overturned": (mc["count"].values, "", "motions that overturn the item"),
         "n_motions": (mc["n"].values, "", "motions"),
         "agx50": (a50, "g", "ground A_gx at 50 % overturning probability"),
-        **_response_variables(outcomes, settings),
+        **_response_variables(mc, settings),
     }
-
-
-def _outcomes(blocks: list[Block], motions: Ensemble, options: dict[str, Any]) -> list[Outcome]:
-    """The outcome of every motion of ``motions`` (as they are: at the design level) for each
-    block, simulated with ``options`` (physics, e, compute); inside :func:`reusing`, those of the
-    overturning run that simulated them already."""
-    engine = Engine(blocks, [motions], desc="response modes", **options)
-    key = level_key(motions.agx)
-    with engine:
-        engine.run([(0, b, key) for b in range(len(blocks))])
-    return [engine.results[(0, b, key)] for b in range(len(blocks))]
 
 
 def responses(overturned: ArrayLike, uplift: ArrayLike, peak_slip: ArrayLike) -> np.ndarray:
@@ -583,41 +570,40 @@ def responses(overturned: ArrayLike, uplift: ArrayLike, peak_slip: ArrayLike) ->
     return np.where(np.asarray(overturned, dtype=bool), len(RESPONSES) - 1, index)
 
 
-def _standing(statistic: Callable[[np.ndarray], Any], outcome: Outcome) -> float:
+def _standing(statistic: Callable[[np.ndarray], Any], overturned, peak_slip) -> float:
     """``statistic`` of the peak slip [m] over the motions that do not overturn the block (the
     slip of one that does is that up to its fall); NaN if every motion overturns it."""
-    slip = outcome.peak_slip[~outcome.overturned]
+    slip = peak_slip[~overturned]
     return float(statistic(slip)) if slip.size else math.nan
 
 
-def _response_variables(outcomes: list[Outcome], settings: _MonteCarlo) -> _Variables:
-    """The response of each item at the design level, from the outcomes of its motions: the
-    share of each of :data:`RESPONSES`, the most frequent (the most severe of a tie), the share
-    of flights, the median and largest peak slip, and with ``settings.max_slip`` the
-    probability of the verdict (:data:`SLIP_RULE`)."""
-    share = np.array(
-        [
-            np.bincount(responses(o.overturned, o.uplift, o.peak_slip), minlength=len(RESPONSES))
-            / o.overturned.size
-            for o in outcomes
-        ]
-    )
+def _response_variables(members: xr.Dataset, settings: _MonteCarlo) -> _Variables:
+    """The response of each item at the design level, from the outcomes of its motions
+    (``members``: ``overturned``, ``uplift``, ``peak_slip``, ``peak_lift`` on (body, member),
+    of :func:`rocking.overturning_probability` with ``members=True``): the share of each of
+    :data:`RESPONSES`, the most frequent (the most severe of a tie), the share of flights, the
+    median and largest peak slip, and with ``settings.max_slip`` the probability of the
+    verdict (:data:`SLIP_RULE`)."""
+    ov, slip = members["overturned"].values, members["peak_slip"].values
+    kinds = responses(ov, members["uplift"].values, slip)
+    n = np.full(len(kinds), kinds.shape[1])
+    share = np.array([np.bincount(row, minlength=len(RESPONSES)) for row in kinds]) / n[:, None]
     mode = [RESPONSES[len(RESPONSES) - 1 - int(np.argmax(row[::-1]))] for row in share]
     variables: _Variables = {
         "response_share": (share, "1", "share of the motions of each response at design A_gx"),
         "mode": (mode, "", "most frequent response at design A_gx"),
         "flight_share": (
-            np.array([np.mean(o.peak_lift > 0.0) for o in outcomes]),
+            np.mean(members["peak_lift"].values > 0.0, axis=1),
             "1",
             "share of the motions in which the base leaves the ground",
         ),
         "slip_median": (
-            np.array([_standing(np.median, o) for o in outcomes]),
+            np.array([_standing(np.median, o, s) for o, s in zip(ov, slip)]),
             "m",
             "median peak slip over the motions that leave the item standing",
         ),
         "slip_max": (
-            np.array([_standing(np.max, o) for o in outcomes]),
+            np.array([_standing(np.max, o, s) for o, s in zip(ov, slip)]),
             "m",
             "largest peak slip over the motions that leave the item standing",
         ),
@@ -625,9 +611,8 @@ def _response_variables(outcomes: list[Outcome], settings: _MonteCarlo) -> _Vari
     if settings.max_slip is None:
         return variables
     limit = settings.max_slip
-    n = np.array([o.overturned.size for o in outcomes])
-    slid = np.array([np.count_nonzero(o.peak_slip >= limit) for o in outcomes])
-    failed = np.array([np.count_nonzero(o.overturned | (o.peak_slip >= limit)) for o in outcomes])
+    slid = np.count_nonzero(slip >= limit, axis=1)
+    failed = np.count_nonzero(ov | (slip >= limit), axis=1)
     low, high = wilson_interval(failed, n, settings.confidence)
     variables.update(
         slip_probability=(slid / n, "1", f"P(peak slip >= {limit:g} m) at design A_gx"),
