@@ -9,9 +9,10 @@ import pytest
 import xarray as xr
 
 from rocking import Block, Physics, agx_50, generate, simulate
+from rocking.assessment.screen import RESPONSES
 from rocking.errors import InputError
 from rocking.montecarlo.search import Agx50Search
-from rocking.studies.friction import LEVELS, MOTION_MODES, friction_study, summary
+from rocking.studies.friction import LEVELS, friction_study, summary
 
 #: A small configuration: a stocky (B/H = 1/2) and a slender body (B/H = 1/6), six short
 #: compound motions, a coarse A_gx grid.
@@ -61,7 +62,7 @@ def test_shares_count_the_modes_of_single_simulations(study, motions):
                 slid = np.array([r.max_abs_slip > 0.0 for r in runs]) & ~ov
                 up = np.array([r.uplift for r in runs]) & ~ov
                 expected = [~slid & ~up & ~ov, slid & ~up, ~slid & up, slid & up, ov]
-                got = at["share"].isel(body=b).sel(mode=list(MOTION_MODES)).values
+                got = at["share"].isel(body=b).sel(mode=list(RESPONSES)).values
                 np.testing.assert_array_equal(got, [m.mean() for m in expected])
                 slips = [r.max_abs_slip for r, o in zip(runs, ov) if not o]
                 if slips:  # the batched kernel's peak slip is simulate's (same model)
@@ -83,7 +84,7 @@ def test_kinetic_ratio_sets_mu_k_of_every_row(motions):
     acc = motions.scaled(float(paper[0])).acc
     runs = [simulate(BODIES[0], a, motions.dt, mu=0.6, mu_k=0.3) for a in acc]
     fell = np.mean([r.overturned for r in runs])
-    assert float(at["share"].sel(mode="overturned")) == fell
+    assert float(at["share"].sel(mode="overturn")) == fell
     with pytest.raises(InputError, match=r"kinetic_ratio must lie in \(0, 1\]"):
         friction_study(BODIES, motions, [0.6], search=SEARCH, kinetic_ratio=1.2)
 
@@ -107,7 +108,7 @@ def test_friction_below_every_b_over_h_makes_every_moving_case_slide(motions):
     at_paper = ds.sel(mu=0.2, level=LEVELS[1])
     assert np.isnan(ds["agx50"].sel(mu=0.2)).all()  # never overturns: 50 % not reached
     assert (at_paper["share"].sel(mode=["rock", "slide-rock"]) == 0).all()
-    assert (at_paper["share"].sel(mode="overturned") == 0).all()
+    assert (at_paper["share"].sel(mode="overturn") == 0).all()
     assert (at_paper["share"].sel(mode="slide") > 0).all()  # the paper's A_gx50 moves them
     assert (at_paper["max_slip"] > 0).all()
 
@@ -116,7 +117,7 @@ def _synthetic(agx50_mu, agx50_inf, shares, max_slip=0.12, b_over_h=(0.5, 0.2)) 
     """A friction_study result for one μ (0.4) and two bodies, from given numbers."""
     mus = [0.4, math.inf]
     agx50 = np.array([agx50_mu, agx50_inf])
-    share = np.zeros((2, 2, 2, len(MOTION_MODES)))
+    share = np.zeros((2, 2, 2, len(RESPONSES)))
     share[0, :, 0, :] = shares
     share[0, :, 1, :] = [0.0, 0.6, 0.0, 0.3, 0.1]  # at the paper's A_gx50
     share[1, :, :, 2] = 1.0
@@ -132,7 +133,7 @@ def _synthetic(agx50_mu, agx50_inf, shares, max_slip=0.12, b_over_h=(0.5, 0.2)) 
             "mu": mus,
             "body": ["stocky", "slender"],
             "level": list(LEVELS),
-            "mode": list(MOTION_MODES),
+            "mode": list(RESPONSES),
             "b_over_h": ("body", list(b_over_h)),
         },
         attrs={"agx_max": 3.0},

@@ -18,9 +18,11 @@ from rocking.assessment.screen import (
     N_BAND_FREQS,
     RESPONSES,
     eq11_vs_monte_carlo,
+    response_shares,
     responses,
     results_table,
     screen,
+    standing_slip,
     verdicts,
 )
 from rocking.cli import main
@@ -207,6 +209,13 @@ def test_responses_classify_each_motion_by_what_the_kernel_recorded():
         "overturn",
         "overturn",
     ]
+    # over the motions (last axis) of each body: the shares of the five, and the slip of the
+    # motions left standing (the 0.3 m of the overturned one is its slip up to its fall)
+    two = dict(overturned=[[False, True], [True, True]], uplift=[[False, True], [True, True]])
+    shares = response_shares(**two, peak_slip=[[0.01, 0.3], [0.2, 0.4]])
+    np.testing.assert_array_equal(shares, [[0, 0.5, 0, 0, 0.5], [0, 0, 0, 0, 1]])
+    slips = standing_slip(two["overturned"], [[0.01, 0.3], [0.2, 0.4]])
+    np.testing.assert_array_equal(slips, [0.01, np.nan])
 
 
 def test_max_slip_puts_sliding_into_the_verdict(result, motions, tmp_path):

@@ -570,11 +570,27 @@ def responses(overturned: ArrayLike, uplift: ArrayLike, peak_slip: ArrayLike) ->
     return np.where(np.asarray(overturned, dtype=bool), len(RESPONSES) - 1, index)
 
 
-def _standing(statistic: Callable[[np.ndarray], Any], overturned, peak_slip) -> float:
-    """``statistic`` of the peak slip [m] over the motions that do not overturn the block (the
-    slip of one that does is that up to its fall); NaN if every motion overturns it."""
-    slip = peak_slip[~overturned]
-    return float(statistic(slip)) if slip.size else math.nan
+def response_shares(overturned: ArrayLike, uplift: ArrayLike, peak_slip: ArrayLike) -> np.ndarray:
+    """The share [-] of the motions (the last axis of the outcomes, as for :func:`responses`)
+    of each of :data:`RESPONSES` (the last axis of the result)."""
+    kinds = responses(overturned, uplift, peak_slip)
+    counts = np.count_nonzero(kinds[..., None] == np.arange(len(RESPONSES)), axis=-2)
+    return counts / kinds.shape[-1]
+
+
+def standing_slip(
+    overturned: ArrayLike,
+    peak_slip: ArrayLike,
+    statistic: Callable[[np.ndarray], Any] = np.max,
+) -> np.ndarray:
+    """``statistic`` (default the largest) of the peak slip [m] over the motions (the last axis)
+    that do not overturn the block (the slip of one that does is that up to its fall), per
+    leading index; NaN where every motion overturns it."""
+    ov = np.asarray(overturned, dtype=bool)
+    slip = np.asarray(peak_slip, dtype=float)
+    rows = zip(ov.reshape(-1, ov.shape[-1]), slip.reshape(-1, ov.shape[-1]))
+    values = [float(statistic(s[~o])) if not o.all() else math.nan for o, s in rows]
+    return np.array(values).reshape(ov.shape[:-1])
 
 
 def _response_variables(members: xr.Dataset, settings: _MonteCarlo) -> _Variables:
@@ -585,9 +601,7 @@ def _response_variables(members: xr.Dataset, settings: _MonteCarlo) -> _Variable
     median and largest peak slip, and with ``settings.max_slip`` the probability of the
     verdict (:data:`SLIP_RULE`)."""
     ov, slip = members["overturned"].values, members["peak_slip"].values
-    kinds = responses(ov, members["uplift"].values, slip)
-    n = np.full(len(kinds), kinds.shape[1])
-    share = np.array([np.bincount(row, minlength=len(RESPONSES)) for row in kinds]) / n[:, None]
+    share = response_shares(ov, members["uplift"].values, slip)
     mode = [RESPONSES[len(RESPONSES) - 1 - int(np.argmax(row[::-1]))] for row in share]
     variables: _Variables = {
         "response_share": (share, "1", "share of the motions of each response at design A_gx"),
@@ -598,12 +612,12 @@ def _response_variables(members: xr.Dataset, settings: _MonteCarlo) -> _Variable
             "share of the motions in which the base leaves the ground",
         ),
         "slip_median": (
-            np.array([_standing(np.median, o, s) for o, s in zip(ov, slip)]),
+            standing_slip(ov, slip, np.median),
             "m",
             "median peak slip over the motions that leave the item standing",
         ),
         "slip_max": (
-            np.array([_standing(np.max, o, s) for o, s in zip(ov, slip)]),
+            standing_slip(ov, slip),
             "m",
             "largest peak slip over the motions that leave the item standing",
         ),
@@ -611,6 +625,7 @@ def _response_variables(members: xr.Dataset, settings: _MonteCarlo) -> _Variable
     if settings.max_slip is None:
         return variables
     limit = settings.max_slip
+    n = np.full(len(ov), ov.shape[1])
     slid = np.count_nonzero(slip >= limit, axis=1)
     failed = np.count_nonzero(ov | (slip >= limit), axis=1)
     low, high = wilson_interval(failed, n, settings.confidence)
@@ -851,8 +866,10 @@ __all__ = [
     "VERDICT_RULE",
     "eq11_vs_monte_carlo",
     "eq11_vs_monte_carlo_note",
+    "response_shares",
     "responses",
     "results_table",
     "screen",
+    "standing_slip",
     "verdicts",
 ]

@@ -29,6 +29,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from ..assessment.energy import energy_balance
+from ..assessment.screen import RESPONSES, response_shares, standing_slip
 from ..core.checks import in_range
 from ..defaults import BAND_HZ
 from ..dynamics.batch import block_list
@@ -43,11 +44,6 @@ from ..report import Report
 from .config import RunContext, resolve_bodies
 
 TITLE = "Beyond the paper: friction (A_gx50 and Table 3 for μ = 0.3-0.8, issue 45)"
-#: What a whole motion did to the body: overturned it, or else slid it (slip > 0) and rocked it
-#: (uplift) or not.  An overturning body is counted apart: as it falls, the normal force at its
-#: corner vanishes and any friction coefficient is exceeded, so it slips (even with μ = 1000),
-#: whatever it did before.
-MOTION_MODES = ("rest", "slide", "rock", "slide-rock", "overturned")
 #: Where the shares are counted: at the body's A_gx50 with the friction of the row, and at its
 #: A_gx50 with infinite friction (the paper's).
 LEVELS = ("A_gx50(μ)", "A_gx50(∞)")
@@ -86,14 +82,17 @@ def mode_shares(
     -------
     xarray.Dataset
         Dimensions (body, mode) with ``share`` [-], the fraction of the motions whose whole
-        response was each of :data:`MOTION_MODES` ("overturned"; of the others, "slide": slip
-        > 0 without uplift, "slide-rock": slip > 0 with uplift, "rock": uplift without slip,
-        "rest": neither); per body ``max_slip`` [m], the largest peak slip of a motion that
-        did not overturn the body (NaN if every motion did).
+        response was each of :data:`~rocking.assessment.screen.RESPONSES`
+        (:func:`~rocking.assessment.screen.responses`: "overturn"; of the others, "slide":
+        slip > 0 without uplift, "slide-rock": slip > 0 with uplift, "rock": uplift without
+        slip, "rest": neither).  An overturning body is counted apart: as it falls, the normal
+        force at its corner vanishes and any friction coefficient is exceeded, so it slips
+        (even with μ = 1000), whatever it did before.  Per body ``max_slip`` [m], the largest
+        peak slip of a motion that did not overturn the body (NaN if every motion did).
     """
     blocks = block_list(blocks)
     agx = np.asarray(agx, dtype=float)
-    share = np.full((len(blocks), len(MOTION_MODES)), np.nan)
+    share = np.full((len(blocks), len(RESPONSES)), np.nan)
     max_slip = np.full(len(blocks), np.nan)
     found = np.flatnonzero(np.isfinite(agx))
     if found.size:
@@ -101,17 +100,14 @@ def mode_shares(
             blocks, ensemble, agx[found], physics=physics, compute=compute, bodies=found.tolist()
         ).isel(level=0)
         ov, slip = out["overturned"].values, out["peak_slip"].values  # (body, member)
-        slid, up = (slip > 0.0) & ~ov, out["uplift"].values & ~ov
-        modes = (~slid & ~up & ~ov, slid & ~up, ~slid & up, slid & up, ov)
-        share[found] = np.stack(modes, axis=1).mean(axis=-1)
-        standing = np.where(ov, -np.inf, slip).max(axis=-1)
-        max_slip[found] = np.where(ov.all(axis=-1), np.nan, standing)
+        share[found] = response_shares(ov, out["uplift"].values, slip)
+        max_slip[found] = standing_slip(ov, slip)
     return xr.Dataset(
         {
             "share": (("body", "mode"), share, {"units": "1"}),
             "max_slip": ("body", max_slip, {"units": "m"}),
         },
-        coords={"body": [b.label for b in blocks], "mode": list(MOTION_MODES)},
+        coords={"body": [b.label for b in blocks], "mode": list(RESPONSES)},
     )
 
 
@@ -318,10 +314,10 @@ def _table(ds: xr.Dataset, level: str) -> pd.DataFrame:
                     "A_gx50 [g]": float(one["agx50"]),
                     "change [-]": float(one["change"]),
                     "S_v1/S_v [-]": float(one["ratio"]),
-                    "P(overturn) [-]": float(one["share"].sel(mode="overturned")),
+                    "P(overturn) [-]": float(one["share"].sel(mode="overturn")),
                     **{
                         f"share {mode} [-]": float(one["share"].sel(mode=mode))
-                        for mode in MOTION_MODES[1:4]
+                        for mode in RESPONSES[1:4]
                     },
                     "max slip, not overturned [m]": float(one["max_slip"]),
                 }
@@ -382,7 +378,7 @@ def summary(ds: xr.Dataset) -> str:
         i, j = (int(k[0]) for k in np.nonzero(lost.values))
         there = paper_level.isel(mu=i, body=j)
         slid = float(there["share"].sel(mode=["slide", "slide-rock"]).sum())
-        fell = float(there["share"].sel(mode="overturned"))
+        fell = float(there["share"].sel(mode="overturn"))
         n_lost, lost_below = int(lost.sum()), int((lost.values & below).sum())
         parts.append(
             f"In {n_lost} pair{'s' if n_lost > 1 else ''} the body no longer overturns with 50 % "
@@ -402,7 +398,7 @@ def summary(ds: xr.Dataset) -> str:
             f"({ds['body'].values[most[1]]} at μ = {mus[most[0]]:g}), with slips up to "
             f"{float(own['max_slip'].max()):.3g} m, a displacement the paper's model cannot show."
         )
-    at_paper = paper_level["share"].sel(mode="overturned").values
+    at_paper = paper_level["share"].sel(mode="overturn").values
     if np.isfinite(at_paper).any():
         parts.append(
             "At the paper's A_gx50 (where P = 50 % with infinite friction) the overturning "
