@@ -30,6 +30,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
+from typing import Protocol
 
 from ..core.files import csv_rows
 from ..dynamics.body import Block
@@ -75,13 +76,23 @@ class NamedBody:
     mu_k: float | None = None
 
 
-def with_body_friction(physics: Physics, bodies: Sequence[NamedBody]) -> Physics:
-    """``physics`` with the friction of each body that gives one (its ``mu``, ``mu_k``) in place
-    of ``physics``' own (the command's --mu, --mu-k), one value per body; ``physics`` itself when
-    no body gives one."""
+class _Friction(Protocol):
+    """A body with friction coefficients of its own (:class:`NamedBody`, an inventory's
+    :class:`~rocking.assessment.inventory.Item`)."""
+
+    @property
+    def mu(self) -> float | None: ...
+    @property
+    def mu_k(self) -> float | None: ...
+
+
+def with_body_friction(physics: Physics, bodies: Sequence[_Friction]) -> Physics:
+    """``physics`` with the friction of each body that gives one (its ``mu``, ``mu_k`` [-]) in
+    place of ``physics``' own (one value each: the command's --mu, --mu-k), one value per body;
+    ``physics`` itself when no body gives one."""
     if all(b.mu is None and b.mu_k is None for b in bodies):
         return physics
-    mu = [physics.friction()[0] if b.mu is None else b.mu for b in bodies]
+    mu = [physics.mu if b.mu is None else b.mu for b in bodies]
     mu_k = [(physics.mu_k if b.mu is None else None) if b.mu_k is None else b.mu_k for b in bodies]
     return dataclasses.replace(physics, mu=tuple(mu), mu_k=tuple(mu_k))
 

@@ -64,6 +64,7 @@ from ..motions.response import ResponseSpectrum, check_nyquist, response_spectru
 from ..motions.synthesis import generate
 from ..motions.targets import TargetSpectrum
 from ..structures.frames import ShearFrame
+from .bodies import with_body_friction
 from .energy import BAND_HZ, SAFE, assess, available_sv, band_frequencies
 from .inventory import Inventory, Item, read_inventory
 from .risk import HazardCurve, annual_rate
@@ -352,19 +353,6 @@ def _default_friction(physics: Physics | None) -> Physics | None:
     return physics
 
 
-def _item_physics(items: list[Item], physics: Physics | None) -> Physics | None:
-    """``physics`` with the friction of every item (:func:`screen`): its own μ and μ_k, else
-    physics's; unchanged when no item has its own."""
-    if all(it.mu is None for it in items):
-        return physics
-    base = Physics() if physics is None else physics
-    return dataclasses.replace(
-        base,
-        mu=tuple(base.mu if it.mu is None else it.mu for it in items),
-        mu_k=tuple(base.mu_k if it.mu is None else it.mu_k for it in items),
-    )
-
-
 def _hazard_curve(hazard: HazardCurve | str | os.PathLike[str], floor_motions: str) -> HazardCurve:
     """The hazard curve of ``screen(hazard=...)``, checked."""
     if floor_motions != "building":
@@ -437,10 +425,9 @@ def _screen_location(
     """The screening dataset (dimension ``item``) of the items at one location."""
     blocks = [it.block for it in location.items]
     e = _restitution(location.items)
-    settings = dataclasses.replace(
-        settings, physics=_item_physics(location.items, settings.physics)
-    )
-    variables = _item_variables(location.items, settings.physics)
+    physics = with_body_friction(settings.physics or Physics(), location.items)
+    settings = dataclasses.replace(settings, physics=physics)
+    variables = _item_variables(location.items, physics)
     variables.update(_eq11_variables(location, band_hz))
     variables.update(_monte_carlo_variables(blocks, e, location, settings))
     if risk is not None:
@@ -460,11 +447,11 @@ def _screen_location(
     )
 
 
-def _item_variables(items: list[Item], physics: Physics | None) -> _Variables:
+def _item_variables(items: list[Item], physics: Physics) -> _Variables:
     """What the inventory says of each item: location, geometry, restitution, and the friction
-    simulated (``physics``: the location's, :func:`_item_physics`)."""
+    simulated (``physics``: the location's, with the items' own friction)."""
     blocks = [it.block for it in items]
-    friction = [(None, None) if physics is None else physics.friction(i) for i in range(len(items))]
+    friction = [physics.friction(i) for i in range(len(items))]
     mu, mu_k = (np.array([math.nan if f[j] is None else f[j] for f in friction]) for j in (0, 1))
     return {
         "location": ([it.location for it in items], "", "ground or floor N of FRAME"),
