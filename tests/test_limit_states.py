@@ -218,6 +218,19 @@ def test_the_constrained_fit_is_the_maximum_of_the_likelihood_under_the_constrai
     assert _no_crossing([f.median for f in result.fits], 1.0 / s, 0.1, 1.5)
 
 
+def test_states_exceeded_in_the_same_motions_do_not_cross():
+    # Three nested states exceeded in the same motions (e.g. with friction: every motion that
+    # lifts the base also slides it far and overturns it) have the same data, so the same fit:
+    # their curves coincide and nothing crosses (a rounding in comparing the curves once took
+    # them for reversed, with a CrossingWarning "the likelier by up to 0")
+    levels = np.array([0.3, 0.8])
+    one = np.array([[False, False, True, False, False, True], [True] * 6])  # a step: β at its cap
+    y = np.array([one, one, one])
+    result = bootstrap_limit_states(levels, y, n_boot=0, confidence=0.95, seed=0)
+    assert result.crossings == [] and not any(result.constrained)
+    assert len({(f.median, f.beta) for f in result.fits}) == 1
+
+
 def test_limit_state_text_form():
     assert parse_limit_states(None) == (LimitState("overturn", "overturned", 1.0),)
     uplift, large, over = parse_limit_states(STATES)

@@ -759,7 +759,8 @@ def _crossings(c: np.ndarray, s: np.ndarray, order: list[int], log_x: np.ndarray
     found = []
     fitted = [i for i in order if np.isfinite(c[i])]
     for i, j in itertools.pairwise(fitted):
-        gap_lo, gap_hi = (c[i] + s[i] * e - c[j] - s[j] * e for e in (lo, hi))
+        # z_milder − z_severer at both ends, differences first: exactly 0 for equal curves
+        gap_lo, gap_hi = ((c[i] - c[j]) + (s[i] - s[j]) * e for e in (lo, hi))
         if gap_lo >= 0.0 and gap_hi >= 0.0:
             continue
         inside = (gap_lo < 0.0) != (gap_hi < 0.0)
