@@ -140,3 +140,16 @@ def test_refusals_name_the_parameter():
             overturning_spectrum(SLENDER, "one-sine", [1.0], **kwargs)
     with pytest.raises(InputError, match="periods"):
         overturning_spectrum(SLENDER, "one-sine", [1.0, -1.0])
+
+
+def test_with_friction_below_b_over_h_no_pulse_overturns_and_the_result_says_mu():
+    # μ = 0.2 < B/H = 0.25: the base slips before the block can tip, and sliding with μ < tan α
+    # cannot tip it (Shenton 1996): no amplitude of the scan overturns it, where the rigid-base
+    # block overturns; the result records the friction it was computed with (issue 45)
+    block = Block(1.0, 4.0)
+    rigid = overturning_spectrum(block, "one-sine", [1.0], n_scan=20)
+    sliding = overturning_spectrum(block, "one-sine", [1.0], n_scan=20, mu=0.2)
+    assert np.isfinite(rigid["overturning_amplitude"]).all()
+    assert np.isnan(sliding["overturning_amplitude"]).all()
+    assert (sliding.attrs["mu"], sliding.attrs["mu_k"]) == (0.2, 0.2)
+    assert "mu" not in rigid.attrs

@@ -174,7 +174,9 @@ def overturning_spectrum(
     **shorthands
         ``kappa_max``, ``n_scan``, ``rtol``, ``samples_per_period``, ``tail``: shorthands for
         scan's fields; ``e``, ``overturn_angle``, ``g``, ``impacts``: for physics's, one
-        release.  Any other keyword is an InputError.
+        release, and ``mu``, ``mu_k`` (friction coefficients [-] of the base, issue 45: the
+        block may then slide and fly; the scan still starts at the uplift amplitude g·tan α).
+        Any other keyword is an InputError.
 
     Returns
     -------
@@ -201,7 +203,8 @@ def overturning_spectrum(
 
         Attributes: the block (``R`` [m], ``gamma``, ``alpha`` [rad], ``p`` [rad/s]), ``e``,
         ``shape``, ``uplift_amplitude`` = g·tan α [m/s²], ``kappa_max``, ``amplitude_max``
-        [m/s²], ``n_scan``, ``scan_ratio``, ``rtol``, ``samples_per_period``, ``tail`` [s].
+        [m/s²], ``n_scan``, ``scan_ratio``, ``rtol``, ``samples_per_period``, ``tail`` [s],
+        and with friction ``mu`` and ``mu_k`` [-].
     """
     if not isinstance(block, Block):
         raise InputError(f"block must be a rocking.Block, got {type(block).__name__}")
@@ -280,6 +283,9 @@ def overturning_spectrum(
         "samples_per_period": samples_per_period,
         "tail": tail,
     }
+    mu, mu_k = table.physics.friction(0)
+    if mu is not None:  # with friction (issue 45): which, as the physics simulated it
+        attrs.update(mu=mu, mu_k=mu_k)
     return _dataset(periods, np.array(durations), np.array(steps), p, uplift, per_period, attrs)
 
 
