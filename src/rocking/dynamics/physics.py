@@ -29,8 +29,8 @@ from .impacts import resolve_impacts
 
 
 class _FromPhysics:
-    """The default of a shorthand argument (``e``, ``overturn_angle``, ``g``, ``impacts``): the
-    field of the call's :class:`Physics`."""
+    """The default of a shorthand argument (:data:`SHORTHANDS`): the field of the call's
+    :class:`Physics`."""
 
     def __repr__(self) -> str:
         return "<from physics>"

@@ -185,9 +185,10 @@ class Engine:
     Made from the bodies, the ensembles (``cases``), the name of its progress stage (``desc``),
     the :class:`~rocking.Physics` and the :class:`~rocking.montecarlo.backends.Compute` of the
     run (``e``, ``overturn_angle``, ``g``, ``impacts``: shorthands for physics's fields, one
-    release; ``backend``, ``out``, ``progress``, ``chunk_size``: for compute's), the intensity of
-    each motion that the levels scale (``basis``, default A_gx; raised to ``exponent``) and
-    whether the cases hold the same motions (``same_motions``)."""
+    release; ``mu``, ``mu_k``: friction coefficients [-]; ``backend``, ``out``, ``progress``,
+    ``chunk_size``: for compute's), the intensity of each motion that the levels scale
+    (``basis``, default A_gx; raised to ``exponent``) and whether the cases hold the same
+    motions (``same_motions``)."""
 
     def __init__(
         self,
