@@ -292,7 +292,7 @@ CASES = [
          ("bodies-mu.csv", "row 2", "mu_k = 0.5")),
     Case("agx50-mu-k-above-mu",
          lambda f: ["agx50", "--bodies", "example", "--motions", f.ens, "--mu", "0.3",
-                    "--mu-k", "0.4", "--out", f.tmp / "o"], ("--mu-k 0.4", "--mu 0.3")),
+                    "--mu-k", "0.4", "--out", f.tmp / "o"], ("--mu-k = 0.4", "--mu = 0.3")),
     Case("agx50-agx-max-1e9",
          lambda f: ["agx50", "--bodies", "example", "--motions", f.ens, "--agx-max", "1e9",
                     "--out", f.tmp / "o"], ("--agx-max", "1e+09 g")),

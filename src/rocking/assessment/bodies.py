@@ -32,6 +32,7 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Protocol
 
+from ..core.checks import kinetic_friction
 from ..core.files import csv_rows
 from ..dynamics.body import Block
 from ..dynamics.physics import Physics
@@ -145,11 +146,10 @@ def read_bodies_table(path: str | os.PathLike[str]) -> list[NamedBody]:
         values = dict(zip(columns, cells))
         size = {k: _number(where, k, v) for k, v in values.items() if k not in _OPTIONAL}
         mu, mu_k = (_friction(where, k, values.get(k, "")) for k in ("mu", "mu_k"))
-        if mu_k is not None and (mu is None or mu_k > mu):
-            raise InputError(
-                f"{where}: mu_k = {mu_k:g} needs a mu of at least as much (kinetic friction is "
-                f"at most the static), got mu {'empty' if mu is None else f'= {mu:g}'}"
-            )
+        try:
+            kinetic_friction(mu, mu_k)
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
         if "R" in size:
             block = Block(size["R"], size["gamma"])
         elif "h_cg" in size:

@@ -46,7 +46,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..core.checks import positive, read_toml
+from ..core.checks import kinetic_friction, positive, read_toml
 from ..defaults import DEFAULT_E
 from ..dynamics.body import Block, resolve_e
 from ..errors import InputError
@@ -341,10 +341,8 @@ def _item(fields: dict, where: str, frames: _Frames, default: ShearFrame | None)
     e = check(_restitution, fields.get("e"), block) if block is not None else None
     mu = check(_optional_positive, "mu", fields.get("mu"))
     mu_k = check(_optional_positive, "mu_k", fields.get("mu_k"))
-    if mu_k is not None and "mu" not in fields:
-        problems.append(InputError("mu_k needs mu (the static friction coefficient)"))
-    elif mu_k is not None and mu is not None and mu_k > mu:
-        problems.append(InputError(f"mu_k = {mu_k:g} exceeds mu = {mu:g} (kinetic ≤ static)"))
+    if mu is not None or "mu" not in fields:  # (a bad mu is a problem already)
+        check(kinetic_friction, mu, mu_k)
     if problems or block is None or floor is None or e is None:
         kind = _NoFrame if any(isinstance(p, _NoFrame) for p in problems) else InputError
         raise kind(f"item {name!r}: " + "; ".join(map(str, problems)))

@@ -382,15 +382,10 @@ def _physics(
         fields["e"] = parse_e(e_text)
     if overturn is not None:
         fields["overturn_angle"] = OVERTURN_CHOICES[overturn]
-    if mu_k is not None and mu is None:
-        raise InputError("--mu-k needs --mu: give the static friction coefficient as well")
     for option, value in (("--mu", mu), ("--mu-k", mu_k)):
-        if value is not None and not (math.isfinite(value) and value > 0.0):
-            raise InputError(f"{option} must be a finite number > 0 [-], got {value:g}")
-    if mu_k is not None and mu is not None and mu_k > mu:
-        raise InputError(
-            f"--mu-k {mu_k:g} exceeds --mu {mu:g}: kinetic friction is at most the static"
-        )
+        if value is not None:
+            checks.positive(option, value, "-")
+    checks.kinetic_friction(mu, mu_k, names=("--mu", "--mu-k"))
     return Physics(**fields, mu=mu, mu_k=mu_k)
 
 

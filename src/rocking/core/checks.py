@@ -84,6 +84,31 @@ def positive(name: str, value: float | str, unit: str = "") -> float:
     return x
 
 
+def kinetic_friction(
+    mu: float | None,
+    mu_k: float | None,
+    *,
+    names: tuple[str, str] = ("mu", "mu_k"),
+    where: str = "",
+) -> None:
+    """Refuse a kinetic friction coefficient ``mu_k`` [-] without a static one ``mu`` [-], or
+    above it; the error names them ``names`` (e.g. the options ``--mu``, ``--mu-k``), followed
+    by ``where`` (e.g. " (block 2)")."""
+    static, kinetic = names
+    if mu_k is None:
+        return
+    if mu is None:
+        raise InputError(
+            f"{kinetic} needs {static}{where}: give the static friction coefficient {static} "
+            "as well"
+        )
+    if mu_k > mu:
+        raise InputError(
+            f"{kinetic} = {mu_k:g} exceeds {static} = {mu:g}{where}: kinetic friction is at most "
+            "the static"
+        )
+
+
 def in_range(
     name: str,
     value: float | str,

@@ -21,7 +21,7 @@ import json
 from collections.abc import Iterable, Sequence
 from typing import Any, cast
 
-from ..core.checks import positive, restitution, unexpected
+from ..core.checks import kinetic_friction, positive, restitution, unexpected
 from ..defaults import DEFAULT_E, DEFAULT_MU, DEFAULT_MU_K, IMPACT_SCHEMES, OVERTURN_ANGLE, G
 from ..errors import InputError
 from .body import Block, resolve_e, resolve_overturn_angle
@@ -89,7 +89,7 @@ class Physics:
             raise InputError(f"mu_k has {len(mu_k)} values but mu has {len(mu)}: one per block")
         n = max(len(v) if isinstance(v, tuple) else 1 for v in (mu, mu_k))
         for i in range(n):
-            _check_kinetic(_pick(mu, i), _pick(mu_k, i), "" if n == 1 else f" (block {i})")
+            kinetic_friction(_pick(mu, i), _pick(mu_k, i), where="" if n == 1 else f" (block {i})")
         set_(self, "mu", mu)
         set_(self, "mu_k", mu_k)
 
@@ -169,18 +169,6 @@ def _friction(name: str):
         return None if value is None else positive(name, value, "-")
 
     return check
-
-
-def _check_kinetic(mu, mu_k, where: str) -> None:
-    """Refuse a kinetic coefficient without a static one, or above it."""
-    if mu_k is None:
-        return
-    if mu is None:
-        raise InputError(f"mu_k needs mu{where}: give the static friction coefficient mu as well")
-    if mu_k > mu:
-        raise InputError(
-            f"mu_k = {mu_k:g} exceeds mu = {mu:g}{where}: kinetic friction is at most the static"
-        )
 
 
 def _pick(value, i: int):
