@@ -391,6 +391,19 @@ def test_im_efficiency_report_says_whether_the_dimensionless_ims_predict_better(
     assert word == "better than"  # the physics of the comparison, with these 6 motions
 
 
+def test_im_efficiency_reads_the_fragilitys_own_runs(tmp_path, motions, bodies):
+    # scaled by the fragility's IM to its levels, the comparison's IDA is the fragility's own:
+    # its simulations are taken from that run, none made (and stored) again
+    out = tmp_path / "out"
+    args = ["fragility", "--bodies", bodies, "--motions", motions, "--im", "pga"]
+    args += ["--levels", "0.2:1.0:0.4", "--n-boot", 0, "--out", out, "--quiet"]
+    result = _run([*args, "--im-efficiency", "pga,pgv"])
+    assert result.exit_code == 0, result.output
+    assert any((out / "chunks" / "fragility").iterdir())  # the fragility's runs
+    again = out / "chunks" / "im-efficiency"
+    assert not again.exists() or not any(p.suffix == ".npz" for p in again.rglob("*"))
+
+
 @pytest.mark.parametrize(
     "extra, expected",
     [

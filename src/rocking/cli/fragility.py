@@ -334,6 +334,7 @@ def fragility_cmd(
         for fmt in exports:
             check_exportable(measure.name, fmt)
     bodies, ensemble, physics = _prepare(inputs, compute, physics)
+    from ..core.reuse import reusing
     from ..montecarlo.fragility import fragility_analysis, im_efficiency
     from ..montecarlo.statistics import CrossingWarning, ExtrapolationWarning
 
@@ -371,7 +372,9 @@ def fragility_cmd(
             f"{n_levels if method != 'cloud' else 'as recorded'} x {ensemble.n} motions "
             f"({ensemble.meta.get('location', 'ground')})"
         )
-        with backend, warnings.catch_warnings():
+        # reusing: the comparison of IMs, scaled by the same IM to the same levels, reads the
+        # fragility's simulations instead of making them again
+        with backend, reusing(), warnings.catch_warnings():
             # an extrapolated median and a refit of crossing limit states are said in one line
             # each below the table (_print_fits)
             warnings.simplefilter("ignore", ExtrapolationWarning)
