@@ -254,6 +254,7 @@ def test_with_mu_the_summary_gives_slip_lift_and_modes_as_rocking_simulate(tmp_p
     assert got["max_abs_slip_m"] == expected.max_abs_slip > 0.0
     assert got["max_lift_m"] == expected.max_lift
     times = got["time_in_mode_s"]
+    # each sample counts dt in its mode: the sum is n·dt, up to the rounding of the sums (1e-12)
     assert sum(times.values()) == pytest.approx(expected.t[-1] + rec.dt, rel=1e-12)
     assert times["slide-rock"] == np.count_nonzero(expected.mode == 3) * rec.dt > 0.0
     plot = tmp_path / "slide-rock.png"

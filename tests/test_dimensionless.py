@@ -79,6 +79,7 @@ def test_per_body_beta_of_a_dimensionless_im_is_that_of_its_dimensional_im(ranki
 def test_dimensionless_efficiency_of_one_body_has_the_betas_of_pga_and_pgv(ensemble):
     one = dimensionless_efficiency(rocking.Block(1.0, 4.0), ensemble, levels=LEVELS)
     one = one.set_index("im")
+    # one body: a constant factor leaves β unchanged, to the fit optimiser's tolerance (1e-6)
     assert one.loc["pga/gtana", "beta"] == pytest.approx(one.loc["pga", "beta"], rel=1e-6)
     assert one.loc["pgv*p/gtana", "beta"] == pytest.approx(one.loc["pgv", "beta"], rel=1e-6)
     assert (one.loc["pga", "unit"], one.loc["pga/gtana", "unit"]) == ("g", "-")
