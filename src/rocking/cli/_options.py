@@ -389,6 +389,22 @@ def _physics(
     return Physics(**fields, mu=mu, mu_k=mu_k)
 
 
+resolution_option = click.option(
+    "--resolution",
+    type=click.FloatRange(1e-6),
+    default=0.01,
+    show_default=True,
+    help="Resolution of the A_gx50 search [g], >= 1e-6.",
+)
+agx_max_option = click.option(
+    "--agx-max",
+    type=G_LEVEL,
+    default=5.0,
+    show_default=True,
+    help="Upper end of the A_gx50 search [g], at most 10; beyond it A_gx50 is NaN.",
+)
+
+
 def physics_options(restitution: bool = True, overturn_angle: bool = False) -> Decorator:
     """The options of the physics of a command's simulations, as one parameter ``physics`` (a
     :class:`rocking.Physics`): --e, unless the command's bodies carry their own restitution

@@ -26,6 +26,7 @@ from ._options import (
     G_LEVEL,
     SEED,
     OutFolder,
+    agx_max_option,
     band_option,
     bodies_option,
     compute_options,
@@ -41,6 +42,7 @@ from ._options import (
     physics_options,
     quiet_option,
     reporter,
+    resolution_option,
     run_folder_options,
 )
 
@@ -759,20 +761,8 @@ def dimensionless_verdict(efficiency: pd.DataFrame) -> str:
 
 @click.command("agx50")
 @_run_options
-@click.option(
-    "--resolution",
-    type=click.FloatRange(1e-6),
-    default=0.01,
-    show_default=True,
-    help="Resolution of A_gx at 50 % probability [g], >= 1e-6.",
-)
-@click.option(
-    "--agx-max",
-    type=G_LEVEL,
-    default=5.0,
-    show_default=True,
-    help="Largest A_gx searched [g], at most 10; beyond it A_gx50 is NaN.",
-)
+@resolution_option
+@agx_max_option
 @band_option
 @_limit_states_option(
     "The A_gx of 50 % probability of each: the tables gain a limit_state column, sv_agx.png a "

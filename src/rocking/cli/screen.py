@@ -14,15 +14,16 @@ import click
 
 from ..defaults import SPECTRUM_SYNTAX
 from ._options import (
-    G_LEVEL,
     SEED,
     OutFolder,
+    agx_max_option,
     compute_options,
     count,
     friction_params,
     option_group,
     physics_options,
     quiet_option,
+    resolution_option,
     run_folder_options,
 )
 
@@ -128,20 +129,8 @@ _motions_options = option_group(
 _search_options = option_group(
     "search",
     _search,
-    click.option(
-        "--resolution",
-        type=click.FloatRange(1e-6),
-        default=0.01,
-        show_default=True,
-        help="Resolution of the A_gx50 search [g], >= 1e-6 (as agx50's).",
-    ),
-    click.option(
-        "--agx-max",
-        type=G_LEVEL,
-        default=5.0,
-        show_default=True,
-        help="Upper end of the A_gx50 search [g].",
-    ),
+    resolution_option,
+    agx_max_option,
 )
 _scheduler_option = click.option(
     "--scheduler",
