@@ -93,7 +93,7 @@ def test_member_outcomes_of_some_bodies_load_a_run_of_all(ensemble, tmp_path):
     some = member_outcomes(blocks, ensemble, agx[[2, 0]], bodies=[2, 0], out=tmp_path)
     assert some.attrs["chunks_computed"] == 0 and some.attrs["chunks_loaded"] > 0
     assert _science(some).identical(_science(full).isel(body=[2, 0]))
-    for bad in ([3], [0, 0], [-1]):
+    for bad in ([3], [0, 0], [-1], []):
         with pytest.raises(InputError, match=r"bodies must hold indices of the blocks \(0 to 2\)"):
             member_outcomes(blocks, ensemble, agx[: len(bad)], bodies=bad)
 

@@ -280,16 +280,16 @@ def member_outcomes(
 
 
 def _body_indices(bodies: Sequence[int] | None, nb: int) -> list[int]:
-    """The indices ``bodies`` of some of ``nb`` blocks (None: all), checked: each once, in
-    range."""
+    """The indices ``bodies`` of some of ``nb`` blocks (None: all), checked: at least one, each
+    once, in range."""
     if bodies is None:
         return list(range(nb))
     at = list(bodies)
-    if not all(isinstance(b, (int, np.integer)) and 0 <= b < nb for b in at) or len(set(at)) < len(
-        at
-    ):
+    valid = all(isinstance(b, (int, np.integer)) and 0 <= b < nb for b in at)
+    if not at or not valid or len(set(at)) < len(at):
         raise InputError(
-            f"bodies must hold indices of the blocks (0 to {nb - 1}), each once, got {at}"
+            f"bodies must hold indices of the blocks (0 to {nb - 1}), at least one, each once, "
+            f"got {at}"
         )
     return [int(b) for b in at]
 
