@@ -87,6 +87,9 @@ def test_kinetic_ratio_sets_mu_k_of_every_row(motions):
     assert float(at["share"].sel(mode="overturn")) == fell
     with pytest.raises(InputError, match=r"kinetic_ratio must lie in \(0, 1\]"):
         friction_study(BODIES, motions, [0.6], search=SEARCH, kinetic_ratio=1.2)
+    for mus in ([], [0.6, 0.6]):  # refused before any search (the summary needs a μ)
+        with pytest.raises(InputError, match="mus must hold at least one friction coefficient"):
+            friction_study(BODIES, motions, mus, search=SEARCH)
 
 
 def test_large_friction_gives_the_papers_results_bit_for_bit(motions):

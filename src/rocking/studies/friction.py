@@ -35,6 +35,7 @@ from ..defaults import BAND_HZ
 from ..dynamics.batch import block_list
 from ..dynamics.body import Block
 from ..dynamics.physics import Physics
+from ..errors import InputError
 from ..montecarlo.backends import Compute
 from ..montecarlo.probability import agx_50, member_outcomes
 from ..montecarlo.search import Agx50Search
@@ -161,6 +162,8 @@ def friction_study(
     ratio_k = in_range("kinetic_ratio", kinetic_ratio, 0.0, 1.0, lo_open=True, unit="-")
     base = physics or Physics()
     compute = compute or Compute()
+    if not len(mus) or len(set(mus)) < len(mus):
+        raise InputError(f"mus must hold at least one friction coefficient, each once, got {mus}")
     rows = [*(float(m) for m in mus), math.inf]
     where = list(stores) if stores is not None else [compute.out] * len(rows)
     physics_of = [
