@@ -90,6 +90,9 @@ def test_kinetic_ratio_sets_mu_k_of_every_row(motions):
     for mus in ([], [0.6, 0.6]):  # refused before any search (the summary needs a μ)
         with pytest.raises(InputError, match="mus must hold at least one friction coefficient"):
             friction_study(BODIES, motions, mus, search=SEARCH)
+    # one chunk folder per row, infinite friction's too: fewer would leave rows out unseen
+    with pytest.raises(InputError, match="stores must hold 2 folders"):
+        friction_study(BODIES, motions, [0.6], search=SEARCH, stores=[None])
 
 
 def test_large_friction_gives_the_papers_results_bit_for_bit(motions):

@@ -166,6 +166,11 @@ def friction_study(
         raise InputError(f"mus must hold at least one friction coefficient, each once, got {mus}")
     rows = [*(float(m) for m in mus), math.inf]
     where = list(stores) if stores is not None else [compute.out] * len(rows)
+    if len(where) != len(rows):
+        raise InputError(
+            f"stores must hold {len(rows)} folders (one per friction coefficient of mus, then "
+            f"one for infinite friction), got {len(where)}"
+        )
     physics_of = [
         dataclasses.replace(
             base,
