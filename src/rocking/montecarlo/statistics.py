@@ -608,7 +608,8 @@ class CrossingWarning(UserWarning):
     the intensities tested (the severer state the likelier at some of them, which no data of
     nested states can be): the states were refitted together under the constraint that their
     curves do not cross there (:func:`bootstrap_limit_states`; the flag ``fit_constrained`` of
-    :func:`rocking.fragility_analysis`)."""
+    :func:`rocking.fragility_analysis`), or, where the severer is the likelier by no more than
+    :data:`CROSSING_TOLERANCE`, kept as fitted (the warning says which)."""
 
 
 class Crossing(NamedTuple):
