@@ -48,7 +48,18 @@ Painlevé jam) or the slip would reverse (it stops during the impact, and a reve
 the same impulse would gain energy), the corner sticks, plastic: ω⁺ = ω_L, outside the cone.
 (3) Both corners at once (a flat landing, or an impact after which the body would turn into the
 ground): y' and θ' → 0 (plastic), tangential stick where abs(x') ≤ μ_s·P_y/m, else a Coulomb
-impulse.  Kinetic energy (ground's frame) never increases with e ≤ 1.  A bounce shorter than
+impulse.  Kinetic energy (ground's frame) never increases with e ≤ 1.
+
+Painlevé's paradox: where a unit normal impulse at a slipping corner, with its Coulomb partner,
+would move that corner down (:meth:`_Rigid.normal_response` ≤ 0: an outward slip with large
+μ_k·h), the slip has no solution, neither as a motion nor as an impact.  As in the literature
+(Génot & Brogliato 1999, "New results on Painlevé paradoxes", Eur. J. Mech. A/Solids 18:653–677:
+an "impact without collision"), the slip then stops at once: the same plastic impulse as a jam
+above (ω_L; its friction ratio is inside the cone), after which the stuck corner's contact forces
+decide.  It is a terminal event ("jam") of slide-rock and is applied where a slide tips onto
+such a corner.  A stuck corner whose friction demand would need such a slip lifts off instead:
+that happens only with its free vertical acceleration upward, where N = 0 solves the contact
+problem (derived in :mod:`rocking.dynamics.modes`).  A bounce shorter than
 :data:`REST_FLIGHT_TIME` ends in contact on both corners (rest, or slide at the centre of mass's
 horizontal velocity).
 
@@ -388,6 +399,21 @@ class _Rigid:
         ct, st = math.cos(th), math.sin(th)
         return c * self.b * ct - self.h * st, -c * self.b * st - self.h * ct
 
+    def normal_response(self, c: float, th: float, sigma: float) -> float:
+        """The upward velocity [m/s] that a unit upward impulse [m/s] at corner c, with its
+        Coulomb partner −σ·μ_k along x, gives that corner at rotation θ: 1 + r_x·(r_x +
+        σ·μ_k·r_y)/(I_cm/m).  Where it is ≤ 0 (Painlevé's inconsistent case) friction pulls the
+        corner down harder than the normal force lifts it: a slip to side σ has no solution,
+        neither as a motion nor as an impact."""
+        rx, ry = self.corner(c, th)
+        return 1.0 + rx * (rx + sigma * self.mu_k * ry) / self.i_cm
+
+    def pivot_rate(self, c: float, z) -> float:
+        """ω_L [rad/s]: the angular velocity that conserves the angular momentum of state z
+        about corner c (the plastic law: the corner at rest after an impulse there)."""
+        rx, ry = self.corner(c, z[2])
+        return (self.i_cm * z[5] + rx * z[4] - ry * z[3]) / self.i_0
+
 
 @dataclass(frozen=True)
 class _Phase:
@@ -631,6 +657,12 @@ class _Modes:
             # σ·(slip velocity) < 0 at its minimum: a stop was missed before it
             slows.direction = 1.0  # type: ignore[attr-defined]
             watches.append((slows, lambda z: sigma * slip_velocity(z) < 0.0))
+        if ph.mode == _SLIDE_ROCK:
+            add(
+                "jam",
+                lambda t, z: body.normal_response(c, z[2], sigma) if t > t_seg else 1.0,
+                -1.0,
+            )
         if ph.mode == _SLIDE:
             add("lift-off", normal, -1.0)
         elif ph.mode == _FLIGHT:
@@ -661,6 +693,10 @@ class _Modes:
             if abs(f) <= self.body.mu_s * n:
                 return rock
             sigma = -_sign(f)
+        if self.body.normal_response(c, z[2], sigma) <= 0.0:
+            # a stuck corner that cannot slip to that side (Painlevé), which happens only with
+            # its free vertical acceleration upward (the module docstring): it lifts off
+            return _Phase(_FLIGHT)
         ph = _Phase(_SLIDE_ROCK, c, sigma)
         return ph if self.forces(ph, j, t, z)[1][0][0] >= 0.0 else _Phase(_FLIGHT)
 
@@ -673,7 +709,10 @@ class _Modes:
         if n_plus + n_minus < 0.0:
             return _Phase(_FLIGHT)
         if min(n_plus, n_minus) < 0.0:
-            return self.one_corner(j, t, z, 1.0 if n_plus > n_minus else -1.0, sigma)
+            c = 1.0 if n_plus > n_minus else -1.0
+            if self.body.normal_response(c, z[2], sigma) <= 0.0:
+                return _Phase(_SLIDE_ROCK, c, sigma)  # Painlevé: it jams at once (settle)
+            return self.one_corner(j, t, z, c, sigma)
         return ph
 
     def leave_rest(self, j: int, t: float, z, first: tuple[int, ...]) -> _Phase:
@@ -696,7 +735,21 @@ class _Modes:
         z = np.array([z[0], self.body.h, 0.0, vx, 0.0, 0.0])
         if vx == 0.0:
             return _Phase(_REST), z
-        return self.both_corners(j, t, z, _sign(vx)), z
+        ph = self.both_corners(j, t, z, _sign(vx))
+        if ph.mode == _SLIDE_ROCK and self.body.normal_response(ph.c, 0.0, ph.sigma) <= 0.0:
+            return self.jam(j, t, z, ph.c)
+        return ph, z
+
+    def jam(self, j: int, t: float, z, c: float) -> tuple[_Phase, np.ndarray]:
+        """Painlevé's inconsistent case, corner c slipping where no slip can go on
+        (:meth:`_Rigid.normal_response` ≤ 0): an impact without collision stops it at once,
+        plastic (the corner at rest after, ω_L: the module docstring); then the stuck corner's
+        contact forces decide (:meth:`one_corner`)."""
+        z = np.array(z, dtype=float)
+        rx, ry = self.body.corner(c, z[2])
+        w = self.body.pivot_rate(c, z)
+        z[3], z[4], z[5] = -ry * w, rx * w, w
+        return self.one_corner(j, t, z, c), z
 
     def flat(self, j: int, t: float, z) -> tuple[_Phase, np.ndarray]:
         """Both corners strike at once (MODES.md rule 3): plastic in the normal direction
@@ -722,7 +775,7 @@ class _Modes:
         th, vx, vy, om = z[2], z[3], z[4], z[5]
         rx, ry = body.corner(c, th)
         # 1. stick: the corner at rest after; ω_L conserves the angular momentum about it
-        w_l = (body.i_cm * om + rx * vy - ry * vx) / body.i_0
+        w_l = body.pivot_rate(c, z)
         w = w_l * (body.e / body.e_h if body.e_h > 0.0 else 1.0)
         cap = body.e * math.sqrt(2.0 * ke / body.i_0)  # no more than e² of the energy
         w = max(-cap, min(cap, w))
@@ -739,7 +792,7 @@ class _Modes:
             if abs(vcx) <= 10.0 * self.tol[0] * (abs(vx) + abs(ry * om)):
                 vcx = 0.0
             sigma = _sign(vcx) if vcx != 0.0 else -_sign(p_x)
-            den = 1.0 + rx * (rx + sigma * body.mu_k * ry) / body.i_cm
+            den = body.normal_response(c, th, sigma)
             q_y = -vcy / den if den > 0.0 else -1.0
             q_x = -sigma * body.mu_k * q_y
             w_s = om + (ry * q_x - rx * q_y) / body.i_cm
@@ -779,6 +832,9 @@ class _Modes:
             return _Phase(_REST), np.array([z[0], self.body.h, 0.0, 0.0, 0.0, 0.0]), name
         if name == "stick":
             return self.one_corner(j, t, z, ph.c), z, name
+        if name == "jam":
+            ph, z = self.jam(j, t, z, ph.c)
+            return ph, z, name
         if name == "impact":
             return self.strike(j, t, z, -ph.c, at_zero=True)
         # landing: flat (both corners at once) if the body never turned, else corner sign θ
