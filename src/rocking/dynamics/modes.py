@@ -68,6 +68,11 @@ striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·Δ
    θ'⁺ = (e/e_H)·θ'_L, θ'_L the angular velocity that conserves the angular momentum about c
    (Housner's e_H·θ'⁻ when nothing slipped before), with no more than e² of the kinetic energy
    before; without slip before it is :mod:`rocking.dynamics.impacts`' rule θ'⁺ = e·θ'⁻ itself.
+   A squat body (e_H ≤ 0, Housner's law would turn it back) with a number e: θ'⁺ = e·θ'⁻ after
+   rock all the same (today's rule, which a user's e describes), and after slip or flight the
+   plastic θ'_L (factor 1): the only stick at the corner alone (the angular momentum about it
+   kept), where no positive factor maps θ'_L onto e·θ'⁻ (a factor 0, a stop, would need
+   impulses elsewhere; e/e_H < 0 would turn a body that lands on a corner up over it).
    Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y (where
    θ'⁺ turns the body back into the ground, as after slide-rock, the other corner strikes too:
    rule 3 on the velocity that this impulse left);
@@ -154,21 +159,24 @@ class Contact(NamedTuple):
     rg2: float  #: r_g² [m²]
     mu_s: float  #: static friction coefficient [-]
     mu_k: float  #: kinetic friction coefficient [-]
-    e_ratio: float  #: e/e_H: the stick impact's factor on the momentum law [-]
+    e_ratio: float  #: e/e_H (1 where e_H ≤ 0): the stick impact's factor on ω_L [-]
     impact_ok: bool  #: θ'⁺ = e·θ'⁻ from rock is in the friction cone (stick_impact_demand)
 
     @classmethod
     def of(cls, block: Block, e: float, mu: float, mu_k: float | None, g: float) -> Contact:
         """The contact of ``block`` with restitution e [-] (a number), friction μ_s = ``mu`` and
         μ_k = ``mu_k`` (None: μ_s) [-] under gravity g [m/s²]."""
-        e_h = block.housner_e()  # ≤ 0 for a squat body: it cannot rock on after a stick impact
+        # e_H ≤ 0 for a squat body: no factor turns ω_L into e·θ'⁻ (that rule applies after
+        # rock by itself), and after slip or flight the impact is plastic, ω_L: the only stick
+        # impulse at the corner alone (the module docstring, rule 1)
+        e_h = block.housner_e()
         return cls(
             g,
             block.R,
             block.radius_of_gyration**2,
             mu,
             mu if mu_k is None else mu_k,
-            e / e_h if e_h > 0.0 else 0.0,
+            e / e_h if e_h > 0.0 else 1.0,
             stick_impact_demand(e, math.tan(block.alpha)) <= mu,
         )
 
@@ -412,20 +420,23 @@ def _start(u, gv, body, c):
 
 
 @kernel
-def _strike(th, sc, om, VX, VY, switch, body, c):
+def _strike(th, sc, om, VX, VY, switch, rocked, body, c):
     """Impact of the corner of side ``sc`` at rotation θ, the centre of mass moving at
     (VX, VY) [m/s] and the body turning at θ' = ``om`` [rad/s] (rules 1 and 2 of the module
     docstring; ``switch``: a pivot change at θ = 0, where a body that would turn back into the
-    ground comes down on both corners).  Returns (mode, θ', corner's slip velocity [m/s], σ)."""
+    ground comes down on both corners; ``rocked``: nothing slipped before, the body rocked on
+    its other corner, and the stick impact is θ'⁺ = e·θ'⁻).  Returns (mode, θ', corner's slip
+    velocity [m/s], σ)."""
     S, C = _sin_cos_terms(th, sc, body.sa, body.ca)
     R = c.R
     rcx = R * S  # centre of mass → striking corner
     rcy = -R * C
     Om = -om  # counter-clockwise angular velocity
     i0 = c.rg2 + R * R
-    # 1. stick: angular momentum about the corner conserved, times e/e_H, capped at e²·KE
+    # 1. stick: angular momentum about the corner conserved, times e/e_H, capped at e²·KE; e·θ'⁻
+    # after rock (the same where e_H > 0)
     OmL = (c.rg2 * Om - rcx * VY + rcy * VX) / i0
-    Omp = c.e_ratio * OmL
+    Omp = body.e * Om if rocked else c.e_ratio * OmL
     cap = body.e * math.sqrt((VX * VX + VY * VY + c.rg2 * om * om) / i0)
     if abs(Omp) > cap:
         Omp = math.copysign(cap, Omp)
@@ -539,7 +550,7 @@ def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
             m2, om2 = _settle(ROCK, -s, 0.0, new, u, gv, dt, body, c)
             return m2, -s, 0.0, (0.0, om2, q, 0.0, 0.0, 0.0), 1
         fl = _to_flight(mode, s, (0.0, om, q, v, 0.0, 0.0), body, c)
-        m2, om2, v2, sg2 = _strike(0.0, -s, om, fl[3], fl[5], True, body, c)
+        m2, om2, v2, sg2 = _strike(0.0, -s, om, fl[3], fl[5], True, mode == ROCK, body, c)
         m2, om2 = _settle(m2, -s, sg2, (0.0, om2, q, v2, 0.0, 0.0), u, gv, dt, body, c)
         return m2, -s, sg2, (0.0, om2, q, v2 if m2 != REST else 0.0, 0.0, 0.0), 1
     if code == _LAND:
@@ -550,7 +561,7 @@ def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
             return m2, s, _sign(v2), (0.0, 0.0, X, v2, 0.0, 0.0), 1
         S, _C = _sin_cos_terms(th, sl, body.sa, body.ca)
         qc = X + c.R * S - sl * c.R * body.sa  # the slip of the landing corner
-        m2, om2, v2, sg2 = _strike(th, sl, om, v, vy, False, body, c)
+        m2, om2, v2, sg2 = _strike(th, sl, om, v, vy, False, False, body, c)
         return m2, sl, sg2, (th, om2, qc, v2 if m2 != REST else 0.0, 0.0, 0.0), 1
     return mode, s, sig, st, 0
 

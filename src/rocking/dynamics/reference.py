@@ -38,7 +38,9 @@ rigid bodies. I: Formulation", J. Eng. Mech. 117(10)), as fixed for this package
 rigid bodies, an instantaneous impulse P at the striking corner only (the other corner, and the
 ground, exert none), no change of position during it.  (1) Stick: the corner comes to rest;
 ω_L conserves the angular momentum about it (Housner's plastic law, e_H·ω⁻ after pure rocking),
-ω⁺ = (e/e_H)·ω_L with at most e² of the kinetic energy (e·ω⁻ after pure rocking, today's rule);
+ω⁺ = (e/e_H)·ω_L with at most e² of the kinetic energy (e·ω⁻ after pure rocking, today's rule,
+for every body; where e_H ≤ 0, a squat body, no factor maps ω_L onto it, and after slip or flight
+ω⁺ = ω_L, plastic: the only stick by an impulse at the corner alone);
 accepted where P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y.  (2) Otherwise a sliding impact: P_x = −σ·μ_k·P_y
 with σ the sign of the corner's slip velocity before (taken not to reverse during the impact; a
 corner at rest before, as after rock, slips against the friction that sticking would need, the
@@ -763,10 +765,11 @@ class _Modes:
         return self.settle(j, t, z, vx)
 
     def strike(
-        self, j: int, t: float, z, c: float, at_zero: bool
+        self, j: int, t: float, z, c: float, at_zero: bool, rocked: bool = False
     ) -> tuple[_Phase, np.ndarray, str]:
         """Corner c strikes the ground (``at_zero``: θ crossing 0 from the other corner; else a
-        landing after flight): the impulse–momentum law of the module's docstring."""
+        landing after flight; ``rocked``: from rock, the other corner stuck): the
+        impulse–momentum law of the module's docstring."""
         body = self.body
         z = np.array(z, dtype=float)
         if at_zero:
@@ -776,7 +779,8 @@ class _Modes:
         rx, ry = body.corner(c, th)
         # 1. stick: the corner at rest after; ω_L conserves the angular momentum about it
         w_l = body.pivot_rate(c, z)
-        w = w_l * (body.e / body.e_h if body.e_h > 0.0 else 1.0)
+        # e·ω⁻ after rock (= (e/e_H)·ω_L there; also where e_H ≤ 0), else plastic where e_H ≤ 0
+        w = body.e * om if rocked else w_l * (body.e / body.e_h if body.e_h > 0.0 else 1.0)
         cap = body.e * math.sqrt(2.0 * ke / body.i_0)  # no more than e² of the energy
         w = max(-cap, min(cap, w))
         p_x, p_y = -ry * w - vx, rx * w - vy
@@ -836,7 +840,7 @@ class _Modes:
             ph, z = self.jam(j, t, z, ph.c)
             return ph, z, name
         if name == "impact":
-            return self.strike(j, t, z, -ph.c, at_zero=True)
+            return self.strike(j, t, z, -ph.c, at_zero=True, rocked=ph.mode == _ROCK)
         # landing: flat (both corners at once) if the body never turned, else corner sign θ
         if z[2] == 0.0 and z[5] == 0.0:
             ph, z = self.flat(j, t, z)
