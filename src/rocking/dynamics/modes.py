@@ -500,14 +500,20 @@ def _flat(VX, VY, c):
 @kernel
 def _settle(mode, s, sig, st, u, gv, dt, body, c):
     """After an impact at θ = 0: a next flight shorter than ZENO_TIME_FRACTION·dt ends the
-    sequence, on both corners (rest, or slide if the base slips).  Returns (mode, θ')."""
+    sequence, on both corners: rest, or, if the corner slips, slide at the centre of mass's
+    horizontal velocity q' + h·θ' (q': the corner's): the tiny rotation stops without a
+    horizontal impulse, as the bounces it stands for are neglected, and the kinetic energy,
+    ½·(q' + h·θ')² + ½·(r_g² + b²)·θ'² before, does not grow; keeping the corner's q' instead
+    would raise it by about h·abs(q'·θ') wherever q'·θ' < 0.  Returns (mode, θ', slip
+    velocity [m/s])."""
     th, om, q, v, y, vy = st
     if mode != ROCK and mode != SLIDE_ROCK:
-        return mode, om
+        return mode, om, v
     acc = _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c)[1]
     if om == 0.0 or (acc * om < 0.0 and 2.0 * abs(om) < ZENO_TIME_FRACTION * dt * abs(acc)):
-        return (SLIDE if v != 0.0 else REST), 0.0
-    return mode, om
+        vx = v + c.R * body.ca * om if mode == SLIDE_ROCK else 0.0
+        return (SLIDE if vx != 0.0 else REST), 0.0, vx
+    return mode, om, v
 
 
 @kernel
@@ -547,12 +553,12 @@ def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
     if code == _CROSS:
         if mode == ROCK and c.impact_ok:  # rule 1 without slip: θ'⁺ = e·θ'⁻
             new = (0.0, body.e * om, q, 0.0, 0.0, 0.0)
-            m2, om2 = _settle(ROCK, -s, 0.0, new, u, gv, dt, body, c)
+            m2, om2, _v = _settle(ROCK, -s, 0.0, new, u, gv, dt, body, c)
             return m2, -s, 0.0, (0.0, om2, q, 0.0, 0.0, 0.0), 1
         fl = _to_flight(mode, s, (0.0, om, q, v, 0.0, 0.0), body, c)
         m2, om2, v2, sg2 = _strike(0.0, -s, om, fl[3], fl[5], True, mode == ROCK, body, c)
-        m2, om2 = _settle(m2, -s, sg2, (0.0, om2, q, v2, 0.0, 0.0), u, gv, dt, body, c)
-        return m2, -s, sg2, (0.0, om2, q, v2 if m2 != REST else 0.0, 0.0, 0.0), 1
+        m2, om2, v2 = _settle(m2, -s, sg2, (0.0, om2, q, v2, 0.0, 0.0), u, gv, dt, body, c)
+        return m2, -s, _sign(v2), (0.0, om2, q, v2, 0.0, 0.0), 1
     if code == _LAND:
         X = q
         sl, _low = _lowest(th, body, c)

@@ -63,7 +63,9 @@ such a corner.  A stuck corner whose friction demand would need such a slip lift
 that happens only with its free vertical acceleration upward, where N = 0 solves the contact
 problem (derived in :mod:`rocking.dynamics.modes`).  A bounce shorter than
 :data:`REST_FLIGHT_TIME` ends in contact on both corners (rest, or slide at the centre of mass's
-horizontal velocity).
+horizontal velocity: the tiny rotation stops without a horizontal impulse, and the kinetic energy
+does not grow, as it would with the corner's slip velocity kept wherever that and θ' have
+opposite signs).
 
 Slow-but-exact: rtol 1e-10, atol 1e-12 by default; about 0.2 s per 4 s of rocking at 1/100 s,
 0.4 s for 1.25 s of sliding at 1/1000 s, 0.1–2 s for 5 s of random motion through every mode at
