@@ -160,40 +160,40 @@ def _segment(rhs, t_cur: float, t_next: float, y, events, watches, tol):
 
     Events are seen only as sign changes between the ends of a step, so an event function
     that crosses 0 and returns inside one step (a short flight) would go unnoticed.  Each of
-    ``watches`` = ((fn, missed), ...) is a non-terminal event at the extremum of such a
-    function; where ``missed(y)`` at it is true, the crossing lies before it, and the
-    segment is integrated again up to it.
+    ``watches`` = ((fn, split), ...) is a non-terminal event at the extremum of such a
+    function (or of its rate); where ``split(y)`` at it is true, the segment is integrated
+    again in two parts, up to it and on from it, each watched alike (a crossing missed before
+    an extremum is found in the first part; a function whose rate changes sign twice inside
+    one step, once on each side).  Returns the solution of the last part integrated (up to a
+    terminal event, or to t_next).
     """
     rtol, atol, cap = tol
-
-    def solve(t_stop):
-        return solve_ivp(
-            rhs,
-            (t_cur, t_stop),
-            y,
-            method="DOP853",
-            rtol=rtol,
-            atol=atol,
-            first_step=min(t_stop - t_cur, cap),
-            max_step=cap,
-            events=(*events, *(fn for fn, _ in watches)),
-        )
-
-    sol = solve(t_next)
+    sol = solve_ivp(
+        rhs,
+        (t_cur, t_next),
+        y,
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+        first_step=min(t_next - t_cur, cap),
+        max_step=cap,
+        events=(*events, *(fn for fn, _ in watches)),
+    )
     n_ev = len(events)
-    missed = [
+    margin = 1e-9 * (t_next - t_cur)  # an extremum at an end is that end's
+    splits = [
         t
-        for w, (_, is_missed) in enumerate(watches)
+        for w, (_, split) in enumerate(watches)
         for t, yy in zip(sol.t_events[n_ev + w], sol.y_events[n_ev + w])
-        if is_missed(yy)
+        if t_cur + margin < t < sol.t[-1] - margin and split(yy)
     ]
-    if missed:
-        sol = solve(min(missed))
-        if sol.status != 1:
-            raise RuntimeError(
-                f"no event found before the missed crossing at t = {min(missed):g} s"
-            )
-    return sol
+    if not splits:
+        return sol
+    t_split = min(splits)
+    first = _segment(rhs, t_cur, t_split, y, events, watches, tol)
+    if first.status != 0:
+        return first
+    return _segment(rhs, t_split, t_next, first.y[:, -1], events, watches, tol)
 
 
 def _terminal(fn, direction: float):
@@ -217,6 +217,11 @@ def _flight(rhs, t_cur: float, t_next: float, y, side: float, t_seg: float, th_o
         # minima of side·θ: where side·θ < 0 there, a return to θ = 0 was missed
         return side * yy[1]
 
+    def bend(t, yy):
+        # extrema of θ': where θ' changes sign twice inside one step (a bounce of a chatter that
+        # starts and ends inside it), turn_back sees no sign change; split there
+        return rhs(t, yy)[1]
+
     turn_back.direction = 1.0  # type: ignore[attr-defined]
     return _segment(
         rhs,
@@ -224,7 +229,7 @@ def _flight(rhs, t_cur: float, t_next: float, y, side: float, t_seg: float, th_o
         t_next,
         y,
         (_terminal(hit_zero, -side), _terminal(lambda t, yy: abs(yy[0]) - th_ov, 1.0)),
-        ((turn_back, lambda yy: side * yy[0] < 0.0),),
+        ((turn_back, lambda yy: side * yy[0] < 0.0), (bend, lambda yy: True)),
         tol,
     )
 
@@ -260,10 +265,13 @@ def simulate_reference(
     vertical ground acceleration at the same samples, above −g (None: zero);
     ``tolerances`` those of the integrator (:class:`Tolerances`, default ``Tolerances()``).
     Events are found from the values at the ends of the integrator's steps, so a bounce much
-    shorter than a step can go unseen (a minimum of θ inside a step is looked for, as is one of
-    a corner's height in flight and of the slip velocity in slide and slide-rock, but a chatter
-    of tiny bounces may still be missed); ``Tolerances(max_step=dt/2)`` guards against it at
-    twice the cost.
+    shorter than a step could go unseen.  Hence the extrema inside a step are looked for: of θ
+    and, without friction, of θ' (a bounce of a chatter that starts and ends inside one step
+    turns θ' twice), of a corner's height in flight and of the slip velocity in slide and
+    slide-rock, and the step is split there.  What can still be missed is a pair of extrema of θ'
+    inside one step (θ'' changing sign twice there) and, with friction, a bounce in rock or
+    slide-rock that starts and ends inside one step; ``Tolerances(max_step=...)`` guards
+    against those at more cost.
     """
     dt = positive("dt", dt, "s")
     g = positive("g", g, "m/s²")
