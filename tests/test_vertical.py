@@ -20,7 +20,7 @@ from scipy import signal
 
 from rocking import Block, G, InputError, housner_sv, simulate
 from rocking.dynamics.batch import overturn_batch, overturn_cases
-from rocking.dynamics.reference import Tolerances, simulate_reference
+from rocking.dynamics.reference import simulate_reference
 from rocking.motions.response import response_spectrum
 
 DT = 1 / 100  # [s]
@@ -160,8 +160,11 @@ def test_vertical_motion_agrees_with_solve_ivp(matches_reference):
     for i in range(16):
         block, ag, av = _case(i, general=i % 2 == 1)
         ours = simulate(block, ag, DT, av=av)
-        # max_step = dt/2: see test_general_body.py (bounces shorter than the reference's step)
-        ref = simulate_reference(block, ag, DT, av=av, tolerances=Tolerances(max_step=DT / 2))
+        # the reference at its default tolerances (it watches the extrema of θ', so it sees
+        # bounces shorter than its step: test_general_body.py); it agrees with a run capped at
+        # max_step = dt/2 to 1.3e-11 rad over these 16 cases (it did so before that watch too:
+        # the cap here was a precaution)
+        ref = simulate_reference(block, ag, DT, av=av)
         without = simulate(block, ag, DT)
         moved += without.overturned != ours.overturned or not math.isclose(
             without.max_abs_theta, ours.max_abs_theta, rel_tol=0.05

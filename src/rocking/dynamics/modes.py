@@ -32,9 +32,29 @@ Modes (:data:`MODES`, their index is the kernels' ``mode``) and their equations:
   θ'' = −R·k·(G − R·cos φ·θ'²)/(r_g² + R²·k·sin φ),  N = G + R·sin φ·θ'' − R·cos φ·θ'²,
   q'' = −σ·μ_k·N − a_g − R·cos φ·θ'' − R·sin φ·θ'²   (:func:`_rates`);
   → rock when the slip velocity reaches 0 and the rock mode's abs(F) ≤ μ_s·N (else the slip
-  reverses), → flight when N < 0.  (The denominator is positive for μ_k below
-  (r_g² + R²·sin²φ)/(R²·sin φ·cos φ), about 1.9 for a uniform block of B/H = 0.2 at θ = 0;
-  beyond, Painlevé's paradox: no solution, which this model does not resolve.)
+  reverses), → flight when N < 0.
+* Painlevé's paradox.  N = r_g²·(G − R·cos φ·θ'²)/den with den = r_g² + R²·k·sin φ, and den ≤ 0
+  (no slide-rock at all: friction pulls the corner down harder than N pushes it up) for a
+  corner that slips outward (σ = s) where μ_k ≥ f(φ) = (r_g² + R²·sin²φ)/(R²·sin φ·cos φ).
+  With ρ = r_g²/R², f is smallest, 2·sqrt(ρ·(1 + ρ)), at tan φ = sqrt(ρ/(1 + ρ)), else at φ = α:
+  f(α) = 1.93 for a uniform block of B/H = 0.2 (4/3 at best for any uniform block), but 0.58
+  for a body whose mass sits near its centre (h = 1 m, b = 0.5 m, r_g = 0.2 m).  So ordinary
+  μ reach it, and it is resolved, not refused, as in the literature (Génot, F. and Brogliato,
+  B. 1999, "New results on Painlevé paradoxes", Eur. J. Mech. A/Solids 18:653–677; Champneys,
+  A.R. and Várkonyi, P.L. 2016, "The Painlevé paradox in contact mechanics", IMA J. Appl.
+  Math. 81:538–588): where the slip cannot go on, an impulsive tangential impact ("impact
+  without collision", a "dynamic jam") stops it at once.  Here it is rule 2's jam: the plastic
+  impulse that stops the corner, whose abs(P_x)/P_y = f(φ) ≤ μ_k lies inside the cone (at
+  den = 0 it is the Coulomb impulse itself); then the stuck corner's contact forces decide, as
+  after any transition (:func:`_plastic`, event ``_JAM``).  den ≤ 0 is entered by a transition
+  (a slide that tips over its leading corner, μ_k > tan α, with μ_k ≥ f(α)); a slide-rock with
+  G − R·cos φ·θ'² > 0 does not cross den = 0 by itself (θ'' and N grow like 1/den and turn θ
+  back: an unbounded force of bounded impulse, Génot & Brogliato), but a fixed step can step
+  over that turn, and the event catches it there.  A stuck corner never needs such a slip
+  unless it would lift: its outward demand is −s·F = f(φ)·N − r_g²·(G − R·cos φ·θ'²)/
+  (R²·sin φ·cos φ) (from the rock forces above), which exceeds μ_s·N ≥ f(φ)·N only where
+  G − R·cos φ·θ'² < 0, i.e. where the corner's free vertical acceleration is upward: then
+  N = 0 solves the contact problem, and the corner lifts off (:func:`_unstuck`).
 * flight: X'' = −a_g, Y'' = −G, θ'' = 0, until a corner lands.
 * overturning: abs(θ) ≥ the overturning angle, in any mode.
 
@@ -48,6 +68,11 @@ striking corner c and r_c from the centre of mass to c, m·ΔV = P, m·r_g²·Δ
    θ'⁺ = (e/e_H)·θ'_L, θ'_L the angular velocity that conserves the angular momentum about c
    (Housner's e_H·θ'⁻ when nothing slipped before), with no more than e² of the kinetic energy
    before; without slip before it is :mod:`rocking.dynamics.impacts`' rule θ'⁺ = e·θ'⁻ itself.
+   A squat body (e_H ≤ 0, Housner's law would turn it back) with a number e: θ'⁺ = e·θ'⁻ after
+   rock all the same (today's rule, which a user's e describes), and after slip or flight the
+   plastic θ'_L (factor 1): the only stick at the corner alone (the angular momentum about it
+   kept), where no positive factor maps θ'_L onto e·θ'⁻ (a factor 0, a stop, would need
+   impulses elsewhere; e/e_H < 0 would turn a body that lands on a corner up over it).
    Accepted when its impulse lies in the friction cone, P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y (where
    θ'⁺ turns the body back into the ground, as after slide-rock, the other corner strikes too:
    rule 3 on the velocity that this impulse left);
@@ -119,7 +144,7 @@ __all__ = ["MODES", "Contact", "modes_case", "stick_impact_demand"]
 # Mode codes: the index in MODES.
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT = 0, 1, 2, 3, 4
 # Event codes of the general integrator (:func:`_event`).
-_NONE, _CROSS, _STICK, _LIFT, _SLIP, _LAND, _OVER = 0, 1, 2, 3, 4, 5, 6
+_NONE, _CROSS, _STICK, _LIFT, _SLIP, _LAND, _OVER, _JAM = 0, 1, 2, 3, 4, 5, 6, 7
 #: Events handled in one sample interval at most (a safety cap; a Zeno sequence ends sooner).
 _MAX_EVENTS = 1000
 #: A located event lies within this fraction of the time step after its true instant.
@@ -134,21 +159,24 @@ class Contact(NamedTuple):
     rg2: float  #: r_g² [m²]
     mu_s: float  #: static friction coefficient [-]
     mu_k: float  #: kinetic friction coefficient [-]
-    e_ratio: float  #: e/e_H: the stick impact's factor on the momentum law [-]
+    e_ratio: float  #: e/e_H (1 where e_H ≤ 0): the stick impact's factor on ω_L [-]
     impact_ok: bool  #: θ'⁺ = e·θ'⁻ from rock is in the friction cone (stick_impact_demand)
 
     @classmethod
     def of(cls, block: Block, e: float, mu: float, mu_k: float | None, g: float) -> Contact:
         """The contact of ``block`` with restitution e [-] (a number), friction μ_s = ``mu`` and
         μ_k = ``mu_k`` (None: μ_s) [-] under gravity g [m/s²]."""
-        e_h = block.housner_e()  # ≤ 0 for a squat body: it cannot rock on after a stick impact
+        # e_H ≤ 0 for a squat body: no factor turns ω_L into e·θ'⁻ (that rule applies after
+        # rock by itself), and after slip or flight the impact is plastic, ω_L: the only stick
+        # impulse at the corner alone (the module docstring, rule 1)
+        e_h = block.housner_e()
         return cls(
             g,
             block.R,
             block.radius_of_gyration**2,
             mu,
             mu if mu_k is None else mu_k,
-            e / e_h if e_h > 0.0 else 0.0,
+            e / e_h if e_h > 0.0 else 1.0,
             stick_impact_demand(e, math.tan(block.alpha)) <= mu,
         )
 
@@ -195,10 +223,37 @@ def _slide_rock(th, om, s, sig, u, gv, body, c):
     R = c.R
     w2 = om * om
     k = S - sig * c.mu_k * C
-    acc = -R * k * (G - R * C * w2) / (c.rg2 + R * R * k * S)
+    acc = -R * k * (G - R * C * w2) / _slip_den(S, C, sig, c)
     N = G + R * (S * acc - C * w2)
     qdd = -sig * c.mu_k * N - c.g * u - R * (C * acc + S * w2)
     return acc, qdd, N
+
+
+@kernel(inline="always")
+def _slip_den(S, C, sig, c):
+    """The denominator r_g² + R²·k·sin φ [m²] of slide-rock (k = sin φ − σ·μ_k·cos φ) on the
+    corner at S = sin φ, C = cos φ slipping to side σ: ≤ 0 is Painlevé's inconsistent case
+    (the module docstring)."""
+    return c.rg2 + c.R * c.R * (S - sig * c.mu_k * C) * S
+
+
+@kernel(inline="always")
+def _painleve(th, s, sig, body, c):
+    """Whether slide-rock on corner s slipping to side σ at rotation θ has no solution
+    (:func:`_slip_den` ≤ 0)."""
+    S, C = _sin_cos_terms(th, s, body.sa, body.ca)
+    return _slip_den(S, C, sig, c) <= 0.0
+
+
+@kernel(inline="always")
+def _unstuck(th, s, F, body, c):
+    """(mode, σ) of a stuck corner s whose friction demand F [m/s²] leaves the cone: slide-rock
+    against F, or flight where that slide-rock has no solution (Painlevé; the module
+    docstring: then the corner's free vertical acceleration is upward)."""
+    sg = -_sign(F)
+    if _painleve(th, s, sg, body, c):
+        return FLIGHT, 0.0
+    return SLIDE_ROCK, sg
 
 
 @kernel(inline="always")
@@ -312,6 +367,8 @@ def _event(mode, s, sig, st, u, gv, body, c):
         if mode == SLIDE_ROCK:
             if sig * v < 0.0:
                 return _STICK
+            if _painleve(th, s, sig, body, c):
+                return _JAM
             _acc, _qdd, N = _slide_rock(th, om, s, sig, u, gv, body, c)
             return _LIFT if N < 0.0 else _NONE
         F, N = _rock_forces(th, om, s, u, gv, body, c)
@@ -358,24 +415,28 @@ def _start(u, gv, body, c):
     F, N = _rock_forces(0.0, 0.0, s, u, gv, body, c)
     if abs(F) <= c.mu_s * N:
         return ROCK, s, 0.0
-    return SLIDE_ROCK, s, -_sign(F)
+    mode, sg = _unstuck(0.0, s, F, body, c)
+    return mode, s, sg
 
 
 @kernel
-def _strike(th, sc, om, VX, VY, switch, body, c):
+def _strike(th, sc, om, VX, VY, switch, rocked, body, c):
     """Impact of the corner of side ``sc`` at rotation θ, the centre of mass moving at
     (VX, VY) [m/s] and the body turning at θ' = ``om`` [rad/s] (rules 1 and 2 of the module
     docstring; ``switch``: a pivot change at θ = 0, where a body that would turn back into the
-    ground comes down on both corners).  Returns (mode, θ', corner's slip velocity [m/s], σ)."""
+    ground comes down on both corners; ``rocked``: nothing slipped before, the body rocked on
+    its other corner, and the stick impact is θ'⁺ = e·θ'⁻).  Returns (mode, θ', corner's slip
+    velocity [m/s], σ)."""
     S, C = _sin_cos_terms(th, sc, body.sa, body.ca)
     R = c.R
     rcx = R * S  # centre of mass → striking corner
     rcy = -R * C
     Om = -om  # counter-clockwise angular velocity
     i0 = c.rg2 + R * R
-    # 1. stick: angular momentum about the corner conserved, times e/e_H, capped at e²·KE
+    # 1. stick: angular momentum about the corner conserved, times e/e_H, capped at e²·KE; e·θ'⁻
+    # after rock (the same where e_H > 0)
     OmL = (c.rg2 * Om - rcx * VY + rcy * VX) / i0
-    Omp = c.e_ratio * OmL
+    Omp = body.e * Om if rocked else c.e_ratio * OmL
     cap = body.e * math.sqrt((VX * VX + VY * VY + c.rg2 * om * om) / i0)
     if abs(Omp) > cap:
         Omp = math.copysign(cap, Omp)
@@ -402,18 +463,27 @@ def _strike(th, sc, om, VX, VY, switch, body, c):
     # the slip would reverse (it stops during the impact), or the Coulomb impulse would pull the
     # corner down (den ≤ 0: a jam, Painlevé): plastic, stuck
     if Py < 0.0 or v * sg < 0.0:
-        kxx = 1.0 + rcy * rcy / c.rg2
-        kyy = 1.0 + rcx * rcx / c.rg2
-        kxy = -rcx * rcy / c.rg2
-        det = kxx * kyy - kxy * kxy
-        Px = -(kyy * vcx - kxy * vcy) / det
-        Py = -(kxx * vcy - kxy * vcx) / det
-        Om2 = Om + (rcx * Py - rcy * Px) / c.rg2
+        Px, Py, Om2 = _plastic(rcx, rcy, vcx, vcy, Om, c)
         v = 0.0
     if switch and sc * -Om2 <= 0.0:  # the other corner comes down too: rule 3 after this
         mode, v = _flat(VX + Px, VY + Py, c)
         return mode, 0.0, v, _sign(v)
     return (SLIDE_ROCK if v != 0.0 else ROCK), -Om2, v, _sign(v)
+
+
+@kernel(inline="always")
+def _plastic(rcx, rcy, vcx, vcy, Om, c):
+    """The impulse (P_x, P_y) [m/s] that stops a corner at (rcx, rcy) [m] from the centre of
+    mass moving at (vcx, vcy) [m/s] in both directions, and the counter-clockwise angular
+    velocity after it [rad/s] (Om before): P = −K⁻¹·v_c, K the corner's inverse mass matrix
+    per unit mass (the jam of rule 2 and of Painlevé's case)."""
+    kxx = 1.0 + rcy * rcy / c.rg2
+    kyy = 1.0 + rcx * rcx / c.rg2
+    kxy = -rcx * rcy / c.rg2
+    det = kxx * kyy - kxy * kxy
+    Px = -(kyy * vcx - kxy * vcy) / det
+    Py = -(kxx * vcy - kxy * vcx) / det
+    return Px, Py, Om + (rcx * Py - rcy * Px) / c.rg2
 
 
 @kernel(inline="always")
@@ -430,14 +500,20 @@ def _flat(VX, VY, c):
 @kernel
 def _settle(mode, s, sig, st, u, gv, dt, body, c):
     """After an impact at θ = 0: a next flight shorter than ZENO_TIME_FRACTION·dt ends the
-    sequence, on both corners (rest, or slide if the base slips).  Returns (mode, θ')."""
+    sequence, on both corners: rest, or, if the corner slips, slide at the centre of mass's
+    horizontal velocity q' + h·θ' (q': the corner's): the tiny rotation stops without a
+    horizontal impulse, as the bounces it stands for are neglected, and the kinetic energy,
+    ½·(q' + h·θ')² + ½·(r_g² + b²)·θ'² before, does not grow; keeping the corner's q' instead
+    would raise it by about h·abs(q'·θ') wherever q'·θ' < 0.  Returns (mode, θ', slip
+    velocity [m/s])."""
     th, om, q, v, y, vy = st
     if mode != ROCK and mode != SLIDE_ROCK:
-        return mode, om
+        return mode, om, v
     acc = _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c)[1]
     if om == 0.0 or (acc * om < 0.0 and 2.0 * abs(om) < ZENO_TIME_FRACTION * dt * abs(acc)):
-        return (SLIDE if v != 0.0 else REST), 0.0
-    return mode, om
+        vx = v + c.R * body.ca * om if mode == SLIDE_ROCK else 0.0
+        return (SLIDE if vx != 0.0 else REST), 0.0, vx
+    return mode, om, v
 
 
 @kernel
@@ -456,27 +532,33 @@ def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
     """Apply the event ``code`` located at the state tuple ``st``: returns (mode, s, σ, state,
     impacts counted)."""
     th, om, q, v, _y, vy = st
-    if code == _STICK:
-        if mode == SLIDE:  # rest, which restarts at once if it cannot hold
-            return REST, s, 0.0, (0.0, 0.0, q, 0.0, 0.0, 0.0), 0
+    if code == _STICK and mode == SLIDE:  # rest, which restarts at once if it cannot hold
+        return REST, s, 0.0, (0.0, 0.0, q, 0.0, 0.0, 0.0), 0
+    if code in (_STICK, _SLIP):
+        if code == _STICK:
+            st = (th, om, q, 0.0, 0.0, 0.0)
         F, N = _rock_forces(th, om, s, u, gv, body, c)
-        if abs(F) <= c.mu_s * N:
-            return ROCK, s, 0.0, (th, om, q, 0.0, 0.0, 0.0), 0
-        return SLIDE_ROCK, s, -_sign(F), (th, om, q, 0.0, 0.0, 0.0), 0
-    if code == _SLIP:
-        F, _N = _rock_forces(th, om, s, u, gv, body, c)
-        return SLIDE_ROCK, s, -_sign(F), st, 0
+        if code == _STICK and abs(F) <= c.mu_s * N:
+            return ROCK, s, 0.0, st, 0
+        m2, sg = _unstuck(th, s, F, body, c)
+        if m2 == FLIGHT:
+            return FLIGHT, s, 0.0, _to_flight(ROCK, s, st, body, c), 0
+        return SLIDE_ROCK, s, sg, st, 0
+    if code == _JAM:  # Painlevé: the slip stops at once, plastic (the module docstring)
+        S, C = _sin_cos_terms(th, s, body.sa, body.ca)
+        _Px, _Py, Om2 = _plastic(c.R * S, -c.R * C, v, 0.0, -om, c)
+        return ROCK, s, 0.0, (th, -Om2, q, 0.0, 0.0, 0.0), 0
     if code == _LIFT:
         return FLIGHT, s, 0.0, _to_flight(mode, s, st, body, c), 0
     if code == _CROSS:
         if mode == ROCK and c.impact_ok:  # rule 1 without slip: θ'⁺ = e·θ'⁻
             new = (0.0, body.e * om, q, 0.0, 0.0, 0.0)
-            m2, om2 = _settle(ROCK, -s, 0.0, new, u, gv, dt, body, c)
+            m2, om2, _v = _settle(ROCK, -s, 0.0, new, u, gv, dt, body, c)
             return m2, -s, 0.0, (0.0, om2, q, 0.0, 0.0, 0.0), 1
         fl = _to_flight(mode, s, (0.0, om, q, v, 0.0, 0.0), body, c)
-        m2, om2, v2, sg2 = _strike(0.0, -s, om, fl[3], fl[5], True, body, c)
-        m2, om2 = _settle(m2, -s, sg2, (0.0, om2, q, v2, 0.0, 0.0), u, gv, dt, body, c)
-        return m2, -s, sg2, (0.0, om2, q, v2 if m2 != REST else 0.0, 0.0, 0.0), 1
+        m2, om2, v2, sg2 = _strike(0.0, -s, om, fl[3], fl[5], True, mode == ROCK, body, c)
+        m2, om2, v2 = _settle(m2, -s, sg2, (0.0, om2, q, v2, 0.0, 0.0), u, gv, dt, body, c)
+        return m2, -s, _sign(v2), (0.0, om2, q, v2, 0.0, 0.0), 1
     if code == _LAND:
         X = q
         sl, _low = _lowest(th, body, c)
@@ -485,9 +567,22 @@ def _transition(code, mode, s, sig, st, u, gv, dt, body, c):
             return m2, s, _sign(v2), (0.0, 0.0, X, v2, 0.0, 0.0), 1
         S, _C = _sin_cos_terms(th, sl, body.sa, body.ca)
         qc = X + c.R * S - sl * c.R * body.sa  # the slip of the landing corner
-        m2, om2, v2, sg2 = _strike(th, sl, om, v, vy, False, body, c)
+        m2, om2, v2, sg2 = _strike(th, sl, om, v, vy, False, False, body, c)
         return m2, sl, sg2, (th, om2, qc, v2 if m2 != REST else 0.0, 0.0, 0.0), 1
     return mode, s, sig, st, 0
+
+
+@kernel
+def _then(code, mode, s, sig, st, u, gv, dt, body, c):
+    """:func:`_transition` of ``code``, then the contact right after it: a corner that an impact
+    (or a jam) leaves stuck may have to slip (or lift) at once; the contact forces decide there,
+    not only at the step's end.  Returns (mode, s, σ, state, impacts counted)."""
+    mode, s, sig, st, n = _transition(code, mode, s, sig, st, u, gv, dt, body, c)
+    code = _event(mode, s, sig, st, u, gv, body, c)
+    if code in (_SLIP, _LIFT):
+        mode, s, sig, st, n2 = _transition(code, mode, s, sig, st, u, gv, dt, body, c)
+        n += n2
+    return mode, s, sig, st, n
 
 
 @kernel
@@ -512,6 +607,10 @@ def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
         if mode == SLIDE and c.mu_k > body.tan_a:  # the friction's moment tips the body
             mode = SLIDE_ROCK
             s = sig
+            if _painleve(0.0, s, sig, body, c):  # onto a corner that jams at once
+                ut = u0 + du * tau
+                gt = g0 + dg * tau
+                mode, s, sig, st, _n = _then(_JAM, mode, s, sig, st, ut, gt, dt, body, c)
         h = dt - tau
         end, a0, a1 = _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c)
         code = _event(mode, s, sig, end, u0 + du * dt, g0 + dg * dt, body, c)
@@ -545,13 +644,8 @@ def _general(mode, s, sig, st, tau, u0, du, g0, dg, dt, body, c):
         if code == _OVER:
             th = body.th_ov if end[0] > 0.0 else -body.th_ov
             return mode, s, sig, (th, end[1], end[2], end[3], end[4], end[5]), n_imp, tau
-        mode, s, sig, st, n = _transition(code, mode, s, sig, end, ut, gt, dt, body, c)
+        mode, s, sig, st, n = _then(code, mode, s, sig, end, ut, gt, dt, body, c)
         n_imp += n
-        # a corner that an impact leaves stuck may have to slip (or lift) at once: the contact
-        # forces decide right after the transition, not only at the step's end
-        code = _event(mode, s, sig, st, ut, gt, body, c)
-        if code in (_SLIP, _LIFT):
-            mode, s, sig, st, n = _transition(code, mode, s, sig, st, ut, gt, dt, body, c)
     return mode, s, sig, st, n_imp, -1.0
 
 

@@ -38,7 +38,9 @@ rigid bodies. I: Formulation", J. Eng. Mech. 117(10)), as fixed for this package
 rigid bodies, an instantaneous impulse P at the striking corner only (the other corner, and the
 ground, exert none), no change of position during it.  (1) Stick: the corner comes to rest;
 ω_L conserves the angular momentum about it (Housner's plastic law, e_H·ω⁻ after pure rocking),
-ω⁺ = (e/e_H)·ω_L with at most e² of the kinetic energy (e·ω⁻ after pure rocking, today's rule);
+ω⁺ = (e/e_H)·ω_L with at most e² of the kinetic energy (e·ω⁻ after pure rocking, today's rule,
+for every body; where e_H ≤ 0, a squat body, no factor maps ω_L onto it, and after slip or flight
+ω⁺ = ω_L, plastic: the only stick by an impulse at the corner alone);
 accepted where P_y ≥ 0 and abs(P_x) ≤ μ_s·P_y.  (2) Otherwise a sliding impact: P_x = −σ·μ_k·P_y
 with σ the sign of the corner's slip velocity before (taken not to reverse during the impact; a
 corner at rest before, as after rock, slips against the friction that sticking would need, the
@@ -48,9 +50,22 @@ Painlevé jam) or the slip would reverse (it stops during the impact, and a reve
 the same impulse would gain energy), the corner sticks, plastic: ω⁺ = ω_L, outside the cone.
 (3) Both corners at once (a flat landing, or an impact after which the body would turn into the
 ground): y' and θ' → 0 (plastic), tangential stick where abs(x') ≤ μ_s·P_y/m, else a Coulomb
-impulse.  Kinetic energy (ground's frame) never increases with e ≤ 1.  A bounce shorter than
+impulse.  Kinetic energy (ground's frame) never increases with e ≤ 1.
+
+Painlevé's paradox: where a unit normal impulse at a slipping corner, with its Coulomb partner,
+would move that corner down (:meth:`_Rigid.normal_response` ≤ 0: an outward slip with large
+μ_k·h), the slip has no solution, neither as a motion nor as an impact.  As in the literature
+(Génot & Brogliato 1999, "New results on Painlevé paradoxes", Eur. J. Mech. A/Solids 18:653–677:
+an "impact without collision"), the slip then stops at once: the same plastic impulse as a jam
+above (ω_L; its friction ratio is inside the cone), after which the stuck corner's contact forces
+decide.  It is a terminal event ("jam") of slide-rock and is applied where a slide tips onto
+such a corner.  A stuck corner whose friction demand would need such a slip lifts off instead:
+that happens only with its free vertical acceleration upward, where N = 0 solves the contact
+problem (derived in :mod:`rocking.dynamics.modes`).  A bounce shorter than
 :data:`REST_FLIGHT_TIME` ends in contact on both corners (rest, or slide at the centre of mass's
-horizontal velocity).
+horizontal velocity: the tiny rotation stops without a horizontal impulse, and the kinetic energy
+does not grow, as it would with the corner's slip velocity kept wherever that and θ' have
+opposite signs).
 
 Slow-but-exact: rtol 1e-10, atol 1e-12 by default; about 0.2 s per 4 s of rocking at 1/100 s,
 0.4 s for 1.25 s of sliding at 1/1000 s, 0.1–2 s for 5 s of random motion through every mode at
@@ -145,40 +160,40 @@ def _segment(rhs, t_cur: float, t_next: float, y, events, watches, tol):
 
     Events are seen only as sign changes between the ends of a step, so an event function
     that crosses 0 and returns inside one step (a short flight) would go unnoticed.  Each of
-    ``watches`` = ((fn, missed), ...) is a non-terminal event at the extremum of such a
-    function; where ``missed(y)`` at it is true, the crossing lies before it, and the
-    segment is integrated again up to it.
+    ``watches`` = ((fn, split), ...) is a non-terminal event at the extremum of such a
+    function (or of its rate); where ``split(y)`` at it is true, the segment is integrated
+    again in two parts, up to it and on from it, each watched alike (a crossing missed before
+    an extremum is found in the first part; a function whose rate changes sign twice inside
+    one step, once on each side).  Returns the solution of the last part integrated (up to a
+    terminal event, or to t_next).
     """
     rtol, atol, cap = tol
-
-    def solve(t_stop):
-        return solve_ivp(
-            rhs,
-            (t_cur, t_stop),
-            y,
-            method="DOP853",
-            rtol=rtol,
-            atol=atol,
-            first_step=min(t_stop - t_cur, cap),
-            max_step=cap,
-            events=(*events, *(fn for fn, _ in watches)),
-        )
-
-    sol = solve(t_next)
+    sol = solve_ivp(
+        rhs,
+        (t_cur, t_next),
+        y,
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+        first_step=min(t_next - t_cur, cap),
+        max_step=cap,
+        events=(*events, *(fn for fn, _ in watches)),
+    )
     n_ev = len(events)
-    missed = [
+    margin = 1e-9 * (t_next - t_cur)  # an extremum at an end is that end's
+    splits = [
         t
-        for w, (_, is_missed) in enumerate(watches)
+        for w, (_, split) in enumerate(watches)
         for t, yy in zip(sol.t_events[n_ev + w], sol.y_events[n_ev + w])
-        if is_missed(yy)
+        if t_cur + margin < t < sol.t[-1] - margin and split(yy)
     ]
-    if missed:
-        sol = solve(min(missed))
-        if sol.status != 1:
-            raise RuntimeError(
-                f"no event found before the missed crossing at t = {min(missed):g} s"
-            )
-    return sol
+    if not splits:
+        return sol
+    t_split = min(splits)
+    first = _segment(rhs, t_cur, t_split, y, events, watches, tol)
+    if first.status != 0:
+        return first
+    return _segment(rhs, t_split, t_next, first.y[:, -1], events, watches, tol)
 
 
 def _terminal(fn, direction: float):
@@ -202,6 +217,11 @@ def _flight(rhs, t_cur: float, t_next: float, y, side: float, t_seg: float, th_o
         # minima of side·θ: where side·θ < 0 there, a return to θ = 0 was missed
         return side * yy[1]
 
+    def bend(t, yy):
+        # extrema of θ': where θ' changes sign twice inside one step (a bounce of a chatter that
+        # starts and ends inside it), turn_back sees no sign change; split there
+        return rhs(t, yy)[1]
+
     turn_back.direction = 1.0  # type: ignore[attr-defined]
     return _segment(
         rhs,
@@ -209,7 +229,7 @@ def _flight(rhs, t_cur: float, t_next: float, y, side: float, t_seg: float, th_o
         t_next,
         y,
         (_terminal(hit_zero, -side), _terminal(lambda t, yy: abs(yy[0]) - th_ov, 1.0)),
-        ((turn_back, lambda yy: side * yy[0] < 0.0),),
+        ((turn_back, lambda yy: side * yy[0] < 0.0), (bend, lambda yy: True)),
         tol,
     )
 
@@ -245,10 +265,13 @@ def simulate_reference(
     vertical ground acceleration at the same samples, above −g (None: zero);
     ``tolerances`` those of the integrator (:class:`Tolerances`, default ``Tolerances()``).
     Events are found from the values at the ends of the integrator's steps, so a bounce much
-    shorter than a step can go unseen (a minimum of θ inside a step is looked for, as is one of
-    a corner's height in flight and of the slip velocity in slide and slide-rock, but a chatter
-    of tiny bounces may still be missed); ``Tolerances(max_step=dt/2)`` guards against it at
-    twice the cost.
+    shorter than a step could go unseen.  Hence the extrema inside a step are looked for: of θ
+    and, without friction, of θ' (a bounce of a chatter that starts and ends inside one step
+    turns θ' twice), of a corner's height in flight and of the slip velocity in slide and
+    slide-rock, and the step is split there.  What can still be missed is a pair of extrema of θ'
+    inside one step (θ'' changing sign twice there) and, with friction, a bounce in rock or
+    slide-rock that starts and ends inside one step; ``Tolerances(max_step=...)`` guards
+    against those at more cost.
     """
     dt = positive("dt", dt, "s")
     g = positive("g", g, "m/s²")
@@ -387,6 +410,21 @@ class _Rigid:
         [m]; θ > 0 turns the body about its +x corner (clockwise in x right, y up)."""
         ct, st = math.cos(th), math.sin(th)
         return c * self.b * ct - self.h * st, -c * self.b * st - self.h * ct
+
+    def normal_response(self, c: float, th: float, sigma: float) -> float:
+        """The upward velocity [m/s] that a unit upward impulse [m/s] at corner c, with its
+        Coulomb partner −σ·μ_k along x, gives that corner at rotation θ: 1 + r_x·(r_x +
+        σ·μ_k·r_y)/(I_cm/m).  Where it is ≤ 0 (Painlevé's inconsistent case) friction pulls the
+        corner down harder than the normal force lifts it: a slip to side σ has no solution,
+        neither as a motion nor as an impact."""
+        rx, ry = self.corner(c, th)
+        return 1.0 + rx * (rx + sigma * self.mu_k * ry) / self.i_cm
+
+    def pivot_rate(self, c: float, z) -> float:
+        """ω_L [rad/s]: the angular velocity that conserves the angular momentum of state z
+        about corner c (the plastic law: the corner at rest after an impulse there)."""
+        rx, ry = self.corner(c, z[2])
+        return (self.i_cm * z[5] + rx * z[4] - ry * z[3]) / self.i_0
 
 
 @dataclass(frozen=True)
@@ -631,6 +669,12 @@ class _Modes:
             # σ·(slip velocity) < 0 at its minimum: a stop was missed before it
             slows.direction = 1.0  # type: ignore[attr-defined]
             watches.append((slows, lambda z: sigma * slip_velocity(z) < 0.0))
+        if ph.mode == _SLIDE_ROCK:
+            add(
+                "jam",
+                lambda t, z: body.normal_response(c, z[2], sigma) if t > t_seg else 1.0,
+                -1.0,
+            )
         if ph.mode == _SLIDE:
             add("lift-off", normal, -1.0)
         elif ph.mode == _FLIGHT:
@@ -661,6 +705,10 @@ class _Modes:
             if abs(f) <= self.body.mu_s * n:
                 return rock
             sigma = -_sign(f)
+        if self.body.normal_response(c, z[2], sigma) <= 0.0:
+            # a stuck corner that cannot slip to that side (Painlevé), which happens only with
+            # its free vertical acceleration upward (the module docstring): it lifts off
+            return _Phase(_FLIGHT)
         ph = _Phase(_SLIDE_ROCK, c, sigma)
         return ph if self.forces(ph, j, t, z)[1][0][0] >= 0.0 else _Phase(_FLIGHT)
 
@@ -673,7 +721,10 @@ class _Modes:
         if n_plus + n_minus < 0.0:
             return _Phase(_FLIGHT)
         if min(n_plus, n_minus) < 0.0:
-            return self.one_corner(j, t, z, 1.0 if n_plus > n_minus else -1.0, sigma)
+            c = 1.0 if n_plus > n_minus else -1.0
+            if self.body.normal_response(c, z[2], sigma) <= 0.0:
+                return _Phase(_SLIDE_ROCK, c, sigma)  # Painlevé: it jams at once (settle)
+            return self.one_corner(j, t, z, c, sigma)
         return ph
 
     def leave_rest(self, j: int, t: float, z, first: tuple[int, ...]) -> _Phase:
@@ -696,7 +747,21 @@ class _Modes:
         z = np.array([z[0], self.body.h, 0.0, vx, 0.0, 0.0])
         if vx == 0.0:
             return _Phase(_REST), z
-        return self.both_corners(j, t, z, _sign(vx)), z
+        ph = self.both_corners(j, t, z, _sign(vx))
+        if ph.mode == _SLIDE_ROCK and self.body.normal_response(ph.c, 0.0, ph.sigma) <= 0.0:
+            return self.jam(j, t, z, ph.c)
+        return ph, z
+
+    def jam(self, j: int, t: float, z, c: float) -> tuple[_Phase, np.ndarray]:
+        """Painlevé's inconsistent case, corner c slipping where no slip can go on
+        (:meth:`_Rigid.normal_response` ≤ 0): an impact without collision stops it at once,
+        plastic (the corner at rest after, ω_L: the module docstring); then the stuck corner's
+        contact forces decide (:meth:`one_corner`)."""
+        z = np.array(z, dtype=float)
+        rx, ry = self.body.corner(c, z[2])
+        w = self.body.pivot_rate(c, z)
+        z[3], z[4], z[5] = -ry * w, rx * w, w
+        return self.one_corner(j, t, z, c), z
 
     def flat(self, j: int, t: float, z) -> tuple[_Phase, np.ndarray]:
         """Both corners strike at once (MODES.md rule 3): plastic in the normal direction
@@ -710,10 +775,11 @@ class _Modes:
         return self.settle(j, t, z, vx)
 
     def strike(
-        self, j: int, t: float, z, c: float, at_zero: bool
+        self, j: int, t: float, z, c: float, at_zero: bool, rocked: bool = False
     ) -> tuple[_Phase, np.ndarray, str]:
         """Corner c strikes the ground (``at_zero``: θ crossing 0 from the other corner; else a
-        landing after flight): the impulse–momentum law of the module's docstring."""
+        landing after flight; ``rocked``: from rock, the other corner stuck): the
+        impulse–momentum law of the module's docstring."""
         body = self.body
         z = np.array(z, dtype=float)
         if at_zero:
@@ -722,8 +788,9 @@ class _Modes:
         th, vx, vy, om = z[2], z[3], z[4], z[5]
         rx, ry = body.corner(c, th)
         # 1. stick: the corner at rest after; ω_L conserves the angular momentum about it
-        w_l = (body.i_cm * om + rx * vy - ry * vx) / body.i_0
-        w = w_l * (body.e / body.e_h if body.e_h > 0.0 else 1.0)
+        w_l = body.pivot_rate(c, z)
+        # e·ω⁻ after rock (= (e/e_H)·ω_L there; also where e_H ≤ 0), else plastic where e_H ≤ 0
+        w = body.e * om if rocked else w_l * (body.e / body.e_h if body.e_h > 0.0 else 1.0)
         cap = body.e * math.sqrt(2.0 * ke / body.i_0)  # no more than e² of the energy
         w = max(-cap, min(cap, w))
         p_x, p_y = -ry * w - vx, rx * w - vy
@@ -739,7 +806,7 @@ class _Modes:
             if abs(vcx) <= 10.0 * self.tol[0] * (abs(vx) + abs(ry * om)):
                 vcx = 0.0
             sigma = _sign(vcx) if vcx != 0.0 else -_sign(p_x)
-            den = 1.0 + rx * (rx + sigma * body.mu_k * ry) / body.i_cm
+            den = body.normal_response(c, th, sigma)
             q_y = -vcy / den if den > 0.0 else -1.0
             q_x = -sigma * body.mu_k * q_y
             w_s = om + (ry * q_x - rx * q_y) / body.i_cm
@@ -779,8 +846,11 @@ class _Modes:
             return _Phase(_REST), np.array([z[0], self.body.h, 0.0, 0.0, 0.0, 0.0]), name
         if name == "stick":
             return self.one_corner(j, t, z, ph.c), z, name
+        if name == "jam":
+            ph, z = self.jam(j, t, z, ph.c)
+            return ph, z, name
         if name == "impact":
-            return self.strike(j, t, z, -ph.c, at_zero=True)
+            return self.strike(j, t, z, -ph.c, at_zero=True, rocked=ph.mode == _ROCK)
         # landing: flat (both corners at once) if the body never turned, else corner sign θ
         if z[2] == 0.0 and z[5] == 0.0:
             ph, z = self.flat(j, t, z)
