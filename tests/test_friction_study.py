@@ -11,7 +11,9 @@ import xarray as xr
 from rocking import Block, Physics, agx_50, generate, simulate
 from rocking.assessment.screen import RESPONSES
 from rocking.errors import InputError
+from rocking.montecarlo.probability import member_outcomes
 from rocking.montecarlo.search import Agx50Search
+from rocking.studies import friction
 from rocking.studies.friction import LEVELS, friction_study, summary
 
 #: A small configuration: a stocky (B/H = 1/2) and a slender body (B/H = 1/6), six short
@@ -25,9 +27,19 @@ def motions():
     return generate(6, duration=6.0, dt=1 / 200, seed=3)
 
 
+#: The calls of member_outcomes made by the study of the fixture ``study``.
+OUTCOME_CALLS: list[int] = []
+
+
 @pytest.fixture(scope="module")
 def study(motions):
-    return friction_study(BODIES, motions, [0.3, 0.6], search=SEARCH)
+    def counted(*args, **kwargs):
+        OUTCOME_CALLS.append(1)
+        return member_outcomes(*args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(friction, "member_outcomes", counted)
+        return friction_study(BODIES, motions, [0.3, 0.6], search=SEARCH)
 
 
 def test_agx50_is_that_of_agx_50_with_the_friction(study, motions):
@@ -69,6 +81,14 @@ def test_shares_count_the_modes_of_single_simulations(study, motions):
                     assert float(at["max_slip"][b]) == pytest.approx(
                         max(slips), rel=1e-9, abs=1e-12
                     )
+
+
+def test_shares_of_a_row_come_from_one_run_of_its_simulations(study, motions):
+    # both levels of a row (A_gx50 with μ and with infinite friction) in one member_outcomes
+    # call: its chunk folder opened and read once per row (was twice)
+    assert len(OUTCOME_CALLS) == study["mu"].size == 3
+    with pytest.raises(InputError, match=r"agx must hold one intensity or one row .* \(2 bodies\)"):
+        friction.mode_shares(BODIES, motions, [1.0])
 
 
 def test_kinetic_ratio_sets_mu_k_of_every_row(motions):

@@ -74,15 +74,18 @@ def mode_shares(
         The bodies.
     ensemble : Ensemble
         The motions [m/s²].
-    agx : sequence of float
-        One intensity A_gx [g] per body (NaN: not simulated, the shares NaN).
+    agx : array_like, shape (n_bodies,) or (n_bodies, n_levels)
+        One intensity A_gx [g] per body, or a row of them (NaN: not simulated, the shares
+        NaN).  The levels of all the bodies are simulated (or loaded from ``compute.out``) in
+        one run.
     physics, compute :
         As for :func:`rocking.overturning_probability` (friction in ``physics.mu``).
 
     Returns
     -------
     xarray.Dataset
-        Dimensions (body, mode) with ``share`` [-], the fraction of the motions whose whole
+        Dimensions (body[, level], mode) (``level`` with a row of intensities per body) with
+        ``share`` [-], the fraction of the motions whose whole
         response was each of :data:`~rocking.assessment.screen.RESPONSES`
         (:func:`~rocking.assessment.screen.responses`: "overturn"; of the others, "slide":
         slip > 0 without uplift, "slide-rock": slip > 0 with uplift, "rock": uplift without
@@ -92,21 +95,36 @@ def mode_shares(
         peak slip of a motion that did not overturn the body (NaN if every motion did).
     """
     blocks = block_list(blocks)
-    agx = np.asarray(agx, dtype=float)
-    share = np.full((len(blocks), len(RESPONSES)), np.nan)
-    max_slip = np.full(len(blocks), np.nan)
-    found = np.flatnonzero(np.isfinite(agx))
+    values = np.asarray(agx, dtype=float)
+    rows = values if values.ndim == 2 else values[:, None]
+    if values.ndim not in (1, 2) or rows.shape[0] != len(blocks):
+        raise InputError(
+            f"agx must hold one intensity or one row of intensities per body ({len(blocks)} "
+            f"bodies), got shape {values.shape}"
+        )
+    share = np.full((*rows.shape, len(RESPONSES)), np.nan)
+    max_slip = np.full(rows.shape, np.nan)
+    known = np.isfinite(rows)
+    found = np.flatnonzero(known.any(axis=1))
     if found.size:
+        # a body's NaN levels are run at one of its known levels (a level asked twice is
+        # simulated once), their shares left NaN
+        first = rows[found, np.argmax(known[found], axis=1)]
+        at = np.where(known[found], rows[found], first[:, None])
         out = member_outcomes(
-            blocks, ensemble, agx[found], physics=physics, compute=compute, bodies=found.tolist()
-        ).isel(level=0)
-        ov, slip = out["overturned"].values, out["peak_slip"].values  # (body, member)
-        share[found] = response_shares(ov, out["uplift"].values, slip)
-        max_slip[found] = standing_slip(ov, slip)
+            blocks, ensemble, at, physics=physics, compute=compute, bodies=found.tolist()
+        )
+        ov, slip = out["overturned"].values, out["peak_slip"].values  # (body, level, member)
+        keep = known[found]
+        share[found] = np.where(
+            keep[..., None], response_shares(ov, out["uplift"].values, slip), np.nan
+        )
+        max_slip[found] = np.where(keep, standing_slip(ov, slip), np.nan)
+    dims = ("body", "level") if values.ndim == 2 else ("body",)
     return xr.Dataset(
         {
-            "share": (("body", "mode"), share, {"units": "1"}),
-            "max_slip": ("body", max_slip, {"units": "m"}),
+            "share": ((*dims, "mode"), share.reshape(*values.shape, -1), {"units": "1"}),
+            "max_slip": (dims, max_slip.reshape(values.shape), {"units": "m"}),
         },
         coords={"body": [b.label for b in blocks], "mode": list(RESPONSES)},
     )
@@ -187,13 +205,11 @@ def friction_study(
     ]
     paper = a50[-1]
     ratio = [energy_balance(blocks, ensemble, a, band_hz=band_hz)["ratio"].values for a in a50]
-    at_levels = []
-    for a, ph, c in zip(a50, physics_of, computes):
-        levels: list[xr.Dataset] = [
-            mode_shares(blocks, ensemble, level, physics=ph, compute=c) for level in (a, paper)
-        ]
-        at_levels.append(xr.concat(levels, pd.Index(list(LEVELS), name="level")))
-    shares = xr.concat(at_levels, pd.Index(rows, name="mu"))
+    at_levels = [
+        mode_shares(blocks, ensemble, np.column_stack([a, paper]), physics=ph, compute=c)
+        for a, ph, c in zip(a50, physics_of, computes)
+    ]
+    shares = xr.concat(at_levels, pd.Index(rows, name="mu")).assign_coords(level=list(LEVELS))
     a50_arr = np.array(a50)
     ds = shares.assign(
         agx50=(("mu", "body"), a50_arr, {"units": "g"}),
