@@ -204,7 +204,8 @@ def friction_study(
         for ph, c in zip(physics_of, computes)
     ]
     paper = a50[-1]
-    ratio = [energy_balance(blocks, ensemble, a, band_hz=band_hz)["ratio"].values for a in a50]
+    # S_v1 = sv1_per_g · A_gx50: the spectrum (the same for every row) computed once
+    table3 = energy_balance(blocks, ensemble, paper, band_hz=band_hz)
     at_levels = [
         mode_shares(blocks, ensemble, np.column_stack([a, paper]), physics=ph, compute=c)
         for a, ph, c in zip(a50, physics_of, computes)
@@ -214,7 +215,11 @@ def friction_study(
     ds = shares.assign(
         agx50=(("mu", "body"), a50_arr, {"units": "g"}),
         change=(("mu", "body"), a50_arr / paper - 1.0, {"units": "1"}),
-        ratio=(("mu", "body"), np.array(ratio), {"units": "1"}),
+        ratio=(
+            ("mu", "body"),
+            table3.attrs["sv1_per_g"] * a50_arr / table3["sv_required"].values,
+            {"units": "1"},
+        ),
     )
     ds.attrs["kinetic_ratio"] = ratio_k
     return ds.assign_coords(
