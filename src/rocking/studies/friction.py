@@ -44,7 +44,8 @@ from ..plots.studies import plot_friction
 from ..report import Report
 from .config import RunContext, resolve_bodies
 
-TITLE = "Beyond the paper: friction (A_gx50 and Table 3 for μ = 0.3-0.8, issue 45)"
+#: The heading of the report; ``{mus}``: the run's friction coefficients (:func:`_mu_range`).
+TITLE = "Beyond the paper: friction (A_gx50 and Table 3 for μ = {mus}, issue 45)"
 #: Where the shares are counted: at the body's A_gx50 with the friction of the row, and at its
 #: A_gx50 with infinite friction (the paper's).
 LEVELS = ("A_gx50(μ)", "A_gx50(∞)")
@@ -255,7 +256,7 @@ def run(ctx: RunContext) -> FrictionResult:
 def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
     """The summary in words, the figure and the tables."""
     ds, lab = result.data, result.label
-    rep.heading(TITLE)
+    rep.heading(TITLE.format(mus=_mu_range(ds)))
     rep.text(summary(ds))
     rep.text(
         "The paper's bodies and motions (Section 8 on the ground), with Coulomb friction of "
@@ -300,6 +301,13 @@ def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
         floatfmt=".3f",
         collapsed=True,
     )
+
+
+def _mu_range(ds: xr.Dataset) -> str:
+    """The finite friction coefficients of ``ds`` in words: "0.3–0.8", or "0.6" for one."""
+    mus = ds["mu"].values[np.isfinite(ds["mu"].values)]
+    lo, hi = f"{mus.min():g}", f"{mus.max():g}"
+    return lo if lo == hi else f"{lo}–{hi}"
 
 
 def _kinetic(ds: xr.Dataset) -> str:
@@ -367,7 +375,7 @@ def summary(ds: xr.Dataset) -> str:
     moved = own["share"].sel(mode=["slide", "slide-rock"]).sum("mode")
     parts = [
         f"**What the paper's assumption of sufficient friction hides.** Over {len(mus)} "
-        f"friction coefficients μ = {mus.min():g}–{mus.max():g} and "
+        f"friction coefficients μ = {_mu_range(ds)} and "
         f"{ds['body'].size} bodies ({n_pairs} pairs):"
     ]
     if both.any():
