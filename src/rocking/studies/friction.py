@@ -42,7 +42,7 @@ from ..montecarlo.search import Agx50Search
 from ..motions.ensemble import Ensemble
 from ..plots.studies import plot_friction
 from ..report import Report
-from .config import RunContext, resolve_bodies
+from .config import RunContext, friction_coefficients, resolve_bodies
 
 #: The heading of the report; ``{mus}``: the run's friction coefficients (:func:`_mu_range`).
 TITLE = "Beyond the paper: friction (A_gx50 and Table 3 for μ = {mus}, issue 45)"
@@ -181,9 +181,7 @@ def friction_study(
     ratio_k = in_range("kinetic_ratio", kinetic_ratio, 0.0, 1.0, lo_open=True, unit="-")
     base = physics or Physics()
     compute = compute or Compute()
-    if not len(mus) or len(set(mus)) < len(mus):
-        raise InputError(f"mus must hold at least one friction coefficient, each once, got {mus}")
-    rows = [*(float(m) for m in mus), math.inf]
+    rows = [*friction_coefficients(mus, "mus"), math.inf]
     where = list(stores) if stores is not None else [compute.out] * len(rows)
     if len(where) != len(rows):
         raise InputError(
