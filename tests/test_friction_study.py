@@ -100,6 +100,8 @@ def test_each_row_simulated_once_and_the_spectrum_computed_once(study, motions):
     assert CALLS.count("energy_balance") == 1
     with pytest.raises(InputError, match=r"agx must hold one intensity or one row .* \(2 bodies\)"):
         friction.mode_shares(BODIES, motions, [1.0])
+    with pytest.raises(InputError, match=r"agx must hold one intensity .* got shape \(\)"):
+        friction.mode_shares(BODIES, motions, 1.0)
 
 
 def test_kinetic_ratio_sets_mu_k_of_every_row(motions):

@@ -97,12 +97,12 @@ def mode_shares(
     """
     blocks = block_list(blocks)
     values = np.asarray(agx, dtype=float)
-    rows = values if values.ndim == 2 else values[:, None]
-    if values.ndim not in (1, 2) or rows.shape[0] != len(blocks):
+    if values.ndim not in (1, 2) or values.shape[0] != len(blocks):
         raise InputError(
             f"agx must hold one intensity or one row of intensities per body ({len(blocks)} "
             f"bodies), got shape {values.shape}"
         )
+    rows = values if values.ndim == 2 else values[:, None]
     share = np.full((*rows.shape, len(RESPONSES)), np.nan)
     max_slip = np.full(rows.shape, np.nan)
     known = np.isfinite(rows)
