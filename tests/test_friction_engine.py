@@ -121,6 +121,12 @@ def test_bodies_csv_friction_columns_reach_agx50_per_body(tmp_path, ensemble):
     assert (bodies[0].mu, bodies[0].mu_k, bodies[1].mu, bodies[1].mu_k) == (0.5, 0.4, None, None)
     physics = with_body_friction(Physics(mu=0.3), bodies)
     assert (physics.mu, physics.mu_k) == ((0.5, 0.3), (0.4, None))
+    # a physics with one friction per block besides the bodies' own: refused, not nested
+    for per_block in (Physics(mu=(0.3, 0.4)), Physics(mu=0.6, mu_k=(0.3, 0.4))):
+        name = "mu" if isinstance(per_block.mu, tuple) else "mu_k"
+        with pytest.raises(InputError, match=rf"physics\.{name} must be one value for all"):
+            with_body_friction(per_block, bodies)
+    assert with_body_friction(Physics(mu=(0.3, 0.4)), [bodies[1]] * 2).mu == (0.3, 0.4)
     motions = tmp_path / "ens.nc"
     ensemble.save(motions)
     out = tmp_path / "out"

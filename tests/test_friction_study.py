@@ -9,9 +9,12 @@ import pytest
 import xarray as xr
 
 from rocking import Block, Physics, agx_50, generate, simulate
+from rocking.assessment.energy import energy_balance
 from rocking.assessment.screen import RESPONSES
 from rocking.errors import InputError
+from rocking.montecarlo.probability import member_outcomes
 from rocking.montecarlo.search import Agx50Search
+from rocking.studies import friction
 from rocking.studies.friction import LEVELS, friction_study, summary
 
 #: A small configuration: a stocky (B/H = 1/2) and a slender body (B/H = 1/6), six short
@@ -25,9 +28,23 @@ def motions():
     return generate(6, duration=6.0, dt=1 / 200, seed=3)
 
 
+#: The calls of member_outcomes and of energy_balance made by the study of the fixture ``study``.
+CALLS: list[str] = []
+
+
 @pytest.fixture(scope="module")
 def study(motions):
-    return friction_study(BODIES, motions, [0.3, 0.6], search=SEARCH)
+    def counted(f):
+        def call(*args, **kwargs):
+            CALLS.append(f.__name__)
+            return f(*args, **kwargs)
+
+        return call
+
+    with pytest.MonkeyPatch.context() as mp:
+        for f in (member_outcomes, energy_balance):
+            mp.setattr(friction, f.__name__, counted(f))
+        return friction_study(BODIES, motions, [0.3, 0.6], search=SEARCH)
 
 
 def test_agx50_is_that_of_agx_50_with_the_friction(study, motions):
@@ -36,7 +53,11 @@ def test_agx50_is_that_of_agx_50_with_the_friction(study, motions):
         direct = agx_50(BODIES, motions, search=SEARCH, physics=physics)["agx50"].values
         np.testing.assert_array_equal(study["agx50"].sel(mu=mu).values, direct)
     paper = study["agx50"].sel(mu=math.inf).values
-    # Table 3 at μ: S_v1 scales with A_gx50, S_v does not (energy_balance)
+    # Table 3 at μ: energy_balance at the row's A_gx50, bit for bit (S_v1 = sv1_per_g · A_gx50)
+    for mu in (0.3, 0.6, math.inf):
+        table3 = energy_balance(BODIES, motions, study["agx50"].sel(mu=mu).values)
+        np.testing.assert_array_equal(study["ratio"].sel(mu=mu).values, table3["ratio"].values)
+    # so S_v1 scales with A_gx50, S_v does not (to rounding: rtol 1e-12)
     np.testing.assert_allclose(
         study["ratio"].sel(mu=0.3).values,
         study["ratio"].sel(mu=math.inf).values * study["agx50"].sel(mu=0.3).values / paper,
@@ -69,6 +90,18 @@ def test_shares_count_the_modes_of_single_simulations(study, motions):
                     assert float(at["max_slip"][b]) == pytest.approx(
                         max(slips), rel=1e-9, abs=1e-12
                     )
+
+
+def test_each_row_simulated_once_and_the_spectrum_computed_once(study, motions):
+    # both levels of a row (A_gx50 with μ and with infinite friction) in one member_outcomes
+    # call: its chunk folder opened and read once per row (was twice); the ensemble's mean
+    # spectrum, the same for every row, in one energy_balance call (was one per row)
+    assert CALLS.count("member_outcomes") == study["mu"].size == 3
+    assert CALLS.count("energy_balance") == 1
+    with pytest.raises(InputError, match=r"agx must hold one intensity or one row .* \(2 bodies\)"):
+        friction.mode_shares(BODIES, motions, [1.0])
+    with pytest.raises(InputError, match=r"agx must hold one intensity .* got shape \(\)"):
+        friction.mode_shares(BODIES, motions, 1.0)
 
 
 def test_kinetic_ratio_sets_mu_k_of_every_row(motions):

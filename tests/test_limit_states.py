@@ -138,6 +138,49 @@ def _shelving():
     return levels, y
 
 
+@pytest.mark.parametrize("layout", ["ida", "cloud"])
+def test_intervals_are_the_percentiles_of_each_states_resampled_fits(layout):
+    # nested states far apart (capacities 0.25 and 1 g times one lognormal factor, β 0.5):
+    # no resample's own fits cross, so every state of every resample keeps its own maximum,
+    # and the intervals are the percentiles of fit_lognormal on the motions drawn plainly here
+    # (NumPy's default generator of the seed, n draws per resample, resamples in order, whole
+    # motions of an IDA), as bootstrap_fragility draws them. The probit coefficients of a
+    # state fitted with others give its median as exp(−c/s): to rounding (rel 1e-12) of
+    # fit_lognormal's.
+    n, n_boot, seed = 60, 30, 5
+    factor = np.exp(0.5 * np.random.default_rng(2).standard_normal(n))
+    caps = np.array([0.25 * factor, 1.0 * factor])
+    levels = np.geomspace(0.1, 2.0, 12)
+    if layout == "ida":
+        im, y = levels, levels[None, :, None] >= caps[:, None, :]  # (state, level, motion)
+    else:
+        im = np.geomspace(0.1, 2.0, n)[np.random.default_rng(3).permutation(n)]
+        y = im[None, :] >= caps  # (state, motion)
+    result = bootstrap_limit_states(im, y, n_boot=n_boot, confidence=0.9, seed=seed)
+    rng = np.random.default_rng(seed)
+    plain: list[list] = [[], []]
+    grid = np.geomspace(im.min(), im.max(), 200)
+    for _ in range(n_boot):
+        idx = rng.integers(0, n, n)
+        if layout == "ida":
+            fits = [fit_lognormal(im, y[i][:, idx].sum(axis=1), n) for i in range(2)]
+        else:
+            fits = [fit_lognormal(im[idx], y[i][idx].astype(int), 1) for i in range(2)]
+        # the case is the one meant: the severer curve nowhere above the milder (no refit)
+        assert np.all(fits[1].probability(grid) <= fits[0].probability(grid) + CROSSING_TOLERANCE)
+        for i in range(2):
+            plain[i].append(fits[i])
+    q = [0.05, 0.95]
+    assert not result.crossings and result.constrained == [False, False]
+    for fit, fits in zip(result.fits, plain):
+        assert fit is not None and fit.n_unfitted == 0
+        for got, want in (
+            (fit.median_ci, np.quantile([f.median for f in fits], q)),
+            (fit.beta_ci, np.quantile([f.beta for f in fits], q)),
+        ):
+            np.testing.assert_allclose(got, want, rtol=1e-12)
+
+
 def test_a_separated_state_does_not_drag_the_betas_of_the_others():
     # the defect of issue 44: one β for all states collapsed to ~0.003 with the separated
     # uplift, and turned the overturning curve into a step that contradicts its data

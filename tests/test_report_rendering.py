@@ -355,7 +355,9 @@ def test_friction_reproduction_sits_beside_the_conclusions(tmp_path):
     tables = _check_page(out)
     assert any("μ [-]" in t["th"] for t in tables)
     md = (out / "report.md").read_text()
-    beyond, section8 = md.index("## Beyond the paper: friction"), md.index("## Section 8")
+    # the heading names the run's μ (friction.mu), not the default 0.3–0.8
+    title = "## Beyond the paper: friction (A_gx50 and Table 3 for μ = 0.3–0.6, issue 45)"
+    beyond, section8 = md.index(title), md.index("## Section 8")
     assert md.index("The paper's conclusions") < beyond < section8
     assert "**What the paper's assumption of sufficient friction hides.**" in md
     assert (out / "figures" / "friction.png").exists()

@@ -444,7 +444,7 @@ def test_reproduce_bad_input_is_one_line(tmp_path):
         ("sec6.bodies=[[1.0, -2]]", "sec6.bodies: gamma must be"),
         ("common.envelope_params={t2 = 50.0}", "common.envelope_params: t2 must lie in"),
         ("sec5.motions=[1, 30]", "sec5: motion numbers must lie in 1..n = 25"),
-        ("friction.mu=[0.3, 0.3]", "friction.mu: give each friction coefficient once"),
+        ("friction.mu=[0.3, 0.3]", "friction.mu must hold at least one friction coefficient, each"),
         ("friction.mu=[0.0]", "friction.mu must be a finite number > 0"),
         ("friction.kinetic_ratio=1.5", "friction.kinetic_ratio must lie in (0, 1], got 1.5"),
     ],

@@ -90,9 +90,17 @@ class _Friction(Protocol):
 def with_body_friction(physics: Physics, bodies: Sequence[_Friction]) -> Physics:
     """``physics`` with the friction of each body that gives one (its ``mu``, ``mu_k`` [-]) in
     place of ``physics``' own (one value each: the command's --mu, --mu-k), one value per body;
-    ``physics`` itself when no body gives one."""
+    ``physics`` itself when no body gives one.  Where a body gives one, a ``physics`` with one
+    value per block (a sequence) is refused (:class:`InputError`): a body's friction would
+    come from two lists."""
     if all(b.mu is None and b.mu_k is None for b in bodies):
         return physics
+    for name in ("mu", "mu_k"):
+        if isinstance(getattr(physics, name), tuple):
+            raise InputError(
+                f"physics.{name} must be one value for all the bodies when some give their own "
+                f"friction (mu, mu_k), got one per block: {getattr(physics, name)}"
+            )
     mu = [physics.mu if b.mu is None else b.mu for b in bodies]
     mu_k = [(physics.mu_k if b.mu is None else None) if b.mu_k is None else b.mu_k for b in bodies]
     return dataclasses.replace(physics, mu=tuple(mu), mu_k=tuple(mu_k))

@@ -105,7 +105,7 @@ class RockingResponse:
         largest lift [m]; the largest at the samples and at overturning (not between samples).
     block, e, overturn_angle, mu, mu_k :
         The inputs that produced the response (e [-], overturn_angle [rad], the friction
-        coefficients [-], None for infinite friction).
+        coefficients [-]: both None for infinite friction, μ_k = μ_s where it was not given).
     """
 
     t: np.ndarray
@@ -156,7 +156,7 @@ class RockingResponse:
         if self.mu is not None:  # with friction (issue 45): its settings and results
             out.update(
                 mu=self.mu,
-                mu_k=self.mu if self.mu_k is None else self.mu_k,
+                mu_k=self.mu_k,
                 max_abs_slip_m=float(self.max_abs_slip),
                 residual_slip_m=float(self.residual_slip),
                 max_lift_m=float(self.max_lift),

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from typing import NamedTuple
 
@@ -288,6 +289,31 @@ def _bootstrap_resamples(seed: int, n_boot: int, n: int) -> np.ndarray:
     return np.array(draws, dtype=np.int64).reshape(n_boot, n)
 
 
+def _resampled_counts(
+    log_x: np.ndarray, outcomes: np.ndarray, n_boot: int, seed: int
+) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The ``n_boot`` bootstrap resamples of the motions of :func:`_bootstrap_resamples`
+    (``seed``) as trials to fit, block by block (at most :data:`_FIT_BLOCK_ELEMENTS` counts
+    each): (x, k, m) of shapes (B, n), (B, K, n), (B, n), k of m trials at x = ln(IM).
+
+    ``outcomes`` (bool) of K rows (e.g. limit states): shape (K, n_levels, n_motions) for an
+    IDA or MSA at intensities ``log_x`` (whole motions resampled, so that a motion's outcomes
+    at all levels stay together: the counts of each level over the resampled motions), or
+    (K, n_motions) for a cloud, ``log_x`` each motion's (one trial per resampled motion)."""
+    n_motions = outcomes.shape[-1]
+    resamples = _bootstrap_resamples(seed, n_boot, n_motions)
+    step = max(1, _FIT_BLOCK_ELEMENTS // (outcomes.shape[0] * max(log_x.size, n_motions)))
+    for idx in (resamples[i : i + step] for i in range(0, n_boot, step)):
+        if outcomes.ndim == 3:
+            k = np.transpose(np.sum(outcomes[:, :, idx], axis=3), (2, 0, 1)).astype(float)
+            x = np.broadcast_to(log_x, (idx.shape[0], log_x.size))
+            m = np.full(x.shape, float(n_motions))
+        else:
+            k = np.transpose(outcomes[:, idx], (1, 0, 2)).astype(float)
+            x, m = log_x[idx], np.ones(idx.shape)
+        yield x, k, m
+
+
 def _fit_rows(
     x: np.ndarray, k: np.ndarray, m: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -556,15 +582,9 @@ def bootstrap_fragility(
     else:
         point = _mle(log_x, y.astype(float), np.ones(x.size))
     point = replace(point, im=measure, unit=unit, im_range=(float(x.min()), float(x.max())))
-    resamples = _bootstrap_resamples(seed, n_boot, n_motions)
     median_parts, beta_parts, separated = [np.empty(0)], [np.empty(0)], 0
-    step = max(1, _FIT_BLOCK_ELEMENTS // max(x.size, n_motions))  # resamples at a time
-    for idx in (resamples[i : i + step] for i in range(0, n_boot, step)):
-        if y.ndim == 2:  # whole motions: the count of each level over the resampled motions
-            kb = np.sum(y[:, idx], axis=2).T.astype(float)
-            xb, mb = np.broadcast_to(log_x, kb.shape), np.full(kb.shape, float(n_motions))
-        else:
-            xb, kb, mb = log_x[idx], y[idx].astype(float), np.ones(idx.shape)
+    for xb, k_rows, mb in _resampled_counts(log_x, y[None], n_boot, seed):
+        kb = k_rows[:, 0]
         fitted = np.any(kb > 0, axis=1) & np.any(kb < mb, axis=1)
         xb, kb, mb = np.ascontiguousarray(xb[fitted]), kb[fitted], mb[fitted]
         fit = _fit_rows(xb, kb, mb)
@@ -721,22 +741,25 @@ def _constrained_fit(
 
 def _without_crossing(
     x: np.ndarray, k: np.ndarray, m: np.ndarray, order: list[int]
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[list[Crossing]]]:
     """Fits of nested limit states, one set per row (x = ln(IM), m of shape (B, n), k of shape
     (B, K, n); ``order``: mildest first): each state's own (:func:`_own_rows`), and where two
     neighbours' own curves cross inside the intensities tested by more than
     :data:`CROSSING_TOLERANCE`, the constrained fit of :func:`_constrained_fit` of those pairs
     (and of any pair that its refit makes cross so). Returns c, s (B, K; NaN: no fit),
-    touching (B, K), and the own fits' c, s (B, K)."""
+    touching (B, K), and the crossings of the own fits of each row (:func:`_crossings`)."""
     c_own, s_own = _own_rows(x, k, m)
     c, s = c_own.copy(), s_own.copy()
     touching = np.zeros(c.shape, dtype=bool)
+    own_crossings = []
     for b in range(x.shape[0]):
+        found = _crossings(c[b], s[b], order, x[b])
+        own_crossings.append(found)
         pairs: list[tuple[int, int]] = []
         while True:
             more = [
                 (cross.milder, cross.severer)
-                for cross in _crossings(c[b], s[b], order, x[b])
+                for cross in found
                 if cross.excess > CROSSING_TOLERANCE and (cross.milder, cross.severer) not in pairs
             ]
             if not more:
@@ -745,7 +768,8 @@ def _without_crossing(
             c[b], s[b], touching[b] = _constrained_fit(
                 x[b], k[b], m[b], c_own[b], s_own[b], sorted(pairs)
             )
-    return c, s, touching, c_own, s_own
+            found = _crossings(c[b], s[b], order, x[b])
+    return c, s, touching, own_crossings
 
 
 def _crossings(c: np.ndarray, s: np.ndarray, order: list[int], log_x: np.ndarray) -> list[Crossing]:
@@ -821,19 +845,10 @@ def bootstrap_limit_states(
         m = np.full((1, im.size), float(n_motions))
     else:
         k, m = outcomes.astype(float)[None], np.ones((1, im.size))
-    c, s, touching, c_own, s_own = _without_crossing(log_x[None], k, m, order)
+    c, s, touching, crossings = _without_crossing(log_x[None], k, m, order)
     parts_c, parts_s = [np.empty((0, K))], [np.empty((0, K))]
-    resamples = _bootstrap_resamples(seed, n_boot, n_motions)
-    step = max(1, _FIT_BLOCK_ELEMENTS // (K * max(im.size, n_motions)))
-    for idx in (resamples[i : i + step] for i in range(0, n_boot, step)):
-        if outcomes.ndim == 3:
-            kb = np.transpose(np.sum(outcomes[:, :, idx], axis=3), (2, 0, 1)).astype(float)
-            xb = np.broadcast_to(log_x, (idx.shape[0], im.size))
-            mb = np.full(xb.shape, float(n_motions))
-        else:
-            kb = np.transpose(outcomes[:, idx], (1, 0, 2)).astype(float)
-            xb, mb = log_x[idx], np.ones(idx.shape)
-        cb, sb, _, _, _ = _without_crossing(np.ascontiguousarray(xb), kb, mb, order)
+    for xb, kb, mb in _resampled_counts(log_x, outcomes, n_boot, seed):
+        cb, sb, _, _ = _without_crossing(np.ascontiguousarray(xb), kb, mb, order)
         parts_c.append(cb)
         parts_s.append(sb)
     boot_s = np.concatenate(parts_s)
@@ -868,9 +883,7 @@ def bootstrap_limit_states(
                 n_separated=int(np.sum(boot_s[ok, i] >= _S_HI)),
             )
         )
-    return LimitStateFits(
-        fits, [bool(t) for t in touching[0]], _crossings(c_own[0], s_own[0], order, log_x)
-    )
+    return LimitStateFits(fits, [bool(t) for t in touching[0]], crossings[0])
 
 
 def _outcomes(outcomes, n_im: int) -> np.ndarray:

@@ -111,8 +111,7 @@ def plot_response(
     if title is None:
         title = f"R = {block.R:.4g} m, γ = {block.gamma:.4g}, e = {response.e:.4g}"
         if friction:
-            mu_k = response.mu if response.mu_k is None else response.mu_k
-            title += f", μ_s = {response.mu:.3g}, μ_k = {mu_k:.3g}"
+            title += f", μ_s = {response.mu:.3g}, μ_k = {response.mu_k:.3g}"
     fig.suptitle(title)
     return fig
 

@@ -525,12 +525,21 @@ def validate(cfg: dict) -> None:
             f"(1 ± grid_span), above 0 g) and grid_levels be an integer >= 3, got {span!r} "
             f"and {levels!r}"
         )
-    mus = cfg["friction"]["mu"]
-    if len(set(mus)) < len(mus):
-        raise InputError(f"friction.mu: give each friction coefficient once, got {mus}")
+    friction_coefficients(cfg["friction"]["mu"], "friction.mu")
     in_range("friction.kinetic_ratio", cfg["friction"]["kinetic_ratio"], 0.0, 1.0, lo_open=True)
     if cfg["sec4"]["motion"] < 1 or cfg["sec4"]["n_check"] < 1:
         raise InputError("sec4: motion (No., from 1) and n_check must be ≥ 1")
+
+
+def friction_coefficients(mus: Sequence[float], name: str) -> list[float]:
+    """The static friction coefficients [-] of the friction study as floats, checked: at least
+    one, each once (:class:`InputError` naming the parameter ``name``)."""
+    values = [float(m) for m in mus]
+    if not values or len(set(values)) < len(values):
+        raise InputError(
+            f"{name} must hold at least one friction coefficient, each once, got {list(mus)}"
+        )
+    return values
 
 
 def _whole(x: float) -> bool:

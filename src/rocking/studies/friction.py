@@ -42,9 +42,10 @@ from ..montecarlo.search import Agx50Search
 from ..motions.ensemble import Ensemble
 from ..plots.studies import plot_friction
 from ..report import Report
-from .config import RunContext, resolve_bodies
+from .config import RunContext, friction_coefficients, resolve_bodies
 
-TITLE = "Beyond the paper: friction (A_gx50 and Table 3 for μ = 0.3-0.8, issue 45)"
+#: The heading of the report; ``{mus}``: the run's friction coefficients (:func:`_mu_range`).
+TITLE = "Beyond the paper: friction (A_gx50 and Table 3 for μ = {mus}, issue 45)"
 #: Where the shares are counted: at the body's A_gx50 with the friction of the row, and at its
 #: A_gx50 with infinite friction (the paper's).
 LEVELS = ("A_gx50(μ)", "A_gx50(∞)")
@@ -74,15 +75,18 @@ def mode_shares(
         The bodies.
     ensemble : Ensemble
         The motions [m/s²].
-    agx : sequence of float
-        One intensity A_gx [g] per body (NaN: not simulated, the shares NaN).
+    agx : array_like, shape (n_bodies,) or (n_bodies, n_levels)
+        One intensity A_gx [g] per body, or a row of them (NaN: not simulated, the shares
+        NaN).  The levels of all the bodies are simulated (or loaded from ``compute.out``) in
+        one run.
     physics, compute :
         As for :func:`rocking.overturning_probability` (friction in ``physics.mu``).
 
     Returns
     -------
     xarray.Dataset
-        Dimensions (body, mode) with ``share`` [-], the fraction of the motions whose whole
+        Dimensions (body[, level], mode) (``level`` with a row of intensities per body) with
+        ``share`` [-], the fraction of the motions whose whole
         response was each of :data:`~rocking.assessment.screen.RESPONSES`
         (:func:`~rocking.assessment.screen.responses`: "overturn"; of the others, "slide":
         slip > 0 without uplift, "slide-rock": slip > 0 with uplift, "rock": uplift without
@@ -92,21 +96,36 @@ def mode_shares(
         peak slip of a motion that did not overturn the body (NaN if every motion did).
     """
     blocks = block_list(blocks)
-    agx = np.asarray(agx, dtype=float)
-    share = np.full((len(blocks), len(RESPONSES)), np.nan)
-    max_slip = np.full(len(blocks), np.nan)
-    found = np.flatnonzero(np.isfinite(agx))
+    values = np.asarray(agx, dtype=float)
+    if values.ndim not in (1, 2) or values.shape[0] != len(blocks):
+        raise InputError(
+            f"agx must hold one intensity or one row of intensities per body ({len(blocks)} "
+            f"bodies), got shape {values.shape}"
+        )
+    rows = values if values.ndim == 2 else values[:, None]
+    share = np.full((*rows.shape, len(RESPONSES)), np.nan)
+    max_slip = np.full(rows.shape, np.nan)
+    known = np.isfinite(rows)
+    found = np.flatnonzero(known.any(axis=1))
     if found.size:
+        # a body's NaN levels are run at one of its known levels (a level asked twice is
+        # simulated once), their shares left NaN
+        first = rows[found, np.argmax(known[found], axis=1)]
+        at = np.where(known[found], rows[found], first[:, None])
         out = member_outcomes(
-            blocks, ensemble, agx[found], physics=physics, compute=compute, bodies=found.tolist()
-        ).isel(level=0)
-        ov, slip = out["overturned"].values, out["peak_slip"].values  # (body, member)
-        share[found] = response_shares(ov, out["uplift"].values, slip)
-        max_slip[found] = standing_slip(ov, slip)
+            blocks, ensemble, at, physics=physics, compute=compute, bodies=found.tolist()
+        )
+        ov, slip = out["overturned"].values, out["peak_slip"].values  # (body, level, member)
+        keep = known[found]
+        share[found] = np.where(
+            keep[..., None], response_shares(ov, out["uplift"].values, slip), np.nan
+        )
+        max_slip[found] = np.where(keep, standing_slip(ov, slip), np.nan)
+    dims = ("body", "level") if values.ndim == 2 else ("body",)
     return xr.Dataset(
         {
-            "share": (("body", "mode"), share, {"units": "1"}),
-            "max_slip": ("body", max_slip, {"units": "m"}),
+            "share": ((*dims, "mode"), share.reshape(*values.shape, -1), {"units": "1"}),
+            "max_slip": (dims, max_slip.reshape(values.shape), {"units": "m"}),
         },
         coords={"body": [b.label for b in blocks], "mode": list(RESPONSES)},
     )
@@ -162,9 +181,7 @@ def friction_study(
     ratio_k = in_range("kinetic_ratio", kinetic_ratio, 0.0, 1.0, lo_open=True, unit="-")
     base = physics or Physics()
     compute = compute or Compute()
-    if not len(mus) or len(set(mus)) < len(mus):
-        raise InputError(f"mus must hold at least one friction coefficient, each once, got {mus}")
-    rows = [*(float(m) for m in mus), math.inf]
+    rows = [*friction_coefficients(mus, "mus"), math.inf]
     where = list(stores) if stores is not None else [compute.out] * len(rows)
     if len(where) != len(rows):
         raise InputError(
@@ -186,19 +203,22 @@ def friction_study(
         for ph, c in zip(physics_of, computes)
     ]
     paper = a50[-1]
-    ratio = [energy_balance(blocks, ensemble, a, band_hz=band_hz)["ratio"].values for a in a50]
-    at_levels = []
-    for a, ph, c in zip(a50, physics_of, computes):
-        levels: list[xr.Dataset] = [
-            mode_shares(blocks, ensemble, level, physics=ph, compute=c) for level in (a, paper)
-        ]
-        at_levels.append(xr.concat(levels, pd.Index(list(LEVELS), name="level")))
-    shares = xr.concat(at_levels, pd.Index(rows, name="mu"))
+    # S_v1 = sv1_per_g · A_gx50: the spectrum (the same for every row) computed once
+    table3 = energy_balance(blocks, ensemble, paper, band_hz=band_hz)
+    at_levels = [
+        mode_shares(blocks, ensemble, np.column_stack([a, paper]), physics=ph, compute=c)
+        for a, ph, c in zip(a50, physics_of, computes)
+    ]
+    shares = xr.concat(at_levels, pd.Index(rows, name="mu")).assign_coords(level=list(LEVELS))
     a50_arr = np.array(a50)
     ds = shares.assign(
         agx50=(("mu", "body"), a50_arr, {"units": "g"}),
         change=(("mu", "body"), a50_arr / paper - 1.0, {"units": "1"}),
-        ratio=(("mu", "body"), np.array(ratio), {"units": "1"}),
+        ratio=(
+            ("mu", "body"),
+            table3.attrs["sv1_per_g"] * a50_arr / table3["sv_required"].values,
+            {"units": "1"},
+        ),
     )
     ds.attrs["kinetic_ratio"] = ratio_k
     return ds.assign_coords(
@@ -234,7 +254,7 @@ def run(ctx: RunContext) -> FrictionResult:
 def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
     """The summary in words, the figure and the tables."""
     ds, lab = result.data, result.label
-    rep.heading(TITLE)
+    rep.heading(TITLE.format(mus=_mu_range(ds)))
     rep.text(summary(ds))
     rep.text(
         "The paper's bodies and motions (Section 8 on the ground), with Coulomb friction of "
@@ -279,6 +299,13 @@ def report(result: FrictionResult, rep: Report, ctx: RunContext) -> None:
         floatfmt=".3f",
         collapsed=True,
     )
+
+
+def _mu_range(ds: xr.Dataset) -> str:
+    """The finite friction coefficients of ``ds`` in words: "0.3–0.8", or "0.6" for one."""
+    mus = ds["mu"].values[np.isfinite(ds["mu"].values)]
+    lo, hi = f"{mus.min():g}", f"{mus.max():g}"
+    return lo if lo == hi else f"{lo}–{hi}"
 
 
 def _kinetic(ds: xr.Dataset) -> str:
@@ -346,7 +373,7 @@ def summary(ds: xr.Dataset) -> str:
     moved = own["share"].sel(mode=["slide", "slide-rock"]).sum("mode")
     parts = [
         f"**What the paper's assumption of sufficient friction hides.** Over {len(mus)} "
-        f"friction coefficients μ = {mus.min():g}–{mus.max():g} and "
+        f"friction coefficients μ = {_mu_range(ds)} and "
         f"{ds['body'].size} bodies ({n_pairs} pairs):"
     ]
     if both.any():
