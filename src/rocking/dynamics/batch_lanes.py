@@ -42,9 +42,11 @@ cannot slip) in the rocking path above, with modes_case's contact checks at the 
 the interval (in the SIMD loop, on the sin θ and cos θ it computes anyway; with margins) and after
 its impacts (where they are handled); where one fails, the lane does that interval again from its
 start (rows of its own) with :func:`~rocking.dynamics.modes._modes_interval`, modes_case's own
-interval function (:func:`_redo`), which also runs every other interval in the lane
-(:func:`_modes_run`: slide, slide-rock, flight, rest where the base may slip); rest where the
-base can neither slip nor lift is skipped.  Without friction the argument is None, and all of
+interval function (:func:`_redo`).  Slide is a step of the SIMD loop too (:func:`_slide_steps`,
+modes_case's own slide step), kept where it is all that happens in the interval; every other
+interval runs in the lane by that interval function (:func:`_modes_run`: slide-rock, flight,
+rest where the base may slip, the transitions); rest where the base can neither slip nor lift
+is skipped.  Without friction the argument is None, and all of
 this compiles away (as the vertical motion's code does without it).
 
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
@@ -100,13 +102,16 @@ from .impacts import (
 from .modes import (
     REST,
     ROCK,
+    SLIDE,
     Contact,
     _cone_holds_after_impacts,
     _contact_forces,
     _gv_or_one,
     _may_slip_at_rest,
     _modes_interval,
+    _no_slip_zero,
     _sample_summaries,
+    _slide_rk4,
 )
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
@@ -230,7 +235,12 @@ _PSL = 60
 _PLF = 61
 _UP = 62
 _SL = 63
-_ROWS_FRICTION = 64
+# 1.0 if the lane slides in the SIMD loop (:func:`_slide_steps`), the case's μ_k [-], 1.0 if the
+# round's slide step is all that modes_case does in the interval.
+_SLD = 64
+_MK = 65
+_SOK = 66
+_ROWS_FRICTION = 67
 
 
 @borrowing_kernel
@@ -260,6 +270,7 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
     base = lanes.base
     dt = motions.dt
     n_t = motions.n_t
+    sliding = False
     for j in range(n):  # what depends on the samples and θ only
         u0 = W[_U0 * L + j]
         sc = W[_SC * L + j]
@@ -277,6 +288,7 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
         W[_U0 * L + j] = u1
         W[_TAU * L + j] = 0.0
         _store_vertical(vert, W, j, g0, g1)
+        sliding |= _slides(fric, W, j)
     for j in range(n):
         u0 = W[_U0S * L + j]
         tau = W[_TAUS * L + j]
@@ -334,6 +346,8 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
         W[_TH1 * L + j] = th1
         W[_OM1 * L + j] = om1
         W[_DMX * L + j] = dmax
+    if sliding:  # (never without friction)
+        _slide_steps(fric, W, n, dt, g, vert)
     low = np.uint64(0)
     high = np.uint64(0)
     for j in range(n):
@@ -353,10 +367,11 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
         plain = plain & (W[_RK * L + j] != 0.0)
         W[_THS * L + j] = theta
         W[_OMS * L + j] = omega
-        W[_TH * L + j] = th1
-        W[_OM * L + j] = W[_OM1 * L + j]
+        W[_TH * L + j] = _rocking_or(fric, W, j, th1, theta)
+        W[_OM * L + j] = _rocking_or(fric, W, j, W[_OM1 * L + j], omega)
         W[_PK * L + j] = maxnum(W[_PK * L + j], abs(th1) if plain & (fric is None) else 0.0)
         _to_check(fric, W, j, plain)
+        plain = plain | _slid(fric, W, j)
         W[_VAL * L + j] = 1.0 if valid else 0.0
         W[_PL * L + j] = 1.0 if plain else 0.0
         k1 = nxt[j] + 1
@@ -398,6 +413,83 @@ def _check_contact(fric, W, j, st, ct, u, gv, at_sample, g, rocking):
     W[_IOM * L + j] = om if ok else W[_IOM * L + j]
     W[_ISG * L + j] = W[_SG * L + j] if ok else W[_ISG * L + j]
     W[_IRK * L + j] = (1.0 if rocking else 0.0) if ok else W[_IRK * L + j]
+
+
+@kernel(inline="always")
+def _slide_steps(fric, W, n, dt, g, vert):
+    """With friction, the slide step of lanes 0 … n−1 (a SIMD loop; nothing without friction):
+    :func:`rocking.dynamics.modes._slide_rk4` over the interval from each lane's q, q', σ (rows
+    Q, V, SIG) and the round's u, gv (rows U0S, DU, G0S, G0), kept (rows Q, V and the
+    summaries of slip PSL, SL; row SOK) where the lane slides (row SLD) and the step is all
+    that modes_case does in the interval: no event at its end (σ·q' > 0, gv ≥ 0) and no zero of
+    the slip velocity inside (:func:`rocking.dynamics.modes._no_slip_zero`, the test of
+    :func:`~rocking.dynamics.modes._slip_dip`); modes_case's state is otherwise unchanged
+    (θ and y at rest).  A lane only slides here where μ_k ≤ tan α (:func:`_modes_run`)."""
+    if fric is None:
+        return
+    L = _LANES
+    for j in range(n):
+        tau = W[_TAUS * L + j]
+        h = dt - tau
+        g0 = _gv_or_one(_vertical_row(vert, W, _G0S * L + j))
+        dg = (_gv_or_one(_vertical_row(vert, W, _G0 * L + j)) - g0) / dt
+        q = W[_Q * L + j]
+        v = W[_V * L + j]
+        sig = W[_SIG * L + j]
+        end, a0, a1 = _slide_rk4(
+            0.0,
+            0.0,
+            q,
+            v,
+            0.0,
+            0.0,
+            sig,
+            W[_U0S * L + j],
+            W[_DU * L + j],
+            g0,
+            dg,
+            tau,
+            h,
+            g,
+            W[_MK * L + j],
+        )
+        q1 = end[2]
+        v1 = end[3]
+        ok = (
+            (W[_SLD * L + j] != 0.0)
+            & _no_slip_zero(sig * v, sig * a0 * h, sig * v1, sig * a1 * h)
+            & (g0 + dg * dt >= 0.0)
+        )
+        W[_SOK * L + j] = 1.0 if ok else 0.0
+        W[_Q * L + j] = q1 if ok else q
+        W[_V * L + j] = v1 if ok else v
+        W[_PSL * L + j] = maxnum(W[_PSL * L + j], abs(q1) if ok else 0.0)
+        W[_SL * L + j] = q1 if ok else W[_SL * L + j]
+
+
+@kernel(inline="always")
+def _rocking_or(fric, W, j, x, at_rest):
+    """``x`` (the rocking step's), or with friction ``at_rest`` where lane j slides."""
+    if fric is None:
+        return x
+    return at_rest if W[_SLD * _LANES + j] != 0.0 else x
+
+
+@kernel(inline="always")
+def _slides(fric, W, j):
+    """Whether lane j slides in the SIMD loop (row SLD; False without friction)."""
+    if fric is None:
+        return False
+    return W[_SLD * _LANES + j] != 0.0
+
+
+@kernel(inline="always")
+def _slid(fric, W, j):
+    """Whether lane j slides and its slide step is kept (rows SLD, SOK: the slide loop of a round
+    without sliding lanes does not run; False without friction)."""
+    if fric is None:
+        return False
+    return (W[_SLD * _LANES + j] != 0.0) & (W[_SOK * _LANES + j] != 0.0)
 
 
 @kernel(inline="always")
@@ -556,7 +648,8 @@ def _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
     if fric is not None:  # modes_case's state at rest, its summaries
         W[_MU * L + j] = fric.mu_s[b] * fric.cone
         W[_RR * L + j] = fric.R[b]
-        for r in (_FL, _PD, _CK, _SIG, _Q, _V, _Y, _VY, _PSL, _PLF, _UP, _SL):
+        W[_MK * L + j] = fric.mu_k[b]
+        for r in (_FL, _PD, _CK, _SIG, _Q, _V, _Y, _VY, _PSL, _PLF, _UP, _SL, _SLD, _SOK):
             W[r * L + j] = 0.0
     return True
 
@@ -629,6 +722,8 @@ def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
             return _end_check(lanes, j, motions, vert, fric, blocks, b, located)
         return True, False, lanes.nxt[j] - lanes.base[j] - 1
     k = lanes.nxt[j] - lanes.base[j] - 2  # the interval: from sample k to k + 1
+    if fric is not None and W[_SLD * L + j] != 0.0:  # sliding, not only the slide step
+        return _modes_run(lanes, j, k, SLIDE, True, motions, vert, fric, blocks, b, located)
     state = lanes.state[j]
     if W[_TAUS * L + j] == 0.0:  # a new interval (step counting)
         W[_R0 * L + j] = 1.0 if state == _REST else 0.0
@@ -811,8 +906,8 @@ def _modes_run(lanes, j, k, mode, force, motions, vert, fric, blocks, b, located
         u1 = sc * motions.acc[base + k + 1] / g
         g1 = _gv_sample(av, base + k + 1, sc, g)
         if not force:
-            if mode == ROCK:
-                break
+            if mode == ROCK or (mode == SLIDE and c.mu_k <= body.tan_a):
+                break  # the SIMD loop's rocking step or slide step
             if mode == REST and not (
                 _may_slip_at_rest(u0, g0, c.mu_s) or _may_slip_at_rest(u1, g1, c.mu_s)
             ):
@@ -857,8 +952,10 @@ def _modes_run(lanes, j, k, mode, force, motions, vert, fric, blocks, b, located
         return True, True, k
     if k >= n_t - 1:
         return True, False, k
-    # the rocking path from sample k: its SIMD round (rock), or its events (rest, may lift)
+    # the rocking path from sample k: its SIMD round (rock), or its events (rest, may lift);
+    # or the SIMD loop's slide step
     W[_RK * L + j] = 1.0 if mode == ROCK else 0.0
+    W[_SLD * L + j] = 1.0 if mode == SLIDE else 0.0
     lanes.state[j] = _ROCKING if mode == ROCK else _REST
     W[_U0 * L + j] = u0
     _set_vertical(vert, W, _G0 * L + j, g0)

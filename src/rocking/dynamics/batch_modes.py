@@ -27,9 +27,16 @@ s, σ, θ, θ', q, q', y, y' and the running summaries) and runs each interval w
   :func:`~rocking.dynamics.modes._modes_interval`: modes_case's own result for it;
 * rest where the base can neither slip nor lift: skipped (to the next sample where it may lift,
   slip or fly: :func:`~rocking.dynamics.batch_lanes._rest_until_uplift`);
-* slide, slide-rock, flight, and rest where the base may slip or fly: in the lane, one after the
-  other, by :func:`~rocking.dynamics.modes._modes_interval` (scalar), until the block rocks or
-  rests where the rocking path takes it again.
+* slide (where μ_k ≤ tan α: modes_case does nothing else in slide): the SIMD loop's slide step,
+  :func:`~rocking.dynamics.modes._slide_rk4`, the Runge–Kutta step of modes_case in slide (the
+  same function), kept where it is all that modes_case does in the interval (no event at its
+  end, no zero of the slip velocity inside by :func:`~rocking.dynamics.modes._slip_dip`'s
+  quick test, :func:`~rocking.dynamics.modes._no_slip_zero`), else the interval from its start
+  by :func:`~rocking.dynamics.modes._modes_interval`;
+* slide-rock, flight, rest where the base may slip or fly, and the intervals of the
+  transitions: in the lane, one after the other, by
+  :func:`~rocking.dynamics.modes._modes_interval` (scalar), until the block rocks, slides or
+  rests where the SIMD loop or the rocking path takes it again.
 
 The margins: the lanes' θ and θ' at a check are modes_case's own bits (the same steps), and F and
 N come from the same function, :func:`~rocking.dynamics.modes._contact_forces`, of sin θ and cos

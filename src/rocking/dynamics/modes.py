@@ -226,12 +226,44 @@ def _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c):
     return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
 
 
+@kernel(inline="always")
+def _slide_rk4(th, om, q, v, y, vy, sig, u0, du, g0, dg, tau, h, g, mu_k):
+    """:func:`_rk4` in slide (q'' = −g·(u + σ·μ_k·gv), g [m/s²], the rest of the state at rest):
+    the same operations on the same values (the lanes of :mod:`rocking.dynamics.batch_lanes`
+    run it in SIMD)."""
+    ua = u0 + du * tau
+    um = u0 + du * (tau + 0.5 * h)
+    ub = u0 + du * (tau + h)
+    ga = g0 + dg * tau
+    gm = g0 + dg * (tau + 0.5 * h)
+    gb = g0 + dg * (tau + h)
+    k1 = -g * (ua + sig * mu_k * ga)
+    v2 = v + 0.5 * h * k1
+    k2 = -g * (um + sig * mu_k * gm)
+    v3 = v + 0.5 * h * k2
+    k3 = -g * (um + sig * mu_k * gm)
+    v4 = v + h * k3
+    k4 = -g * (ub + sig * mu_k * gb)
+    h6 = h / 6.0
+    end = (
+        th + h6 * 0.0,
+        om + h6 * 0.0,
+        q + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
+        v + h6 * (k1 + 2.0 * k2 + 2.0 * k3 + k4),
+        y + h6 * 0.0,
+        vy + h6 * 0.0,
+    )
+    return end, k1, k4
+
+
 @kernel
 def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
     """One classical Runge–Kutta step of length h from local time tau of the state tuple ``st``
     (θ, θ', q, q', y, y'), with u = u0 + du·τ and gv = g0 + dg·τ: (the state at tau + h, q'' of
     the first stage and of the last, the slopes of the slip velocity at the step's ends)."""
     th, om, q, v, y, vy = st
+    if mode == SLIDE:
+        return _slide_rk4(th, om, q, v, y, vy, sig, u0, du, g0, dg, tau, h, c.g, c.mu_k)
     ua = u0 + du * tau
     um = u0 + du * (tau + 0.5 * h)
     ub = u0 + du * (tau + h)
@@ -261,6 +293,15 @@ def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
 
 
 @kernel(inline="always")
+def _no_slip_zero(w0, e0, w1, e1):
+    """Whether the cubic of :func:`_slip_dip` (w0, e0, w1, e1 as there) has no zero on [0, 1]
+    by the quick test: it lies above its Bernstein control points w0, w0 + e0/3, w1 − e1/3,
+    w1, and where all are positive (nearly every step) it has none.  Branch-free (the lanes'
+    SIMD loop uses it too)."""
+    return (w0 > 0.0) & (3.0 * w0 + e0 > 0.0) & (3.0 * w1 - e1 > 0.0) & (w1 > 0.0)
+
+
+@kernel(inline="always")
 def _slip_dip(sig, v0, a0, v1, a1, h):
     """Local time [s] in (0, h) of the lowest σ·q' on the cubic Hermite interpolant of the slip
     velocity over a step (q' = v0, v1 [m/s] and q'' = a0, a1 [m/s²] at its ends), where that
@@ -274,9 +315,7 @@ def _slip_dip(sig, v0, a0, v1, a1, h):
     w1 = sig * v1
     e0 = sig * a0 * h
     e1 = sig * a1 * h
-    # the cubic lies above its Bernstein control points w0, w0 + e0/3, w1 − e1/3, w1: where all
-    # are positive (nearly every step) it has no zero
-    if w0 > 0.0 and 3.0 * w0 + e0 > 0.0 and 3.0 * w1 - e1 > 0.0 and w1 > 0.0:
+    if _no_slip_zero(w0, e0, w1, e1):
         return -1.0
     B = 3.0 * (w1 - w0) - 2.0 * e0 - e1
     C = 2.0 * (w0 - w1) + e0 + e1
