@@ -258,3 +258,19 @@ def test_every_mode_within_one_case_in_the_lanes_bit_for_bit(ensemble):
         )
         every += {SLIDE, ROCK, SLIDE_ROCK, FLIGHT} <= set(r.mode.tolist())
     assert every >= 3  # measured: 6 of the 40 cases
+
+
+def test_lanes_check_the_contact_right_after_an_impact(ensemble):
+    # found by a search over random blocks, scales and μ_s (random.default_rng(7), trial 252):
+    # in this case's interval 88, modes_case's rocking step has an impact whose impulse lies
+    # in the friction cone (impact_ok) and ends rocking within the cone (N ≥ 0, abs(F) ≤ μ_s·N),
+    # but the bound on the contact right after the impact fails and the general integrator does
+    # not keep the corner stuck (_stays_stuck): modes_case does the interval again with it.  The
+    # lanes must see it too (their check after impacts, _check_impacts): without that check they
+    # keep the rocking step, and the case's results differ from simulate(mu=...)
+    block = Block(0.46818163742279684, 4.084210225660907)
+    mu = 0.2452037663931383
+    scale = np.array([1.467012383254617 / ensemble.agx])
+    out = _run([block], ensemble, np.array([0]), np.array([1]), scale, Physics(mu=mu))
+    seen = _check([block], ensemble, np.array([0]), np.array([1]), scale, out, mu)
+    assert SLIDE_ROCK in seen  # the corner slips after the impact
