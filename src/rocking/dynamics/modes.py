@@ -212,9 +212,8 @@ def _lowest(th, body, c):
 @kernel
 def _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c):
     """Time derivatives of the state (θ, θ', q, q', y, y') in ``mode``: q is the slip (the corner
-    of side s less s·b) in contact, the centre of mass's X in flight; y, y' its height (flight)."""
-    if mode == SLIDE:
-        return 0.0, 0.0, v, -c.g * (u + sig * c.mu_k * gv), 0.0, 0.0
+    of side s less s·b) in contact, the centre of mass's X in flight; y, y' its height (flight).
+    Not for slide (its Runge–Kutta step: :func:`_slide_rk4`)."""
     if mode == ROCK:
         S, C = _sin_cos_terms(th, s, body.sa, body.ca)
         return om, -body.p2 * (gv * S + u * C), 0.0, 0.0, 0.0, 0.0
@@ -227,16 +226,24 @@ def _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c):
 
 
 @kernel(inline="always")
-def _slide_rk4(th, om, q, v, y, vy, sig, u0, du, g0, dg, tau, h, g, mu_k):
-    """:func:`_rk4` in slide (q'' = −g·(u + σ·μ_k·gv), g [m/s²], the rest of the state at rest):
-    the same operations on the same values (the lanes of :mod:`rocking.dynamics.batch_lanes`
-    run it in SIMD)."""
+def _stage_inputs(u0, du, g0, dg, tau, h):
+    """u and gv at a Runge–Kutta step's start, middle and end (u = u0 + du·τ, gv = g0 + dg·τ):
+    (u_a, u_m, u_b, gv_a, gv_m, gv_b)."""
     ua = u0 + du * tau
     um = u0 + du * (tau + 0.5 * h)
     ub = u0 + du * (tau + h)
     ga = g0 + dg * tau
     gm = g0 + dg * (tau + 0.5 * h)
     gb = g0 + dg * (tau + h)
+    return ua, um, ub, ga, gm, gb
+
+
+@kernel(inline="always")
+def _slide_rk4(th, om, q, v, y, vy, sig, u0, du, g0, dg, tau, h, g, mu_k):
+    """:func:`_rk4` in slide (q'' = −g·(u + σ·μ_k·gv), g [m/s²], the rest of the state at rest):
+    the same operations on the same values (the lanes of :mod:`rocking.dynamics.batch_lanes`
+    run it in SIMD)."""
+    ua, um, ub, ga, gm, gb = _stage_inputs(u0, du, g0, dg, tau, h)
     k1 = -g * (ua + sig * mu_k * ga)
     v2 = v + 0.5 * h * k1
     k2 = -g * (um + sig * mu_k * gm)
@@ -264,12 +271,7 @@ def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
     th, om, q, v, y, vy = st
     if mode == SLIDE:
         return _slide_rk4(th, om, q, v, y, vy, sig, u0, du, g0, dg, tau, h, c.g, c.mu_k)
-    ua = u0 + du * tau
-    um = u0 + du * (tau + 0.5 * h)
-    ub = u0 + du * (tau + h)
-    ga = g0 + dg * tau
-    gm = g0 + dg * (tau + 0.5 * h)
-    gb = g0 + dg * (tau + h)
+    ua, um, ub, ga, gm, gb = _stage_inputs(u0, du, g0, dg, tau, h)
     a1 = _rates(mode, s, sig, th, om, q, v, y, vy, ua, ga, body, c)
     x2 = (th + 0.5 * h * a1[0], om + 0.5 * h * a1[1], q + 0.5 * h * a1[2])
     y2 = (v + 0.5 * h * a1[3], y + 0.5 * h * a1[4], vy + 0.5 * h * a1[5])
