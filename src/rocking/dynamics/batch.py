@@ -7,9 +7,8 @@ physics of :func:`rocking.dynamics.simulate` — the same compiled one-interval 
 largest abs(θ)/α and whether it left rest at all.  Split along its seams (issue 44): the records
 in :mod:`rocking.dynamics.batch_records`, the lane machine (how it is fast, issues 6 and 18) in
 :mod:`rocking.dynamics.batch_lanes`, the entry points here.  With friction (issue 45: a finite
-μ_s of the :class:`~rocking.Physics`), the lanes check the contact conditions of the cases
-that rock, and the cases that fail them, or whose base may slip, run through every response mode
-in :mod:`rocking.dynamics.batch_modes`; the Outcome gains their slip and lift.
+μ_s of the :class:`~rocking.Physics`), the lanes carry every response mode
+(:mod:`rocking.dynamics.batch_modes`); the Outcome gains their slip and lift.
 
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
 only its own output slot, so results do not depend on the number of threads, on which machine
@@ -37,7 +36,7 @@ from ..core.checks import finite_array, positive
 from ..core.compile import readonly
 from ..errors import InputError
 from .batch_lanes import _cases_kernel, _suffixes_of
-from .batch_modes import lane_friction, modes_kernel, modes_needed
+from .batch_modes import lane_friction
 from .batch_records import (
     QUANTITIES,
     Blocks,
@@ -116,14 +115,13 @@ def run_cases(
     an unknown ``impacts``, raise :class:`~rocking.errors.InputError`.
 
     Cases of blocks with friction (the table's μ_s finite, issue 45) run in the lane machines
-    with contact checks; those that fail one, or whose motion may make the base slip at rest,
-    run in the response-modes kernel (:mod:`rocking.dynamics.batch_modes`, which derives the
-    checks); either gives :func:`rocking.simulate` ``(..., mu=...)``'s results bit for bit.
+    with the modes model's state and checks (:mod:`rocking.dynamics.batch_modes`): rock in
+    SIMD, every other interval by modes_case's own interval function; they give
+    :func:`rocking.simulate` ``(..., mu=...)``'s results bit for bit.
     Returns the :class:`Outcome` of every case, shape like ``body``; its ``steps`` are the
-    integrated steps of each case: in the lanes, the sample intervals in which the block is not
-    at rest throughout (it rocks at the start or at the end of the interval), in the modes
-    kernel every interval; up to and including the one in which it overturns (a case re-run
-    in the modes kernel counts its steps there only).
+    integrated steps of each case: the sample intervals that are not skipped at rest (in
+    which the block is not at rest throughout, or with friction may slip), up to and including
+    the one in which it overturns.
     """
     acc = readonly(acc)
     av = None if av is None else readonly(av)
@@ -145,18 +143,17 @@ def run_cases(
         return _lanes(
             table, acc, amax, dt, (body, motion, scale), (av, avmin), located, suffixes, None
         )
-    need = modes_needed(amax, avmin, table.g, table.arrays(), table.contacts, body, motion, scale)
     if suffixes is None:  # once for the motions of both lane calls below
         used = np.zeros(acc.shape[0], dtype=np.bool_)
-        used[motion[~need]] = True
+        used[motion] = True
         suffixes = _suffixes_of(acc, av, used)
-    out = empty_outcome(body.size, alloc=np.empty)  # every case is written (re-run ones twice)
+    out = empty_outcome(body.size, alloc=np.empty)  # every case is written
     # the blocks without friction in lanes without checks, those with in lanes with checks
     for checked in (False, True):
-        sel = np.flatnonzero(~need & (frictionless[body] != checked))
+        sel = np.flatnonzero(frictionless[body] != checked)
         if not sel.size:
             continue
-        fric = lane_friction(table.contacts, table.g, sel.size) if checked else None
+        fric = lane_friction(table.contacts, table.g) if checked else None
         lanes = _lanes(
             table,
             acc,
@@ -170,23 +167,6 @@ def run_cases(
         )
         for field, values in zip(out, lanes):
             field[sel] = values
-        if fric is not None:
-            need[sel[fric.failed]] = True  # re-run: the lanes' results are overwritten
-    idx = np.flatnonzero(need)
-    if idx.size:
-        flat_av = None if av is None else av.reshape(-1)
-        with numba.parallel_chunksize(1):  # cases of very different lengths of work
-            modes_kernel(
-                acc.reshape(-1),
-                flat_av,
-                acc.shape[1],
-                float(dt),
-                table.arrays(),
-                table.contacts,
-                Cases(body, motion, scale, idx),
-                located,
-                out,
-            )
     return out
 
 

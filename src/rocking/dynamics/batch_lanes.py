@@ -34,13 +34,20 @@ the answer is skipped:
   suffix minimum of a_v, in the same test) ends there: at rest to the end;
 * everything after overturning.
 
-With friction (issue 45: :class:`Friction`, blocks with a finite μ_s), the machine also checks
-the contact conditions of the modes model where :func:`~rocking.dynamics.modes.modes_case`
-checks them (:mod:`rocking.dynamics.batch_modes`: every state of a rocking lane at a sample, in
-the SIMD loop on the sin θ and cos θ it computes anyway; the contact after the impacts of an
-interval, where they are handled); a case that fails one ends at once and is marked, for the
-modes kernel to re-run.  Without friction the
-argument is None, and the checks compile away (as the vertical motion's code does without it).
+With friction (issue 45: :class:`Friction`, blocks with a finite μ_s), a lane carries the whole
+state of :func:`~rocking.dynamics.modes.modes_case` (the mode, σ, the slip q and its rate, the
+height and the running summaries, in rows of its own) and runs each interval where
+:mod:`rocking.dynamics.batch_modes` says: rock (and rest where the block may lift, the base
+cannot slip) in the rocking path above, with modes_case's contact checks at the sample that ends
+the interval (in the SIMD loop, on the sin θ and cos θ it computes anyway; with margins) and after
+its impacts (where they are handled); where one fails, the lane does that interval again from its
+start (rows of its own) with :func:`~rocking.dynamics.modes._modes_interval`, modes_case's own
+interval function (:func:`_redo`).  Slide is a step of the SIMD loop too (:func:`_slide_steps`,
+modes_case's own slide step), kept where it is all that happens in the interval; every other
+interval runs in the lane by that interval function (:func:`_modes_run`: slide-rock, flight,
+rest where the base may slip, the transitions); rest where the base can neither slip nor lift
+is skipped.  Without friction the argument is None, and all of
+this compiles away (as the vertical motion's code does without it).
 
 Every case is computed by the same operations wherever its lane, machine or thread, and writes
 only its own output slot, so results do not depend on the number of threads, on which machine
@@ -92,7 +99,20 @@ from .impacts import (
     _newton,
     _slopes,
 )
-from .modes import Contact, _cone_holds_after_impacts, _contact_forces
+from .modes import (
+    REST,
+    ROCK,
+    SLIDE,
+    Contact,
+    _cone_holds_after_impacts,
+    _contact_forces,
+    _gv_or_one,
+    _may_slip_at_rest,
+    _modes_interval,
+    _no_slip_zero,
+    _sample_summaries,
+    _slide_rk4,
+)
 
 #: Cases integrated side by side by one lane machine (a multiple of the SIMD width).
 _LANES = 128
@@ -128,7 +148,6 @@ class Friction(NamedTuple):
     impact_ok: np.ndarray
     cone: float  #: 1 − the friction cone's margin [-]: abs(F) ≤ μ_s·cone·N is accepted
     n_min: float  #: the least normal force per unit mass accepted [m/s²]
-    failed: np.ndarray  #: per case: a check failed (bool; only True is written)
 
 
 # Rows of the lane table W.  The SIMD loop (:func:`_lane_steps`) stores every row it changes
@@ -190,16 +209,38 @@ _TH1 = 43
 _OM1 = 44
 _DMX = 45
 _ROWS = 46
-# With friction only (the table has _ROWS rows without): 1.0 once a contact check of the lane's
-# case has failed; the case's μ_s·(1 − margin) [-] and R [m] (:class:`Friction`); θ' [rad/s]
-# at the start of the lane's interval; 1.0 if an impact in it failed the check of the contact
-# after impacts (which fails the case if the interval ends rocking).
+# With friction only (the table has _ROWS rows without): 1.0 if the checks of the interval that
+# ended at the lane's sample failed (it is done again by _modes_interval); the case's
+# μ_s·(1 − margin) [-] and R [m] (:class:`Friction`); 1.0 if an impact of the
+# lane's interval failed the checks of impacts (which fails the interval if it ends rocking);
+# 1.0 if the interval that ends at the lane's next sample is to be checked (it ends in the
+# rocking path, rocking); the state the lane's interval started from (θ [rad], θ' [rad/s], s,
+# 1.0 if rocking); the rest of modes_case's state (σ, q [m], q' [m/s], y [m], y' [m/s]) and
+# running summaries (max abs(slip) [m], max lift [m], uplift (1.0), slip at the last sample [m]).
 _FL = 46
 _MU = 47
 _RR = 48
-_OMI = 49
-_PD = 50
-_ROWS_FRICTION = 51
+_PD = 49
+_CK = 50
+_ITH = 51
+_IOM = 52
+_ISG = 53
+_IRK = 54
+_SIG = 55
+_Q = 56
+_V = 57
+_Y = 58
+_VY = 59
+_PSL = 60
+_PLF = 61
+_UP = 62
+_SL = 63
+# 1.0 if the lane slides in the SIMD loop (:func:`_slide_steps`), the case's μ_k [-], 1.0 if the
+# round's slide step is all that modes_case does in the interval.
+_SLD = 64
+_MK = 65
+_SOK = 66
+_ROWS_FRICTION = 67
 
 
 @borrowing_kernel
@@ -229,6 +270,7 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
     base = lanes.base
     dt = motions.dt
     n_t = motions.n_t
+    sliding = False
     for j in range(n):  # what depends on the samples and θ only
         u0 = W[_U0 * L + j]
         sc = W[_SC * L + j]
@@ -241,10 +283,12 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
         W[_DU * L + j] = (u1 - u0) / dt
         W[_U0S * L + j] = u0
         W[_TAUS * L + j] = W[_TAU * L + j]
-        _check_contact(fric, W, j, st, ct, u0, g0, W[_TAUS * L + j] == 0.0, g)
+        at_sample = W[_TAUS * L + j] == 0.0
+        _check_contact(fric, W, j, st, ct, u0, g0, at_sample, g, lanes.state[j] == _ROCKING)
         W[_U0 * L + j] = u1
         W[_TAU * L + j] = 0.0
         _store_vertical(vert, W, j, g0, g1)
+        sliding |= _slides(fric, W, j)
     for j in range(n):
         u0 = W[_U0S * L + j]
         tau = W[_TAUS * L + j]
@@ -302,6 +346,8 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
         W[_TH1 * L + j] = th1
         W[_OM1 * L + j] = om1
         W[_DMX * L + j] = dmax
+    if sliding:  # (never without friction)
+        _slide_steps(fric, W, n, dt, g, vert)
     low = np.uint64(0)
     high = np.uint64(0)
     for j in range(n):
@@ -321,9 +367,11 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
         plain = plain & (W[_RK * L + j] != 0.0)
         W[_THS * L + j] = theta
         W[_OMS * L + j] = omega
-        W[_TH * L + j] = th1
-        W[_OM * L + j] = W[_OM1 * L + j]
-        W[_PK * L + j] = maxnum(W[_PK * L + j], abs(th1) if plain else 0.0)
+        W[_TH * L + j] = _rocking_or(fric, W, j, th1, theta)
+        W[_OM * L + j] = _rocking_or(fric, W, j, W[_OM1 * L + j], omega)
+        W[_PK * L + j] = maxnum(W[_PK * L + j], abs(th1) if plain & (fric is None) else 0.0)
+        _to_check(fric, W, j, plain)
+        plain = plain | _slid(fric, W, j)
         W[_VAL * L + j] = 1.0 if valid else 0.0
         W[_PL * L + j] = 1.0 if plain else 0.0
         k1 = nxt[j] + 1
@@ -336,36 +384,132 @@ def _lane_steps(lanes, n, motions, g, vert, fric):
 
 
 @kernel(inline="always")
-def _check_contact(fric, W, j, st, ct, u, gv, at_sample, g):
+def _check_contact(fric, W, j, st, ct, u, gv, at_sample, g, rocking):
     """With friction, where lane j's state is that of a sample (``at_sample``: its interval
-    starts there) reached rocking (row RK), mark its case failed (row FL) if the contact
-    conditions fail there with their margins (:class:`Friction`), N ≥ n_min and
-    abs(F) ≤ μ_s·(1 − margin)·N, or an impact of the interval that ended there failed its check
-    (row PD); F and N of :func:`rocking.dynamics.modes._contact_forces` at θ (``st``, ``ct``: its
-    sine and cosine), θ' and side s of the lane's rows, u and gv (None: 1) of the sample.  Then
-    the rows of the new interval: θ' at its start, no impact yet.  Nothing without friction
-    (``fric`` None)."""
+    starts there) reached rocking (row RK) by an interval to be checked (row CK), mark that
+    interval failed (row FL) if the contact conditions fail there with their margins
+    (:class:`Friction`), N ≥ n_min and abs(F) ≤ μ_s·(1 − margin)·N, or an impact of that
+    interval failed its checks (row PD); F and N of
+    :func:`rocking.dynamics.modes._contact_forces` at θ (``st``, ``ct``: its sine and cosine),
+    θ' and side s of the lane's rows, u and gv (None: 1) of the sample.  Where it holds, the
+    sample is modes_case's: its summaries (max abs(θ), uplift) take it, and it is the start of
+    the new interval (rows ITH, IOM, ISG, and IRK: ``rocking``, the lane's state; no impact
+    yet).  Nothing without friction (``fric`` None)."""
     if fric is None:
         return
     L = _LANES
+    th = W[_TH * L + j]
     S, C = _angle_terms(st, ct, W[_SG * L + j], W[_SA * L + j], W[_CA * L + j])
     om = W[_OM * L + j]
     F, N = _contact_forces(S, C, om, u, _gv_or_one(gv), W[_P2 * L + j], g, W[_RR * L + j])
     bad = (fric.n_min > N) | (abs(F) > W[_MU * L + j] * N) | (W[_PD * L + j] != 0.0)
-    fail = bad & at_sample & (W[_RK * L + j] != 0.0)
-    W[_FL * L + j] = maxnum(W[_FL * L + j], 1.0 if fail else 0.0)
+    fail = bad & at_sample & (W[_RK * L + j] != 0.0) & (W[_CK * L + j] != 0.0)
+    ok = at_sample & (not fail)
+    W[_FL * L + j] = 1.0 if fail else 0.0
     W[_PD * L + j] = 0.0 if at_sample else W[_PD * L + j]
-    W[_OMI * L + j] = om if at_sample else W[_OMI * L + j]
+    W[_PK * L + j] = maxnum(W[_PK * L + j], abs(th) if ok else 0.0)
+    W[_UP * L + j] = 1.0 if ok & (th != 0.0) else W[_UP * L + j]
+    W[_ITH * L + j] = th if ok else W[_ITH * L + j]
+    W[_IOM * L + j] = om if ok else W[_IOM * L + j]
+    W[_ISG * L + j] = W[_SG * L + j] if ok else W[_ISG * L + j]
+    W[_IRK * L + j] = (1.0 if rocking else 0.0) if ok else W[_IRK * L + j]
+
+
+@kernel(inline="always")
+def _slide_steps(fric, W, n, dt, g, vert):
+    """With friction, the slide step of lanes 0 … n−1 (a SIMD loop; nothing without friction):
+    :func:`rocking.dynamics.modes._slide_rk4` over the interval from each lane's q, q', σ (rows
+    Q, V, SIG) and the round's u, gv (rows U0S, DU, G0S, G0), kept (rows Q, V and the
+    summaries of slip PSL, SL; row SOK) where the lane slides (row SLD) and the step is all
+    that modes_case does in the interval: no event at its end (σ·q' > 0, gv ≥ 0) and no zero of
+    the slip velocity inside (:func:`rocking.dynamics.modes._no_slip_zero`, the test of
+    :func:`~rocking.dynamics.modes._slip_dip`); modes_case's state is otherwise unchanged
+    (θ and y at rest).  A lane only slides here where μ_k ≤ tan α (:func:`_modes_run`)."""
+    if fric is None:
+        return
+    L = _LANES
+    for j in range(n):
+        tau = W[_TAUS * L + j]
+        h = dt - tau
+        g0 = _gv_or_one(_vertical_row(vert, W, _G0S * L + j))
+        dg = (_gv_or_one(_vertical_row(vert, W, _G0 * L + j)) - g0) / dt
+        q = W[_Q * L + j]
+        v = W[_V * L + j]
+        sig = W[_SIG * L + j]
+        end, a0, a1 = _slide_rk4(
+            0.0,
+            0.0,
+            q,
+            v,
+            0.0,
+            0.0,
+            sig,
+            W[_U0S * L + j],
+            W[_DU * L + j],
+            g0,
+            dg,
+            tau,
+            h,
+            g,
+            W[_MK * L + j],
+        )
+        q1 = end[2]
+        v1 = end[3]
+        ok = (
+            (W[_SLD * L + j] != 0.0)
+            & _no_slip_zero(sig * v, sig * a0 * h, sig * v1, sig * a1 * h)
+            & (g0 + dg * dt >= 0.0)
+        )
+        W[_SOK * L + j] = 1.0 if ok else 0.0
+        W[_Q * L + j] = q1 if ok else q
+        W[_V * L + j] = v1 if ok else v
+        W[_PSL * L + j] = maxnum(W[_PSL * L + j], abs(q1) if ok else 0.0)
+        W[_SL * L + j] = q1 if ok else W[_SL * L + j]
+
+
+@kernel(inline="always")
+def _rocking_or(fric, W, j, x, at_rest):
+    """``x`` (the rocking step's), or with friction ``at_rest`` where lane j slides."""
+    if fric is None:
+        return x
+    return at_rest if W[_SLD * _LANES + j] != 0.0 else x
+
+
+@kernel(inline="always")
+def _slides(fric, W, j):
+    """Whether lane j slides in the SIMD loop (row SLD; False without friction)."""
+    if fric is None:
+        return False
+    return W[_SLD * _LANES + j] != 0.0
+
+
+@kernel(inline="always")
+def _slid(fric, W, j):
+    """Whether lane j slides and its slide step is kept (rows SLD, SOK: the slide loop of a round
+    without sliding lanes does not run; False without friction)."""
+    if fric is None:
+        return False
+    return (W[_SLD * _LANES + j] != 0.0) & (W[_SOK * _LANES + j] != 0.0)
+
+
+@kernel(inline="always")
+def _to_check(fric, W, j, plain):
+    """With friction, a plain step (it ends lane j's interval rocking) is to be checked at the
+    sample it reaches (row CK); nothing without friction."""
+    if fric is not None:
+        W[_CK * _LANES + j] = 1.0 if plain else W[_CK * _LANES + j]
 
 
 @kernel(inline="always")
 def _check_impacts(fric, W, j, n_imp, iv, body, b, g):
     """With friction, after ``n_imp`` > 0 impacts in lane j's interval ``iv`` (block b, ``body``,
-    g [m/s²]): row PD if modes_case's check of the contact right after the impacts of a rocking
-    step fails, :func:`rocking.dynamics.modes._cone_holds_after_impacts` (the same function of
-    the same values: θ' at the interval's start, u and gv (None: 1) at its ends); the interval
-    then fails the case if it ends rocking (:func:`_check_contact`), where modes_case would
-    look further or do the interval again.  Nothing without friction (``fric`` None)."""
+    g [m/s²]): row PD if modes_case's checks of the impacts of a rocking step fail: their
+    impulse in the friction cone (``impact_ok``), and the contact right after them,
+    :func:`rocking.dynamics.modes._cone_holds_after_impacts` (the same function of the same
+    values: θ' at the interval's start, u and gv (None: 1) at its ends); the interval then
+    fails if it ends rocking (:func:`_check_contact`), and is done again by
+    :func:`~rocking.dynamics.modes._modes_interval`.  Nothing without friction (``fric``
+    None)."""
     if fric is None:
         return
     if n_imp > 0:
@@ -380,22 +524,17 @@ def _check_impacts(fric, W, j, n_imp, iv, body, b, g):
         )
         g0 = _gv_or_one(iv.g0)
         g1 = _gv_or_one(iv.g1)
-        om0 = W[_OMI * _LANES + j]
-        if not _cone_holds_after_impacts(om0, iv.u0, iv.u1, g0, g1, iv.dt, body, c):
+        om0 = W[_IOM * _LANES + j]
+        if not (
+            c.impact_ok and _cone_holds_after_impacts(om0, iv.u0, iv.u1, g0, g1, iv.dt, body, c)
+        ):
             W[_PD * _LANES + j] = 1.0
 
 
 @kernel(inline="always")
-def _gv_or_one(gv):
-    """gv, or 1.0 for None (no vertical motion), as the modes kernel takes it."""
-    if gv is None:
-        return 1.0
-    return gv
-
-
-@kernel(inline="always")
 def _failed(fric, W, j):
-    """Whether lane j's case has failed a contact check (False without friction)."""
+    """Whether the interval that ended at lane j's sample failed its contact checks (False
+    without friction)."""
     if fric is None:
         return False
     return W[_FL * _LANES + j] != 0.0
@@ -466,7 +605,8 @@ def _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
     sc = cases.scale[i]
     g = blocks.g
     # gv ≥ 1 + abs(sc)·min a_v/g throughout the motion (conservative: it may lift only if ...)
-    if not _may_lift(motions.amax[m], _avmin(vert), m, sc, g, blocks.sa[b], blocks.ca[b]):
+    mu_s = _mu_of(fric, b)
+    if not _may_move(motions.amax[m], _avmin(vert), m, sc, g, blocks.sa[b], blocks.ca[b], mu_s):
         return False  # no need to look at the samples
     first = m * motions.n_t
     k, u0, g0 = _rest_until_uplift(
@@ -480,6 +620,7 @@ def _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
         g,
         blocks.sa[b],
         blocks.ca[b],
+        mu_s,
     )
     if k >= motions.n_t - 1:
         return False
@@ -504,12 +645,21 @@ def _start_case(lanes, j, i, motions, vert, fric, blocks, cases):
     W[_CA * L + j] = blocks.ca[b]
     W[_OV * L + j] = blocks.th_ov[b]
     _set_vertical(vert, W, _G0 * L + j, g0)
-    if fric is not None:
-        W[_FL * L + j] = 0.0
+    if fric is not None:  # modes_case's state at rest, its summaries
         W[_MU * L + j] = fric.mu_s[b] * fric.cone
         W[_RR * L + j] = fric.R[b]
-        W[_PD * L + j] = 0.0
+        W[_MK * L + j] = fric.mu_k[b]
+        for r in (_FL, _PD, _CK, _SIG, _Q, _V, _Y, _VY, _PSL, _PLF, _UP, _SL, _SLD, _SOK):
+            W[r * L + j] = 0.0
     return True
+
+
+@kernel(inline="always")
+def _mu_of(fric, b):
+    """Block b's μ_s [-], or None without friction."""
+    if fric is None:
+        return None
+    return fric.mu_s[b]
 
 
 @kernel(inline="always")
@@ -550,20 +700,30 @@ def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
     :func:`rocking.simulate` handles them), the intervals at rest that follow, or the end of its
     motion.
 
+    With friction (``fric``), an interval whose checks failed is done again by
+    :func:`~rocking.dynamics.modes._modes_interval` (:func:`_redo`), and so is every interval
+    that the rocking path does not take (:func:`_modes_run`): where the base may slip at rest,
+    and in slide, slide-rock and flight.
+
     Returns (done, overturned, k): whether the case has ended, whether by overturning, and the
-    intervals integrated or skipped so far (the interval in which it ended counts).  A case that
-    has failed a contact check (with friction) ends at once: its result is discarded.
+    intervals integrated or skipped so far (the interval in which it ended counts).
     """
     L = _LANES
     W = lanes.W
     n_t = motions.n_t
     dt = motions.dt
     b = cases.body[lanes.case[j]]
-    if _failed(fric, W, j):
-        return True, False, lanes.nxt[j] - lanes.base[j] - 1
+    if _failed(fric, W, j):  # the interval before this round's, from its start
+        return _redo(
+            lanes, j, lanes.nxt[j] - lanes.base[j] - 3, motions, vert, fric, blocks, b, located
+        )
     if W[_PL * L + j] != 0.0:  # a plain step that ended the motion
+        if fric is not None:
+            return _end_check(lanes, j, motions, vert, fric, blocks, b, located)
         return True, False, lanes.nxt[j] - lanes.base[j] - 1
     k = lanes.nxt[j] - lanes.base[j] - 2  # the interval: from sample k to k + 1
+    if fric is not None and W[_SLD * L + j] != 0.0:  # sliding, not only the slide step
+        return _modes_run(lanes, j, k, SLIDE, True, motions, vert, fric, blocks, b, located)
     state = lanes.state[j]
     if W[_TAUS * L + j] == 0.0:  # a new interval (step counting)
         W[_R0 * L + j] = 1.0 if state == _REST else 0.0
@@ -571,6 +731,15 @@ def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
     u1 = W[_U0 * L + j]
     g0 = _row_or_none(vert, W[_G0S * L + j])
     g1 = _row_or_none(vert, W[_G0 * L + j])
+    if (
+        fric is not None
+        and state == _REST
+        and W[_TAUS * L + j] == 0.0
+        and (_may_slip_at_rest(u0, g0, fric.mu_s[b]) or _may_slip_at_rest(u1, g1, fric.mu_s[b]))
+    ):  # the base may slip: modes_case's general integrator, from the round's start
+        W[_TH * L + j] = W[_THS * L + j]
+        W[_OM * L + j] = W[_OMS * L + j]
+        return _modes_run(lanes, j, k, REST, True, motions, vert, fric, blocks, b, located)
     iv = Interval(u0, u1, g0, g1, dt)
     body = Body(
         W[_P2 * L + j],
@@ -628,21 +797,175 @@ def _attend(lanes, j, motions, vert, fric, blocks, cases, located):
     k += 1
     if sw.state == _OVERTURNED:
         return True, True, k
-    W[_PK * L + j] = maxnum(W[_PK * L + j], abs(sw.theta))
+    if fric is None:  # with friction: once the checks at the sample hold (_check_contact)
+        W[_PK * L + j] = maxnum(W[_PK * L + j], abs(sw.theta))
     if sw.state == _REST:
         if W[_R0 * L + j] != 0.0:  # at rest throughout
             W[_NR * L + j] += 1.0
+        if fric is not None:
+            return _modes_run(lanes, j, k, REST, False, motions, vert, fric, blocks, b, located)
         k0 = k
         sc = W[_SC * L + j]
         k, u1, g1 = _rest_until_uplift(
-            motions, vert, lanes.base[j], k, u1, g1, sc, blocks.g, W[_SA * L + j], W[_CA * L + j]
+            motions,
+            vert,
+            lanes.base[j],
+            k,
+            u1,
+            g1,
+            sc,
+            blocks.g,
+            W[_SA * L + j],
+            W[_CA * L + j],
+            None,
         )
         W[_NR * L + j] += k - k0
         W[_U0 * L + j] = u1
         _set_vertical(vert, W, _G0 * L + j, g1)
     W[_RK * L + j] = 1.0 if sw.state == _ROCKING else 0.0
     lanes.nxt[j] = lanes.base[j] + k + 1
+    if fric is not None:  # rocking: the checks at the sample it ends at
+        W[_CK * L + j] = 1.0
+        if k >= n_t - 1:
+            return _end_check(lanes, j, motions, vert, fric, blocks, b, located)
     return k >= n_t - 1, False, k
+
+
+@kernel(inline="always")
+def _end_check(lanes, j, motions, vert, fric, blocks, b, located):
+    """Lane j's case (block b, with friction) at its motion's last sample, reached by an
+    interval that ended rocking in the rocking path: its checks there (:func:`_check_contact`);
+    where they fail, the interval again (:func:`_redo`).  Returns (done, overturned, k) as
+    :func:`_attend`."""
+    L = _LANES
+    W = lanes.W
+    st, ct = _sincos(W[_TH * L + j])
+    gv = _row_or_none(vert, W[_G0 * L + j])
+    _check_contact(fric, W, j, st, ct, W[_U0 * L + j], gv, True, blocks.g, True)
+    if W[_FL * L + j] != 0.0:
+        return _redo(lanes, j, motions.n_t - 2, motions, vert, fric, blocks, b, located)
+    return True, False, motions.n_t - 1
+
+
+@kernel(inline="always")
+def _redo(lanes, j, k, motions, vert, fric, blocks, b, located):
+    """Lane j's interval k (from sample k), whose checks failed, again from its start (rows
+    ITH, IOM, ISG, IRK) by :func:`_modes_run`."""
+    L = _LANES
+    W = lanes.W
+    W[_TH * L + j] = W[_ITH * L + j]
+    W[_OM * L + j] = W[_IOM * L + j]
+    W[_SG * L + j] = W[_ISG * L + j]
+    mode = ROCK if W[_IRK * L + j] != 0.0 else REST
+    return _modes_run(lanes, j, k, mode, True, motions, vert, fric, blocks, b, located)
+
+
+@borrowing_kernel
+def _modes_run(lanes, j, k, mode, force, motions, vert, fric, blocks, b, located):
+    """Lane j's case (block b, with friction) from sample k in ``mode`` (the rest of its state
+    in its rows) through :func:`~rocking.dynamics.modes._modes_interval`, modes_case's own
+    interval, as long as the rocking path cannot take the interval (``force``: the first one in
+    any case): in slide, slide-rock and flight, and at rest where the base may slip; intervals
+    at rest where it can neither slip nor lift are skipped (:func:`_rest_until_uplift`).  The
+    summaries follow each sample as in modes_case
+    (:func:`~rocking.dynamics.modes._sample_summaries`).  Then the lane goes on in the rocking
+    path (rock, or rest where the block may lift) from its sample.  Returns (done,
+    overturned, k) as :func:`_attend`."""
+    L = _LANES
+    W = lanes.W
+    n_t = motions.n_t
+    g = blocks.g
+    base = lanes.base[j]
+    sc = W[_SC * L + j]
+    body = Body(
+        W[_P2 * L + j], W[_SA * L + j], W[_CA * L + j], blocks.tan_a[b], blocks.e[b], W[_OV * L + j]
+    )
+    c = Contact(
+        g, fric.R[b], fric.rg2[b], fric.mu_s[b], fric.mu_k[b], fric.e_ratio[b], fric.impact_ok[b]
+    )
+    s = W[_SG * L + j]
+    sig = W[_SIG * L + j]
+    st = (
+        W[_TH * L + j],
+        W[_OM * L + j],
+        W[_Q * L + j],
+        W[_V * L + j],
+        W[_Y * L + j],
+        W[_VY * L + j],
+    )
+    peak = W[_PK * L + j]
+    peak_slip = W[_PSL * L + j]
+    peak_lift = W[_PLF * L + j]
+    uplift = W[_UP * L + j] != 0.0
+    slip = W[_SL * L + j]
+    av = _av(vert)
+    u0 = sc * motions.acc[base + k] / g  # as the lanes' samples (simulate(block, sc * acc, dt))
+    g0 = _gv_sample(av, base + k, sc, g)
+    overturned = False
+    while k < n_t - 1:
+        u1 = sc * motions.acc[base + k + 1] / g
+        g1 = _gv_sample(av, base + k + 1, sc, g)
+        if not force:
+            if mode == ROCK or (mode == SLIDE and c.mu_k <= body.tan_a):
+                break  # the SIMD loop's rocking step or slide step
+            if mode == REST and not (
+                _may_slip_at_rest(u0, g0, c.mu_s) or _may_slip_at_rest(u1, g1, c.mu_s)
+            ):
+                k0 = k
+                k, u0, g0 = _rest_until_uplift(
+                    motions, vert, base, k, u0, g0, sc, g, body.sa, body.ca, c.mu_s
+                )
+                W[_NR * L + j] += k - k0
+                if k >= n_t - 1:
+                    break
+                u1 = sc * motions.acc[base + k + 1] / g
+                g1 = _gv_sample(av, base + k + 1, sc, g)
+                if not (_may_slip_at_rest(u0, g0, c.mu_s) or _may_slip_at_rest(u1, g1, c.mu_s)):
+                    break  # it may lift: the rocking path
+        force = False
+        mode, s, sig, st, _n, overturned, _tev, _dem = _modes_interval(
+            mode, s, sig, st, u0, u1, g0, g1, motions.dt, body, c, located
+        )
+        peak, peak_slip, peak_lift, uplift, slip, _lift = _sample_summaries(
+            mode, st, overturned, peak, peak_slip, peak_lift, uplift, body, c
+        )
+        k += 1
+        u0 = u1
+        g0 = g1
+        if overturned:
+            break
+    W[_TH * L + j] = st[0]
+    W[_OM * L + j] = st[1]
+    W[_Q * L + j] = st[2]
+    W[_V * L + j] = st[3]
+    W[_Y * L + j] = st[4]
+    W[_VY * L + j] = st[5]
+    W[_SG * L + j] = s
+    W[_SIG * L + j] = sig
+    W[_PK * L + j] = peak
+    W[_PSL * L + j] = peak_slip
+    W[_PLF * L + j] = peak_lift
+    W[_UP * L + j] = 1.0 if uplift else 0.0
+    W[_SL * L + j] = slip
+    W[_FL * L + j] = 0.0
+    if overturned:
+        return True, True, k
+    if k >= n_t - 1:
+        return True, False, k
+    # the rocking path from sample k: its SIMD round (rock), or its events (rest, may lift);
+    # or the SIMD loop's slide step
+    W[_RK * L + j] = 1.0 if mode == ROCK else 0.0
+    W[_SLD * L + j] = 1.0 if mode == SLIDE else 0.0
+    lanes.state[j] = _ROCKING if mode == ROCK else _REST
+    W[_U0 * L + j] = u0
+    _set_vertical(vert, W, _G0 * L + j, g0)
+    W[_TAU * L + j] = 0.0
+    W[_TST * L + j] = -1.0
+    W[_FS * L + j] = 0.0
+    W[_HL * L + j] = 0.0
+    W[_CK * L + j] = 0.0  # modes_case's own sample: no check
+    lanes.nxt[j] = base + k + 1
+    return False, False, k
 
 
 @kernel(inline="always")
@@ -776,23 +1099,22 @@ def _no_slip(out, i):
 @kernel(inline="always")
 def _finish(lanes, j, overturned, k, motions, vert, fric, blocks, cases, out):
     """The results of lane j's case, which ended after k intervals (overturned or not); with
-    friction, the contact check at the motion's last sample, and whether the case failed one."""
+    friction, modes_case's summaries (rows UP, PSL, SL, PLF)."""
     L = _LANES
     i = lanes.case[j]
     W = lanes.W
-    if fric is not None:
-        if not overturned:  # the motion's last sample
-            st, ct = _sincos(W[_TH * L + j])
-            gv = _row_or_none(vert, W[_G0 * L + j])
-            _check_contact(fric, W, j, st, ct, W[_U0 * L + j], gv, True, blocks.g)
-        if W[_FL * L + j] != 0.0:
-            fric.failed[i] = True
     steps = k - int(W[_NR * L + j])  # k intervals, up to overturning or to the end
     out.overturned[i] = overturned
     alpha = blocks.alpha[cases.body[i]]
     out.peak_theta_ratio[i] = (W[_OV * L + j] if overturned else W[_PK * L + j]) / alpha
-    out.uplift[i] = steps > 0  # an interval not at rest throughout: rocking at its end
-    _no_slip(out, i)
+    if fric is None:
+        out.uplift[i] = steps > 0  # an interval not at rest throughout: rocking at its end
+        _no_slip(out, i)
+    else:
+        out.uplift[i] = overturned or W[_UP * L + j] != 0.0
+        out.peak_slip[i] = W[_PSL * L + j]
+        out.residual_slip[i] = abs(W[_SL * L + j])
+        out.peak_lift[i] = W[_PLF * L + j]
     out.steps[i] = steps
 
 
@@ -923,23 +1245,38 @@ def _may_lift(amax, avmin, i, sc, g, sa, ca):
     return _uplifts(abs(sc * amax) / g, _gv_sample(avmin, i, sc, g), sa, ca)
 
 
+@kernel(inline="always")
+def _may_move(amax, avmin, i, sc, g, sa, ca, mu_s):
+    """Whether samples as in :func:`_may_lift` may lift a block at rest, or, with a friction
+    coefficient μ_s (``mu_s`` None: none), make its base slip or fly
+    (:func:`~rocking.dynamics.modes._may_slip_at_rest` of the extremes: as conservative, it is
+    monotone in both)."""
+    if _may_lift(amax, avmin, i, sc, g, sa, ca):
+        return True
+    return _may_slip_at_rest(abs(sc * amax) / g, _gv_sample(avmin, i, sc, g), mu_s)
+
+
 @borrowing_kernel
-def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca):
-    """First interval k' ≥ k of a block at rest in which it may lift (u and gv at its start), or
-    (n_t − 1, u, gv) if none: the intervals skipped are those where _advance leaves it at rest
-    (no uplift at either end; u and gv linear in between, abs(u)·cos α − gv·sin α convex).
-    ``base``: index of the motion's first sample in ``motions.acc``; when no sample from k on
-    can lift the block (:func:`_may_lift` of the suffix extremes), it is at rest to the end, and
-    the samples are not looked at."""
+def _rest_until_uplift(motions, vert, base, k, u, gv, sc, g, sa, ca, mu_s):
+    """First interval k' ≥ k of a block at rest in which it may lift (u and gv at its start), or,
+    with friction μ_s (``mu_s`` None: none), slip or fly, or (n_t − 1, u, gv) if none: the
+    intervals skipped are those where _advance leaves it at rest (no uplift at either end; u and
+    gv linear in between, abs(u)·cos α − gv·sin α convex), and with friction those that
+    modes_case gives to _advance (:func:`~rocking.dynamics.modes._may_slip_at_rest` at neither
+    end).  ``base``: index of the motion's first sample in ``motions.acc``; when no sample from k
+    on can move the block (:func:`_may_move` of the suffix extremes), it is at rest to the end,
+    and the samples are not looked at."""
     n_t = motions.n_t
     flat = motions.acc
     avflat = _av(vert)
-    if not _may_lift(motions.asuf[base + k], _avsuf(vert), base + k, sc, g, sa, ca):
+    if not _may_move(motions.asuf[base + k], _avsuf(vert), base + k, sc, g, sa, ca, mu_s):
         return n_t - 1, u, gv
     while k < n_t - 1:
         u_next = sc * flat[base + k + 1] / g
         g_next = _gv_sample(avflat, base + k + 1, sc, g)
         if _uplifts(u, gv, sa, ca) or _uplifts(u_next, g_next, sa, ca):
+            break
+        if _may_slip_at_rest(u, gv, mu_s) or _may_slip_at_rest(u_next, g_next, mu_s):
             break
         u = u_next
         gv = g_next

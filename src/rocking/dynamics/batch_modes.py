@@ -1,53 +1,60 @@
-"""The batched kernel's cases with friction (issue 45): which the rocking lanes can take, and the
-compiled loop of the response-modes model over the others (entry point
-:func:`rocking.dynamics.batch.run_cases`).
+"""The batched kernel's cases with friction (issue 45): what the lane machine runs where, its
+checks and their margins (entry point :func:`rocking.dynamics.batch.run_cases`), and
+:func:`modes_kernel`, the plain compiled loop of the same model (one case per thread).
 
-**Which cases the lanes keep.**  The lane machine of :mod:`rocking.dynamics.batch_lanes`
-integrates rest and rock only.  :func:`~rocking.dynamics.modes.modes_case` (what
-:func:`rocking.simulate` ``(..., mu=...)`` computes) advances every interval that starts in rock,
-or at rest where the base cannot slip, with the rocking kernel's own step
-(:func:`rocking.dynamics.impacts._advance`, the lanes' arithmetic too), and checks the contact
-conditions where the block rocks: at the interval's end N ≥ 0 and abs(F) ≤ μ_s·N (F, N of
-:func:`~rocking.dynamics.modes._rock_forces`), and, where the interval had impacts, that
-their impulses lie in the friction cone, (1 − e)/((1 + e)·tan α) ≤ μ_s, one constant per body
+**Where each interval runs.**  :func:`~rocking.dynamics.modes.modes_case` (what
+:func:`rocking.simulate` ``(..., mu=...)`` computes) is a loop over sample intervals, each done by
+:func:`~rocking.dynamics.modes._modes_interval`: an interval that starts in rock, or at rest
+where the base cannot slip, is advanced by the rocking kernel's own step
+(:func:`rocking.dynamics.impacts._advance`, the lanes' arithmetic too) and its contact conditions
+are checked where the block rocks: at the interval's end N ≥ 0 and abs(F) ≤ μ_s·N (F, N of
+:func:`~rocking.dynamics.modes._rock_forces`), and, where the interval had impacts, that their
+impulses lie in the friction cone, (1 − e)/((1 + e)·tan α) ≤ μ_s, one constant per body
 (:func:`~rocking.dynamics.modes.stick_impact_demand`), and that the contact right after them
 does (:func:`~rocking.dynamics.modes._cone_holds_after_impacts`, a bound over the interval from
-θ' at its start and u, gv at its ends; where the bound fails, the general integrator's verdict).
-Only where a check fails does it redo the interval with its general integrator.  A case whose
-checks all pass never leaves stick-rock: modes_case's result is the lanes' result.  So
-(:func:`modes_needed`) a case of a block with a finite μ_s goes to the lanes unless
+θ' at its start and u, gv at its ends; where the bound fails, the general integrator's
+verdict).  Where a check fails, or in every other mode, it is the general integrator.
 
-* its base may slip, or its block fly, at rest: max abs(scale·a_g) > μ_s·(g + abs(scale)·min a_v)
-  or g + abs(scale)·min a_v ≤ 0 (the rest intervals are then checked a priori: the tests are
-  written in the kernel's expressions on the motion's extremes, abs(sc·a)/g and
-  1 + abs(sc)·a_v/g round monotonically, μ_s·x too, so they are the per-sample tests or
-  stricter), or
-* it may lift its block (:func:`~rocking.dynamics.batch_lanes._may_lift`) and the impact's
-  impulse lies outside the friction cone (the first impact would fail the check);
+The lane machine of :mod:`rocking.dynamics.batch_lanes` (``fric``,
+:class:`~rocking.dynamics.batch_lanes.Friction`) carries modes_case's whole state per lane (mode,
+s, σ, θ, θ', q, q', y, y' and the running summaries) and runs each interval where it is cheapest:
 
-and in the lanes (``fric``, :class:`~rocking.dynamics.batch_lanes.Friction`) every state of a
-rocking lane at a sample is checked, N ≥ :data:`N_MARGIN`·g and
-abs(F) ≤ μ_s·(1 − :data:`CONE_MARGIN`)·N, and an interval with impacts that ends rocking needs
-the bound on the contact after them to hold (the same function of the same values: no margin
-needed); where it fails the lanes do not try the general integrator, they give the case to the
-modes kernel.  A case that fails a check is marked and re-run by :func:`modes_kernel` (the
-lanes' result discarded); so is every case routed to it above.  The margins: the lanes' θ and
-θ' at a check are modes_case's own bits (the same steps), and F and N come from the same function,
-:func:`~rocking.dynamics.modes._contact_forces`, of sin θ and cos θ by the lanes' polynomials
-(:func:`~rocking.dynamics.equation._sincos`), which equal modes_case's
-(:func:`~rocking.dynamics.equation._sincos_any`) for every θ below the overturning angle: the
-same bits.  The margins guard that reasoning against any difference of rounding (a few ulps of
-the terms g·gv and R·θ'², about 1e-15·g each): five orders of magnitude above it, they only
-send cases whose friction demand comes within 1e-9 of μ_s, or whose N comes within 1e-9·g of
-0, to be re-run.  Blocks without friction (μ_s = None, stored as ∞) keep the lanes without
-checks (``fric`` None: the lane machine compiles to the rocking-only one).
+* rock, and rest where the block may lift but the base cannot slip: the rocking path (the SIMD
+  loop and its event handling, the same steps as modes_case's), with the checks at the sample
+  that ends the interval, N ≥ :data:`N_MARGIN`·g and abs(F) ≤ μ_s·(1 − :data:`CONE_MARGIN`)·N,
+  and those of its impacts (the same functions of the same values: no margin needed).  Where
+  one fails, the lane does that interval again from its start (rows of its own) with
+  :func:`~rocking.dynamics.modes._modes_interval`: modes_case's own result for it;
+* rest where the base can neither slip nor lift: skipped (to the next sample where it may lift,
+  slip or fly: :func:`~rocking.dynamics.batch_lanes._rest_until_uplift`);
+* slide (where μ_k ≤ tan α: modes_case does nothing else in slide): the SIMD loop's slide step,
+  :func:`~rocking.dynamics.modes._slide_rk4`, the Runge–Kutta step of modes_case in slide (the
+  same function), kept where it is all that modes_case does in the interval (no event at its
+  end, no zero of the slip velocity inside by :func:`~rocking.dynamics.modes._slip_dip`'s
+  quick test, :func:`~rocking.dynamics.modes._no_slip_zero`), else the interval from its start
+  by :func:`~rocking.dynamics.modes._modes_interval`;
+* slide-rock, flight, rest where the base may slip or fly, and the intervals of the
+  transitions: in the lane, one after the other, by
+  :func:`~rocking.dynamics.modes._modes_interval` (scalar), until the block rocks, slides or
+  rests where the SIMD loop or the rocking path takes it again.
 
-**The modes kernel** (:func:`modes_kernel`): a compiled parallel loop over the routed cases, each
-calling :func:`~rocking.dynamics.modes.modes_case` on its own scaled motion (u = scale·a_g/g,
+The margins: the lanes' θ and θ' at a check are modes_case's own bits (the same steps), and F and
+N come from the same function, :func:`~rocking.dynamics.modes._contact_forces`, of sin θ and cos
+θ by the lanes' polynomials (:func:`~rocking.dynamics.equation._sincos`), which equal
+modes_case's (:func:`~rocking.dynamics.equation._sincos_any`) for every θ below the overturning
+angle: the same bits.  The margins guard that reasoning against any difference of rounding (a
+few ulps of the terms g·gv and R·θ'², about 1e-15·g each): five orders of magnitude above it,
+they only send intervals whose friction demand comes within 1e-9 of μ_s, or whose N comes within
+1e-9·g of 0, to the scalar function (which gives modes_case's result either way).  Blocks without
+friction (μ_s = None, stored as ∞) keep the lanes without checks (``fric`` None: the lane machine
+compiles to the rocking-only one).
+
+**The modes kernel** (:func:`modes_kernel`): a compiled parallel loop over cases, each calling
+:func:`~rocking.dynamics.modes.modes_case` on its own scaled motion (u = scale·a_g/g,
 gv = 1 + abs(scale)·a_v/g, the expressions of :func:`rocking.simulate` on
 ``(block, scale * acc, dt, av=abs(scale) * av)``) and writing only its own slot of the
-:class:`~rocking.dynamics.batch_records.Outcome`: its results equal :func:`rocking.simulate`
-``(..., mu=...)`` bit for bit, whatever the threads or the grouping of cases into calls.
+:class:`~rocking.dynamics.batch_records.Outcome`: the plain loop of the model, which the
+benchmark (``benchmarks/run.py``) times the lanes against, on one thread.
 """
 
 from __future__ import annotations
@@ -57,9 +64,8 @@ import math
 import numpy as np
 
 from ..core.compile import kernel, parallel_kernel, prange
-from .batch_lanes import Friction, _may_lift
+from .batch_lanes import Friction
 from .batch_records import Contacts
-from .equation import _gv_sample
 from .impacts import Body
 from .modes import Contact, modes_case
 
@@ -69,36 +75,10 @@ CONE_MARGIN = 1e-9
 N_MARGIN = 1e-9
 
 
-@kernel
-def modes_needed(amax, avmin, g, blocks, contacts, body, motion, scale):
-    """Whether each case (``body``, ``motion``, ``scale`` arrays) goes to the modes kernel at once
-    (see the module docstring): its block has a finite μ_s, and its base may slip or its block
-    fly at rest, or it may lift its block, whose impacts lie outside the friction cone.
-    ``amax``: max abs(a_g) [m/s²] and ``avmin``: min a_v [m/s²] (None: no vertical motion) of
-    each motion; g [m/s²]; ``blocks``, ``contacts``: the per-block records
-    (:class:`~rocking.dynamics.batch_records.Blocks`, ``Contacts``)."""
-    n = body.size
-    need = np.zeros(n, dtype=np.bool_)
-    for i in range(n):
-        b = body[i]
-        m = motion[i]
-        sc = scale[i]
-        mu = contacts.mu_s[b]
-        if mu == math.inf:
-            continue
-        gv = _gv_sample(avmin, m, sc, g)
-        gvmin = 1.0 if gv is None else gv
-        still = not _may_lift(amax[m], avmin, m, sc, g, blocks.sa[b], blocks.ca[b])
-        rests = gvmin > 0.0 and abs(sc * amax[m]) / g <= mu * gvmin
-        need[i] = not (rests and (still or contacts.impact_ok[b]))
-    return need
-
-
-def lane_friction(contacts: Contacts, g: float, n_cases: int) -> Friction:
+def lane_friction(contacts: Contacts, g: float) -> Friction:
     """The lanes' contact checks (:class:`~rocking.dynamics.batch_lanes.Friction`) of the blocks
-    of ``contacts`` under gravity g [m/s²], for a call of ``n_cases`` cases (none failed yet)."""
-    margins = (1.0 - CONE_MARGIN, N_MARGIN * g)
-    return Friction(*contacts, *margins, np.zeros(n_cases, dtype=np.bool_))
+    of ``contacts`` under gravity g [m/s²]."""
+    return Friction(*contacts, 1.0 - CONE_MARGIN, N_MARGIN * g)
 
 
 @kernel(inline="always")

@@ -267,9 +267,8 @@ def _lowest(th, body, c):
 @kernel
 def _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c):
     """Time derivatives of the state (θ, θ', q, q', y, y') in ``mode``: q is the slip (the corner
-    of side s less s·b) in contact, the centre of mass's X in flight; y, y' its height (flight)."""
-    if mode == SLIDE:
-        return 0.0, 0.0, v, -c.g * (u + sig * c.mu_k * gv), 0.0, 0.0
+    of side s less s·b) in contact, the centre of mass's X in flight; y, y' its height (flight).
+    Not for slide (its Runge–Kutta step: :func:`_slide_rk4`)."""
     if mode == ROCK:
         S, C = _sin_cos_terms(th, s, body.sa, body.ca)
         return om, -body.p2 * (gv * S + u * C), 0.0, 0.0, 0.0, 0.0
@@ -281,18 +280,53 @@ def _rates(mode, s, sig, th, om, q, v, y, vy, u, gv, body, c):
     return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
 
 
-@kernel
-def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
-    """One classical Runge–Kutta step of length h from local time tau of the state tuple ``st``
-    (θ, θ', q, q', y, y'), with u = u0 + du·τ and gv = g0 + dg·τ: (the state at tau + h, q'' of
-    the first stage and of the last, the slopes of the slip velocity at the step's ends)."""
-    th, om, q, v, y, vy = st
+@kernel(inline="always")
+def _stage_inputs(u0, du, g0, dg, tau, h):
+    """u and gv at a Runge–Kutta step's start, middle and end (u = u0 + du·τ, gv = g0 + dg·τ):
+    (u_a, u_m, u_b, gv_a, gv_m, gv_b)."""
     ua = u0 + du * tau
     um = u0 + du * (tau + 0.5 * h)
     ub = u0 + du * (tau + h)
     ga = g0 + dg * tau
     gm = g0 + dg * (tau + 0.5 * h)
     gb = g0 + dg * (tau + h)
+    return ua, um, ub, ga, gm, gb
+
+
+@kernel(inline="always")
+def _slide_rk4(th, om, q, v, y, vy, sig, u0, du, g0, dg, tau, h, g, mu_k):
+    """:func:`_rk4` in slide (q'' = −g·(u + σ·μ_k·gv), g [m/s²], the rest of the state at rest):
+    the same operations on the same values (the lanes of :mod:`rocking.dynamics.batch_lanes`
+    run it in SIMD)."""
+    ua, um, ub, ga, gm, gb = _stage_inputs(u0, du, g0, dg, tau, h)
+    k1 = -g * (ua + sig * mu_k * ga)
+    v2 = v + 0.5 * h * k1
+    k2 = -g * (um + sig * mu_k * gm)
+    v3 = v + 0.5 * h * k2
+    k3 = -g * (um + sig * mu_k * gm)
+    v4 = v + h * k3
+    k4 = -g * (ub + sig * mu_k * gb)
+    h6 = h / 6.0
+    end = (
+        th + h6 * 0.0,
+        om + h6 * 0.0,
+        q + h6 * (v + 2.0 * v2 + 2.0 * v3 + v4),
+        v + h6 * (k1 + 2.0 * k2 + 2.0 * k3 + k4),
+        y + h6 * 0.0,
+        vy + h6 * 0.0,
+    )
+    return end, k1, k4
+
+
+@kernel
+def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
+    """One classical Runge–Kutta step of length h from local time tau of the state tuple ``st``
+    (θ, θ', q, q', y, y'), with u = u0 + du·τ and gv = g0 + dg·τ: (the state at tau + h, q'' of
+    the first stage and of the last, the slopes of the slip velocity at the step's ends)."""
+    th, om, q, v, y, vy = st
+    if mode == SLIDE:
+        return _slide_rk4(th, om, q, v, y, vy, sig, u0, du, g0, dg, tau, h, c.g, c.mu_k)
+    ua, um, ub, ga, gm, gb = _stage_inputs(u0, du, g0, dg, tau, h)
     a1 = _rates(mode, s, sig, th, om, q, v, y, vy, ua, ga, body, c)
     x2 = (th + 0.5 * h * a1[0], om + 0.5 * h * a1[1], q + 0.5 * h * a1[2])
     y2 = (v + 0.5 * h * a1[3], y + 0.5 * h * a1[4], vy + 0.5 * h * a1[5])
@@ -316,6 +350,15 @@ def _rk4(mode, s, sig, st, u0, du, g0, dg, tau, h, body, c):
 
 
 @kernel(inline="always")
+def _no_slip_zero(w0, e0, w1, e1):
+    """Whether the cubic of :func:`_slip_dip` (w0, e0, w1, e1 as there) has no zero on [0, 1]
+    by the quick test: it lies above its Bernstein control points w0, w0 + e0/3, w1 − e1/3,
+    w1, and where all are positive (nearly every step) it has none.  Branch-free (the lanes'
+    SIMD loop uses it too)."""
+    return (w0 > 0.0) & (3.0 * w0 + e0 > 0.0) & (3.0 * w1 - e1 > 0.0) & (w1 > 0.0)
+
+
+@kernel(inline="always")
 def _slip_dip(sig, v0, a0, v1, a1, h):
     """Local time [s] in (0, h) of the lowest σ·q' on the cubic Hermite interpolant of the slip
     velocity over a step (q' = v0, v1 [m/s] and q'' = a0, a1 [m/s²] at its ends), where that
@@ -329,9 +372,7 @@ def _slip_dip(sig, v0, a0, v1, a1, h):
     w1 = sig * v1
     e0 = sig * a0 * h
     e1 = sig * a1 * h
-    # the cubic lies above its Bernstein control points w0, w0 + e0/3, w1 − e1/3, w1: where all
-    # are positive (nearly every step) it has no zero
-    if w0 > 0.0 and 3.0 * w0 + e0 > 0.0 and 3.0 * w1 - e1 > 0.0 and w1 > 0.0:
+    if _no_slip_zero(w0, e0, w1, e1):
         return -1.0
     B = 3.0 * (w1 - w0) - 2.0 * e0 - e1
     C = 2.0 * (w0 - w1) + e0 + e1
@@ -687,6 +728,95 @@ def _slip_lift(mode, st, body, c):
     return st[2] + c.R * S - sl * c.R * body.sa, st[4] - low
 
 
+@kernel(inline="always")
+def _gv_or_one(gv):
+    """gv [-], or 1.0 for None (no vertical motion)."""
+    if gv is None:
+        return 1.0
+    return gv
+
+
+@kernel(inline="always")
+def _may_slip_at_rest(u, gv, mu_s):
+    """Whether a base at rest under u = a_g/g [-] and gv = 1 + a_v/g [-] (None: 1) may slip or
+    fly (G ≤ 0 or abs(u) > μ_s·gv): where it holds at either end of an interval,
+    :func:`modes_case` does that interval with the general integrator; ``mu_s`` None: never
+    (no friction)."""
+    if mu_s is None:
+        return False
+    gf = _gv_or_one(gv)
+    return not (gf > 0.0 and abs(u) <= mu_s * gf)
+
+
+@kernel
+def _modes_interval(mode, s, sig, st, u0, u1, g0, g1, dt, body, c, located):
+    """One sample interval of :func:`modes_case` from (``mode``, side s, σ, state tuple ``st``
+    (θ, θ', q, q', y, y')) under u = a_g/g [-] from u0 to u1 and gv = 1 + a_v/g [-] from g0 to
+    g1 (None: no vertical motion), dt [s]: the rocking kernel's step with the contact checks
+    where the interval starts in rock, or at rest where the base cannot slip, else (or where a
+    check fails) the general integrator from the interval's start (the module docstring).
+    Returns (mode, s, σ, state, impacts counted, overturned, local time of overturning [s],
+    friction demand at the end [-] (0 where none is defined))."""
+    gf0 = _gv_or_one(g0)
+    gf1 = _gv_or_one(g1)
+    dem = 0.0
+    if mode == ROCK or (
+        mode == REST
+        and not _may_slip_at_rest(u0, g0, c.mu_s)
+        and not _may_slip_at_rest(u1, g1, c.mu_s)
+    ):
+        state = _ROCKING if mode == ROCK else _REST
+        th1, om1, s1, st1, ni, tev = _advance(
+            st[0], st[1], s, state, Interval(u0, u1, g0, g1, dt), body, located
+        )
+        done = False
+        if st1 == _OVERTURNED:
+            done = True
+        elif st1 == _REST:
+            done = True
+            dem = abs(u1) / gf1
+        else:
+            F, N = _rock_forces(th1, om1, s1, u1, gf1, body, c)
+            if N >= 0.0 and abs(F) <= c.mu_s * N and (ni == 0 or c.impact_ok):
+                du = (u1 - u0) / dt
+                dg = (gf1 - gf0) / dt
+                done = (
+                    ni == 0
+                    or _cone_holds_after_impacts(st[1], u0, u1, gf0, gf1, dt, body, c)
+                    or _stays_stuck(mode, s, st, u0, du, gf0, dg, dt, body, c)
+                )
+                if N > 0.0:
+                    dem = abs(F) / N
+        if done:
+            m2 = ROCK if st1 != _REST else REST
+            return m2, s1, sig, (th1, om1, st[2], 0.0, 0.0, 0.0), ni, st1 == _OVERTURNED, tev, dem
+    du = (u1 - u0) / dt
+    dg = (gf1 - gf0) / dt
+    mode, s, sig, st, ni, tev = _general(mode, s, sig, st, 0.0, u0, du, gf0, dg, dt, body, c)
+    overturned = tev >= 0.0
+    if mode == REST:
+        dem = max(dem, abs(u1) / gf1)
+    elif mode == ROCK and not overturned:
+        F, N = _rock_forces(st[0], st[1], s, u1, gf1, body, c)
+        if N > 0.0:
+            dem = max(dem, abs(F) / N)
+    return mode, s, sig, st, ni, overturned, tev, dem
+
+
+@kernel(inline="always")
+def _sample_summaries(mode, st, overturned, peak, peak_slip, peak_lift, uplift, body, c):
+    """:func:`modes_case`'s running summaries after a sample reached in ``mode`` at the state
+    tuple ``st`` (or overturning): (max abs(θ) [rad], max abs(slip) [m], max lift [m], uplift,
+    slip [m], lift [m])."""
+    slip, lift = _slip_lift(mode, st, body, c)
+    peak_slip = max(peak_slip, abs(slip))
+    peak_lift = max(peak_lift, lift)
+    if overturned:
+        return body.th_ov, peak_slip, peak_lift, True, slip, lift
+    th = st[0]
+    return max(peak, abs(th)), peak_slip, peak_lift, uplift or th != 0.0 or lift > 0.0, slip, lift
+
+
 @kernel
 def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
     """One body (``body``: :class:`~rocking.dynamics.impacts.Body`, ``c``: :class:`Contact`) under
@@ -732,84 +862,27 @@ def modes_case(u, gv, dt, body, c, located, theta0, omega0, out):
                     out[r, k + 1] = math.nan
                 out[4, k + 1] = mode
             continue
-        u0 = u[k]
-        u1 = u[k + 1]
         g0 = None if gv is None else gv[k]
         g1 = None if gv is None else gv[k + 1]
-        gf0 = 1.0 if gv is None else gv[k]
-        gf1 = 1.0 if gv is None else gv[k + 1]
-        done = False
-        tev = -1.0
-        if mode == ROCK or (
-            mode == REST
-            and gf0 > 0.0
-            and gf1 > 0.0
-            and abs(u0) <= c.mu_s * gf0
-            and abs(u1) <= c.mu_s * gf1
-        ):
-            state = _ROCKING if mode == ROCK else _REST
-            th1, om1, s1, st1, ni, tev = _advance(
-                st[0], st[1], s, state, Interval(u0, u1, g0, g1, dt), body, located
-            )
-            if st1 == _OVERTURNED:
-                done = True
-            elif st1 == _REST:
-                done = True
-                demand = max(demand, abs(u1) / gf1)
-            else:
-                F, N = _rock_forces(th1, om1, s1, u1, gf1, body, c)
-                if N >= 0.0 and abs(F) <= c.mu_s * N and (ni == 0 or c.impact_ok):
-                    du = (u1 - u0) / dt
-                    dg = (gf1 - gf0) / dt
-                    done = (
-                        ni == 0
-                        or _cone_holds_after_impacts(st[1], u0, u1, gf0, gf1, dt, body, c)
-                        or _stays_stuck(mode, s, st, u0, du, gf0, dg, dt, body, c)
-                    )
-                    if N > 0.0:
-                        demand = max(demand, abs(F) / N)
-            if done:
-                n_imp += ni
-                s = s1
-                st = (th1, om1, st[2], 0.0, 0.0, 0.0)
-                mode = ROCK if st1 != _REST else REST
-                if st1 == _OVERTURNED:
-                    overturned = True
-        if not done:
-            du = (u1 - u0) / dt
-            dg = (gf1 - gf0) / dt
-            mode, s, sig, st, ni, tev = _general(
-                mode, s, sig, st, 0.0, u0, du, gf0, dg, dt, body, c
-            )
-            n_imp += ni
-            overturned = tev >= 0.0
-            if mode == REST:
-                demand = max(demand, abs(u1) / gf1)
-            elif mode == ROCK and not overturned:
-                F, N = _rock_forces(st[0], st[1], s, u1, gf1, body, c)
-                if N > 0.0:
-                    demand = max(demand, abs(F) / N)
-        slip, lift = _slip_lift(mode, st, body, c)
+        mode, s, sig, st, ni, overturned, tev, dem = _modes_interval(
+            mode, s, sig, st, u[k], u[k + 1], g0, g1, dt, body, c, located
+        )
+        n_imp += ni
+        demand = max(demand, dem)
+        peak, peak_slip, peak_lift, uplift, slip, lift = _sample_summaries(
+            mode, st, overturned, peak, peak_slip, peak_lift, uplift, body, c
+        )
         if overturned:
             t_ov = k * dt + tev
-            peak = body.th_ov
-            uplift = True
-            peak_slip = max(peak_slip, abs(slip))
-            peak_lift = max(peak_lift, lift)
             if out is not None:
                 for r in range(4):
                     out[r, k + 1] = math.nan
                 out[4, k + 1] = mode
             continue
-        th = st[0]
         if out is not None:
-            out[0, k + 1] = th
+            out[0, k + 1] = st[0]
             out[1, k + 1] = st[1]
             out[2, k + 1] = slip
             out[3, k + 1] = lift
             out[4, k + 1] = mode
-        peak = max(peak, abs(th))
-        peak_slip = max(peak_slip, abs(slip))
-        peak_lift = max(peak_lift, lift)
-        uplift = uplift or th != 0.0 or lift > 0.0
     return overturned, t_ov, n_imp, peak, uplift, peak_slip, slip, peak_lift, demand
