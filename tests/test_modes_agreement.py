@@ -1,7 +1,7 @@
 """The two implementations of the response modes with friction agree on random motions (issue 45).
 
 ``rocking.simulate(..., mu=...)`` (the compiled kernel of :mod:`rocking.dynamics.modes`:
-fixed-step classical Runge–Kutta at the motion's dt, events located by bisection) against
+fixed-step classical Runge–Kutta at the motion's dt, events located to 1e-13·dt) against
 ``simulate_reference(..., mu=...)`` (:mod:`rocking.dynamics.reference`: Newton–Euler with the
 contact forces solved per mode, adaptive DOP853 at rtol 1e-10, atol 1e-12, events located by
 SciPy), written apart from each other from MODES.md.  Random bodies (uniform and general),
