@@ -15,7 +15,18 @@ import rocking
 from rocking import Block, InputError, Physics, simulate
 from rocking.defaults import G
 from rocking.dynamics.impacts import Body
-from rocking.dynamics.modes import Contact, _rock_forces, _slide_rock, _strike, modes_case
+from rocking.dynamics.modes import (
+    _LOCATE_TOL,
+    _NONE,
+    Contact,
+    _event,
+    _locate,
+    _rk4,
+    _rock_forces,
+    _slide_rock,
+    _strike,
+    modes_case,
+)
 
 DT = 1.0 / 400.0
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT = range(5)
@@ -631,3 +642,37 @@ def test_squat_body_with_a_number_e_impacts_alike_in_kernel_and_reference(A, V, 
     assert fast.n_impacts == ref.n_impacts
     np.testing.assert_allclose(fast.theta, ref.theta, rtol=0, atol=1e-7)
     np.testing.assert_allclose(fast.slip, ref.slip, rtol=0, atol=1e-7)
+
+
+@pytest.mark.parametrize(
+    ("v0", "g0", "dg", "t_true"),
+    [
+        # the slip velocity reaches 0 (stick): q' = v0 − g·(u + μ_k·gv)·t, RK4 exact in slide
+        (0.01, 1.0, 0.0, 0.01 / (G * (0.1 + 0.3))),
+        # the effective gravity reaches 0 (lift-off: gv = g0 + dg·t, linear) before any stick
+        (1.0, 1.0, -1.0 / 0.0013, 0.0013),
+        # at the very start: gv = 0 there (no event yet), < 0 right after
+        (1.0, 0.0, -100.0, 0.0),
+    ],
+)
+def test_an_event_is_located_to_the_tolerance_after_its_true_instant(v0, g0, dg, t_true):
+    # Reference: the closed-form instants above (slide on a block with tan α > μ_k: u = 0.1,
+    # μ_k = 0.3, σ = +1).  _locate's guarantee: the returned step length shows the event, one
+    # _LOCATE_TOL·dt shorter does not (the predicate is monotonic here), so the located
+    # instant lies within _LOCATE_TOL·dt after the true one (plus the rounding of t_true and
+    # of the state, ~1e-18 s: tolerance 2·_LOCATE_TOL·dt on the far side, 1e-17 s before).
+    dt = 0.005
+    block = Block.from_mass_properties(0.8, 0.3, radius_of_gyration=0.4)
+    a = block.alpha
+    body = Body(block.p_squared(), math.sin(a), math.cos(a), math.tan(a), 0.9, math.pi / 2)
+    c = Contact.of(block, 0.9, 0.3, None, G)
+    st = (0.0, 0.0, 0.0, v0, 0.0, 0.0)
+    u0, du = 0.1, 0.0
+    end = _rk4(SLIDE, 1.0, 1.0, st, u0, du, g0, dg, 0.0, dt, body, c)[0]
+    assert _event(SLIDE, 1.0, 1.0, end, u0, g0 + dg * dt, body, c) != _NONE
+    hi, at = _locate(SLIDE, 1.0, 1.0, st, 0.0, dt, end, u0, du, g0, dg, dt, body, c)
+    lo = hi - _LOCATE_TOL * dt
+    before = _rk4(SLIDE, 1.0, 1.0, st, u0, du, g0, dg, 0.0, lo, body, c)[0]
+    assert _event(SLIDE, 1.0, 1.0, at, u0, g0 + dg * hi, body, c) != _NONE
+    assert lo <= 0.0 or _event(SLIDE, 1.0, 1.0, before, u0, g0 + dg * lo, body, c) == _NONE
+    assert t_true - 1e-17 <= hi <= t_true + 2 * _LOCATE_TOL * dt
