@@ -35,7 +35,8 @@ run:
   kernel integrates, and its ratio to the rocking kernel (target ≤ 2×); with μ = 0.2, 0.3 and
   0.4 (the bodies slide and slide-rock) in ns per interval walked, and its ratio to the plain
   compiled loop of the same model, ``modes_case`` of every case one after the other on one
-  thread (target ≥ 5×).  ``--modes-only`` runs this entry alone;
+  thread (target ≥ 5×), and the SHA-256 of every μ's outcomes (``results_sha256``, compared
+  across runs by ``bit_identical.modes``).  ``--modes-only`` runs this entry alone;
 * ``ceiling``: the arithmetic floor of a step on this machine (``peak.py``: the clock measured by
   a chain of dependent FMAs, the FMAs a core starts per cycle measured with the run's own vector
   width, the operations of one plain step), and the kernel's time as a multiple of it;
@@ -401,9 +402,11 @@ def bench_modes(w: dict, repeats: int) -> dict:
         ),
     }
     out["slide"] = {}
+    outcomes = list(same[:-1])
     for mu in MODES_MU["slide"]:
         call = _modes_call(w, mu)
         res = call()
+        outcomes += res[:-1]
         t = timed(call, repeats)
         serial = _serial_modes(w, mu)
         plain = serial()
@@ -421,6 +424,8 @@ def bench_modes(w: dict, repeats: int) -> dict:
             "share_sliding": float((res.peak_slip > 0).mean()),
             "share_overturned": float(res.overturned.mean()),
         }
+    # the outcomes of every μ, to compare across instruction sets and machines (comparable_digests)
+    out["results_sha256"] = digest(*outcomes)
     out["threads"] = numba.get_num_threads()
     return out
 
@@ -1124,7 +1129,8 @@ def comparable_digests(runs: dict) -> dict:
     """Whether the results are bit-identical across the runs (whatever their machine and
     commit: results must not depend on either): the kernel's flags and peaks among runs of the
     same workload, on the same machine (same motions: only the instruction set differs) and
-    across machines, Table 2's agx50.csv among all."""
+    across machines, the response-modes entry's outcomes with friction among runs of the same
+    workload, Table 2's agx50.csv among all."""
     kernel: dict = {}
     same_cpu: dict = {}
     motions: dict = {}
@@ -1135,6 +1141,11 @@ def comparable_digests(runs: dict) -> dict:
         same_cpu.setdefault(cpu, set()).add(r["kernel"]["results_sha256"])
         if "motions_sha256" in r["kernel"]:
             motions.setdefault(same_workload, set()).add(r["kernel"]["motions_sha256"])
+    modes: dict = {}
+    for r in runs.values():
+        if "results_sha256" in r.get("modes", {}):
+            same_workload = json.dumps(r["settings"], sort_keys=True)
+            modes.setdefault(same_workload, set()).add(r["modes"]["results_sha256"])
     table2 = {
         r["end_to_end"]["table2"]["agx50_csv_sha256"]
         for r in runs.values()
@@ -1144,6 +1155,8 @@ def comparable_digests(runs: dict) -> dict:
     if any(len(v) > 0 for v in kernel.values()) and len(runs) > 1:
         out["kernel"] = all(len(v) == 1 for v in kernel.values())
         out["kernel_same_cpu_across_isas"] = all(len(v) == 1 for v in same_cpu.values())
+    if modes and len(runs) > 1:
+        out["modes"] = all(len(v) == 1 for v in modes.values())
     if len(table2) and len(runs) > 1:
         out["table2_agx50"] = len(table2) == 1
     if any(len(v) > 1 for v in motions.values()):
