@@ -103,8 +103,8 @@ from .modes import (
     REST,
     ROCK,
     SLIDE,
-    Contact,
     _cone_holds_after_impacts,
+    _contact_at,
     _contact_forces,
     _gv_or_one,
     _may_slip_at_rest,
@@ -513,15 +513,7 @@ def _check_impacts(fric, W, j, n_imp, iv, body, b, g):
     if fric is None:
         return
     if n_imp > 0:
-        c = Contact(
-            g,
-            fric.R[b],
-            fric.rg2[b],
-            fric.mu_s[b],
-            fric.mu_k[b],
-            fric.e_ratio[b],
-            fric.impact_ok[b],
-        )
+        c = _contact_at(fric, b, g)
         g0 = _gv_or_one(iv.g0)
         g1 = _gv_or_one(iv.g1)
         om0 = W[_IOM * _LANES + j]
@@ -880,9 +872,7 @@ def _modes_run(lanes, j, k, mode, force, motions, vert, fric, blocks, b, located
     body = Body(
         W[_P2 * L + j], W[_SA * L + j], W[_CA * L + j], blocks.tan_a[b], blocks.e[b], W[_OV * L + j]
     )
-    c = Contact(
-        g, fric.R[b], fric.rg2[b], fric.mu_s[b], fric.mu_k[b], fric.e_ratio[b], fric.impact_ok[b]
-    )
+    c = _contact_at(fric, b, g)
     s = W[_SG * L + j]
     sig = W[_SIG * L + j]
     st = (

@@ -67,7 +67,7 @@ from ..core.compile import kernel, parallel_kernel, prange
 from .batch_lanes import Friction
 from .batch_records import Contacts
 from .impacts import Body
-from .modes import Contact, modes_case
+from .modes import _contact_at, modes_case
 
 #: Relative margin of the lanes' friction check: abs(F) ≤ μ_s·(1 − CONE_MARGIN)·N.
 CONE_MARGIN = 1e-9
@@ -121,15 +121,7 @@ def modes_kernel(acc, av, n_t, dt, blocks, contacts, cases, located, out):
         body = Body(
             blocks.p2[b], blocks.sa[b], blocks.ca[b], blocks.tan_a[b], blocks.e[b], blocks.th_ov[b]
         )
-        c = Contact(
-            g,
-            contacts.R[b],
-            contacts.rg2[b],
-            contacts.mu_s[b],
-            contacts.mu_k[b],
-            contacts.e_ratio[b],
-            contacts.impact_ok[b],
-        )
+        c = _contact_at(contacts, b, g)
         res = modes_case(u, gv, dt, body, c, located, 0.0, 0.0, None)
         overturned, t_ov, _n_imp, peak, uplift, peak_slip, slip, peak_lift, _demand = res
         overturned_out[i] = overturned

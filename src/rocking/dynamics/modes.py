@@ -183,6 +183,14 @@ class Contact(NamedTuple):
         )
 
 
+@kernel(inline="always")
+def _contact_at(x, b, g):
+    """The :class:`Contact` of block b from per-block arrays ``x`` (the fields R, rg2, mu_s,
+    mu_k, e_ratio, impact_ok of :class:`~rocking.dynamics.batch_records.Contacts`, which the
+    lanes' ``Friction`` begins with) under gravity g [m/s²]."""
+    return Contact(g, x.R[b], x.rg2[b], x.mu_s[b], x.mu_k[b], x.e_ratio[b], x.impact_ok[b])
+
+
 def stick_impact_demand(e: float, tan_a: float) -> float:
     """abs(P_x)/P_y [-] of the impulse of the rule θ'⁺ = e·θ'⁻ at an impact from rock without
     slip (the same for every θ'⁻): (1 − e)/((1 + e)·tan α).
